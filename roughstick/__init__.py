@@ -1,0 +1,41 @@
+"""roughstick: uncertainty of humid stiction between rough, hard surfaces.
+
+Implements Wu, Nguyen, Golinval, Noels et al., "A probabilistic model for predicting the
+uncertainties of the humid stiction phenomenon on hard materials" as an xarray toolkit.
+All values are SI; see :mod:`roughstick.conventions`.
+"""
+
+__version__ = "0.1.0"
+
+from . import constants, conventions
+from .materials import *  # noqa: F403
+from .meniscus import *  # noqa: F403
+from .contact import *  # noqa: F403
+from .io.afm import *  # noqa: F403
+from .io.netcdf import *  # noqa: F403
+from .topography import *  # noqa: F403
+from .psd import *  # noqa: F403
+from .generate import *  # noqa: F403
+from .greenwood_williamson import *  # noqa: F403
+from .rough_contact import *  # noqa: F403
+from .adhesion import *  # noqa: F403
+from .ensemble import *  # noqa: F403
+from .cantilever import *  # noqa: F403
+from .bem import *  # noqa: F403
+from .validity import *  # noqa: F403
+from . import accessor  # noqa: E402  registers the .rough accessor
+from . import (  # noqa: E402
+    adhesion,
+    bem,
+    cantilever,
+    contact,
+    ensemble,
+    generate,
+    greenwood_williamson,
+    materials,
+    meniscus,
+    psd,
+    rough_contact,
+    topography,
+    validity,
+)

@@ -1,0 +1,60 @@
+"""Small dask helpers: laziness checks, core-dimension chunk checks, per-realization RNG."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+__all__ = ["is_lazy", "check_core_not_chunked", "realization_rng", "as_seed_sequence"]
+
+
+def is_lazy(obj) -> bool:
+    """True when ``obj`` (DataArray, Dataset or array) holds dask data."""
+    if isinstance(obj, xr.Dataset):
+        return any(is_lazy(v) for v in obj.data_vars.values())
+    data = getattr(obj, "data", obj)
+    return type(data).__module__.startswith("dask")
+
+
+def check_core_not_chunked(da: xr.DataArray, dims) -> None:
+    """Raise ``ValueError`` if any of ``dims`` is split over several dask chunks.
+
+    The message names the fix, ``.chunk({dim: -1})``, in the xarray style.
+    """
+    if da.chunks is None:
+        return
+    bad = [d for d in dims if d in da.dims and len(da.chunksizes[d]) > 1]
+    if bad:
+        fix = ", ".join(f"{d!r}: -1" for d in bad)
+        raise ValueError(
+            f"dimension(s) {bad} of {da.name or 'the input'!r} are split over several dask chunks, "
+            f"but they are core dimensions of this computation. Rechunk first: "
+            f".chunk({{{fix}}})."
+        )
+
+
+def as_seed_sequence(seed) -> np.random.SeedSequence:
+    """Normalise ``seed`` (int, SeedSequence, Generator or None) to a root ``SeedSequence``."""
+    if isinstance(seed, np.random.SeedSequence):
+        return seed
+    if isinstance(seed, np.random.Generator):
+        return np.random.SeedSequence(int(seed.integers(0, 2**63 - 1)))
+    if seed is None:
+        return np.random.SeedSequence()
+    if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+        if seed < 0:
+            raise ValueError(f"seed must be a non-negative integer, got {seed}.")
+        return np.random.SeedSequence(int(seed))
+    raise TypeError(
+        f"seed must be an int, numpy.random.SeedSequence, numpy.random.Generator or None, "
+        f"got {type(seed).__name__}."
+    )
+
+
+def realization_rng(root: np.random.SeedSequence, index: int) -> np.random.Generator:
+    """Generator of realization ``index``: ``SeedSequence(root.entropy, spawn_key=(index,))``.
+
+    Independent of chunking and of evaluation order, so realization k can be regenerated alone.
+    """
+    ss = np.random.SeedSequence(root.entropy, spawn_key=tuple(root.spawn_key) + (int(index),))
+    return np.random.default_rng(ss)

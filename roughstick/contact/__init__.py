@@ -1,0 +1,3 @@
+"""Sphere-on-flat contact models (sphere.py) and their numpy kernels (_kernels.py)."""
+
+from .sphere import *  # noqa: F403

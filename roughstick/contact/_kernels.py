@@ -1,0 +1,1 @@
+"""Plain-numpy SI kernels of the sphere models."""

@@ -1,0 +1,130 @@
+"""Canonical dimension names, variable names and their CF attributes.
+
+This module is the single source of truth for metadata (STYLE.md §3). Functions never
+hand-write attributes: they call :func:`set_attrs` with a key of :data:`ATTRS`.
+All stored values are SI.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+
+import xarray as xr
+
+__all__ = ["ATTRS", "DIMS", "CONVENTIONS", "set_attrs", "append_history", "dataset_attrs"]
+
+CONVENTIONS = "CF-1.10"
+
+#: Short dimension names.
+DIMS = {
+    "x": "x",
+    "y": "y",
+    "qx": "qx",
+    "qy": "qy",
+    "q": "q",
+    "realization": "realization",
+    "rh": "rh",
+    "distance": "distance",
+    "interference": "interference",
+    "quantile": "quantile",
+}
+
+#: CF attributes of every coordinate and variable the package writes.
+ATTRS: dict[str, dict[str, str]] = {
+    # coordinates
+    "x": {"units": "m", "long_name": "x position (pixel centre)", "axis": "X"},
+    "y": {"units": "m", "long_name": "y position (pixel centre)", "axis": "Y"},
+    "qx": {"units": "rad m-1", "long_name": "angular wavevector, x component"},
+    "qy": {"units": "rad m-1", "long_name": "angular wavevector, y component"},
+    "q": {"units": "rad m-1", "long_name": "angular wavevector magnitude"},
+    "realization": {"units": "1", "long_name": "realization index"},
+    "rh": {"units": "1", "long_name": "relative humidity", "standard_name": "relative_humidity"},
+    "distance": {"units": "m", "long_name": "distance from the flat to the mean plane of the rough surface"},
+    "interference": {"units": "m", "long_name": "interference (approach of the sphere past first contact)"},
+    "quantile": {"units": "1", "long_name": "quantile"},
+    "temperature": {"units": "K", "long_name": "absolute temperature", "standard_name": "air_temperature"},
+    "contact_angle": {"units": "rad", "long_name": "water contact angle"},
+    # topography and spectra
+    "height": {"units": "m", "long_name": "surface height"},
+    "psd": {"units": "m4", "long_name": "power spectral density of height (2D)", "scaling": "density"},
+    "psd_isotropic": {"units": "m4", "long_name": "radially averaged power spectral density of height", "scaling": "density"},
+    "psd_1d": {"units": "m3", "long_name": "power spectral density of height profiles (1D)", "scaling": "density"},
+    "m0": {"units": "m2", "long_name": "variance of height (m0)"},
+    "m2": {"units": "1", "long_name": "variance of slope in one direction (m2)"},
+    "m4": {"units": "m-2", "long_name": "variance of curvature in one direction (m4)"},
+    "summit_density": {"units": "m-2", "long_name": "Nayak summit density"},
+    "summit_radius": {"units": "m", "long_name": "mean summit radius"},
+    "bandwidth": {"units": "1", "long_name": "Nayak bandwidth parameter alpha = m0 m4 / m2**2"},
+    "plasticity_index": {"units": "1", "long_name": "Greenwood-Williamson plasticity index"},
+    # meniscus
+    "kelvin_radius": {"units": "m", "long_name": "Kelvin radius"},
+    "laplace_pressure": {"units": "Pa", "long_name": "Laplace pressure inside the meniscus (negative: tension)"},
+    "meniscus_height": {"units": "m", "long_name": "meniscus height"},
+    "adsorbed_layer": {"units": "m", "long_name": "adsorbed water layer thickness (sum over both surfaces)"},
+    "water_height": {"units": "m", "long_name": "height of condensed water"},
+    # sphere contact
+    "force": {"units": "N", "long_name": "normal force (positive repulsive)"},
+    "contact_radius": {"units": "m", "long_name": "radius of the repulsive contact"},
+    "adhesive_radius": {"units": "m", "long_name": "outer radius of the adhesive zone"},
+    "indentation": {"units": "m", "long_name": "indentation"},
+    "adhesive_energy": {"units": "J", "long_name": "work to separate the sphere from the flat"},
+    "transition_parameter": {"units": "1", "long_name": "Maugis transition parameter lambda"},
+    "work_of_adhesion": {"units": "J m-2", "long_name": "work of adhesion"},
+    "reduced_modulus": {"units": "Pa", "long_name": "reduced (contact) modulus E*"},
+    # rough contact
+    "pressure": {"units": "Pa", "long_name": "mean pressure on the apparent area (positive repulsive)"},
+    "repulsive_pressure": {"units": "Pa", "long_name": "repulsive (Hertz) part of the mean pressure"},
+    "wet_fraction": {"units": "1", "long_name": "wetted area fraction (net of the contact area)"},
+    "contact_fraction": {"units": "1", "long_name": "real contact area fraction"},
+    "n_contacts": {"units": "1", "long_name": "number of contacting asperities"},
+    "fit_error": {"units": "m", "long_name": "area-weighted rms error of the asperity sphere fits (Eq. 23)"},
+    "max_interference": {"units": "m", "long_name": "interference of the highest asperity"},
+    "surface_adhesive_energy": {"units": "J m-2", "long_name": "apparent adhesive energy (Eq. 13)"},
+    "pull_off_pressure": {"units": "Pa", "long_name": "largest tensile mean pressure (pull-off)"},
+    "equilibrium_distance": {"units": "m", "long_name": "distance at which the mean pressure vanishes"},
+    "wet_fraction_at_equilibrium": {"units": "1", "long_name": "wetted area fraction at the equilibrium distance"},
+}
+
+
+def set_attrs(obj: xr.DataArray, name: str, **extra) -> xr.DataArray:
+    """Return ``obj`` with the canonical attributes of ``name`` (plus ``extra``).
+
+    Coordinates that have a canonical name also get their attributes.
+    """
+    out = obj.copy(deep=False)
+    out.attrs = {**ATTRS[name], **extra}
+    for c in out.coords:
+        if c in ATTRS:
+            out[c].attrs = dict(ATTRS[c])
+    return out
+
+
+def set_coord_attrs(obj):
+    """Give every coordinate with a canonical name its canonical attributes (in place)."""
+    for c in obj.coords:
+        if c in ATTRS:
+            obj[c].attrs = dict(ATTRS[c])
+    return obj
+
+
+def append_history(obj, line: str):
+    """Append one timestamped line to ``obj.attrs['history']`` (in place) and return ``obj``."""
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    prev = obj.attrs.get("history", "")
+    obj.attrs["history"] = (prev + "\n" if prev else "") + f"{stamp} {line}"
+    return obj
+
+
+def dataset_attrs(title: str, *, references: str = "", **params) -> dict:
+    """Global attributes of a Dataset written by roughstick (STYLE.md §3)."""
+    from . import __version__
+
+    attrs = {
+        "Conventions": CONVENTIONS,
+        "title": title,
+        "source": f"roughstick {__version__}",
+        "references": references,
+    }
+    for k, v in params.items():
+        attrs[k] = v
+    return attrs

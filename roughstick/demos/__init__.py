@@ -1,0 +1,20 @@
+"""Steps of ``roughstick demo``: each module ``sNN_<name>.py`` defines
+
+``run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]``
+
+which computes on the bundled samples in ``data_samples/``, writes NetCDF and PNG files into
+``out`` and returns their paths. Steps run in the order of their names.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+
+__all__ = ["steps"]
+
+
+def steps():
+    """The demo step modules, in order."""
+    names = sorted(m.name for m in pkgutil.iter_modules(__path__) if m.name.startswith("s"))
+    return [importlib.import_module(f"{__name__}.{n}") for n in names]

@@ -1,0 +1,1 @@
+"""Readers and writers: AFM maps (afm.py) and CF NetCDF (netcdf.py)."""

@@ -1,0 +1,52 @@
+"""Public testing helpers: unit assertions and small synthetic topographies."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from .conventions import ATTRS, set_coord_attrs
+
+__all__ = ["assert_units", "make_topography", "sphere_topography"]
+
+
+def assert_units(obj: xr.DataArray, units: str) -> None:
+    """Assert that ``obj`` and its canonical coordinates carry CF ``units``."""
+    assert obj.attrs.get("units") == units, f"{obj.name!r}: units {obj.attrs.get('units')!r} != {units!r}"
+    for c in obj.coords:
+        if c in ATTRS:
+            assert obj[c].attrs.get("units") == ATTRS[c]["units"], f"coordinate {c!r} lacks units"
+
+
+def make_topography(values, *, spacing: float = 5e-9, periodic: bool = False, name: str = "height") -> xr.DataArray:
+    """Wrap a 2-D array of heights [m] as a ``height`` DataArray (y, x) with pixel-centre coords.
+
+    Examples
+    --------
+    >>> h = rs.testing.make_topography(np.zeros((4, 6)), spacing=1e-9)
+    >>> h.dims, h.x.values[:2]
+    (('y', 'x'), array([5.e-10, 1.5e-09]))
+    """
+    values = np.asarray(values, dtype=float)
+    ny, nx = values.shape[-2:]
+    da = xr.DataArray(
+        values,
+        dims=tuple(f"dim_{i}" for i in range(values.ndim - 2)) + ("y", "x"),
+        coords={"y": (np.arange(ny) + 0.5) * spacing, "x": (np.arange(nx) + 0.5) * spacing},
+        name=name,
+        attrs={**ATTRS["height"], "periodic": int(periodic)},
+    )
+    return set_coord_attrs(da)
+
+
+def sphere_topography(radius: float, *, n: int = 65, spacing: float, apex: float = 0.0) -> xr.DataArray:
+    """A spherical cap of ``radius`` [m] with its apex at height ``apex``, centred on an n x n grid.
+
+    Pixels outside the sphere's footprint are set to the lowest height of the cap.
+    """
+    c = (np.arange(n) - (n - 1) / 2) * spacing
+    X, Y = np.meshgrid(c, c)
+    r2 = X**2 + Y**2
+    z = np.sqrt(np.clip(radius**2 - r2, 0, None)) - radius + apex
+    z = np.where(r2 <= radius**2, z, z.min())
+    return make_topography(z, spacing=spacing)
