@@ -36,6 +36,19 @@ from . import (  # noqa: E402
     meniscus,
     psd,
     rough_contact,
+    testing,
     topography,
     validity,
+)
+
+from .io import afm as _afm, netcdf as _netcdf  # noqa: E402
+
+#: Every public function and class, gathered from the modules' own ``__all__``.
+__all__ = sorted(
+    name
+    for mod in (
+        materials, meniscus, contact, _afm, _netcdf, topography, psd, generate,
+        greenwood_williamson, rough_contact, adhesion, ensemble, cantilever, bem, validity,
+    )
+    for name in mod.__all__
 )
