@@ -1,3 +1,618 @@
-"""Placeholder: filled in by its issue."""
+r"""Random surfaces from a power spectral density, lazily and reproducibly (paper §4.2, Eqs. 33-35).
 
-__all__: list[str] = []
+A stationary Gaussian random surface with 2D PSD :math:`s(q_x, q_y)` (normalised so that
+:math:`\iint s\,dq_x\,dq_y = m_0`, docs/architecture.md) is synthesised on an
+:math:`N_y \times N_x` periodic grid of spacing :math:`(\Delta_y, \Delta_x)` as
+
+.. math::
+
+    z(x_k, y_l) = \sum_{j} \sqrt{s(\mathbf q_j)\,\Delta q_x \Delta q_y}\;\xi_j\,
+                  e^{i(q_{x,j} x_k + q_{y,j} y_l)},
+    \qquad \Delta q = 2\pi / (N\Delta),
+
+over the FFT wave-vector grid, with complex amplitudes :math:`\xi_j` Hermitian-symmetric
+(:math:`\xi_{-j} = \bar\xi_j`, so :math:`z` is real) and :math:`E|\xi_j|^2 = 1`. This is Eq. 33
+of the paper written with the project's PSD normalisation: the paper's :math:`s_Z` is
+:math:`(2\pi)^2` times ours and its Eq. 33 divides by :math:`(2\pi)^2` again, and the paper's
+factor :math:`\sqrt 2\,\mathrm{Re}(\dots)` over the full plane equals the Hermitian sum here.
+Eq. 34 (the sum on the sampling points) is one inverse real FFT per surface. Then
+:math:`E[z^2] = \sum_j s(\mathbf q_j)\Delta q_x\Delta q_y`, the PSD integrated over the target
+grid, and the ensemble periodogram equals :math:`s` at every grid wave vector.
+
+References
+----------
+Shinozuka, M., Deodatis, G. (1991). Simulation of stochastic processes by spectral
+representation. Appl. Mech. Rev. 44, 191-204. https://doi.org/10.1115/1.3119501
+"""
+
+from __future__ import annotations
+
+import numbers
+from collections.abc import Sequence
+
+import dask
+import dask.array as dsa
+import numpy as np
+import xarray as xr
+from dask.delayed import Delayed
+
+from . import _units
+from ._dask import as_seed_sequence, is_lazy, realization_rng
+from .conventions import append_history, set_attrs
+
+__all__ = ["generate_surfaces", "surface_filter"]
+
+REFERENCES = (
+    "Shinozuka and Deodatis (1991) https://doi.org/10.1115/1.3119501; "
+    "paper Eqs. 33-35 (spectral representation, inverse FFT)"
+)
+
+_AMPLITUDES = ("rayleigh", "fixed")
+_DTYPES = {"float64": np.float64, "float32": np.float32}
+_PSD_UNITS = {"m4": 1.0, "m^4": 1.0, "m**4": 1.0, "um4": 1e-24, "µm4": 1e-24, "nm4": 1e-36}
+#: default chunk size along ``realization`` in bytes of output (auto chunks)
+_AUTO_CHUNK_BYTES = 64 * 2**20
+
+
+# --------------------------------------------------------------------------------------------
+# argument handling
+# --------------------------------------------------------------------------------------------
+def _as_int(value, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        if isinstance(value, numbers.Real) and float(value).is_integer():
+            hint = f" Pass {int(value)}."
+        else:
+            hint = ""
+        raise ValueError(f"{name} must be an integer, got {value!r}.{hint}")
+    return int(value)
+
+
+def _pair(value, name: str):
+    """A scalar or a (y, x) pair → tuple of two."""
+    if value is None:
+        return None
+    if isinstance(value, (str, bytes)):
+        raise ValueError(f"{name} must be a number or a (y, x) pair, got {value!r}.")
+    if isinstance(value, Sequence) or isinstance(value, np.ndarray):
+        vals = list(np.asarray(value, dtype=object).ravel())
+        if len(vals) != 2:
+            raise ValueError(f"{name} must be a number or a (y, x) pair, got {value!r}.")
+        return vals[0], vals[1]
+    return value, value
+
+
+def _length(value, name: str) -> float:
+    if isinstance(value, xr.DataArray):
+        value = float(_units.require(value, "length", name=name))
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name} must be a length in m, got {value!r}.")
+    value = float(value)
+    if not np.isfinite(value) or value <= 0:
+        raise ValueError(f"{name} must be a positive, finite length in m, got {value!r}.")
+    return value
+
+
+def _grid(psd, shape, size, spacing):
+    """Resolve ((ny, nx), (dy, dx)) from two of shape, size, spacing (each scalar or (y, x))."""
+    shape_p, size_p, spacing_p = _pair(shape, "shape"), _pair(size, "size"), _pair(spacing, "spacing")
+    if spacing_p is None and not (shape_p is not None and size_p is not None):
+        if isinstance(psd, xr.DataArray) and "spacing_x" in psd.attrs and "spacing_y" in psd.attrs:
+            spacing_p = (psd.attrs["spacing_y"], psd.attrs["spacing_x"])
+        else:
+            raise ValueError(
+                "spacing is required (the pixel size in m, e.g. spacing=5e-9), unless shape and "
+                "size are both given or the PSD carries attrs spacing_x and spacing_y."
+            )
+    if spacing_p is not None:
+        spacing_p = tuple(_length(v, f"spacing[{a}]") for v, a in zip(spacing_p, "yx", strict=True))
+    if size_p is not None:
+        size_p = tuple(_length(v, f"size[{a}]") for v, a in zip(size_p, "yx", strict=True))
+    if shape_p is not None:
+        shape_p = tuple(_as_int(v, f"shape[{a}]") for v, a in zip(shape_p, "yx", strict=True))
+    if shape_p is None:
+        if size_p is None:
+            raise ValueError("give shape=(ny, nx) or size=(Ly, Lx) [m] of the surfaces.")
+        ratio = [L / d for L, d in zip(size_p, spacing_p, strict=True)]
+        if not all(abs(r - round(r)) <= 1e-6 * max(r, 1.0) for r in ratio):
+            raise ValueError(
+                f"size {size_p} m is not a whole number of pixels of spacing {spacing_p} m "
+                f"({ratio[0]:.6g} x {ratio[1]:.6g}); pass shape=(ny, nx) instead, or a size that "
+                "is a multiple of the spacing."
+            )
+        shape_p = tuple(int(round(r)) for r in ratio)
+    elif spacing_p is None:
+        spacing_p = tuple(L / n for L, n in zip(size_p, shape_p, strict=True))
+    elif size_p is not None:
+        expected = tuple(n * d for n, d in zip(shape_p, spacing_p, strict=True))
+        if not np.allclose(expected, size_p, rtol=1e-6, atol=0):
+            raise ValueError(
+                f"shape {shape_p} with spacing {spacing_p} m gives size {expected} m, not "
+                f"{size_p} m: give only two of shape, size and spacing."
+            )
+    for v, a in zip(shape_p, "yx", strict=True):
+        if v < 2:
+            raise ValueError(f"shape[{a}] must be at least 2 pixels, got {v}.")
+    return shape_p, spacing_p
+
+
+def _realizations(n, realizations):
+    if n is not None:
+        n = _as_int(n, "n")
+        if n < 1:
+            raise ValueError(f"n (the number of surfaces) must be at least 1, got {n}.")
+    if realizations is None:
+        if n is None:
+            raise ValueError("give n (number of surfaces) or realizations (their indices).")
+        return np.arange(n, dtype=np.int64)
+    idx = np.atleast_1d(np.asarray(realizations))
+    if idx.ndim != 1 or idx.size == 0:
+        raise ValueError(f"realizations must be a non-empty 1-D list of indices, got {realizations!r}.")
+    if not np.issubdtype(idx.dtype, np.integer):
+        raise ValueError(f"realizations must be integers, got {realizations!r}.")
+    if idx.min() < 0:
+        raise ValueError(f"realization indices must be >= 0, got {idx.min()}.")
+    if n is not None and idx.max() >= n:
+        raise ValueError(f"realization index {idx.max()} is out of range for n={n}.")
+    return idx.astype(np.int64)
+
+
+def _chunk_tuple(chunks, count: int, ny: int, nx: int, itemsize: int):
+    if isinstance(chunks, dict):
+        unknown = set(chunks) - {"realization", "y", "x"}
+        if unknown:
+            raise ValueError(f"chunks has unknown dimensions {sorted(unknown)}; the dims are "
+                             "('realization', 'y', 'x').")
+        for dim, full in (("y", ny), ("x", nx)):
+            c = chunks.get(dim, -1)
+            if c not in (-1, None, full) and not (isinstance(c, tuple) and c == (full,)):
+                raise ValueError(
+                    f"chunks={chunks!r} splits {dim!r}, but each surface is one inverse FFT and is "
+                    f"generated whole. Chunk over realization only, e.g. chunks={{'realization': 8}}, "
+                    f"and rechunk afterwards with .chunk({{{dim!r}: ...}}) if you must."
+                )
+        chunks = chunks.get("realization", "auto")
+    if chunks is None or chunks == "auto":
+        size = max(1, _AUTO_CHUNK_BYTES // (ny * nx * itemsize))
+        chunks = size
+    if chunks == -1:
+        chunks = count
+    if isinstance(chunks, (tuple, list)):
+        parts = tuple(_as_int(c, "chunks") for c in chunks)
+        if sum(parts) != count or min(parts) < 1:
+            raise ValueError(f"chunks {parts} must be positive and sum to the {count} realizations.")
+        return parts
+    size = _as_int(chunks, "chunks")
+    if size < 1:
+        raise ValueError(f"chunks must be >= 1 (realizations per chunk), got {size}.")
+    full, rest = divmod(count, size)
+    return (size,) * full + ((rest,) if rest else ())
+
+
+# --------------------------------------------------------------------------------------------
+# the PSD on the target grid
+# --------------------------------------------------------------------------------------------
+def _psd_factor(psd: xr.DataArray) -> float:
+    units = psd.attrs.get("units")
+    if units is None:
+        raise _units.UnitsError(
+            "the PSD has no 'units' attribute; set psd.attrs['units'] = 'm4' (2D density in "
+            "m4, normalised so that sum * dqx * dqy is the height variance)."
+        )
+    if str(units).strip() not in _PSD_UNITS:
+        raise _units.UnitsError(
+            f"the PSD has units {units!r}; roughstick expects a 2D density in one of "
+            f"{sorted(_PSD_UNITS)} (e.g. psd.attrs['units'] = 'm4')."
+        )
+    return _PSD_UNITS[str(units).strip()]
+
+
+def _q_coord(psd: xr.DataArray, dim: str) -> np.ndarray:
+    if dim not in psd.coords:
+        raise ValueError(f"the PSD needs a coordinate {dim!r} in rad m-1.")
+    c = psd[dim]
+    if "units" in c.attrs:
+        c = _units.require(c, "wavevector", name=dim)
+    vals = np.asarray(c.values, dtype=float)
+    if vals.size < 2 or not np.all(np.diff(vals) > 0):
+        raise ValueError(f"PSD coordinate {dim!r} must be strictly ascending with >= 2 points; "
+                         f"sort it with psd.sortby({dim!r}).")
+    return vals
+
+
+def _target_q(ny, nx, dy, dx):
+    qy = 2 * np.pi * np.fft.fftfreq(ny, dy)
+    qx = 2 * np.pi * np.fft.rfftfreq(nx, dx)
+    return qy, qx
+
+
+def _check_cover(target_max: float, available: float, axis: str, spacing: float):
+    if target_max > available * (1 + 1e-9):
+        finest = np.pi / available
+        raise ValueError(
+            f"the PSD covers |q{axis}| <= {available:.6g} rad m-1, but spacing_{axis}={spacing:.6g} m "
+            f"needs wave numbers up to {target_max:.6g} rad m-1 (Nyquist). Use a spacing >= "
+            f"{finest:.6g} m, or a PSD that extends to the Nyquist wave number of this spacing "
+            "(e.g. estimated on a map with that pixel size, or an analytic PSD given as a callable)."
+        )
+
+
+def _values_checked(s: np.ndarray, what: str) -> np.ndarray:
+    if not np.all(np.isfinite(s)):
+        raise ValueError(f"the {what} contains NaN or infinite values; fill or drop them first.")
+    if np.any(s < 0):
+        raise ValueError(f"the {what} has negative values (min {s.min():.3g}); a PSD is >= 0. "
+                         "Clip them with psd.clip(min=0) if they are round-off.")
+    return s
+
+
+def _psd_2d_on_grid(values, qy_c, qx_c, qy, qx, factor):
+    """Linear interpolation of a centred 2D PSD onto the rfft half-plane (qy, qx)."""
+    from scipy.interpolate import RegularGridInterpolator
+
+    values = _values_checked(np.asarray(values, dtype=float) * factor, "PSD")
+    # the PSD of a real map is symmetric, s(q) = s(-q): fill the grid by symmetry where the
+    # target wave vector falls just outside one side (even grids lack +q_Nyquist)
+    Qy, Qx = np.meshgrid(qy, qx, indexing="ij")
+    flip = (Qx > qx_c[-1]) | (Qy > qy_c[-1])
+    Qy = np.where(flip, -Qy, Qy)
+    Qx = np.where(flip, -Qx, Qx)
+    Qy = np.clip(Qy, qy_c[0], qy_c[-1])
+    Qx = np.clip(Qx, qx_c[0], qx_c[-1])
+    interp = RegularGridInterpolator((qy_c, qx_c), values, method="linear")
+    return interp(np.stack([Qy, Qx], axis=-1))
+
+
+def _psd_iso_on_grid(values, q_c, qy, qx, factor):
+    values = _values_checked(np.asarray(values, dtype=float) * factor, "isotropic PSD")
+    q = np.hypot(qy[:, None], qx[None, :])
+    return np.interp(q, q_c, values, left=values[0], right=0.0)
+
+
+def _half_plane_power(psd, ny, nx, dy, dx):
+    """(ny, nx//2+1) array P = s(q) dqx dqy on the rfft grid, or a Delayed of it (lazy PSD).
+
+    Also returns a short description of how the PSD was mapped (for ``history``).
+    """
+    qy, qx = _target_q(ny, nx, dy, dx)
+    dq2 = (2 * np.pi / (ny * dy)) * (2 * np.pi / (nx * dx))
+    if callable(psd) and not isinstance(psd, xr.DataArray):
+        q = np.hypot(qy[:, None], qx[None, :])
+        s = np.asarray(psd(q), dtype=float)
+        if s.shape != q.shape:
+            try:
+                s = np.broadcast_to(s, q.shape).copy()
+            except ValueError:
+                raise ValueError(
+                    f"the PSD callable returned shape {s.shape} for |q| of shape {q.shape}; it "
+                    "must map an array of |q| [rad m-1] to s(|q|) [m4] elementwise."
+                ) from None
+        return _values_checked(s, "PSD returned by the callable") * dq2, "isotropic callable s(|q|)"
+    if not isinstance(psd, xr.DataArray):
+        raise TypeError(
+            "psd must be an xarray.DataArray over (qy, qx) or (q), or a callable |q| -> s(|q|) "
+            f"[m4]; got {type(psd).__name__}."
+        )
+    factor = _psd_factor(psd)
+    dims = set(psd.dims)
+    if dims == {"qy", "qx"}:
+        psd = psd.transpose("qy", "qx")
+        qy_c, qx_c = _q_coord(psd, "qy"), _q_coord(psd, "qx")
+        _check_cover(np.abs(qy).max(), np.abs(qy_c).max(), "y", dy)
+        _check_cover(np.abs(qx).max(), np.abs(qx_c).max(), "x", dx)
+        same = (
+            qy_c.size == ny and qx_c.size == nx
+            and np.allclose(qy_c, np.fft.fftshift(qy), rtol=1e-9, atol=0)
+            and np.allclose(qx_c, np.fft.fftshift(2 * np.pi * np.fft.fftfreq(nx, dx)), rtol=1e-9, atol=0)
+        )
+        m = nx // 2 + 1
+
+        def build(values):
+            if same:
+                s = np.fft.ifftshift(_values_checked(np.asarray(values, float) * factor, "PSD"))
+                return s[:, :m] * dq2
+            return _psd_2d_on_grid(values, qy_c, qx_c, qy, qx, factor) * dq2
+
+        how = "2D PSD on the same grid" if same else "2D PSD linearly interpolated onto the grid"
+    elif dims == {"q"}:
+        q_c = _q_coord(psd, "q")
+        nyq = np.hypot(0, max(np.abs(qy).max(), np.abs(qx).max()))
+        _check_cover(nyq, q_c.max(), "y" if np.abs(qy).max() >= np.abs(qx).max() else "x",
+                     dy if np.abs(qy).max() >= np.abs(qx).max() else dx)
+
+        def build(values):
+            return _psd_iso_on_grid(values, q_c, qy, qx, factor) * dq2
+
+        how = "isotropic PSD interpolated on |q| (zero beyond its last q)"
+    else:
+        raise ValueError(
+            f"the PSD has dims {psd.dims}; expected ('qy', 'qx') or ('q',). Average a stack of "
+            "PSDs first (e.g. psd.mean('map')) or select one."
+        )
+    if is_lazy(psd):
+        return dask.delayed(build, pure=True)(psd.data), how
+    return build(psd.values), how
+
+
+def _symmetrise(P: np.ndarray, nx: int) -> np.ndarray:
+    """Make the self-conjugate columns (qx = 0 and, for even nx, qx = Nyquist) even in qy."""
+    P = np.array(P, dtype=float, copy=True)
+    cols = [0] + ([nx // 2] if nx % 2 == 0 else [])
+    for c in cols:
+        P[1:, c] = 0.5 * (P[1:, c] + P[1:, c][::-1])
+    return P
+
+
+def _filter(P, nx):
+    """Amplitude filter sqrt(P) and the bounding box of its support (rows, number of columns)."""
+    P = _symmetrise(P, nx)
+    A = np.sqrt(P)
+    rows = np.flatnonzero(A.any(axis=1))
+    cols_any = np.flatnonzero(A.any(axis=0))
+    ncols = int(cols_any[-1]) + 1 if cols_any.size else 0
+    return A, rows, ncols
+
+
+def surface_filter(psd, *, shape=None, size=None, spacing=None) -> xr.DataArray:
+    r"""The mode powers :math:`s(\mathbf q)\Delta q_x \Delta q_y` used by :func:`generate_surfaces`.
+
+    The PSD mapped onto the target FFT grid (interpolated when the grids differ), centred
+    (fftshift order). Its sum is the variance of the generated heights (Eq. 33).
+
+    Parameters
+    ----------
+    psd, shape, size, spacing
+        As in :func:`generate_surfaces`.
+
+    Returns
+    -------
+    xarray.DataArray
+        ``psd`` over ``(qy, qx)`` [m4] on the target grid: ``(psd * dqx * dqy).sum()`` is the
+        expected height variance of the surfaces.
+
+    Examples
+    --------
+    >>> s = rs.surface_filter(lambda q: np.where(q < 2e8, 1e-34, 0.0), shape=8, spacing=5e-9)
+    >>> s.dims, s.shape
+    (('qy', 'qx'), (8, 8))
+    """
+    (ny, nx), (dy, dx) = _grid(psd, shape, size, spacing)
+    qy, _ = _target_q(ny, nx, dy, dx)
+    qx = 2 * np.pi * np.fft.fftfreq(nx, dx)
+    dq2 = (2 * np.pi / (ny * dy)) * (2 * np.pi / (nx * dx))
+    P, _ = _half_plane_power(psd, ny, nx, dy, dx)
+    if isinstance(P, Delayed):
+        data = dsa.from_delayed(dask.delayed(_centred_full)(P, nx, dq2), (ny, nx), dtype=float)
+    else:
+        data = _centred_full(P, nx, dq2)
+    out = xr.DataArray(
+        data,
+        dims=("qy", "qx"),
+        coords={"qy": np.fft.fftshift(qy), "qx": np.fft.fftshift(qx)},
+        name="psd",
+    )
+    return set_attrs(out, "psd", spacing_x=dx, spacing_y=dy)
+
+
+def _centred_full(P, nx, dq2):
+    return np.fft.fftshift(_full_plane(_symmetrise(P, nx), nx=nx)) / dq2
+
+
+def _full_plane(half: np.ndarray, *, nx: int) -> np.ndarray:
+    """Hermitian completion of an rfft-layout power array (ny, nx//2+1) to (ny, nx), fft order."""
+    ny = half.shape[0]
+    full = np.empty((ny, nx))
+    m = half.shape[1]
+    full[:, :m] = half
+    neg = np.arange(m, nx)  # columns qx < 0: P(qy, qx) = P(-qy, -qx)
+    full[:, neg] = half[(-np.arange(ny)) % ny][:, nx - neg]
+    return full
+
+
+# --------------------------------------------------------------------------------------------
+# the per-block kernel (numpy)
+# --------------------------------------------------------------------------------------------
+def _one_surface(rng, A, rows, ncols, ny, nx, amplitude, dtype):
+    """One surface: Hermitian amplitudes on the support box, then one inverse real FFT (Eq. 34)."""
+    import scipy.fft
+
+    m = nx // 2 + 1
+    xi = np.zeros((ny, m), dtype=np.complex128)
+    if ncols:
+        nr = rows.size
+        if amplitude == "rayleigh":
+            # complex Gaussian, E|xi|^2 = 1: modulus Rayleigh (zeta of Eq. 33), phase uniform
+            draw = rng.standard_normal((nr, ncols, 2))
+            box = draw.view(np.complex128)[..., 0] * np.sqrt(0.5)
+        else:
+            phase = rng.random((nr, ncols)) * (2 * np.pi)
+            box = np.exp(1j * phase)
+        if nr == ny:
+            xi[:, :ncols] = box
+        else:
+            xi[rows, :ncols] = box
+        # self-conjugate modes (qx = 0, Nyquist): Hermitian symmetry inside the column
+        h = (ny - 1) // 2
+        mirror = ny - np.arange(1, h + 1)
+        self_rows = [0] + ([ny // 2] if ny % 2 == 0 else [])
+        for c in [0] + ([nx // 2] if nx % 2 == 0 else []):
+            if c >= ncols:
+                continue
+            col = xi[:, c]
+            for r in self_rows:  # real modes with E[xi^2] = 1
+                if amplitude == "rayleigh":
+                    col[r] = np.sqrt(2.0) * col[r].real
+                else:
+                    col[r] = 1.0 if col[r].real >= 0 else -1.0
+            col[mirror] = np.conj(col[1 : h + 1])
+        xi *= A
+    if dtype == np.float32:
+        xi = xi.astype(np.complex64)
+    return scipy.fft.irfft2(xi, s=(ny, nx), norm="forward", overwrite_x=True, workers=1)
+
+
+def _generate_block(indices, *, filt, entropy, spawn_key, ny, nx, amplitude, out_dtype):
+    A, rows, ncols = filt
+    root = np.random.SeedSequence(entropy, spawn_key=spawn_key)
+    out = np.empty((len(indices), ny, nx), dtype=out_dtype)
+    for i, k in enumerate(indices):
+        out[i] = _one_surface(realization_rng(root, int(k)), A, rows, ncols, ny, nx, amplitude,
+                              out_dtype)
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# public
+# --------------------------------------------------------------------------------------------
+def _seed_root(seed):
+    if seed is None:
+        # draw a recordable 63-bit root seed from OS entropy
+        seed = int(np.random.SeedSequence().generate_state(2, np.uint64)[0] >> np.uint64(1))
+    root = as_seed_sequence(seed)
+    entropy = root.entropy
+    recorded = int(entropy) if int(entropy) < 2**63 else str(entropy)
+    return root, recorded
+
+
+def generate_surfaces(
+    psd,
+    *,
+    n: int | None = None,
+    shape=None,
+    size=None,
+    spacing=None,
+    seed=None,
+    chunks="auto",
+    dtype="float64",
+    amplitude: str = "rayleigh",
+    realizations=None,
+) -> xr.DataArray:
+    r"""Lazy ensemble of periodic Gaussian random surfaces with a given PSD (Eqs. 33-35).
+
+    Each surface is the spectral representation of Eq. 33 evaluated on the grid by one inverse
+    real FFT (Eq. 34): complex amplitudes :math:`\sqrt{s(\mathbf q)\Delta q_x\Delta q_y}\,\xi`
+    with Hermitian symmetry, so the surface is real and periodic. With the project's PSD
+    normalisation (:math:`\iint s = m_0`) the expected height variance is
+    :math:`\sum s\,\Delta q_x\Delta q_y` over the target grid, and :math:`m_2, m_4` are the
+    corresponding :math:`q_x^2, q_x^4` moments; the paper's :math:`(2\pi)^{-2}` of Eq. 33 is
+    absorbed in that normalisation. A PSD estimated on a smaller map is interpolated onto the
+    finer wave-number grid of the larger surface (§4.2.1, the interpolation route after Eq. 35).
+
+    Nothing is computed until asked: the result is a dask-backed DataArray chunked over
+    ``realization`` only. Realization ``k`` draws its amplitudes from its own generator
+    ``roughstick._dask.realization_rng(SeedSequence(seed), k)``, so the values are bit-identical
+    whatever the chunking, the number of workers or the order of evaluation, and any realization
+    can be regenerated alone (``realizations=[k]``).
+
+    Parameters
+    ----------
+    psd : xarray.DataArray or callable
+        2D PSD over ``(qy, qx)`` (ascending centred coords in rad m-1, e.g. from
+        ``roughstick.power_spectrum``), an isotropic PSD over ``(q,)`` (evaluated at
+        :math:`|\mathbf q|`, zero beyond its largest ``q``, its first value below its smallest
+        ``q``), or a callable mapping an array of :math:`|\mathbf q|` [rad m-1] to
+        :math:`s(|\mathbf q|)` [m4] (e.g. ``lambda q: rs.self_affine_psd(q, ...)`` values).
+        DataArrays need ``units`` ``m4`` (or ``nm4``, ``um4``). A dask-backed PSD stays lazy.
+    n : int, optional
+        Number of surfaces (realizations ``0 .. n-1``), >= 1.
+    shape : int or (int, int), optional
+        Pixels ``(ny, nx)``; any sizes >= 2 (powers of two are not required).
+    size : float or (float, float), optional
+        Physical size ``(Ly, Lx)`` [m]; with ``spacing`` it must be a whole number of pixels.
+    spacing : float or (float, float), optional
+        Pixel size ``(dy, dx)`` [m]. Two of ``shape``, ``size``, ``spacing`` are needed; if
+        ``spacing`` is missing it is taken from the PSD's ``spacing_y``/``spacing_x`` attrs.
+    seed : int, numpy.random.SeedSequence, numpy.random.Generator or None
+        Root seed; recorded in ``attrs['seed']``. ``None`` draws a fresh root seed (recorded).
+    chunks : int, tuple, dict or "auto"
+        Realizations per chunk (``"auto"``: about 64 MiB per chunk). A dict may only chunk
+        ``realization``: splitting ``y`` or ``x`` raises, since each surface is one FFT.
+    dtype : {"float64", "float32"}
+        Output precision. The random amplitudes are drawn identically in both, so a float32
+        surface is the float64 one to single-precision FFT round-off (docs/generation.md).
+    amplitude : {"rayleigh", "fixed"}
+        ``"rayleigh"``: the :math:`\zeta` of Eq. 33, Rayleigh modulus with uniform phase, i.e. a
+        complex Gaussian amplitude: the surfaces are exactly Gaussian. ``"fixed"``: modulus
+        :math:`\sqrt{s\Delta q^2}` exactly with uniform random phase (Shinozuka's form): every
+        surface has exactly the target periodogram and variance; heights are Gaussian only
+        asymptotically.
+    realizations : sequence of int, optional
+        Generate only these realization indices (coordinate ``realization`` holds them), e.g.
+        ``[k]`` to regenerate surface ``k`` of an ensemble.
+
+    Returns
+    -------
+    xarray.DataArray
+        ``height`` [m] over ``(realization, y, x)``, pixel-centre coords ``x``, ``y`` [m], attrs
+        ``periodic=1``, ``seed``, ``amplitude``, ``history``.
+
+    Raises
+    ------
+    ValueError
+        ``n < 1``; non-integer ``shape``; size not a multiple of spacing; a PSD grid that does
+        not reach the Nyquist wave number of ``spacing``; negative or NaN PSD values; chunks that
+        split ``x`` or ``y``; unknown ``dtype`` or ``amplitude``.
+
+    Examples
+    --------
+    >>> s = lambda q: np.where(q < 3e8, 1e-34, 0.0)
+    >>> h = rs.generate_surfaces(s, n=4, shape=(16, 24), spacing=5e-9, seed=1, chunks=2)
+    >>> h.dims, h.shape, h.chunks[0], h.attrs["periodic"], h.attrs["seed"]
+    (('realization', 'y', 'x'), (4, 16, 24), (2, 2), 1, 1)
+    >>> bool((h.isel(realization=[3]) == rs.generate_surfaces(
+    ...     s, realizations=[3], shape=(16, 24), spacing=5e-9, seed=1)).all())
+    True
+    """
+    if amplitude not in _AMPLITUDES:
+        raise ValueError(f"amplitude must be one of {_AMPLITUDES}, got {amplitude!r}.")
+    key = np.dtype(dtype).name if not isinstance(dtype, str) else dtype
+    if key not in _DTYPES:
+        raise ValueError(f"dtype must be 'float64' or 'float32', got {dtype!r}.")
+    out_dtype = _DTYPES[key]
+    indices = _realizations(n, realizations)
+    (ny, nx), (dy, dx) = _grid(psd, shape, size, spacing)
+    chunk_sizes = _chunk_tuple(chunks, indices.size, ny, nx, np.dtype(out_dtype).itemsize)
+    root, recorded_seed = _seed_root(seed)
+
+    P, how = _half_plane_power(psd, ny, nx, dy, dx)
+    filt = dask.delayed(_filter, pure=True)(P, nx)
+
+    token = dask.base.tokenize(
+        filt, root.entropy, tuple(root.spawn_key), ny, nx, amplitude, key, indices, chunk_sizes
+    )
+    idx = dsa.from_array(indices, chunks=(chunk_sizes,), name=f"realization-index-{token}")
+    data = idx.map_blocks(
+        _generate_block,
+        filt=filt,
+        entropy=root.entropy,
+        spawn_key=tuple(root.spawn_key),
+        ny=ny,
+        nx=nx,
+        amplitude=amplitude,
+        out_dtype=out_dtype,
+        new_axis=[1, 2],
+        chunks=(chunk_sizes, (ny,), (nx,)),
+        dtype=out_dtype,
+        meta=np.empty((0, 0, 0), dtype=out_dtype),
+        name=f"generate-surfaces-{token}",
+    )
+    da = xr.DataArray(
+        data,
+        dims=("realization", "y", "x"),
+        coords={
+            "realization": indices,
+            "y": (np.arange(ny) + 0.5) * dy,
+            "x": (np.arange(nx) + 0.5) * dx,
+        },
+        name="height",
+    )
+    extra = {"periodic": 1, "seed": recorded_seed, "amplitude": amplitude, "references": REFERENCES}
+    if root.spawn_key:
+        extra["seed_spawn_key"] = list(root.spawn_key)
+    da = set_attrs(da, "height", **extra)
+    append_history(
+        da,
+        f"generate_surfaces: {indices.size} periodic Gaussian surfaces {ny}x{nx} at "
+        f"{dy:.6g}x{dx:.6g} m from {how} (Eqs. 33-34, amplitude={amplitude}, dtype={key}, "
+        f"seed={recorded_seed})",
+    )
+    return da
