@@ -1,0 +1,108 @@
+"""Tests of roughstick.read_afm: built-in formats, vendor formats via SurfaceTopography."""
+
+from __future__ import annotations
+
+import pathlib
+import sys
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import roughstick as rs
+from roughstick.testing import make_topography
+
+# same location as tests/conftest.py's SHARED_AFM: ../shared/afm beside the project
+SHARED_AFM = pathlib.Path(__file__).resolve().parents[2].parent / "shared" / "afm"
+
+needs_afm = pytest.mark.skipif(
+    not SHARED_AFM.is_dir(), reason=f"real AFM files not found at {SHARED_AFM}"
+)
+
+
+def test_npy_and_text(tmp_path):
+    z = np.random.default_rng(0).normal(size=(9, 13))
+    np.save(tmp_path / "m.npy", z)
+    h = rs.read_afm(tmp_path / "m.npy", spacing="5 nm", units="nm")
+    assert h.dims == ("y", "x") and h.shape == (9, 13) and h.attrs["units"] == "m"
+    np.testing.assert_allclose(h.values, z * 1e-9)
+    np.testing.assert_allclose(np.diff(h.x.values), 5e-9)
+    assert h.attrs["periodic"] == 0 and h.attrs["source"].endswith("m.npy")
+    assert "read_afm" in h.attrs["history"]
+    np.savetxt(tmp_path / "m.txt", z, header="a plain grid")
+    t = rs.read_afm(tmp_path / "m.txt", spacing=(2e-9, 5e-9), units="um")
+    np.testing.assert_allclose(t.values, z * 1e-6)
+    np.testing.assert_allclose(np.diff(t.y.values), 2e-9)
+    np.savetxt(tmp_path / "m.csv", z, delimiter=",")
+    np.testing.assert_allclose(rs.read_afm(tmp_path / "m.csv", spacing=1e-9, units="m").values, z)
+    with pytest.raises(ValueError, match="spacing="):
+        rs.read_afm(tmp_path / "m.npy")
+    with pytest.raises(rs._units.UnitsError, match="not a length"):
+        rs.read_afm(tmp_path / "m.npy", spacing=1e-9, units="s")
+    with pytest.raises(ValueError, match="positive length"):
+        rs.read_afm(tmp_path / "m.npy", spacing=-1.0, units="m")
+    np.save(tmp_path / "v.npy", np.zeros(5))
+    with pytest.raises(ValueError, match="2-D"):
+        rs.read_afm(tmp_path / "v.npy", spacing=1e-9, units="m")
+    with pytest.raises(FileNotFoundError):
+        rs.read_afm(tmp_path / "nope.npy")
+
+
+def test_netcdf_round_trip_exact(tmp_path):
+    h = make_topography(np.random.default_rng(1).normal(size=(12, 10)) * 1e-9, periodic=True)
+    h.attrs["source"] = "roughstick 0.1.0"
+    rs.conventions.append_history(h, "made for a test")
+    h.to_netcdf(tmp_path / "h.nc")
+    back = rs.read_afm(tmp_path / "h.nc")
+    xr.testing.assert_identical(back, h)
+    ds = xr.Dataset({"height": h, "other": h * 2})
+    ds.to_netcdf(tmp_path / "d.nc")
+    xr.testing.assert_identical(rs.read_afm(tmp_path / "d.nc"), h)
+    np.testing.assert_array_equal(rs.read_afm(tmp_path / "d.nc", channel="other").values, 2 * h.values)
+    with pytest.raises(ValueError, match="no variable"):
+        rs.read_afm(tmp_path / "d.nc", channel="zz")
+
+
+def test_vendor_without_surfacetopography(tmp_path, monkeypatch):
+    p = tmp_path / "x.spm"
+    p.write_bytes(b"\0" * 10)
+    monkeypatch.setitem(sys.modules, "SurfaceTopography", None)
+    with pytest.raises(ImportError, match=r"pip install roughstick\[afm\]"):
+        rs.read_afm(p)
+
+
+@needs_afm
+@pytest.mark.parametrize(
+    "name, channel, sq_nm, shape",
+    [
+        ("ST_di-1.di", None, 9.8, (512, 512)),
+        ("ST_di-6.di", None, 14.3, (512, 512)),
+        ("ST_example_ps.tiff", "Z Height", 3.9, (512, 512)),
+        ("ST_di-3.di", 3, 45.5, (256, 256)),
+    ],
+)
+def test_real_files_sq_after_plane_removal(name, channel, sq_nm, shape):
+    pytest.importorskip("SurfaceTopography")
+    h = rs.read_afm(SHARED_AFM / name, channel=channel)
+    assert h.shape == shape and h.attrs["units"] == "m" and name in h.attrs["source"]
+    sq = float(rs.level(h, method="plane").std())
+    np.testing.assert_allclose(sq, sq_nm * 1e-9, rtol=0.01)  # README of shared/afm
+
+
+@needs_afm
+def test_real_file_scan_line_alignment_and_channels():
+    pytest.importorskip("SurfaceTopography")
+    h = rs.read_afm(SHARED_AFM / "ST_di-1.di")
+    np.testing.assert_allclose(np.diff(h.x.values), 500e-9 / 512)
+    sq = float(rs.level(h, method="line").std())
+    np.testing.assert_allclose(sq, 7.7e-9, rtol=0.01)
+    with pytest.raises(ValueError, match="not a height channel"):
+        rs.read_afm(SHARED_AFM / "ST_di-1.di", channel=2)
+    with pytest.raises(ValueError, match="no channel"):
+        rs.read_afm(SHARED_AFM / "ST_example_ps.tiff", channel="Phase")
+    # pixel size given by the user overrides the file's scan size
+    h2 = rs.read_afm(SHARED_AFM / "ST_di-3.di", channel=3, spacing="10 nm")
+    np.testing.assert_allclose(np.diff(h2.x.values), 10e-9)
+    # a real map goes through the whole statistics chain
+    st = rs.roughness_statistics(rs.level(h))
+    assert float(st.summit_density) > 0 and np.isfinite(float(st.bandwidth))
