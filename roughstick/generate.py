@@ -95,6 +95,8 @@ def _length(value, name: str) -> float:
 def _grid(psd, shape, size, spacing):
     """Resolve ((ny, nx), (dy, dx)) from two of shape, size, spacing (each scalar or (y, x))."""
     shape_p, size_p, spacing_p = _pair(shape, "shape"), _pair(size, "size"), _pair(spacing, "spacing")
+    if shape_p is None and size_p is None and isinstance(psd, xr.DataArray) and psd.ndim == 2:
+        shape_p = psd.shape if psd.dims != ("qx", "qy") else psd.shape[::-1]
     if spacing_p is None and not (shape_p is not None and size_p is not None):
         if isinstance(psd, xr.DataArray) and "spacing_x" in psd.attrs and "spacing_y" in psd.attrs:
             spacing_p = (psd.attrs["spacing_y"], psd.attrs["spacing_x"])
@@ -515,7 +517,8 @@ def generate_surfaces(
     n : int, optional
         Number of surfaces (realizations ``0 .. n-1``), >= 1.
     shape : int or (int, int), optional
-        Pixels ``(ny, nx)``; any sizes >= 2 (powers of two are not required).
+        Pixels ``(ny, nx)``; any sizes >= 2 (powers of two are not required). Default for a 2D
+        PSD DataArray without ``size``: the PSD grid shape.
     size : float or (float, float), optional
         Physical size ``(Ly, Lx)`` [m]; with ``spacing`` it must be a whole number of pixels.
     spacing : float or (float, float), optional
