@@ -41,6 +41,7 @@ ATTRS: dict[str, dict[str, str]] = {
     "rh": {"units": "1", "long_name": "relative humidity", "standard_name": "relative_humidity"},
     "distance": {"units": "m", "long_name": "distance from the flat to the mean plane of the rough surface"},
     "interference": {"units": "m", "long_name": "interference (approach of the sphere past first contact)"},
+    "radius": {"units": "m", "long_name": "sphere (asperity) radius"},
     "quantile": {"units": "1", "long_name": "quantile"},
     "temperature": {"units": "K", "long_name": "absolute temperature", "standard_name": "air_temperature"},
     "contact_angle": {"units": "rad", "long_name": "water contact angle"},
@@ -83,6 +84,22 @@ ATTRS: dict[str, dict[str, str]] = {
     "pull_off_pressure": {"units": "Pa", "long_name": "largest tensile mean pressure (pull-off)"},
     "equilibrium_distance": {"units": "m", "long_name": "distance at which the mean pressure vanishes"},
     "wet_fraction_at_equilibrium": {"units": "1", "long_name": "wetted area fraction at the equilibrium distance"},
+    "distance_offset": {"units": "m", "long_name": "isolated-contact distance minus periodic (mean-gap) distance of the BEM"},
+    "solver_residual": {"units": "1", "long_name": "relative residual of the boundary-element solve"},
+    # ensembles
+    "max_height": {"units": "m", "long_name": "highest point of the surface above its mean plane"},
+    "surface_size": {"units": "m", "long_name": "side length of the generated surface (x)"},
+    "cumulative_probability": {"units": "1", "long_name": "empirical cumulative probability"},
+    # cantilever (Eq. 36) and stiction risk
+    "beam_length": {"units": "m", "long_name": "cantilever beam length"},
+    "crack_length": {"units": "m", "long_name": "crack length s of an S-shaped stuck cantilever (Eq. 36)"},
+    "critical_adhesive_energy": {"units": "J m-2", "long_name": "adhesive energy at which the crack length equals the beam length (Eq. 36, s = l)"},
+    "stiction_probability": {"units": "1", "long_name": "probability that the beam stays stuck, P(Gamma > Gamma_crit)"},
+    "n_stuck": {"units": "1", "long_name": "number of Monte-Carlo members with Gamma > Gamma_crit"},
+    "n_samples": {"units": "1", "long_name": "number of valid Monte-Carlo members"},
+    "probability_level": {"units": "1", "long_name": "stiction probability level"},
+    "crossing_humidity": {"units": "1", "long_name": "relative humidity at which the stiction probability first reaches the level"},
+    "crossing_length": {"units": "m", "long_name": "beam length above which the stiction probability reaches the level"},
 }
 
 
