@@ -1,0 +1,405 @@
+"""Tests of roughstick.cantilever: Eq. 36, stiction probability, crossings, Table 4 -> Eq. 37 path.
+
+Stand-in Monte-Carlo samples of Gamma are lognormal, for which the stiction probability and the
+crack-length quantiles are known in closed form.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from scipy import integrate, optimize, stats
+
+import roughstick as rs
+from conftest import raise_if_dask_computes
+from roughstick._units import UnitsError
+
+BEAM = rs.PAPER_CANTILEVER
+K = 1.5 * 164e9 * (1.9e-6) ** 2 * (2.62e-6) ** 3  # 3/2 E h^2 t^3 of the paper's beams [N m^2]
+
+
+def lognormal_gamma(n=200, rh=(0.3, 0.5, 0.7, 0.9), *, seed=0, median=None, sigma=0.8):
+    """Stand-in ensemble Gamma(realization, rh): lognormal, median growing with RH."""
+    rng = np.random.default_rng(seed)
+    rh = np.asarray(rh, dtype=float)
+    mu = np.log(median if median is not None else 2e-4 * np.exp(3 * rh))
+    vals = np.exp(mu + sigma * rng.standard_normal((n, rh.size)))
+    return xr.DataArray(
+        vals, dims=("realization", "rh"), coords={"realization": np.arange(n), "rh": rh},
+        name="adhesive_energy", attrs={"units": "J m-2"},
+    ), mu
+
+
+# ----------------------------------------------------------------------------- Eq. 36
+def test_eq36_stiffness_term_and_value():
+    assert BEAM.stiffness_term == pytest.approx(K, rel=1e-14)
+    # Gamma_crit of the 1500 um beams: 3/2 E h^2 t^3 / l^4, by hand: 1.5971e-17 / 5.0625e-12
+    assert rs.critical_adhesive_energy() == pytest.approx(3.1549e-6, rel=1e-4)
+    assert rs.adhesive_energy_from_crack_length(1500e-6) == pytest.approx(rs.critical_adhesive_energy())
+
+
+def test_eq36_round_trip_numpy_and_units():
+    s = np.array([50e-6, 200e-6, 1500e-6, 4e-3])
+    g = rs.adhesive_energy_from_crack_length(s)
+    np.testing.assert_allclose(rs.crack_length_from_adhesive_energy(g), s, rtol=1e-14)
+    gamma = np.geomspace(1e-7, 1e-1, 13)
+    np.testing.assert_allclose(rs.adhesive_energy_from_crack_length(rs.crack_length_from_adhesive_energy(gamma)),
+                               gamma, rtol=1e-13)
+    # s^-4 scaling: a 15 % change of s changes Gamma by a factor 1.15^4 = 1.75 (paper §5.3)
+    assert rs.adhesive_energy_from_crack_length(400e-6) / rs.adhesive_energy_from_crack_length(460e-6) == pytest.approx(1.15**4)
+    # DataArray in micrometres
+    da = xr.DataArray([300.0, 600.0], dims="point", attrs={"units": "um"})
+    out = rs.adhesive_energy_from_crack_length(da)
+    assert out.attrs["units"] == "J m-2" and out.name == "adhesive_energy"
+    np.testing.assert_allclose(out.values, K / (np.array([300e-6, 600e-6]) ** 4))
+    back = rs.crack_length_from_adhesive_energy(out)
+    rs.testing.assert_units(back, "m")
+    np.testing.assert_allclose(back.values, [300e-6, 600e-6], rtol=1e-14)
+
+
+def test_eq36_from_energy_minimisation():
+    """Independent derivation: the S-shaped beam (cubic w(x) = h(3 xi^2 - 2 xi^3)) of length s
+    has bending energy (EI/2) int w''^2 dx; minimising U(s) = U_bend - Gamma w (l - s) gives s."""
+    E, t, h, w, beam_len = 164e9, 2.62e-6, 1.9e-6, 30e-6, 1500e-6
+    inertia = w * t**3 / 12
+
+    def bending(s):
+        curv = lambda x: h * (6 / s**2 - 12 * x / s**3)  # noqa: E731
+        val, _ = integrate.quad(lambda x: curv(x) ** 2, 0, s)
+        return 0.5 * E * inertia * val
+
+    for gamma in (2e-5, 1e-3, 3e-2):
+        def total(s, gamma=gamma):
+            return bending(s) - gamma * w * (beam_len - s)
+
+        res = optimize.minimize_scalar(total, bounds=(10e-6, beam_len), method="bounded",
+                                       options={"xatol": 1e-12})
+        assert rs.crack_length_from_adhesive_energy(gamma) == pytest.approx(res.x, rel=1e-5)
+
+
+def test_eq36_edge_cases():
+    assert rs.crack_length_from_adhesive_energy(0.0) == np.inf
+    assert rs.adhesive_energy_from_crack_length(0.0) == np.inf
+    assert np.isnan(rs.crack_length_from_adhesive_energy(np.nan))
+    with pytest.raises(ValueError, match="must be >= 0"):
+        rs.crack_length_from_adhesive_energy(-1e-3)
+    with pytest.raises(ValueError, match="must be >= 0"):
+        rs.adhesive_energy_from_crack_length([1e-4, -1e-4])
+    with pytest.raises(UnitsError, match="units"):
+        rs.crack_length_from_adhesive_energy(xr.DataArray([1e-3]))
+    with pytest.raises(UnitsError, match="not a energy_per_area unit"):
+        rs.crack_length_from_adhesive_energy(xr.DataArray([1e-3], attrs={"units": "m"}))
+    with pytest.raises(ValueError, match="has no 'adhesive_energy'"):
+        rs.crack_length_from_adhesive_energy(xr.Dataset({"x": 1.0}))
+
+
+def test_eq36_lazy(backend):
+    g, _ = lognormal_gamma(n=8)
+    gi = backend(g, chunks={"realization": 4})
+    with raise_if_dask_computes():
+        s = rs.crack_length_from_adhesive_energy(gi)
+    assert isinstance(s.data, type(gi.data))
+    xr.testing.assert_allclose(s, rs.crack_length_from_adhesive_energy(g))
+    if backend.kind == "dask":
+        bad = backend(-g, chunks={"realization": 4})
+        out = rs.crack_length_from_adhesive_energy(bad)  # lazy: the error comes at compute time
+        with pytest.raises(ValueError, match="must be >= 0"):
+            out.compute()
+
+
+def test_cantilever_validation():
+    assert rs.Cantilever().interaction_area == pytest.approx(2.62e-6 * 30e-6)
+    assert rs.Cantilever(interaction_length=5e-6).interaction_zone_length == 5e-6
+    for kw in ({"length": 0.0}, {"thickness": -1e-6}, {"youngs_modulus": np.nan}, {"gap": "2um"}):
+        with pytest.raises(ValueError, match="must be a positive finite number"):
+            rs.Cantilever(**kw)
+    with pytest.raises(ValueError, match="beam lengths must be positive"):
+        rs.critical_adhesive_energy(length=[100e-6, -1.0])
+
+
+# ----------------------------------------------------------------------------- binomial interval
+@pytest.mark.parametrize("method,scipy_method", [("wilson", "wilson"), ("clopper-pearson", "exact")])
+def test_binomial_interval_matches_scipy(method, scipy_method):
+    for k, n in [(0, 10), (3, 20), (10, 10), (1, 1), (37, 200), (199, 200)]:
+        for conf in (0.9, 0.95, 0.99):
+            lo, hi = rs.binomial_interval(k, n, confidence=conf, method=method)
+            ref = stats.binomtest(k, n).proportion_ci(confidence_level=conf, method=scipy_method)
+            assert float(lo) == pytest.approx(ref.low, abs=1e-12)
+            assert float(hi) == pytest.approx(ref.high, abs=1e-12)
+
+
+def test_binomial_interval_arrays_and_errors(backend):
+    k = xr.DataArray([0, 5, 20], dims="beam_length")
+    n = xr.DataArray([20, 20, 20], dims="beam_length")
+    ki, ni = backend(k), backend(n)
+    with raise_if_dask_computes():
+        lo, hi = rs.binomial_interval(ki, ni)
+    assert isinstance(lo.data, type(ki.data))
+    assert lo.dims == ("beam_length",)
+    assert np.all(lo.values <= k.values / 20) and np.all(hi.values >= k.values / 20)
+    lo0, hi0 = rs.binomial_interval(0, 0)
+    assert np.isnan(lo0) and np.isnan(hi0)
+    with pytest.raises(ValueError, match="confidence"):
+        rs.binomial_interval(1, 2, confidence=95)
+    with pytest.raises(ValueError, match="wilson"):
+        rs.binomial_interval(1, 2, method="agresti")
+
+
+# ----------------------------------------------------------------------------- stiction probability
+def test_probability_counts_and_ecdf_of_crack_length():
+    g, _ = lognormal_gamma(n=101)
+    lengths = np.array([150e-6, 250e-6, 400e-6, 700e-6, 1500e-6])
+    p = rs.stiction_probability(g, length=lengths)
+    assert set(p.stiction_probability.dims) == {"rh", "beam_length"}
+    s = rs.crack_length_from_adhesive_energy(g).values  # (realization, rh)
+    for i, bl in enumerate(lengths):
+        ecdf = (s < bl).mean(axis=0)  # fraction of beams whose predicted crack is shorter than bl
+        np.testing.assert_allclose(p.stiction_probability.isel(beam_length=i).transpose("rh").values, ecdf)
+        brute = (g.values > K / bl**4).sum(axis=0)
+        np.testing.assert_array_equal(p.n_stuck.isel(beam_length=i).transpose("rh").values, brute)
+    assert (p.n_samples == 101).all()
+    np.testing.assert_allclose(p.critical_adhesive_energy.values, K / lengths**4)
+    assert p.stiction_probability.attrs["units"] == "1"
+    assert p.beam_length.attrs["units"] == "m"
+    assert p.attrs["confidence_level"] == 0.95 and p.attrs["interval_method"] == "wilson"
+    assert "10.1016/j.cam.2014.08.024" in p.attrs["references"]
+
+
+def test_probability_monotone_in_beam_length():
+    g, _ = lognormal_gamma(n=300, sigma=1.5)
+    lengths = np.geomspace(50e-6, 3e-3, 60)
+    p = rs.stiction_probability(g, length=lengths).stiction_probability.transpose("rh", "beam_length")
+    assert np.all(np.diff(p.values, axis=-1) >= 0)
+    assert p.values[:, 0].max() < 0.05 and p.values[:, -1].min() > 0.95  # spans the range
+    # and it rises with RH for this stand-in (median Gamma grows with RH)
+    assert np.all(np.diff(p.sel(beam_length=lengths[30]).values) >= 0)
+
+
+def test_probability_agrees_with_closed_form_and_interval_covers():
+    """Lognormal Gamma: P = 1 - Phi((ln Gc - mu)/sigma). The 95 % Wilson interval from n = 60
+    members covers it in about 95 % of 400 independent ensembles."""
+    n, trials, sigma, median = 60, 400, 0.7, 2e-3
+    rng = np.random.default_rng(1)
+    vals = median * np.exp(sigma * rng.standard_normal((trials, n)))
+    g = xr.DataArray(vals, dims=("trial", "realization"), attrs={"units": "J m-2"})
+    length = 300e-6
+    truth = stats.norm.sf((np.log(K / length**4) - np.log(median)) / sigma)
+    assert 0.2 < truth < 0.8
+    for method in ("wilson", "clopper-pearson"):
+        p = rs.stiction_probability(g, length=length, interval=method)
+        cover = ((p.stiction_probability_lower <= truth) & (truth <= p.stiction_probability_upper)).mean()
+        assert 0.92 <= float(cover) <= 0.99, (method, float(cover))
+        assert abs(float(p.stiction_probability.mean()) - truth) < 4 * np.sqrt(truth * (1 - truth) / (n * trials))
+
+
+def test_probability_nan_members_and_errors():
+    g, _ = lognormal_gamma(n=10)
+    g2 = g.copy()
+    g2[0, 0] = np.nan
+    p = rs.stiction_probability(g2, length=400e-6)
+    assert int(p.n_samples.isel(rh=0)) == 9 and int(p.n_samples.isel(rh=1)) == 10
+    ref = (g.values[1:, 0] > K / 400e-6**4).mean()
+    assert float(p.stiction_probability.isel(rh=0)) == pytest.approx(ref)
+    allnan = rs.stiction_probability(g * np.nan, length=400e-6)
+    assert allnan.stiction_probability.isnull().all() and allnan.stiction_probability_lower.isnull().all()
+    with pytest.raises(ValueError, match="no 'sample' dimension"):
+        rs.stiction_probability(g, dim="sample")
+    with pytest.raises(TypeError, match="must be an xarray.DataArray"):
+        rs.stiction_probability(np.ones(4))
+    with pytest.raises(UnitsError):
+        rs.stiction_probability(g.assign_attrs(units="J"))
+    with pytest.raises(ValueError, match="must be >= 0"):
+        rs.stiction_probability(-g)
+    # a summary Dataset is accepted
+    ds = xr.Dataset({"adhesive_energy": g})
+    xr.testing.assert_identical(rs.stiction_probability(ds).stiction_probability,
+                                rs.stiction_probability(g).stiction_probability)
+
+
+def test_probability_backends_lazy(backend):
+    g, _ = lognormal_gamma(n=40)
+    gi = backend(g, chunks={"realization": 10, "rh": 2})
+    with raise_if_dask_computes():
+        p = rs.stiction_probability(gi, length=[200e-6, 500e-6])
+    assert isinstance(p.stiction_probability.data, type(gi.data))
+    xr.testing.assert_allclose(p.compute(), rs.stiction_probability(g, length=[200e-6, 500e-6]))
+
+
+# ----------------------------------------------------------------------------- crossings
+def test_crossing_humidity_linear_and_edges():
+    rh = [0.3, 0.4, 0.5, 0.6]
+    p = xr.DataArray(
+        [[0.0, 0.2, 0.6, 1.0], [0.6, 0.7, 0.8, 0.9], [0.0, 0.1, 0.1, 0.2], [0.0, 0.7, 0.2, 0.9]],
+        dims=("beam_length", "rh"), coords={"rh": rh, "beam_length": [1, 2, 3, 4]},
+    )
+    c = rs.crossing_humidity(p, level=0.5).crossing_humidity.values
+    np.testing.assert_allclose(c, [0.475, -np.inf, np.inf, 0.3 + 0.1 * 0.5 / 0.7])
+    assert rs.crossing_humidity(p, level=0.5).crossing_humidity.attrs["units"] == "1"
+    with pytest.raises(ValueError, match="strictly increasing"):
+        rs.crossing_humidity(p.isel(rh=[1, 0, 2]))
+    with pytest.raises(ValueError, match="level"):
+        rs.crossing_humidity(p, level=1.0)
+    with pytest.raises(ValueError, match="rechunk|Rechunk"):
+        rs.crossing_humidity(p.chunk({"rh": 2}))
+
+
+def test_crossing_humidity_bounds_order_and_consistency():
+    g, _ = lognormal_gamma(n=80, rh=np.arange(0.30, 0.951, 0.05))
+    p = rs.stiction_probability(g, length=[300e-6, 400e-6])
+    c = rs.crossing_humidity(p, level=0.5)
+    assert np.all(c.crossing_humidity_lower <= c.crossing_humidity)
+    assert np.all(c.crossing_humidity <= c.crossing_humidity_upper)
+    # the estimate interpolates the probability: evaluating it there gives the level
+    for bl in p.beam_length.values:
+        x = float(c.crossing_humidity.sel(beam_length=bl))
+        if np.isfinite(x):
+            pp = p.stiction_probability.sel(beam_length=bl)
+            assert np.interp(x, pp.rh.values, pp.values) == pytest.approx(0.5)
+
+
+def test_crossing_length_is_quantile_and_consistent_with_probability():
+    g, _ = lognormal_gamma(n=57)
+    for level in (0.1, 0.5, 0.9):
+        cl = rs.crossing_length(g, level=level)
+        lp = cl.crossing_length
+        assert lp.dims == ("rh",)
+        # a length DataArray over rh broadcasts: one beam length per humidity
+        above = rs.stiction_probability(g, length=lp * (1 + 1e-9)).stiction_probability
+        below = rs.stiction_probability(g, length=lp * (1 - 1e-9)).stiction_probability
+        assert above.dims == ("rh",)
+        # P(stuck | l) for l just above l_p reaches the level; just below it does not
+        assert np.all(above.values >= level) and np.all(below.values < level)
+        assert np.all(cl.crossing_length_lower <= lp) and np.all(lp <= cl.crossing_length_upper)
+
+
+def test_crossing_length_interval_covers_true_quantile():
+    """ln s = (ln K - ln Gamma)/4 is normal: the true p-quantile of s is known. The
+    distribution-free order-statistic interval must cover it in >= ~95 % of ensembles."""
+    n, trials, sigma, median, level = 40, 400, 0.8, 5e-4, 0.2
+    rng = np.random.default_rng(3)
+    g = xr.DataArray(median * np.exp(sigma * rng.standard_normal((trials, n))),
+                     dims=("trial", "realization"), attrs={"units": "J m-2"})
+    truth = np.exp((np.log(K) - np.log(median)) / 4 + sigma / 4 * stats.norm.ppf(level))
+    cl = rs.crossing_length(g, level=level)
+    cover = ((cl.crossing_length_lower <= truth) & (truth <= cl.crossing_length_upper)).mean()
+    assert 0.93 <= float(cover) <= 1.0
+    # too small a sample cannot bound the upper side of a high quantile
+    tiny = rs.crossing_length(g.isel(trial=0, realization=slice(0, 3)), level=0.9)
+    assert np.isinf(float(tiny.crossing_length_upper))
+
+
+def test_crossing_length_lazy(backend):
+    g, _ = lognormal_gamma(n=30)
+    gi = backend(g, chunks={"realization": 7})
+    with raise_if_dask_computes():
+        cl = rs.crossing_length(gi, level=0.3)
+    assert isinstance(cl.crossing_length.data, type(gi.data))
+    xr.testing.assert_allclose(cl.compute(), rs.crossing_length(g, level=0.3))
+
+
+# ----------------------------------------------------------------------------- risk and points
+def test_stiction_risk_dataset():
+    g, mu = lognormal_gamma(n=41, rh=np.arange(0.3, 0.951, 0.05))
+    r = rs.stiction_risk(g, length=[250e-6, 350e-6, 500e-6], levels=[0.1, 0.5])
+    assert r.crossing_humidity.dims == ("probability_level", "beam_length")
+    assert set(r.crossing_length.dims) == {"probability_level", "rh"}
+    assert set(r.adhesive_energy_quantile.dims) == {"quantile", "rh"}
+    # median crack length is the crack length of the median Gamma (odd n: exact order statistic)
+    med_s = r.crack_length_quantile.sel(quantile=0.5)
+    np.testing.assert_allclose(med_s.values,
+                               rs.crack_length_from_adhesive_energy(g.median("realization")).values, rtol=1e-12)
+    # the median of s is the 0.5 crossing length up to the order-statistic convention (n odd: equal)
+    np.testing.assert_allclose(r.crossing_length.sel(probability_level=0.5).values, med_s.values, rtol=1e-12)
+    for v in r.data_vars.values():
+        assert "units" in v.attrs and "long_name" in v.attrs, v.name
+    for c in ("rh", "beam_length", "probability_level", "quantile"):
+        assert r[c].attrs["units"] == "1" if c != "beam_length" else r[c].attrs["units"] == "m"
+    with pytest.raises(ValueError, match="levels"):
+        rs.stiction_risk(g, levels=[0.0])
+
+
+def test_measured_adhesion_points():
+    m = rs.measured_adhesion([0.4, 0.6, 0.8], crack_length=xr.DataArray([500.0, 420.0, 380.0], dims="p", attrs={"units": "um"}))
+    np.testing.assert_allclose(m.adhesive_energy.values, K / (np.array([500e-6, 420e-6, 380e-6]) ** 4))
+    assert m.attrs["given"] == "crack_length" and m.sizes["point"] == 3
+    m2 = rs.measured_adhesion(xr.DataArray([40.0, 60.0], dims="p", attrs={"units": "%"}), adhesive_energy=[1e-4, 2e-4])
+    np.testing.assert_allclose(m2.rh.values, [0.4, 0.6])
+    np.testing.assert_allclose(m2.crack_length.values, (K / np.array([1e-4, 2e-4])) ** 0.25)
+    with pytest.raises(ValueError, match="exactly one"):
+        rs.measured_adhesion([0.5], crack_length=[1e-4], adhesive_energy=[1e-3])
+    with pytest.raises(ValueError, match="equal length"):
+        rs.measured_adhesion([0.5, 0.6], crack_length=[1e-4])
+    with pytest.raises(ValueError, match="between 0 and 1"):
+        rs.measured_adhesion([50.0], crack_length=[1e-4])
+
+
+# ----------------------------------------------------------------------------- Table 4 -> Eq. 37
+def test_table4_moments_and_eq37_both_densities():
+    m = rs.cantilever_moments()
+    assert float(m.m0) ** 0.5 == pytest.approx(3.54e-9, rel=2e-3)
+    assert float(m.m4) == pytest.approx((3 * np.sqrt(np.pi) / (8 * 220e-9)) ** 2, rel=1e-12)
+    assert float(m.m4) == pytest.approx(9.1e12, rel=5e-3)  # Table 4: 9.1 um^-2
+    assert float(m.m2) == pytest.approx(0.0035, rel=5e-3)  # Table 4: 0.0035
+    p = rs.cantilever_psd()
+    assert float(p.q0) == pytest.approx(21.2e6, rel=5e-3)
+    assert float(p.s0) == pytest.approx(5.5e3 * 1e-36, rel=1e-2)
+    assert float(p.s1) == pytest.approx(5.5e-3 * 1e-36, rel=2e-2)
+    assert "88.1" in p.attrs["note"]
+    # the paper's printed solution comes from N = 88.1 um^-2 (within the 3 printed digits, ~1 %)
+    printed = rs.cantilever_psd(asperity_density=88.1e12)
+    assert float(printed.q0) == pytest.approx(19.4e6, rel=1e-2)
+    assert float(printed.s0) == pytest.approx(6.46e3 * 1e-36, rel=1.5e-2)
+    assert float(printed.s1) == pytest.approx(6.29e-3 * 1e-36, rel=1.5e-2)
+    # the fitted PSD has the Table 4 moments (closed-form moments, independent of the solver)
+    mom = rs.self_affine_moments(s0=p.s0, s1=p.s1, q0=p.q0, qmax=p.qmax)
+    for k in ("m0", "m2", "m4"):
+        assert float(mom[k]) == pytest.approx(float(m[k]), rel=1e-5)
+
+
+def _spectral_moments(z, dy, dx):
+    """Height, slope and curvature variances of periodic maps (..., y, x) from exact spectral
+    derivatives, in x and in y: an estimate independent of roughstick's PSD code."""
+    ny, nx = z.shape[-2:]
+    qx = 2 * np.pi * np.fft.fftfreq(nx, dx)
+    qy = 2 * np.pi * np.fft.fftfreq(ny, dy)
+    zf = np.fft.fft2(z - z.mean(axis=(-2, -1), keepdims=True))
+    power = np.abs(zf) ** 2 / (nx * ny) ** 2  # sum over modes = variance (Parseval)
+    QX, QY = np.meshgrid(qx, qy)
+    m0 = power.sum(axis=(-2, -1))
+    return m0, (power * QX**2).sum(axis=(-2, -1)), (power * QX**4).sum(axis=(-2, -1)), \
+        (power * QY**2).sum(axis=(-2, -1)), (power * QY**4).sum(axis=(-2, -1))
+
+
+def test_table4_eq37_generated_rectangle_reproduces_moments():
+    """Table 4 -> Eq. 37 -> surfaces on the interaction zone Delta s x w = 2.62 x 30 um at 5 nm
+    (524 x 6000 pixels, the full rectangle): the sample moments match mu0, mu2, mu4 within
+    the Monte-Carlo standard error plus the discretisation of the PSD on the wave-number grid."""
+    p = rs.cantilever_psd()
+    m = rs.cantilever_moments()
+
+    def iso(q):
+        return rs.self_affine_psd(np.asarray(q).ravel(), s0=p.s0, s1=p.s1, q0=p.q0, qmax=p.qmax).values.reshape(np.shape(q))
+
+    ny, nx, d = 524, 6000, 5e-9
+    n = 4
+    h = rs.generate_surfaces(iso, n=n, shape=(ny, nx), spacing=d, seed=7, chunks=1)
+    assert h.sizes == {"realization": n, "y": ny, "x": nx}
+    z = h.values
+    m0, m2x, m4x, m2y, m4y = _spectral_moments(z, d, d)
+    # expectation on the grid: the model PSD summed over the generated wave vectors (q = 0 excluded)
+    qx = 2 * np.pi * np.fft.fftfreq(nx, d)
+    qy = 2 * np.pi * np.fft.fftfreq(ny, d)
+    QX, QY = np.meshgrid(qx, qy)
+    S = iso(np.hypot(QX, QY)) * (2 * np.pi / (nx * d)) * (2 * np.pi / (ny * d))
+    S[0, 0] = 0.0
+    grid = {"m0": S.sum(), "m2x": (S * QX**2).sum(), "m4x": (S * QX**4).sum(),
+            "m2y": (S * QY**2).sum(), "m4y": (S * QY**4).sum()}
+    target = {"m0": float(m.m0), "m2x": float(m.m2), "m4x": float(m.m4), "m2y": float(m.m2), "m4y": float(m.m4)}
+    sample = {"m0": m0, "m2x": m2x, "m4x": m4x, "m2y": m2y, "m4y": m4y}
+    for k, v in sample.items():
+        se = v.std(ddof=1) / np.sqrt(n)
+        disc = abs(grid[k] - target[k])
+        assert disc / target[k] < 0.02, (k, disc / target[k])  # grid quadrature of Eq. 37
+        assert abs(v.mean() - grid[k]) < 4 * se + 1e-9 * grid[k], (k, v.mean(), grid[k], se)
+        assert abs(v.mean() - target[k]) < 4 * se + disc, (k, v.mean() / target[k])
