@@ -1,3 +1,727 @@
-"""Placeholder: filled in by its issue."""
+r"""Greenwood–Williamson statistical rough contact from (m0, m2, m4) (paper §3.2, Eq. 14).
 
-__all__: list[str] = []
+An isotropic Gaussian surface with Nayak's one-direction spectral moments :math:`m_0, m_2, m_4`
+has :math:`N = m_4 / (6\pi\sqrt3\, m_2)` summits (local maxima) per unit area. Each summit is
+replaced by a sphere of radius :math:`R = 1/\kappa` (:math:`\kappa` its geometric-mean curvature)
+and the summit forces are summed with the joint density of summit height and curvature
+(no interaction between summits, no merging of menisci):
+
+.. math:: F^S(d) = N \int_{-\infty}^{h_{\max}} \int_{\kappa_{\min}}^{\kappa_{\max}}
+          F^a(h - d, 1/\kappa)\, \rho(h, \kappa)\, d\kappa\, dh .   \qquad (14)
+
+Functions
+---------
+:func:`summit_density`
+    :math:`N` from a moments Dataset.
+:func:`summit_joint_density`
+    The joint density :math:`\rho(h, \kappa)` of summit height and curvature.
+:func:`gw_contact_curves`
+    Force–distance curves over ``(..., rh, distance)`` in the layout of the rough-surface
+    modified DMT (:func:`roughstick.rough_contact_curves`), so both plot side by side and
+    :func:`roughstick.adhesion_summary` applies to either.
+:func:`gw_cutoff_study`
+    The same curves for a list of height cutoffs (the paper's Fig. 9).
+
+References
+----------
+Nayak, P. R. (1971). Random process model of rough surfaces. J. Lubr. Technol. 93, 398-407.
+https://doi.org/10.1115/1.3451608
+
+Greenwood, J. A., Williamson, J. B. P. (1966). Contact of nominally flat surfaces.
+Proc. R. Soc. Lond. A 295, 300-319. https://doi.org/10.1098/rspa.1966.0242
+
+Greenwood, J. A. (2006). A simplified elliptic model of rough surface contact. Wear 261, 191-200.
+https://doi.org/10.1016/j.wear.2005.09.031
+"""
+
+from __future__ import annotations
+
+import functools
+import numbers
+
+import numpy as np
+import xarray as xr
+from scipy import interpolate, special
+
+from ._dask import is_lazy
+from ._units import require
+from .conventions import append_history, dataset_attrs, set_attrs
+from .materials import POLYSILICON, Material, hertz_modulus
+from .meniscus import as_relative_humidity, laplace_pressure, water_height
+
+__all__ = ["summit_density", "summit_joint_density", "gw_contact_curves", "gw_cutoff_study"]
+
+REFERENCES = (
+    "Nayak (1971) https://doi.org/10.1115/1.3451608; "
+    "Greenwood and Williamson (1966) https://doi.org/10.1098/rspa.1966.0242; "
+    "Greenwood (2006) https://doi.org/10.1016/j.wear.2005.09.031"
+)
+
+#: Sphere models accepted per summit (``roughstick.contact._kernels.sphere_force_kernel``).
+SPHERE_MODELS = ("modified_dmt", "dmt", "maugis", "hertz")
+#: Curvature measures of a summit used for its sphere radius.
+CURVATURE_MEASURES = ("geometric", "mean")
+
+# Quadrature range of the summit height in units of sqrt(m0) when no cutoff is given. Summit
+# heights have a standard deviation <= sqrt(m0) and a mean <= 1.85 sqrt(m0) (alpha >= 1.5), so
+# the density at 10 sqrt(m0) is below 1e-16 of its peak.
+_XI_TOP = 10.0
+_XI_BOTTOM = -10.0
+
+# order of the variables in the kernel output
+_VARS = (
+    "pressure",
+    "repulsive_pressure",
+    "wet_fraction",
+    "contact_fraction",
+    "n_contacts",
+    "max_interference",
+)
+
+# --------------------------------------------------------------------------------------------
+# moments: units and validation
+# --------------------------------------------------------------------------------------------
+
+_MOMENT_UNITS = {
+    "m0": {"m2": 1.0, "m^2": 1.0, "m**2": 1.0, "nm2": 1e-18, "nm^2": 1e-18, "um2": 1e-12,
+           "um^2": 1e-12, "µm2": 1e-12},
+    "m2": {"1": 1.0, "": 1.0, "-": 1.0},
+    "m4": {"m-2": 1.0, "m^-2": 1.0, "1/m2": 1.0, "nm-2": 1e18, "nm^-2": 1e18, "um-2": 1e12,
+           "um^-2": 1e12, "µm-2": 1e12},
+}
+_MOMENT_SI = {"m0": "m2", "m2": "1", "m4": "m-2"}
+
+
+def _moment_si(ds: xr.Dataset, key: str) -> xr.DataArray:
+    if key not in ds:
+        raise ValueError(
+            f"moments must be a Dataset with variables 'm0', 'm2' and 'm4' (Nayak's one-direction "
+            f"spectral moments, docs/architecture.md); {key!r} is missing. "
+            "roughstick.fit_self_affine / moments_from_asperities return such a Dataset."
+        )
+    da = ds[key]
+    units = da.attrs.get("units")
+    if units is None:
+        raise ValueError(
+            f"moments[{key!r}] has no 'units' attribute; set it, e.g. "
+            f"moments[{key!r}].attrs['units'] = {_MOMENT_SI[key]!r} (SI)."
+        )
+    table = _MOMENT_UNITS[key]
+    u = str(units).strip()
+    if u not in table:
+        raise ValueError(
+            f"moments[{key!r}] has units {units!r}; expected one of {sorted(k for k in table if k)} "
+            f"(SI: {_MOMENT_SI[key]!r})."
+        )
+    f = table[u]
+    out = da * f if f != 1.0 else da
+    out = out.copy(deep=False)
+    out.attrs = {"units": _MOMENT_SI[key]}
+    return out
+
+
+def _check_moments_np(m0, m2, m4):
+    """Raise a clear ValueError for impossible moments (numpy values)."""
+    m0, m2, m4 = (np.asarray(v, dtype=float) for v in (m0, m2, m4))
+    for name, v, unit in (("m0", m0, "m2"), ("m2", m2, "1"), ("m4", m4, "m-2")):
+        bad = ~(np.isfinite(v) & (v > 0))
+        if np.any(bad):
+            raise ValueError(
+                f"moment {name} must be positive and finite ({unit}), got {v[bad].ravel()[0]!r}. "
+                "Spectral moments are integrals of a non-negative PSD."
+            )
+    alpha = m0 * m4 / m2**2
+    bad = ~(alpha > 1.5)
+    if np.any(bad):
+        raise ValueError(
+            f"bandwidth alpha = m0*m4/m2**2 = {alpha[bad].ravel()[0]!r} is below 1.5, which no "
+            "isotropic Gaussian surface can have (Nayak 1971: alpha >= 1.5, equality for a single "
+            "ring of wavevectors). Check the moments' units (m0 in m2, m2 in 1, m4 in m-2) and "
+            "that m2, m4 are one-direction moments."
+        )
+    return alpha
+
+
+# --------------------------------------------------------------------------------------------
+# the joint density of summit height and curvature (dimensionless)
+# --------------------------------------------------------------------------------------------
+
+_LOG_9SQRT3 = float(np.log(9.0 * np.sqrt(3.0)))
+_LOG_3SQRT3 = float(np.log(3.0 * np.sqrt(3.0)))
+_LOG_2PI = float(np.log(2.0 * np.pi))
+
+
+def _log_density(xi, t, alpha, measure="geometric"):
+    r"""Log of the dimensionless joint density of summit height and curvature.
+
+    ``xi = h / sqrt(m0)``, ``t = kappa / sqrt(m4)``; the density integrates to one over
+    ``xi`` in R and ``t`` > 0 for any ``alpha`` > 1.5. Arrays broadcast.
+
+    Derivation (Kac–Rice, as Nayak 1971): at a point, write the negative Hessian as
+    :math:`u \pm \sqrt{v^2+w^2}` with :math:`u = -(z_{xx}+z_{yy})/2`, :math:`v = (z_{xx}-z_{yy})/2`,
+    :math:`w = z_{xy}`. For an isotropic Gaussian field, :math:`v, w` are independent
+    :math:`N(0, m_4/3)`, independent of :math:`(z, u)`, which are bivariate normal with
+    variances :math:`m_0, 2m_4/3` and covariance :math:`m_2`; the gradient is independent of all
+    of them with density :math:`1/(2\pi m_2)` at zero. Summits per unit area:
+    :math:`n = (u^2 - r^2)\,p(z, u)\,p_r(r)/(2\pi m_2)` for :math:`0 \le r = \sqrt{v^2+w^2} < u`.
+
+    * ``measure="mean"`` (Nayak's mean curvature :math:`\kappa_m = u`): integrating over
+      :math:`r` gives
+      :math:`\rho(\xi, t) = 3\sqrt3\,(t^2 - \tfrac23 + \tfrac23 e^{-3t^2/2})\,\phi_2(\xi, t)` with
+      :math:`\phi_2` the bivariate normal density of variances 1, 2/3 and covariance
+      :math:`1/\sqrt\alpha`.
+    * ``measure="geometric"`` (:math:`\kappa_g = \sqrt{\kappa_1\kappa_2} = \sqrt{u^2-r^2}`, the
+      radius of Greenwood 2006): changing :math:`r \to \kappa_g` and integrating over :math:`u`,
+      :math:`\rho(\xi, t) = 9\sqrt3\,t^3\,\phi(\xi)\,I(\xi, t)` with
+      :math:`I = \int_t^\infty \phi(v; \xi/\sqrt\alpha, \tfrac23 - \tfrac1\alpha)\,
+      e^{-3(v^2 - t^2)/2}\,dv`, which is a normal tail probability:
+      :math:`I = (3 - 3/\alpha)^{-1/2}\exp[3t^2/2 - \xi^2/(2(\alpha - 1))]\,
+      \Phi((\mu' - t)\sqrt{P})`, :math:`P = 3 + 1/\tau^2`, :math:`\mu' = \xi/(\sqrt\alpha\,\tau^2 P)`,
+      :math:`\tau^2 = 2/3 - 1/\alpha`.
+    """
+    xi = np.asarray(xi, dtype=float)
+    t = np.asarray(t, dtype=float)
+    alpha = float(alpha)
+    tau2 = 2.0 / 3.0 - 1.0 / alpha
+    with np.errstate(divide="ignore"):
+        log_t = np.log(t)
+    if measure == "mean":
+        # bivariate normal (xi, t): var 1, 2/3, cov c = 1/sqrt(alpha); det = tau2
+        c = 1.0 / np.sqrt(alpha)
+        q = (xi**2 * (2.0 / 3.0) - 2.0 * c * xi * t + t**2) / tau2
+        log_phi2 = -0.5 * q - _LOG_2PI - 0.5 * np.log(tau2)
+        # t^2 - 2/3 + 2/3 exp(-3 t^2/2) = 2/3 * (x - 1 + exp(-x)), x = 3 t^2 / 2 (>= 0, ~x^2/2)
+        x = 1.5 * t**2
+        g = np.where(x > 1e-4, x - 1.0 + np.exp(-x), 0.5 * x**2 * (1.0 - x / 3.0))
+        with np.errstate(divide="ignore"):
+            out = _LOG_3SQRT3 + np.log(2.0 / 3.0 * g) + log_phi2
+        return np.where(t > 0, out, -np.inf)
+    if measure != "geometric":
+        raise ValueError(f"curvature_measure must be one of {CURVATURE_MEASURES}, got {measure!r}.")
+    P = 3.0 + 1.0 / tau2
+    mu_p = xi / (np.sqrt(alpha) * tau2 * P)
+    log_I = (
+        -0.5 * np.log(3.0 - 3.0 / alpha)
+        + 1.5 * t**2
+        - xi**2 / (2.0 * (alpha - 1.0))
+        + special.log_ndtr((mu_p - t) * np.sqrt(P))
+    )
+    out = _LOG_9SQRT3 + 3.0 * log_t - 0.5 * xi**2 - 0.5 * _LOG_2PI + log_I
+    return np.where(t > 0, out, -np.inf)
+
+
+def summit_density(moments: xr.Dataset) -> xr.DataArray:
+    r"""Number of summits per unit area, :math:`N = m_4 / (6\pi\sqrt3\, m_2)` (Nayak 1971).
+
+    Parameters
+    ----------
+    moments : xarray.Dataset
+        ``m0`` (m2), ``m2`` (1), ``m4`` (m-2), any dims (docs/architecture.md).
+
+    Returns
+    -------
+    xarray.DataArray
+        :math:`N` [m-2].
+
+    References
+    ----------
+    Nayak (1971), https://doi.org/10.1115/1.3451608
+
+    Examples
+    --------
+    >>> ds = xr.Dataset({"m0": ((), 15.7e-18, {"units": "m2"}), "m2": ((), 0.040, {"units": "1"}),
+    ...                  "m4": ((), 5.08e-4, {"units": "nm-2"})})
+    >>> round(float(rs.summit_density(ds)) * 1e-12, 2)  # per square micrometre
+    388.99
+    """
+    m2 = _moment_si(moments, "m2")
+    m4 = _moment_si(moments, "m4")
+    out = m4 / (6.0 * np.pi * np.sqrt(3.0) * m2)
+    return set_attrs(out.rename("summit_density"), "summit_density", references=REFERENCES)
+
+
+def summit_joint_density(height, curvature, *, moments: xr.Dataset, curvature_measure="geometric"):
+    r"""Joint probability density :math:`\rho(h, \kappa)` of summit height and curvature.
+
+    Normalised so that :math:`\int_{-\infty}^{\infty}\int_0^\infty \rho\, d\kappa\, dh = 1`;
+    :math:`N\rho` is the number of summits per unit area, height and curvature (Eq. 14).
+
+    Parameters
+    ----------
+    height : float, array or xarray.DataArray
+        Summit height h above the mean plane [m] (DataArrays need length ``units``).
+    curvature : float, array or xarray.DataArray
+        Summit curvature :math:`\kappa` [m-1] (plain values, SI).
+    moments : xarray.Dataset
+        ``m0``, ``m2``, ``m4`` (eager; the density is for plotting and checks).
+    curvature_measure : {"geometric", "mean"}, default "geometric"
+        :math:`\kappa = \sqrt{\kappa_1 \kappa_2}` (the sphere of equal Hertz load, Greenwood 2006,
+        used by the paper) or Nayak's mean curvature :math:`(\kappa_1 + \kappa_2)/2`.
+
+    Returns
+    -------
+    xarray.DataArray
+        :math:`\rho` [m-1 m] = [1] per (m · m-1); broadcast over the inputs' dims.
+
+    Notes
+    -----
+    With :math:`\xi = h/\sqrt{m_0}`, :math:`t = \kappa/\sqrt{m_4}` and the bandwidth
+    :math:`\alpha = m_0 m_4/m_2^2`, the geometric-curvature density is
+
+    .. math:: \rho = \frac{9\sqrt3\, t^3\, \phi(\xi)}{\sqrt{m_0 m_4}\sqrt{3 - 3/\alpha}}
+              \exp\!\Big(\frac{3t^2}{2} - \frac{\xi^2}{2(\alpha-1)}\Big)
+              \Phi\big((\mu' - t)\sqrt P\big),
+
+    derived from the Kac–Rice count of local maxima as in Nayak (1971) (see the docs page
+    ``docs/greenwood_williamson.md`` for the steps). Its height marginal has Nayak's mean
+    :math:`4\sqrt{m_0/(\pi\alpha)}` and variance :math:`m_0(1 - 0.8968/\alpha)`.
+
+    References
+    ----------
+    Nayak (1971), https://doi.org/10.1115/1.3451608;
+    Greenwood (2006), https://doi.org/10.1016/j.wear.2005.09.031
+    """
+    m0 = _moment_si(moments, "m0")
+    m2 = _moment_si(moments, "m2")
+    m4 = _moment_si(moments, "m4")
+    if is_lazy(moments):
+        raise ValueError("summit_joint_density needs eager moments: call moments.compute() first.")
+    h = require(height, "length", name="height") if isinstance(height, xr.DataArray) else xr.DataArray(
+        np.asarray(height, dtype=float)
+    )
+    k = curvature if isinstance(curvature, xr.DataArray) else xr.DataArray(np.asarray(curvature, float))
+
+    def kern(h_, k_, m0_, m2_, m4_):
+        out = np.empty(np.broadcast(h_, k_, m0_, m2_, m4_).shape)
+        hb, kb, a0, a2, a4 = np.broadcast_arrays(h_, k_, m0_, m2_, m4_)
+        alpha = _check_moments_np(a0, a2, a4)
+        for a in np.unique(alpha):
+            sel = alpha == a
+            out[sel] = np.exp(
+                _log_density(hb[sel] / np.sqrt(a0[sel]), kb[sel] / np.sqrt(a4[sel]), a, curvature_measure)
+            ) / np.sqrt(a0[sel] * a4[sel])
+        return out
+
+    out = xr.apply_ufunc(kern, h, k, m0, m2, m4)
+    out.attrs = {"units": "1", "long_name": "joint density of summit height and curvature"}
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# quadrature kernel
+# --------------------------------------------------------------------------------------------
+
+
+@functools.lru_cache(maxsize=32)
+def _gauss(n: int):
+    x, w = np.polynomial.legendre.leggauss(n)
+    return (x + 1.0) / 2.0, w / 2.0  # on [0, 1]
+
+
+def _sphere_force(model, delta, radius, K, sigma0, h0):
+    from .contact import _kernels
+
+    delta, radius = np.broadcast_arrays(np.asarray(delta, float), np.asarray(radius, float))
+    f = _kernels.sphere_force_kernel(model, delta.ravel(), radius.ravel(), K, sigma0, h0)
+    return np.reshape(f, delta.shape)
+
+
+def _wet_and_contact(delta, radius, h_water):
+    """Geometric wetted annulus (Eq. 8 minus Hertz contact, Eqs. 10-11) and contact area [m2]."""
+    a2 = radius * np.clip(delta, 0.0, None)
+    x = np.clip(delta + h_water, 0.0, radius)  # the meniscus cannot pass the sphere's equator
+    c2 = x * (2.0 * radius - x)
+    return np.pi * np.clip(c2 - a2, 0.0, None), np.pi * a2
+
+
+def _tabulated(model, grid_delta, grid_x, radius, K, sigma0, h0):
+    """Cubic spline in ``grid_x`` of the sphere force on ``grid_delta`` for every radius."""
+    table = _sphere_force(model, grid_delta[:, None], radius[None, :], K, sigma0, h0)
+    return interpolate.CubicSpline(grid_x, table, axis=0)
+
+
+def _gw_point(
+    m0, m2, m4, dP, h_water, distance, *, model, K, t_nodes, t_weights, xi_top, n_height, measure,
+    table, cache,
+):
+    """All six curves for one set of moments and one humidity: array (n_distance, 6)."""
+    alpha = float(_check_moments_np(m0, m2, m4))
+    sigma, sq4 = np.sqrt(m0), np.sqrt(m4)
+    N = m4 / (6.0 * np.pi * np.sqrt(3.0) * m2)
+    s, ws = _gauss(n_height)
+    radius = 1.0 / (t_nodes * sq4)  # (n_t,)
+    R3 = radius[None, None, :]
+    d = np.asarray(distance, dtype=float)
+    xi_d = d / sigma
+    lo = np.clip(xi_d - h_water / sigma, _XI_BOTTOM, xi_top)  # start of the wet interval
+    mid = np.clip(xi_d, _XI_BOTTOM, xi_top)  # first contact
+    sigma0 = abs(dP)
+    capillary = model != "hertz" and h_water > 0 and sigma0 > 0
+    out = np.zeros((d.size, len(_VARS)))
+
+    # contact interval xi in [mid, xi_top], xi = mid + L s^2 (smooths delta^(3/2) at first contact)
+    key = (m0, m2, m4)
+    if key not in cache:
+        L = xi_top - mid
+        xi = mid[:, None] + L[:, None] * s[None, :] ** 2  # (n_d, n_h)
+        wxi = (2.0 * L[:, None] * s[None, :]) * ws[None, :]
+        rho = np.exp(_log_density(xi[:, :, None], t_nodes[None, None, :], alpha, measure))
+        weight = N * rho * wxi[:, :, None] * t_weights[None, None, :]  # summits per m2 at each node
+        delta = np.clip(sigma * xi - d[:, None], 0.0, None)  # (n_d, n_h)
+        f_hertz = _sphere_force("hertz", delta[:, :, None], R3, K, 0.0, 0.0)
+        cache.clear()
+        cache[key] = (weight, delta, (weight * f_hertz).sum(axis=(1, 2)), weight.sum(axis=(1, 2)))
+    weight, delta, p_rep, n_cont = cache[key]
+    out[:, 1] = p_rep
+    out[:, 4] = n_cont
+    wet, contact = _wet_and_contact(delta[:, :, None], R3, h_water)
+    out[:, 3] = (weight * contact).sum(axis=(1, 2))
+    out[:, 5] = xi_top * sigma - d
+    if model == "hertz":
+        out[:, 0] = p_rep
+        return out
+    dmax = float(delta.max())
+    if table and dmax > 0:
+        # splines in sqrt(delta / dmax): Hertz's delta^(3/2) becomes a cubic
+        g = np.linspace(0.0, 1.0, table)
+        spl = _tabulated(model, dmax * g**2, g, radius, K, sigma0, h_water)
+        f = spl(np.sqrt(delta / dmax))
+    else:
+        f = _sphere_force(model, delta[:, :, None], R3, K, sigma0, h_water)
+    out[:, 0] = (weight * f).sum(axis=(1, 2))
+    if not capillary:  # no water (sigma0 or h_water is zero): the model reduces to its dry contact
+        return out
+    out[:, 2] = (weight * wet).sum(axis=(1, 2))
+    # wet interval xi in [lo, mid]: -h_water < delta <= 0 (meniscus, no contact)
+    Lw = mid - lo
+    xi = lo[:, None] + Lw[:, None] * s[None, :]
+    wxi = Lw[:, None] * ws[None, :]
+    rho = np.exp(_log_density(xi[:, :, None], t_nodes[None, None, :], alpha, measure))
+    wgt = N * rho * wxi[:, :, None] * t_weights[None, None, :]
+    dl = np.clip(sigma * xi - d[:, None], -h_water, 0.0)  # (n_d, n_h)
+    if table:
+        g = np.linspace(-h_water, 0.0, max(table // 4, 8))
+        f = _tabulated(model, g, g, radius, K, sigma0, h_water)(dl)
+    else:
+        f = _sphere_force(model, dl[:, :, None], R3, K, sigma0, h_water)
+    wet, _ = _wet_and_contact(dl[:, :, None], R3, h_water)
+    out[:, 0] += (wgt * f).sum(axis=(1, 2))
+    out[:, 2] += (wgt * wet).sum(axis=(1, 2))
+    return out
+
+
+def _gw_block(m0, m2, m4, dP, hw, distance, **kw):
+    shape = np.broadcast(m0, m2, m4, dP, hw).shape
+    b = [np.broadcast_to(np.asarray(v, dtype=float), shape) for v in (m0, m2, m4, dP, hw)]
+    out = np.empty(shape + (np.size(distance), len(_VARS)))
+    cache: dict = {}
+    # visit humidities of one moment set together so the RH-independent part is reused
+    order = sorted(np.ndindex(shape), key=lambda i: (b[0][i], b[1][i], b[2][i]))
+    for idx in order:
+        out[idx] = _gw_point(*(float(v[idx]) for v in b), distance, cache=cache, **kw)
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# public API
+# --------------------------------------------------------------------------------------------
+
+
+def _as_moments(moments) -> xr.Dataset:
+    if isinstance(moments, xr.Dataset):
+        return moments
+    if isinstance(moments, xr.DataArray):
+        return _height_moments(moments)
+    raise TypeError(
+        "moments must be an xarray.Dataset with m0, m2, m4 (e.g. from roughstick.fit_self_affine) "
+        f"or a height DataArray (y, x); got {type(moments).__name__}."
+    )
+
+
+def _height_moments(height: xr.DataArray) -> xr.Dataset:
+    """Nayak moments of a height map from its periodogram (``psd_moments(power_spectrum(h))``)."""
+    from .psd import power_spectrum, psd_moments
+
+    return psd_moments(power_spectrum(height), direction="mean")
+
+
+def _as_distance(distance) -> np.ndarray:
+    if distance is None:
+        raise ValueError(
+            "distance is required: the flat-to-mean-plane distances d [m] at which to evaluate, e.g. "
+            "np.linspace(-1, 6, 200) * sqrt(m0)."
+        )
+    if isinstance(distance, xr.DataArray):
+        if distance.ndim != 1:
+            raise ValueError(f"distance must be 1-D, got dims {distance.dims}.")
+        d = require(distance, "length", name="distance")
+        if is_lazy(d):
+            raise ValueError("distance must be eager (it becomes a coordinate): call .compute().")
+        d = np.asarray(d.data, dtype=float)
+    else:
+        d = np.atleast_1d(np.asarray(distance, dtype=float))
+        if d.ndim != 1:
+            raise ValueError(f"distance must be 1-D, got shape {d.shape}.")
+    if d.size == 0 or not np.all(np.isfinite(d)):
+        raise ValueError("distance must be a non-empty array of finite values in metres.")
+    d = np.sort(d)
+    if np.any(np.diff(d) == 0):
+        raise ValueError("distance has repeated values; pass strictly monotonic distances.")
+    return d
+
+
+def gw_contact_curves(
+    moments,
+    *,
+    relative_humidity,
+    distance,
+    sphere_model: str = "modified_dmt",
+    curvature_limits=(0.1, 2.5),
+    height_cutoff: float | None = None,
+    material: Material = POLYSILICON,
+    material2: Material | None = None,
+    adsorbed_layer="paper",
+    curvature_measure: str = "geometric",
+    apparent_area: float | None = None,
+    n_height: int = 64,
+    n_curvature: int = 48,
+    force_table: int | None = None,
+) -> xr.Dataset:
+    r"""Greenwood–Williamson force–distance curves of a rough surface on a flat (Eq. 14).
+
+    Parameters
+    ----------
+    moments : xarray.Dataset or xarray.DataArray
+        Dataset with ``m0`` (m2), ``m2`` (1), ``m4`` (m-2), any leading dims (e.g.
+        ``realization``), numpy or dask; or a ``height`` DataArray ``(..., y, x)`` whose moments
+        are taken from its periodogram, ``psd_moments(power_spectrum(height))`` (one-direction
+        moments averaged over x and y, no cutoff; pass a cut Dataset for Table 3's).
+    relative_humidity : float, sequence or xarray.DataArray
+        RH as a fraction in (0, 1); a sequence becomes the ``rh`` dimension.
+    distance : array-like or xarray.DataArray
+        Distances d from the flat to the mean plane [m], 1-D; stored ascending.
+    sphere_model : {"modified_dmt", "dmt", "maugis", "hertz"}, default "modified_dmt"
+        Force of one summit (``roughstick.contact._kernels.sphere_force_kernel``, retraction
+        branch) with the Laplace pressure :math:`\sigma_0 = |\Delta P|` acting over the water
+        height :math:`h_0 = h_{water}`. ``"hertz"`` ignores the water. (JKR is not offered: it
+        has no adhesion outside the contact, so it misses every meniscus that does not touch.)
+    curvature_limits : (float, float), default (0.1, 2.5)
+        :math:`[\kappa_{\min}, \kappa_{\max}]` in units of :math:`\sqrt{m_4}` (the paper's §3.4.2
+        choice, radii 1/(2.5√m4) to 1/(0.1√m4)).
+    height_cutoff : float or None, default None
+        Highest summit height :math:`h_{\max}` in units of :math:`\sqrt{m_0}` (Fig. 9; ref. [1]
+        of the paper used 2.5). None integrates to 10√m0, beyond which the density is < 1e-16
+        of its peak.
+    material, material2 : Material
+        The two bodies (``material2=None``: same as ``material``); the summits use
+        :math:`K = \tfrac43 E^*`.
+    adsorbed_layer : {"paper", "none"} or callable
+        Adsorbed-layer model of :func:`roughstick.water_height`.
+    curvature_measure : {"geometric", "mean"}, default "geometric"
+        Summit radius :math:`1/\sqrt{\kappa_1\kappa_2}` (Greenwood 2006, the paper) or
+        :math:`2/(\kappa_1+\kappa_2)` (Nayak's mean curvature).
+    apparent_area : float, optional
+        Apparent area [m2]. If given, ``n_contacts`` is the expected number of contacting
+        summits on it (units 1, comparable with the count of the modified DMT on a map of that
+        size); otherwise it is their number per unit area (m-2).
+    n_height, n_curvature : int
+        Gauss–Legendre nodes per height sub-interval and over the curvature range
+        (``benchmarks/bench_gw.py`` prints error against time).
+    force_table : int or None
+        Number of points of a per-curvature table of the summit force (cubic spline in
+        :math:`\sqrt\delta` on the contact side, in :math:`\delta` on the meniscus side) used
+        instead of calling the sphere kernel at every quadrature node; 0 calls the kernel
+        directly. None: direct for the closed forms ("hertz", "modified_dmt"), 256 for the
+        models that solve equations per point ("dmt", "maugis"), 20 to 50 times faster for
+        them at a relative error of about 1e-4 in the adhesive energy.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``(..., rh, distance)``: ``pressure`` (Pa, positive repulsive), ``repulsive_pressure``
+        (Pa, the Hertz part), ``wet_fraction`` (sum of the summits' wetted annuli, Eq. 8 minus the
+        Hertz contact discs, not merged: it can exceed 1), ``contact_fraction`` (sum of Hertz
+        contact discs :math:`\pi R\delta`), ``n_contacts``, ``fit_error`` (NaN: no fit in GW),
+        ``max_interference`` (:math:`h_{\max} - d`, the top of the height integral), and
+        ``summit_density`` (m-2).
+
+    Raises
+    ------
+    ValueError
+        Non-positive moments, bandwidth :math:`\alpha = m_0 m_4/m_2^2 \le 1.5`, reversed or
+        negative curvature limits, a non-positive height cutoff, unknown model, bad distances.
+
+    Notes
+    -----
+    The height integral of Eq. 14 is split at the two kinks of the summit force, first water
+    contact :math:`h = d - h_{water}` and first solid contact :math:`h = d`; each part gets
+    ``n_height`` Gauss–Legendre nodes, the contact part in :math:`s` with
+    :math:`h = d + (h_{\max} - d)s^2` so that :math:`\delta^{3/2}` becomes smooth. The
+    curvature integral has ``n_curvature`` nodes on the limits. Interference of a summit of
+    height h: :math:`\delta = h - d`. All (distance × height × curvature) nodes are one numpy
+    broadcast; the Hertz part and the densities of the contact part are computed once per
+    moment set and reused for every humidity.
+
+    References
+    ----------
+    Greenwood and Williamson (1966), https://doi.org/10.1098/rspa.1966.0242;
+    Nayak (1971), https://doi.org/10.1115/1.3451608;
+    Greenwood (2006), https://doi.org/10.1016/j.wear.2005.09.031
+
+    Examples
+    --------
+    >>> ds = xr.Dataset({"m0": ((), 15.7, {"units": "nm2"}), "m2": ((), 0.040, {"units": "1"}),
+    ...                  "m4": ((), 5.08e-4, {"units": "nm-2"})})
+    >>> c = rs.gw_contact_curves(ds, relative_humidity=[0.3, 0.9],
+    ...                          distance=np.linspace(0, 30e-9, 61))
+    >>> c.pressure.dims
+    ('rh', 'distance')
+    """
+    if sphere_model not in SPHERE_MODELS:
+        raise ValueError(f"sphere_model must be one of {SPHERE_MODELS}, got {sphere_model!r}.")
+    if curvature_measure not in CURVATURE_MEASURES:
+        raise ValueError(
+            f"curvature_measure must be one of {CURVATURE_MEASURES}, got {curvature_measure!r}."
+        )
+    try:
+        k_lo, k_hi = (float(v) for v in curvature_limits)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"curvature_limits must be two numbers (units of sqrt(m4)), got {curvature_limits!r}."
+        ) from None
+    if not (np.isfinite(k_lo) and np.isfinite(k_hi) and 0 <= k_lo < k_hi):
+        raise ValueError(
+            f"curvature_limits must satisfy 0 <= low < high < inf (units of sqrt(m4)), got "
+            f"{curvature_limits!r}; the paper uses (0.1, 2.5)."
+        )
+    if height_cutoff is None:
+        xi_top = _XI_TOP
+    else:
+        if not isinstance(height_cutoff, numbers.Real) or not (0 < float(height_cutoff) < np.inf):
+            raise ValueError(
+                f"height_cutoff must be a positive number of standard deviations sqrt(m0) or None, "
+                f"got {height_cutoff!r}; Fig. 9 of the paper uses 2.5 to 6."
+            )
+        xi_top = min(float(height_cutoff), _XI_TOP)
+    for name, n in (("n_height", n_height), ("n_curvature", n_curvature)):
+        if not isinstance(n, numbers.Integral) or n < 2:
+            raise ValueError(f"{name} must be an integer >= 2, got {n!r}.")
+    if force_table is None:
+        force_table = 0 if sphere_model in ("hertz", "modified_dmt") else 256
+    if not isinstance(force_table, numbers.Integral) or (force_table != 0 and force_table < 16):
+        raise ValueError(f"force_table must be 0 (no table) or an integer >= 16, got {force_table!r}.")
+    if apparent_area is not None and not (isinstance(apparent_area, numbers.Real) and apparent_area > 0):
+        raise ValueError(f"apparent_area must be a positive area in m2 or None, got {apparent_area!r}.")
+    d = _as_distance(distance)
+
+    ds_in = _as_moments(moments)
+    m0 = _moment_si(ds_in, "m0")
+    m2 = _moment_si(ds_in, "m2")
+    m4 = _moment_si(ds_in, "m4")
+    rh = as_relative_humidity(relative_humidity)
+    dP = laplace_pressure(rh)
+    hw = water_height(rh, adsorbed_layer=adsorbed_layer)
+    K = hertz_modulus(material, material2)
+
+    t_nodes, t_weights = _gauss(int(n_curvature))
+    t_nodes = k_lo + (k_hi - k_lo) * t_nodes
+    t_weights = (k_hi - k_lo) * t_weights
+    kw = dict(
+        model=sphere_model, K=K, t_nodes=t_nodes, t_weights=t_weights, xi_top=xi_top,
+        n_height=int(n_height), measure=curvature_measure, table=int(force_table),
+    )
+    dist_da = xr.DataArray(d, dims=("distance",), coords={"distance": d})
+    res = xr.apply_ufunc(
+        _gw_block, m0, m2, m4, dP, hw,
+        kwargs={"distance": d, **kw},
+        output_core_dims=[["distance", "_variable"]],
+        dask="parallelized",
+        output_dtypes=[float],
+        dask_gufunc_kwargs={"output_sizes": {"distance": d.size, "_variable": len(_VARS)}},
+    )
+    res = res.assign_coords(distance=dist_da.distance)
+    lead = [dim for dim in res.dims if dim not in ("rh", "distance", "_variable")]
+    order = lead + (["rh"] if "rh" in res.dims else []) + ["distance", "_variable"]
+    res = res.transpose(*order)
+
+    out = xr.Dataset()
+    for i, name in enumerate(_VARS):
+        v = res.isel(_variable=i, drop=True)
+        if name == "n_contacts":
+            if apparent_area is not None:
+                v = set_attrs(v * float(apparent_area), name,
+                              long_name="expected number of contacting summits on the apparent area")
+            else:
+                v = set_attrs(v, name, units="m-2",
+                              long_name="number of contacting summits per unit apparent area")
+        elif name == "max_interference":
+            v = set_attrs(v, name, long_name="interference of the highest summit integrated (h_max - d)")
+        elif name == "wet_fraction":
+            v = set_attrs(v, name, long_name="sum of the summits' wetted annuli per apparent area "
+                          "(menisci not merged; can exceed 1)")
+        else:
+            v = set_attrs(v, name)
+        out[name] = v
+    out["fit_error"] = set_attrs(xr.full_like(out["pressure"], np.nan), "fit_error",
+                                 comment="not applicable to Greenwood-Williamson (no asperity fit)")
+    out["summit_density"] = summit_density(ds_in)
+    out = out[["pressure", "repulsive_pressure", "wet_fraction", "contact_fraction", "n_contacts",
+               "fit_error", "max_interference", "summit_density"]]
+    out.attrs = dataset_attrs(
+        "Greenwood-Williamson rough contact curves (Eq. 14)",
+        references=REFERENCES,
+        contact_model="greenwood_williamson",
+        sphere_model=sphere_model,
+        curvature_measure=curvature_measure,
+        curvature_limits=np.array([k_lo, k_hi]),
+        height_cutoff=float(height_cutoff) if height_cutoff is not None else "none",
+        height_integration_top=xi_top,
+        reduced_modulus=K * 3.0 / 4.0,
+        adsorbed_layer=str(getattr(adsorbed_layer, "__name__", adsorbed_layer)),
+        n_height=int(n_height),
+        n_curvature=int(n_curvature),
+        force_table=int(force_table),
+    )
+    if "rh" in out.coords:
+        out["rh"].attrs = {"units": "1", "long_name": "relative humidity",
+                           "standard_name": "relative_humidity"}
+    append_history(
+        out,
+        f"gw_contact_curves(sphere_model={sphere_model!r}, curvature_limits=({k_lo}, {k_hi}), "
+        f"height_cutoff={height_cutoff!r}, n_height={n_height}, n_curvature={n_curvature})",
+    )
+    return out
+
+
+def gw_cutoff_study(moments, *, height_cutoffs=(2.5, 3.0, 4.0, 5.0, 6.0, 7.0, None), **kwargs) -> xr.Dataset:
+    r"""Greenwood–Williamson curves for several summit-height cutoffs (the paper's Fig. 9).
+
+    Parameters
+    ----------
+    moments : xarray.Dataset or xarray.DataArray
+        As for :func:`gw_contact_curves`.
+    height_cutoffs : sequence of float or None
+        :math:`h_{\max}/\sqrt{m_0}`; None means no cutoff (stored as ``inf``).
+    **kwargs
+        Passed to :func:`gw_contact_curves` (``relative_humidity``, ``distance``, ...).
+
+    Returns
+    -------
+    xarray.Dataset
+        The curves with a new leading dimension ``height_cutoff`` (units of √m0; ``inf`` = none).
+    """
+    if "height_cutoff" in kwargs:
+        raise TypeError("pass the cutoffs as height_cutoffs=[...], not height_cutoff.")
+    cuts = list(height_cutoffs)
+    if not cuts:
+        raise ValueError("height_cutoffs must list at least one cutoff.")
+    parts = [gw_contact_curves(moments, height_cutoff=c, **kwargs) for c in cuts]
+    coord = np.array([np.inf if c is None else float(c) for c in cuts])
+    out = xr.concat(parts, dim="height_cutoff", combine_attrs="drop_conflicts",
+                    data_vars="all", coords="minimal", compat="override")
+    out = out.assign_coords(height_cutoff=("height_cutoff", coord))
+    out["height_cutoff"].attrs = {"units": "1", "long_name": "summit height cutoff h_max / sqrt(m0)"}
+    out["summit_density"] = parts[0]["summit_density"]
+    out.attrs = dict(parts[0].attrs)
+    out.attrs["height_cutoff"] = "see coordinate height_cutoff"
+    return out
