@@ -157,3 +157,210 @@ def test_fit_self_affine_unreachable_raises():
     assert abs(float(out.residual_m2)) > 1e-3
     with pytest.raises(ValueError, match="positive"):
         rs.fit_self_affine(m0=0.0, m2=0.5, m4=1e12, qmax=QMAX)
+
+
+# ------------------------------------------------------------------ PSD estimation
+
+
+def filtered_noise(shape, spacing, filt, rng, sigma=1e-9):
+    """Periodic Gaussian map whose expected 2D PSD is sigma² Δ² |H(q)|² / (2π)²."""
+    ny, nx = shape[-2:]
+    w = rng.normal(size=shape) * sigma
+    qx = 2 * np.pi * np.fft.fftfreq(nx, spacing)
+    qy = 2 * np.pi * np.fft.fftfreq(ny, spacing)
+    H = filt(np.hypot(qx[None, :], qy[:, None]))
+    z = np.fft.ifft2(np.fft.fft2(w) * H).real
+    expected = lambda q: sigma**2 * spacing**2 * filt(q) ** 2 / (2 * np.pi) ** 2  # noqa: E731
+    return rs.testing.make_topography(z, spacing=spacing, periodic=True), expected
+
+
+def lorentz(q):
+    return 1.0 / (1.0 + (q / 5e7) ** 2)
+
+
+@pytest.mark.parametrize("shape", [(32, 32), (33, 20), (15, 64)])
+def test_parseval_machine_precision_odd_nonsquare(shape):
+    h = rs.testing.make_topography(np.random.default_rng(6).normal(size=shape) * 1e-9, spacing=3e-9)
+    s = rs.power_spectrum(h)
+    assert s.dims == ("qy", "qx") and s.shape == shape
+    rs.testing.assert_units(s, "m4")
+    np.testing.assert_allclose(s.attrs["spacing_x"], 3e-9, rtol=1e-12)
+    dqx, dqy = float(s.qx[1] - s.qx[0]), float(s.qy[1] - s.qy[0])
+    np.testing.assert_allclose(float(s.sum()) * dqx * dqy, h.values.var(), rtol=1e-12)
+    assert 0.0 in s.qx.values and 0.0 in s.qy.values
+    assert np.all(np.diff(s.qx.values) > 0)
+    np.testing.assert_allclose(dqx, 2 * np.pi / (shape[1] * 3e-9))
+    m = rs.psd_moments(s)
+    np.testing.assert_allclose(float(m.m0), h.values.var(), rtol=1e-12)
+
+
+def test_known_spectrum_recovered_within_statistical_error():
+    rng = np.random.default_rng(7)
+    h, expected = filtered_noise((8, 128, 128), 5e-9, lorentz, rng)
+    s = rs.average_psd(rs.power_spectrum(h), "dim_0")
+    iso = rs.psd_isotropic(s)
+    ratio = iso / expected(iso.q)
+    # each periodogram value is exponential (std = mean); a ring average of n values over
+    # 8 maps has relative std 1/sqrt(8 n)
+    err = 1 / np.sqrt(8 * iso.n_samples)
+    z = ((ratio - 1) / err).isel(q=slice(1, None))
+    assert float(abs(z).max()) < 5
+    assert abs(float(z.mean())) < 5 / np.sqrt(z.size)  # no bias overall
+    # moments of the estimate against the expected density on the same grid
+    qq = np.hypot(s.qx, s.qy)
+    exp2d = expected(qq)
+    area = float(s.qx[1] - s.qx[0]) * float(s.qy[1] - s.qy[0])
+    np.testing.assert_allclose(float(rs.psd_moments(s).m2), float((exp2d * s.qx**2).sum()) * area,
+                               rtol=0.05)
+
+
+def test_window_keeps_variance_on_average():
+    rng = np.random.default_rng(8)
+    h, _ = filtered_noise((6, 64, 64), 5e-9, lorentz, rng)
+    s = rs.power_spectrum(h, window="hann")
+    assert s.attrs["window"] == "hann"
+    m0 = rs.psd_moments(s).m0.mean()
+    np.testing.assert_allclose(float(m0), float(h.var(("y", "x")).mean()), rtol=0.1)
+
+
+def test_power_spectrum_stack_lazy_and_chunk_error(backend, no_compute):
+    h, _ = filtered_noise((3, 16, 24), 5e-9, lorentz, np.random.default_rng(9))
+    inp = backend(h, {"dim_0": 1})
+    with no_compute():
+        s = rs.power_spectrum(inp)
+        iso = rs.psd_isotropic(s)
+        m = rs.psd_moments(s, qmax=3e8)
+    assert isinstance(s.data, type(inp.data)) and isinstance(iso.data, type(inp.data))
+    ref = rs.power_spectrum(h)
+    np.testing.assert_allclose(s.values, ref.values, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(iso.values, rs.psd_isotropic(ref).values, rtol=1e-12)
+    np.testing.assert_allclose(m.m4.values, rs.psd_moments(ref, qmax=3e8).m4.values, rtol=1e-12)
+    with pytest.raises(ValueError, match=r"\.chunk\(\{'x': -1, 'y': -1\}\)"):
+        rs.power_spectrum(h.chunk({"x": 8, "y": 8}))
+
+
+def test_psd_metadata_identical():
+    h = rs.testing.make_topography(np.random.default_rng(10).normal(size=(8, 8)) * 1e-9)
+    s = rs.power_spectrum(h)
+    expected = xr.DataArray(
+        s.values, dims=("qy", "qx"),
+        coords={"qy": 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(8, 5e-9)),
+                "qx": 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(8, 5e-9))},
+        name="psd",
+        attrs={**rs.conventions.ATTRS["psd"], "spacing_x": s.attrs["spacing_x"], "spacing_y": s.attrs["spacing_y"],
+               "window": "None", "references": s.attrs["references"]},
+    )
+    rs.conventions.set_coord_attrs(expected)
+    xr.testing.assert_identical(s, expected)
+
+
+def test_bad_psd_inputs():
+    h = rs.testing.make_topography(np.random.default_rng(11).normal(size=(16, 16)) * 1e-9)
+    s = rs.power_spectrum(h)
+    with pytest.raises(ValueError, match="negative"):
+        rs.psd_moments(s - s.max())
+    with pytest.raises(_units.UnitsError, match="units"):
+        rs.psd_isotropic(s.assign_attrs(units="m3"))
+    with pytest.raises(ValueError, match="ascending"):
+        rs.psd_moments(s.isel(qx=slice(None, None, -1)))
+    with pytest.raises(ValueError, match="at least 8"):
+        rs.power_spectrum(h.isel(y=slice(0, 6)))
+
+
+def test_isotropic_and_moments_of_eq37_grid():
+    # 2D sampling of the Eq. 37 PSD on a fine grid: moments agree with the closed form
+    p = dict(s0=5.5e-33, s1=5.5e-39, q0=21.2e6, qmax=289e6)
+    n, sp = 512, 5e-9
+    q1 = 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(n, sp))
+    qx = xr.DataArray(q1, dims="qx", coords={"qx": q1}, attrs={"units": "rad m-1"})
+    qy = xr.DataArray(q1, dims="qy", coords={"qy": q1}, attrs={"units": "rad m-1"})
+    s2 = rs.self_affine_psd(np.hypot(qy, qx).assign_attrs(units="rad m-1"), **p)
+    s2 = s2.assign_attrs(units="m4")
+    exact = rs.self_affine_moments(**p)
+    m2d = rs.psd_moments(s2)
+    iso = rs.psd_isotropic(s2)
+    miso = rs.psd_moments(iso)
+    for k in ("m0", "m2", "m4"):
+        np.testing.assert_allclose(float(m2d[k]), float(exact[k]), rtol=0.02)
+        np.testing.assert_allclose(float(miso[k]), float(exact[k]), rtol=0.03)
+    # cutting at q0 keeps only the plateau: pi q0^2 s0 within the grid's disc error
+    np.testing.assert_allclose(float(rs.psd_moments(s2, qmax=p["q0"]).m0),
+                               np.pi * p["q0"] ** 2 * p["s0"], rtol=0.05)
+
+
+# ------------------------------------------------------------------ sub-maps, cutoff, interp
+
+
+def test_submap_schemes_and_eq32():
+    h, expected = filtered_noise((3, 128, 128), 5e-9, lorentz, np.random.default_rng(12))
+    outs = {n: rs.submap_psd(h, n=n) for n in (1, 4, 16)}
+    assert outs[1].shape == (128, 128) and outs[4].shape == (64, 64) and outs[16].shape == (32, 32)
+    assert outs[16].attrs["n_averaged"] == 48 and outs[16].attrs["n_submaps"] == 16
+    m0 = [float(rs.psd_moments(o).m0) for o in outs.values()]
+    # sub-maps lose the longest wavelengths (their own means): m0 decreases slightly
+    assert m0[0] >= m0[1] >= m0[2] > 0.7 * m0[0]
+    # with a window, sub-map PSDs estimate the same density (rings well inside all grids)
+    for n in (1, 4, 16):
+        iso = rs.psd_isotropic(rs.submap_psd(h, n=n, window="hann"))
+        for q in (2e8, 4e8):
+            np.testing.assert_allclose(float(iso.interp(q=q)), float(expected(q)), rtol=0.3)
+    # without one, tiles cut from a map are not periodic: edge leakage biases the high-q
+    # tail upwards, the more the smaller the tiles (a bias Eq. 32 does not see)
+    tail = [float(rs.psd_isotropic(outs[n]).interp(q=4e8)) / float(expected(4e8)) for n in (1, 16)]
+    assert tail[0] < 1.3 < 1.6 < tail[1]
+    chk = rs.submap_variance_check(h, n=4)
+    assert chk.m0_submap.shape == (3, 4)
+    e = np.sqrt(((chk.m0_submap.values - float(chk.m0)) ** 2).mean()) / float(chk.m0)
+    np.testing.assert_allclose(float(chk.relative_std), e, rtol=1e-12)
+    assert bool(chk.representative) == (e < 0.03)
+    with pytest.raises(ValueError, match="perfect square"):
+        rs.submap_psd(h, n=3)
+    with pytest.raises(ValueError, match="8 x 8"):
+        rs.submap_psd(h, n=400)
+
+
+def test_choose_cutoff_recovers_known_qmax():
+    h, _ = filtered_noise((64, 64), 5e-9, lorentz, np.random.default_rng(13))
+    s = rs.power_spectrum(h)
+    qtrue = 3.0e8
+    target = rs.psd_moments(s, qmax=qtrue)
+    cut = rs.choose_cutoff(s, target)
+    rings = np.unique(np.hypot(*np.meshgrid(s.qx, s.qy)))
+    q_expected = rings[rings <= qtrue].max()
+    np.testing.assert_allclose(float(cut.qmax), q_expected, rtol=1e-12)
+    for k in ("m0", "m2", "m4"):
+        assert abs(float(cut[f"residual_{k}"])) < 1e-12
+    assert cut.qmax.attrs["units"] == "rad m-1"
+    # on a map smooth at the pixel scale, spline (spatial) and spectral moments agree and the
+    # cutoff matches them to < 1 %
+    smooth, _ = filtered_noise((128, 128), 5e-9, lambda q: np.exp(-((q / 3e7) ** 2)),
+                               np.random.default_rng(13))
+    spatial = rs.roughness_moments(smooth)
+    spectral = rs.roughness_moments(smooth, method="spectral")
+    for k in ("m0", "m2", "m4"):
+        np.testing.assert_allclose(float(spatial[k]), float(spectral[k]), rtol=0.01)
+    cut2 = rs.choose_cutoff(rs.power_spectrum(smooth), spatial)
+    assert abs(float(cut2.residual_m4)) < 0.01 and abs(float(cut2.residual_m2)) < 0.01
+    # with power up to the Nyquist wave number, cubic-spline curvatures exceed the spectral
+    # m4 (spline response > q^2 near Nyquist): no cutoff can match, and the residual says so
+    cut3 = rs.choose_cutoff(s, rs.roughness_moments(h))
+    assert float(cut3.residual_m4) < -0.2
+
+
+def test_interpolate_psd_preserves_moments():
+    # a 1.28 µm (256 px) estimate drives a 10.24 µm (2048 px) grid (paper §4.2.1)
+    h, _ = filtered_noise((4, 256, 256), 5e-9, lorentz, np.random.default_rng(14))
+    s = rs.average_psd(rs.power_spectrum(h), "dim_0")
+    big = rs.interpolate_psd(s, shape=(2048, 2048))
+    assert big.shape == (2048, 2048)
+    np.testing.assert_allclose(big.attrs["spacing_x"], 5e-9, rtol=1e-12)
+    np.testing.assert_allclose(float(big.qx[1] - big.qx[0]), 2 * np.pi / 10.24e-6)
+    before, after = rs.psd_moments(s), rs.psd_moments(big)
+    for k in ("m0", "m2", "m4"):
+        np.testing.assert_allclose(float(after[k]), float(before[k]), rtol=0.01)
+    assert float(big.min()) >= 0
+    # isotropic input goes through isotropic_to_2d
+    iso = rs.self_affine_psd(np.linspace(0, 7e8, 3000), s0=5.5e-33, s1=5.5e-39, q0=21.2e6,
+                             qmax=289e6)
+    big2 = rs.interpolate_psd(iso, shape=(256, 256), spacing=5e-9)
+    assert big2.dims == ("qy", "qx")
