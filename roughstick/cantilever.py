@@ -60,6 +60,9 @@ __all__ = [
     "cantilever_moments",
     "cantilever_psd",
     "TABLE4",
+    "PAPER_HUMIDITIES",
+    "predict_adhesive_energy",
+    "interaction_zone_shape",
 ]
 
 REFERENCES = (
@@ -1042,4 +1045,119 @@ def cantilever_psd(
         )
     )
     append_history(ds, "roughstick.cantilever_psd: Table 4 -> Nayak moments -> Eq. 37")
+    return ds
+
+
+#: Humidities of the cantilever tests (paper §5.1): 30 to 95 % in 5 % steps.
+PAPER_HUMIDITIES = tuple(round(0.30 + 0.05 * i, 2) for i in range(14))
+
+
+def interaction_zone_shape(beam: Cantilever = PAPER_CANTILEVER, *, spacing: float = 5e-9) -> tuple[int, int]:
+    r"""Pixels ``(ny, nx)`` of the interaction zone :math:`\Delta s \times w` at ``spacing``.
+
+    ``y`` runs along the beam (:math:`\Delta s`), ``x`` across it (:math:`w`).
+
+    Examples
+    --------
+    >>> rs.interaction_zone_shape()  # 2.62 µm x 30 µm at 5 nm (paper §5.2)
+    (524, 6000)
+    """
+    spacing = float(spacing)
+    if not spacing > 0:
+        raise ValueError(f"spacing must be a positive length in m (e.g. 5e-9), got {spacing!r}.")
+    ny = int(round(beam.interaction_zone_length / spacing))
+    nx = int(round(beam.width / spacing))
+    if min(ny, nx) < 8:
+        raise ValueError(
+            f"the interaction zone {beam.interaction_zone_length:.3g} m x {beam.width:.3g} m has only "
+            f"{ny} x {nx} pixels of {spacing:.3g} m; use a finer spacing."
+        )
+    return ny, nx
+
+
+def _psd_on_grid(fit: xr.Dataset, shape, spacing) -> xr.DataArray:
+    """The Eq. 37 PSD of ``fit`` evaluated exactly on the FFT grid of ``shape`` (no interpolation)."""
+    from .psd import self_affine_psd
+
+    ny, nx = shape
+    qy = 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(ny, spacing))
+    qx = 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(nx, spacing))
+    qmag = xr.DataArray(np.hypot(qy[:, None], qx[None, :]), dims=("qy", "qx"),
+                        coords={"qy": qy, "qx": qx}, attrs={"units": "rad m-1"})
+    out = self_affine_psd(qmag, s0=float(fit.s0), s1=float(fit.s1), q0=float(fit.q0), qmax=float(fit.qmax))
+    out = set_attrs(out.rename("psd"), "psd", spacing_x=float(spacing), spacing_y=float(spacing))
+    return out.drop_vars([c for c in out.coords if c not in ("qx", "qy")])
+
+
+def predict_adhesive_energy(
+    psd=None,
+    *,
+    beam: Cantilever = PAPER_CANTILEVER,
+    relative_humidity=PAPER_HUMIDITIES,
+    n: int = 20,
+    spacing: float = 5e-9,
+    shape=None,
+    adsorbed_layer="paper",
+    seed=0,
+    chunks=None,
+    output=None,
+    **ensemble_kwargs,
+) -> xr.Dataset:
+    r"""Monte-Carlo prediction of Γ for the cantilever's interaction zone (paper §5.2, Fig. 20).
+
+    Generates ``n`` equivalent surfaces of the interaction zone :math:`\Delta s \times w` from
+    the PSD, computes their rough-surface modified-DMT curves at each humidity and reduces them
+    to the apparent adhesive energy (Eq. 13), through :func:`roughstick.run_ensemble`.
+
+    Parameters
+    ----------
+    psd : xarray.Dataset, xarray.DataArray or None
+        ``None``: the Table 4 -> Eq. 37 PSD (:func:`cantilever_psd`); a Dataset of Eq. 37
+        parameters (``q0``, ``s0``, ``s1``, ``qmax``, e.g. ``cantilever_psd(asperity_density=...)``),
+        evaluated exactly on the surface's wave-vector grid; or any PSD DataArray accepted by
+        :func:`roughstick.run_ensemble` (e.g. measured from AFM maps of the real films).
+    beam : Cantilever
+        Sets the interaction zone (``interaction_length`` x ``width``).
+    relative_humidity : sequence of float
+        Fractions in (0, 1); default 30 to 95 % in 5 % steps.
+    n : int or "auto"
+        Number of surfaces (see :func:`roughstick.run_ensemble`).
+    spacing : float
+        Pixel size [m] (5 nm in the paper).
+    shape : (int, int), optional
+        Pixels ``(ny, nx)``; default :func:`interaction_zone_shape` (524 x 6000 for the paper's
+        beams at 5 nm). A smaller shape is a different interaction area (fewer, lower high
+        asperities: Γ is biased up at low RH, paper §4.3 and Fig. 16a): use it only for quick looks.
+    adsorbed_layer : {"paper", "none"} or callable
+        ``"paper"``: 0.9 nm per surface above 65 % RH (Fig. 20b); ``"none"``: Fig. 20a.
+    seed, chunks, output, **ensemble_kwargs
+        Passed to :func:`roughstick.run_ensemble` (``output`` streams and resumes).
+
+    Returns
+    -------
+    xarray.Dataset
+        The ensemble (lazy unless streamed); ``adhesive_energy`` over ``(realization, rh)`` is
+        what :func:`stiction_risk` takes. Attrs record the beam and the interaction zone.
+    """
+    from .ensemble import run_ensemble
+
+    shp = interaction_zone_shape(beam, spacing=spacing) if shape is None else tuple(int(v) for v in np.broadcast_to(shape, 2))
+    if psd is None:
+        psd = cantilever_psd()
+    if isinstance(psd, xr.Dataset):
+        missing = [k for k in ("q0", "s0", "s1", "qmax") if k not in psd]
+        if missing:
+            raise ValueError(f"psd Dataset lacks the Eq. 37 parameters {missing}; pass rs.cantilever_psd(...).")
+        grid_psd = _psd_on_grid(psd, shp, spacing)
+    elif isinstance(psd, xr.DataArray):
+        grid_psd = psd
+    else:
+        raise TypeError(f"psd must be None, an Eq. 37 Dataset or a PSD DataArray, got {type(psd).__name__}.")
+    ds = run_ensemble(grid_psd, n=n, relative_humidity=list(relative_humidity), spacing=spacing, shape=shp,
+                      seed=seed, chunks=chunks, adsorbed_layer=adsorbed_layer, output=output, **ensemble_kwargs)
+    ds.attrs.update({**beam.attrs(), "interaction_zone_shape": list(shp),
+                     "interaction_zone_area": float(shp[0] * shp[1] * spacing**2)})
+    if isinstance(adsorbed_layer, str):
+        ds.attrs["adsorbed_layer_model"] = adsorbed_layer
+    append_history(ds, f"roughstick.predict_adhesive_energy: interaction zone {shp[0]} x {shp[1]} px at {spacing:.3g} m")
     return ds

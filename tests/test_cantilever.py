@@ -403,3 +403,28 @@ def test_table4_eq37_generated_rectangle_reproduces_moments():
         assert disc / target[k] < 0.02, (k, disc / target[k])  # grid quadrature of Eq. 37
         assert abs(v.mean() - grid[k]) < 4 * se + 1e-9 * grid[k], (k, v.mean(), grid[k], se)
         assert abs(v.mean() - target[k]) < 4 * se + disc, (k, v.mean() / target[k])
+
+
+# ----------------------------------------------------------------------------- plots (Agg smoke)
+def test_plots_smoke():
+    import matplotlib.pyplot as plt
+
+    from roughstick import plotting
+
+    g, _ = lognormal_gamma(n=30, rh=np.arange(0.3, 0.951, 0.05))
+    risks = [rs.stiction_risk(g * f, length=[250e-6, 400e-6], levels=[0.5]) for f in (1.0, 1.5)]
+    both = xr.concat(risks, dim=xr.DataArray(["none", "paper"], dims="adsorbed_layer", name="adsorbed_layer"))
+    meas = rs.measured_adhesion([0.4, 0.7], crack_length=[420e-6, 380e-6], label="my beams")
+    ax = plotting.plot_stiction_probability(risks[0], level=0.5)
+    assert len(ax.lines) >= 2
+    plotting.plot_stiction_vs_length(risks[0], rh=[0.5, 0.9])
+    ax = plotting.plot_adhesive_energy_band(risks[0], measured=meas)
+    assert ax.get_yscale() == "log"
+    plotting.plot_crack_length_band(risks[0], measured=meas)
+    fig = plotting.plot_cantilever_comparison(both, measured=meas)
+    assert len(fig.axes) == 2
+    with pytest.raises(ValueError, match="layer="):
+        plotting.plot_stiction_probability(both)
+    with pytest.raises(ValueError, match="stiction_risk"):
+        plotting.plot_adhesive_energy_band(xr.Dataset({"a": 1.0}))
+    plt.close("all")
