@@ -444,3 +444,16 @@ def test_bad_moment_containers():
         rs.gw_contact_curves(wrong, relative_humidity=0.5, distance=[0.0])
     with pytest.raises(TypeError, match="moments must be"):
         rs.gw_contact_curves({"m0": 1.0}, relative_humidity=0.5, distance=[0.0])
+
+
+def test_plot_gw_cutoff_study(cutoff_study):
+    import matplotlib.pyplot as plt
+
+    from roughstick.plotting import plot_gw_cutoff_study
+
+    fig = plot_gw_cutoff_study(cutoff_study)
+    assert len(fig.axes) == 3
+    assert len(fig.axes[0].lines) == cutoff_study.sizes["height_cutoff"] + 1  # + zero line
+    plt.close(fig)
+    with pytest.raises(ValueError, match="height_cutoff"):
+        plot_gw_cutoff_study(cutoff_study.isel(height_cutoff=0))

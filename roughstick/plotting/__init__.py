@@ -7,5 +7,6 @@ from .sphere import *  # noqa: F403
 from .topography import *  # noqa: F403
 from .generation import *  # noqa: F403
 from .rough_contact import *  # noqa: F403
+from .gw import *  # noqa: F403
 from .ensemble import *  # noqa: F403
 from .cantilever import *  # noqa: F403
