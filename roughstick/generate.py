@@ -413,52 +413,61 @@ def _full_plane(half: np.ndarray, *, nx: int) -> np.ndarray:
 # --------------------------------------------------------------------------------------------
 # the per-block kernel (numpy)
 # --------------------------------------------------------------------------------------------
-def _one_surface(rng, A, rows, ncols, ny, nx, amplitude, dtype):
-    """One surface: Hermitian amplitudes on the support box, then one inverse real FFT (Eq. 34)."""
-    import scipy.fft
+class _Kernel:
+    """Per-block state: the amplitude filter on its support box and a reusable spectrum buffer."""
 
-    m = nx // 2 + 1
-    xi = np.zeros((ny, m), dtype=np.complex128)
-    if ncols:
-        nr = rows.size
-        if amplitude == "rayleigh":
-            # complex Gaussian, E|xi|^2 = 1: modulus Rayleigh (zeta of Eq. 33), phase uniform
-            draw = rng.standard_normal((nr, ncols, 2))
-            box = draw.view(np.complex128)[..., 0] * np.sqrt(0.5)
-        else:
-            phase = rng.random((nr, ncols)) * (2 * np.pi)
-            box = np.exp(1j * phase)
-        if nr == ny:
-            xi[:, :ncols] = box
-        else:
-            xi[rows, :ncols] = box
-        # self-conjugate modes (qx = 0, Nyquist): Hermitian symmetry inside the column
+    def __init__(self, filt, ny, nx, amplitude, out_dtype):
+        A, rows, ncols = filt
+        self.ny, self.nx, self.amplitude, self.out_dtype = ny, nx, amplitude, out_dtype
+        self.rows, self.ncols = rows, ncols
+        self.full_rows = rows.size == ny
+        # amplitude of each drawn mode; the Gaussian draw (n1 + i n2) has E|.|^2 = 2
+        scale = np.sqrt(0.5) if amplitude == "rayleigh" else 1.0
+        self.A_box = np.ascontiguousarray(A[rows, :ncols]) * scale
+        ctype = np.complex64 if out_dtype == np.float32 else np.complex128
+        self.xi = np.zeros((ny, nx // 2 + 1), dtype=ctype)
         h = (ny - 1) // 2
-        mirror = ny - np.arange(1, h + 1)
-        self_rows = [0] + ([ny // 2] if ny % 2 == 0 else [])
-        for c in [0] + ([nx // 2] if nx % 2 == 0 else []):
-            if c >= ncols:
-                continue
-            col = xi[:, c]
-            for r in self_rows:  # real modes with E[xi^2] = 1
-                if amplitude == "rayleigh":
-                    col[r] = np.sqrt(2.0) * col[r].real
-                else:
-                    col[r] = 1.0 if col[r].real >= 0 else -1.0
-            col[mirror] = np.conj(col[1 : h + 1])
-        xi *= A
-    if dtype == np.float32:
-        xi = xi.astype(np.complex64)
-    return scipy.fft.irfft2(xi, s=(ny, nx), norm="forward", overwrite_x=True, workers=1)
+        self.h = h
+        self.mirror = ny - np.arange(1, h + 1)
+        self.self_rows = [0] + ([ny // 2] if ny % 2 == 0 else [])
+        self.self_cols = [c for c in [0] + ([nx // 2] if nx % 2 == 0 else []) if c < ncols]
+
+    def __call__(self, rng):
+        """One surface: Hermitian amplitudes on the support box, one inverse real FFT (Eq. 34)."""
+        import scipy.fft
+
+        xi, rows, ncols = self.xi, self.rows, self.ncols
+        if ncols:
+            shape = (rows.size, ncols)
+            if self.amplitude == "rayleigh":
+                # complex Gaussian: Rayleigh modulus (zeta of Eq. 33) with uniform phase
+                box = rng.standard_normal(shape + (2,)).view(np.complex128)[..., 0]
+            else:
+                box = np.exp(1j * (2 * np.pi) * rng.random(shape))
+            box *= self.A_box
+            if self.full_rows:
+                xi[:, :ncols] = box
+            else:
+                xi[rows, :ncols] = box
+            # self-conjugate columns (qx = 0, Nyquist): Hermitian symmetry inside the column
+            for c in self.self_cols:
+                col = xi[:, c]
+                for r in self.self_rows:  # real modes, E[xi^2] = 1
+                    v = col[r]
+                    if self.amplitude == "rayleigh":
+                        col[r] = np.sqrt(2.0) * v.real
+                    else:
+                        col[r] = np.copysign(abs(v), v.real)
+                col[self.mirror] = np.conj(col[1 : self.h + 1])
+        return scipy.fft.irfft2(xi, s=(self.ny, self.nx), norm="forward", workers=1)
 
 
 def _generate_block(indices, *, filt, entropy, spawn_key, ny, nx, amplitude, out_dtype):
-    A, rows, ncols = filt
+    kernel = _Kernel(filt, ny, nx, amplitude, out_dtype)
     root = np.random.SeedSequence(entropy, spawn_key=spawn_key)
     out = np.empty((len(indices), ny, nx), dtype=out_dtype)
     for i, k in enumerate(indices):
-        out[i] = _one_surface(realization_rng(root, int(k)), A, rows, ncols, ny, nx, amplitude,
-                              out_dtype)
+        out[i] = kernel(realization_rng(root, int(k)))
     return out
 
 
