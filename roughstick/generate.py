@@ -247,27 +247,26 @@ def _values_checked(s: np.ndarray, what: str) -> np.ndarray:
     return s
 
 
-def _psd_2d_on_grid(values, qy_c, qx_c, qy, qx, factor):
-    """Linear interpolation of a centred 2D PSD onto the rfft half-plane (qy, qx)."""
-    from scipy.interpolate import RegularGridInterpolator
+def _psd_2d_on_grid(values, qy_c, qx_c, ny, nx, dy, dx, factor):
+    """A centred 2D PSD interpolated onto the rfft half-plane of the target grid
+    (``roughstick.psd.interpolate_psd``: bilinear, periodic extension by one row/column)."""
+    from .psd import interpolate_psd
 
     values = _values_checked(np.asarray(values, dtype=float) * factor, "PSD")
-    # the PSD of a real map is symmetric, s(q) = s(-q): fill the grid by symmetry where the
-    # target wave vector falls just outside one side (even grids lack +q_Nyquist)
-    Qy, Qx = np.meshgrid(qy, qx, indexing="ij")
-    flip = (Qx > qx_c[-1]) | (Qy > qy_c[-1])
-    Qy = np.where(flip, -Qy, Qy)
-    Qx = np.where(flip, -Qx, Qx)
-    Qy = np.clip(Qy, qy_c[0], qy_c[-1])
-    Qx = np.clip(Qx, qx_c[0], qx_c[-1])
-    interp = RegularGridInterpolator((qy_c, qx_c), values, method="linear")
-    return interp(np.stack([Qy, Qx], axis=-1))
+    src = xr.DataArray(values, dims=("qy", "qx"), coords={"qy": qy_c, "qx": qx_c},
+                       attrs={"units": "m4", "spacing_x": dx, "spacing_y": dy})
+    full = np.fft.ifftshift(np.asarray(interpolate_psd(src, shape=(ny, nx)).values))
+    return full[:, : nx // 2 + 1]
 
 
 def _psd_iso_on_grid(values, q_c, qy, qx, factor):
+    """An isotropic PSD at |q| of the half-plane (``roughstick.psd.isotropic_to_2d``: linear in
+    log s between samples, zero beyond the last q, the first value below the first q)."""
+    from .psd import isotropic_to_2d
+
     values = _values_checked(np.asarray(values, dtype=float) * factor, "isotropic PSD")
-    q = np.hypot(qy[:, None], qx[None, :])
-    return np.interp(q, q_c, values, left=values[0], right=0.0)
+    src = xr.DataArray(values, dims=("q",), coords={"q": q_c}, attrs={"units": "m4"})
+    return np.asarray(isotropic_to_2d(src, qx, qy).values)
 
 
 def _half_plane_power(psd, ny, nx, dy, dx):
@@ -312,9 +311,12 @@ def _half_plane_power(psd, ny, nx, dy, dx):
             if same:
                 s = np.fft.ifftshift(_values_checked(np.asarray(values, float) * factor, "PSD"))
                 return s[:, :m] * dq2
-            return _psd_2d_on_grid(values, qy_c, qx_c, qy, qx, factor) * dq2
+            return _psd_2d_on_grid(values, qy_c, qx_c, ny, nx, dy, dx, factor) * dq2
 
-        how = "2D PSD on the same grid" if same else "2D PSD linearly interpolated onto the grid"
+        if not same and min(ny, nx) < 8:
+            raise ValueError(f"interpolating a 2D PSD needs a target of at least 8 x 8 pixels, "
+                             f"got {ny} x {nx}; use a callable or isotropic PSD for tiny grids.")
+        how = "2D PSD on the same grid" if same else "2D PSD interpolated bilinearly (interpolate_psd)"
     elif dims == {"q"}:
         q_c = _q_coord(psd, "q")
         nyq = np.hypot(0, max(np.abs(qy).max(), np.abs(qx).max()))
@@ -324,7 +326,7 @@ def _half_plane_power(psd, ny, nx, dy, dx):
         def build(values):
             return _psd_iso_on_grid(values, q_c, qy, qx, factor) * dq2
 
-        how = "isotropic PSD interpolated on |q| (zero beyond its last q)"
+        how = "isotropic PSD interpolated log-linearly on |q| (isotropic_to_2d)"
     else:
         raise ValueError(
             f"the PSD has dims {psd.dims}; expected ('qy', 'qx') or ('q',). Average a stack of "
@@ -518,9 +520,10 @@ def generate_surfaces(
     ----------
     psd : xarray.DataArray or callable
         2D PSD over ``(qy, qx)`` (ascending centred coords in rad m-1, e.g. from
-        ``roughstick.power_spectrum``), an isotropic PSD over ``(q,)`` (evaluated at
-        :math:`|\mathbf q|`, zero beyond its largest ``q``, its first value below its smallest
-        ``q``), or a callable mapping an array of :math:`|\mathbf q|` [rad m-1] to
+        ``roughstick.power_spectrum``; bilinearly interpolated by ``roughstick.interpolate_psd``
+        when the target grid differs), an isotropic PSD over ``(q,)`` (evaluated at
+        :math:`|\mathbf q|` by ``roughstick.isotropic_to_2d``: log-linear, zero beyond its
+        largest ``q``, so the grid corners beyond it are zero), or a callable mapping an array of :math:`|\mathbf q|` [rad m-1] to
         :math:`s(|\mathbf q|)` [m4] (e.g. ``lambda q: rs.self_affine_psd(q, ...)`` values).
         DataArrays need ``units`` ``m4`` (or ``nm4``, ``um4``). A dask-backed PSD stays lazy.
     n : int, optional
@@ -560,6 +563,8 @@ def generate_surfaces(
     Raises
     ------
     ValueError
+        The PSD grid does not reach the Nyquist wave number :math:`\pi/\Delta` of ``spacing``
+        along an axis (no silent zero-fill: choose a coarser spacing or a PSD that covers it);
         ``n < 1``; non-integer ``shape``; size not a multiple of spacing; a PSD grid that does
         not reach the Nyquist wave number of ``spacing``; negative or NaN PSD values; chunks that
         split ``x`` or ``y``; unknown ``dtype`` or ``amplitude``.
