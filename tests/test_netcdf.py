@@ -1,0 +1,83 @@
+"""Tests of roughstick.io.netcdf: CF checks, atomic zlib writes, reading back, ensemble folders."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+from dask.delayed import Delayed
+
+import roughstick as rs
+from roughstick.io import netcdf as nc
+
+
+def _ds(lazy=False):
+    d = xr.Dataset(
+        {"pressure": (("realization", "distance"), np.arange(12.0).reshape(3, 4))},
+        coords={"realization": np.arange(3), "distance": np.linspace(1e-9, 4e-9, 4)},
+    )
+    d["pressure"].attrs = {"units": "Pa", "long_name": "mean pressure"}
+    d["realization"].attrs = {"units": "1", "long_name": "realization index"}
+    d["distance"].attrs = {"units": "m", "long_name": "distance"}
+    d.attrs = {"title": "t", "flag": True}
+    return d.chunk({"realization": 1}) if lazy else d
+
+
+def test_cf_check_names_missing_attrs(tmp_path):
+    d = _ds()
+    del d["pressure"].attrs["long_name"]
+    del d["distance"].attrs["units"]
+    with pytest.raises(ValueError, match="'pressure' lacks long_name; 'distance' lacks units"):
+        nc.write(d, tmp_path / "a.nc", compute=True)
+    assert not list(tmp_path.iterdir())
+
+
+def test_write_delayed_atomic_and_roundtrip(tmp_path):
+    path = tmp_path / "a.nc"
+    d = _ds(lazy=True)
+    task = nc.write(d, path)
+    assert isinstance(task, Delayed)
+    assert not path.exists()  # only a temporary file until the write completes
+    assert all(".tmp-" in p.name for p in tmp_path.iterdir())
+    task.compute()
+    assert path.exists() and [p.name for p in tmp_path.iterdir()] == ["a.nc"]
+    back = rs.open_dataset(path)
+    xr.testing.assert_equal(back, _ds())
+    assert back.attrs["flag"] == 1  # bools stored as ints
+    enc = back["pressure"].encoding
+    assert enc["zlib"] and enc["complevel"] == 4
+    assert back["distance"].attrs["units"] == "m"
+
+
+def test_open_refuses_partial_and_missing(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        rs.open_dataset(tmp_path / "nope.nc")
+    partial = tmp_path / ".a.nc.tmp-1-2"
+    partial.write_bytes(b"CDF")
+    with pytest.raises(ValueError, match="temporary file"):
+        rs.open_dataset(partial)
+    with pytest.raises(FileNotFoundError, match="manifest"):
+        rs.open_ensemble(tmp_path)
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        nc.write(_ds(), tmp_path / "sub" / "a.nc", compute=True)
+
+
+def test_manifest_roundtrip_and_block_validation(tmp_path):
+    m = {"format": nc.MANIFEST_FORMAT, "params_hash": "abc", "realization_chunks": [[0, 3]],
+         "rh_chunks": [[0, 1]], "attrs": {"title": "x"}}
+    nc.write_manifest(tmp_path, m)
+    assert nc.read_manifest(tmp_path) == m
+    (tmp_path / "manifest.json").write_text(json.dumps({"format": "other"}))
+    with pytest.raises(ValueError, match="not a roughstick ensemble manifest"):
+        nc.read_manifest(tmp_path)
+    d = _ds()
+    d.attrs = {"roughstick_params_hash": "abc", "roughstick_block_realization": 0,
+               "roughstick_block_rh": 0, "roughstick_block_complete": 1}
+    nc.write(d, tmp_path / nc.block_name(0, 0), compute=True)
+    assert nc.valid_block(tmp_path / nc.block_name(0, 0), params_hash="abc", block=(0, 0))
+    assert not nc.valid_block(tmp_path / nc.block_name(0, 0), params_hash="xyz", block=(0, 0))
+    assert not nc.valid_block(tmp_path / nc.block_name(0, 0), params_hash="abc", block=(1, 0))
+    (tmp_path / "junk.nc").write_bytes(b"\x89HDF garbage")
+    assert not nc.valid_block(tmp_path / "junk.nc", params_hash="abc", block=(0, 0))
