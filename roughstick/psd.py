@@ -37,6 +37,7 @@ __all__ = [
     "submap_variance_check",
     "choose_cutoff",
     "interpolate_psd",
+    "psd_summary",
     "isotropic_to_2d",
     "self_affine_psd",
     "self_affine_moments",
@@ -655,6 +656,7 @@ def psd_isotropic(psd: xr.DataArray, *, full: bool = False) -> xr.DataArray:
         dask="parallelized", output_dtypes=[float], dask_gufunc_kwargs={"output_sizes": {"q": nb}},
     )
     out = out.assign_coords(q=np.arange(nb) * dq, n_samples=("q", counts))
+    out["n_samples"].attrs = {"units": "1", "long_name": "number of 2D PSD samples in the ring"}
     return set_attrs(out.rename("psd"), "psd_isotropic", **_keep(psd.attrs, "spacing_x", "spacing_y"))
 
 
@@ -1005,3 +1007,67 @@ def interpolate_psd(psd: xr.DataArray, *, shape, spacing=None) -> xr.DataArray:
 
 
 MIN_SIDE = 8
+
+
+def psd_summary(
+    height: xr.DataArray,
+    *,
+    n: int = 16,
+    qmax=None,
+    window: str | None = None,
+    match=("m2", "m4"),
+) -> xr.Dataset:
+    r"""The paper's §4.1 chain on a set of maps: spatial variances, averaged PSD, cutoff, Eq. 32.
+
+    Parameters
+    ----------
+    height : xarray.DataArray
+        Levelled maps ``(..., y, x)`` of one sample (leading dims are the measurements).
+    n : int
+        Sub-maps per map for the PSD (Eq. 31; 16 is the paper's scheme 3).
+    qmax : float, optional
+        Fixed cutoff [rad m-1] (Table 3: 289 rad/µm); default: chosen by :func:`choose_cutoff`.
+    window : str, optional
+        Window for :func:`power_spectrum`.
+    match : sequence of str
+        Moments matched by :func:`choose_cutoff`.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``psd`` (qy, qx) and ``psd_isotropic`` (q) [m4]; ``spatial_m0/m2/m4`` (mean over maps of
+        the cubic-spline variances, as Table 2); ``m0/m2/m4`` PSD moments at ``qmax``;
+        ``residual_*`` (PSD / spatial − 1); ``relative_std`` (Eq. 32) and ``n_maps``.
+    """
+    from .topography import roughness_moments, validate_height
+
+    h = validate_height(height)
+    lead = list(h.dims[:-2])
+    spatial = roughness_moments(h)
+    spatial = spatial.mean(lead, keep_attrs=True) if lead else spatial
+    s = submap_psd(h, n=n, window=window)
+    if qmax is None:
+        cut = choose_cutoff(s, spatial, match=match)
+    else:
+        cut = psd_moments(s, qmax=qmax)
+        for k in ("m0", "m2", "m4"):
+            cut[f"residual_{k}"] = (cut[k] / spatial[k] - 1).assign_attrs(
+                units="1", long_name=f"relative error of PSD {k} vs spatial")
+    chk = submap_variance_check(h, n=n)
+    ds = xr.Dataset({"psd": s, "psd_isotropic": psd_isotropic(s).rename({"n_samples": "n_ring"})})
+    ds["n_ring"].attrs = {"units": "1", "long_name": "number of 2D PSD samples in the ring"}
+    for k in ("m0", "m2", "m4"):
+        ds[f"spatial_{k}"] = spatial[k].assign_attrs(
+            long_name=f"spatial {spatial[k].attrs['long_name']} (cubic splines, mean over maps)")
+        ds[k] = cut[k].assign_attrs(long_name=f"PSD moment {k} up to qmax")
+        ds[f"residual_{k}"] = cut[f"residual_{k}"]
+    ds["qmax"] = xr.DataArray(cut["qmax"]).assign_attrs(units="rad m-1", long_name="cutoff wave number")
+    ds["relative_std"] = chk["relative_std"]
+    ds.attrs = dataset_attrs(
+        "PSD and roughness statistics of AFM maps (paper §4.1, Tables 2-3, Fig. 12)",
+        references=PAPER_REFERENCE + "; " + NAYAK_REFERENCE,
+        n_submaps=n, n_maps=int(np.prod([h.sizes[d] for d in lead])) if lead else 1,
+        window=str(window),
+    )
+    append_history(ds, f"psd_summary: n={n}, qmax={'chosen' if qmax is None else qmax}")
+    return ds

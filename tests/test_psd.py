@@ -364,3 +364,36 @@ def test_interpolate_psd_preserves_moments():
                              qmax=289e6)
     big2 = rs.interpolate_psd(iso, shape=(256, 256), spacing=5e-9)
     assert big2.dims == ("qy", "qx")
+
+
+def test_psd_summary_and_plots(tmp_path):
+    import matplotlib.pyplot as plt
+
+    from roughstick.plotting import plot_height, plot_psd_schemes, plot_self_affine_psd
+
+    h, _ = filtered_noise((2, 64, 64), 5e-9, lorentz, np.random.default_rng(15))
+    ds = rs.psd_summary(h, n=4)
+    assert ds.psd.dims == ("qy", "qx") and ds.psd_isotropic.dims == ("q",)
+    np.testing.assert_allclose(float(ds.spatial_m0), float(h.var(("y", "x")).mean()), rtol=1e-12)
+    fixed = rs.psd_summary(h, n=4, qmax=3e8)
+    np.testing.assert_allclose(float(fixed.residual_m2), float(fixed.m2 / fixed.spatial_m2 - 1))
+    rs.io.netcdf.check_cf(ds) if hasattr(rs.io.netcdf, "check_cf") else None
+    fig, axes = plt.subplots(1, 3)
+    plot_height(h.isel(dim_0=0), ax=axes[0])
+    plot_psd_schemes({"4": ds.psd, "iso": ds.psd_isotropic}, ax=axes[1], qmax=3e8, title="t")
+    fit = rs.fit_self_affine(m0=1.57e-17, m2=0.04, m4=5.08e14, qmax=QMAX)
+    plot_self_affine_psd({"fit": fit}, measured={"h": ds.psd}, ax=axes[2])
+    fig.savefig(tmp_path / "f.png")
+    plt.close(fig)
+
+
+@pytest.mark.slow
+def test_demo_step_quick(tmp_path):
+    from roughstick.demos import s20_topography
+
+    files = s20_topography.run(tmp_path, quick=True)
+    names = {f.name for f in files}
+    assert {"topography_statistics.csv", "topography_statistics.nc", "fig12_psd_schemes.png",
+            "fig19_self_affine_psd.png", "table4_self_affine.csv"} <= names
+    text = (tmp_path / "table4_self_affine.csv").read_text()
+    assert "21.19" in text and "19.49" in text and "19.4" in text
