@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import raise_if_dask_computes
 
 import roughstick as rs
+from conftest import raise_if_dask_computes
 from roughstick import constants as C
 from roughstick.testing import assert_units
 

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import raise_if_dask_computes
 from scipy.integrate import trapezoid
 
 import roughstick as rs
+from conftest import raise_if_dask_computes
 from roughstick.contact import _kernels as k
 from roughstick.testing import assert_units
 
@@ -335,3 +335,20 @@ def test_lazy_bad_radius_raises_at_compute():
     f = rs.sphere_force(1e-9, model="hertz", radius=radius)
     with pytest.raises(ValueError, match="radius must be positive"):
         f.compute()
+
+
+def test_demo_step_writes_figures_curves_and_table1(tmp_path):
+    from roughstick.demos import s10_sphere
+
+    files = s10_sphere.run(tmp_path, quick=True)
+    names = {p.name for p in files}
+    assert names == {"fig1b_meniscus.png", "fig3_sphere_models.png", "sphere_curves.nc", "table1.nc", "table1.csv"}
+    assert all(p.exists() and p.stat().st_size > 0 for p in files)
+    t1 = xr.open_dataset(tmp_path / "table1.nc")
+    assert t1.adhesive_energy.attrs["units"] == "J"
+    assert float(abs(t1.relative_error.sel(model="modified_dmt")).max()) < 0.01
+    assert float(abs(t1.relative_error).max()) < 0.04
+    curves = xr.open_dataset(tmp_path / "sphere_curves.nc")
+    assert curves.force.dims == ("model", "interference", "radius", "rh")
+    t1.close()
+    curves.close()
