@@ -1,0 +1,131 @@
+"""Build notebooks/02_topography_psd.ipynb (no outputs): python notebooks/_build_02.py"""
+
+import pathlib
+
+import nbformat as nbf
+
+cells = [
+    nbf.v4.new_markdown_cell(
+        "# 02 · Topography and power spectral densities\n\n"
+        "From AFM maps to roughness statistics and the PSD that drives surface generation "
+        "(paper §3.1, §4.1, §5.2: Eqs. 15, 24-32, 37; Tables 2-4; Figs. 12 and 19).\n\n"
+        "The maps `S1A`…`S2C` in `data_samples/` are **synthetic** stand-ins for the paper's "
+        "measurements (see `data_samples/README.md`); a real AFM file from `../shared/afm/` is "
+        "read too when that folder exists. All values are SI; tables show nm."
+    ),
+    nbf.v4.new_code_cell(
+        "import pathlib\n\n"
+        "import matplotlib.pyplot as plt\n"
+        "import numpy as np\n"
+        "import pandas as pd\n"
+        "import xarray as xr\n\n"
+        "import roughstick as rs\n"
+        "from roughstick.plotting import plot_height, plot_psd_schemes, plot_self_affine_psd\n\n"
+        "ROOT = pathlib.Path('..').resolve()\n"
+        "DATA = ROOT / 'data_samples'\n"
+        "AFM = ROOT.parent / 'shared' / 'afm'  # real files live beside the project\n"
+        "QMAX = 289e6  # rad/m: the paper's cutoff, 289 rad/µm"
+    ),
+    nbf.v4.new_markdown_cell(
+        "## Read and level the maps\n\n`read_afm` returns `height` (y, x) in metres; `level` removes "
+        "the mean plane (or a line per scan line) and records it in `history`."
+    ),
+    nbf.v4.new_code_cell(
+        "def sample(name):\n"
+        "    maps = [rs.level(rs.read_afm(DATA / f'{name}{c}.nc')) for c in 'ABC']\n"
+        "    h = xr.concat(maps, dim='map', coords='minimal', compat='override', combine_attrs='drop')\n"
+        "    h.attrs = maps[0].attrs\n"
+        "    return h.assign_coords(map=[f'{name}{c}' for c in 'ABC'])\n\n"
+        "S = {name: sample(name) for name in ('S1', 'S2')}\n"
+        "print(S['S1'].attrs['history'].splitlines()[-1])\n"
+        "fig, axes = plt.subplots(1, 2, figsize=(10, 4))\n"
+        "plot_height(S['S1'].isel(map=0), ax=axes[0]); axes[0].set_title('S1A (synthetic)')\n"
+        "plot_height(S['S2'].isel(map=0), ax=axes[1]); axes[1].set_title('S2A (synthetic)');"
+    ),
+    nbf.v4.new_markdown_cell(
+        "## Table 2/3-style statistics\n\nSpatial variances from cubic-spline derivatives (the "
+        "paper's method, averaged over x and y and over the three maps) against PSD moments "
+        "(16 sub-maps per map, scheme 3) at ξmax = 289 rad/µm and at the cutoff chosen to match."
+    ),
+    nbf.v4.new_code_cell(
+        "rows, psd3 = [], {}\n"
+        "for name, h in S.items():\n"
+        "    spatial = rs.roughness_moments(h).mean('map')\n"
+        "    psd3[name] = rs.submap_psd(h, n=16)\n"
+        "    fixed = rs.psd_moments(psd3[name], qmax=QMAX)\n"
+        "    chosen = rs.choose_cutoff(psd3[name], spatial)\n"
+        "    for label, m, q in (('spatial', spatial, np.nan), ('PSD, 289 rad/µm', fixed, QMAX),\n"
+        "                        ('PSD, chosen ξmax', chosen, float(chosen.qmax))):\n"
+        "        rows.append({'sample': name, 'estimate': label, 'm0 [nm²]': float(m.m0) * 1e18,\n"
+        "                     'm2': float(m.m2), 'm4 [1e-4 nm⁻²]': float(m.m4) * 1e-14,\n"
+        "                     'ξmax [rad/µm]': q * 1e-6})\n"
+        "    st = rs.asperity_statistics(spatial)\n"
+        "    print(f\"{name}: summit density {float(st.summit_density) * 1e-12:.0f} µm⁻², \"\n"
+        "          f\"mean summit radius {float(st.summit_radius) * 1e9:.0f} nm, bandwidth {float(st.bandwidth):.1f}\")\n"
+        "pd.DataFrame(rows).round(4)"
+    ),
+    nbf.v4.new_markdown_cell(
+        "## Fig. 12: three estimation schemes and the Eq. 32 check\n\n"
+        "Scheme 1: the 3 whole maps; scheme 2: 4 sub-maps each; scheme 3: 16 sub-maps each "
+        "(Eq. 31). Eq. 32 is the relative spread of the sub-map variances. The sub-maps are not "
+        "periodic, so their spectra leak power into the tail above ξmax."
+    ),
+    nbf.v4.new_code_cell(
+        "schemes = {n: rs.submap_psd(S['S1'], n=n) for n in (1, 4, 16)}\n"
+        "for n in (4, 16):\n"
+        "    chk = rs.submap_variance_check(S['S1'], n=n)\n"
+        "    print(f'S1, {n} sub-maps per map: Eq. 32 = {float(chk.relative_std):.3f}')\n"
+        "fig, ax = plt.subplots(figsize=(6, 4.5))\n"
+        "plot_psd_schemes({f'{n} sub-map(s) per map': s for n, s in schemes.items()}, ax=ax, qmax=QMAX, title='S1');"
+    ),
+    nbf.v4.new_markdown_cell(
+        "## Table 4 → Eq. 37 (Fig. 19)\n\n"
+        "Roughness 2.6 and 2.4 nm, R = 220 nm and N = 80.1 µm⁻² give μ0, μ2, μ4 (with μ4 = "
+        "(3√π/(8R))², the square missing in print). Solving Eq. 37 with ξmax = 289 rad/µm gives "
+        "ξ0 ≈ 21.2 rad/µm; the paper's printed 19.4 rad/µm, 6.46e3 nm⁴, 6.29e-3 nm⁴ come out "
+        "with N = 88.1 µm⁻² instead. Both are shown."
+    ),
+    nbf.v4.new_code_cell(
+        "fits, rows = {}, []\n"
+        "for N in (80.1e12, 88.1e12):\n"
+        "    m = rs.moments_from_asperities(roughness=[2.6e-9, 2.4e-9], radius=220e-9, density=N)\n"
+        "    fit = rs.fit_self_affine(m0=m.m0, m2=m.m2, m4=m.m4, qmax=QMAX)\n"
+        "    fits[f'Eq. 37, N = {N * 1e-12:.1f} µm⁻²'] = fit\n"
+        "    rows.append({'N [µm⁻²]': N * 1e-12, 'μ0 [nm²]': float(m.m0) * 1e18, 'μ2': float(m.m2),\n"
+        "                 'μ4 [µm⁻²]': float(m.m4) * 1e-12, 'ξ0 [rad/µm]': float(fit.q0) * 1e-6,\n"
+        "                 's0 [nm⁴]': float(fit.s0) * 1e36, 's1 [nm⁴]': float(fit.s1) * 1e36})\n"
+        "rows.append({'N [µm⁻²]': 'printed', 'ξ0 [rad/µm]': 19.4, 's0 [nm⁴]': 6.46e3, 's1 [nm⁴]': 6.29e-3})\n"
+        "display(pd.DataFrame(rows))\n"
+        "fig, ax = plt.subplots(figsize=(6, 4.5))\n"
+        "plot_self_affine_psd(fits, measured={f'{k} (scheme 3)': v for k, v in psd3.items()}, ax=ax);"
+    ),
+    nbf.v4.new_markdown_cell(
+        "## A real AFM file\n\n`ST_di-1.di` (Bruker NanoScope, 500 nm scan) from `../shared/afm/`, "
+        "read through SurfaceTopography. Skipped when the folder or the reader is absent."
+    ),
+    nbf.v4.new_code_cell(
+        "path = AFM / 'ST_di-1.di'\n"
+        "try:\n"
+        "    real = rs.read_afm(path)\n"
+        "except (FileNotFoundError, ImportError) as exc:\n"
+        "    real = None\n"
+        "    print(f'skipped the real file: {exc}')\n"
+        "if real is not None:\n"
+        "    for method in ('plane', 'line'):\n"
+        "        lv = rs.level(real, method=method)\n"
+        "        print(f'{method:5s} levelling: Sq = {float(lv.std()) * 1e9:.2f} nm')\n"
+        "    lv = rs.level(real, method='line')\n"
+        "    st = rs.roughness_statistics(lv)\n"
+        "    display(st[['rms_height', 'm2', 'm4', 'summit_density', 'summit_radius', 'bandwidth']].to_pandas()\n"
+        "            if hasattr(st, 'to_pandas') else st)\n"
+        "    fig, axes = plt.subplots(1, 2, figsize=(10, 4))\n"
+        "    plot_height(lv, ax=axes[0])\n"
+        "    plot_psd_schemes({f'{n} sub-map(s)': rs.submap_psd(lv, n=n) for n in (1, 4, 16)}, ax=axes[1],\n"
+        "                     title=path.name)"
+    ),
+]
+nb = nbf.v4.new_notebook(cells=cells, metadata={
+    "kernelspec": {"name": "python3", "display_name": "Python 3", "language": "python"}})
+out = pathlib.Path(__file__).with_name("02_topography_psd.ipynb")
+nbf.write(nb, out)
+print(f"wrote {out}")
