@@ -466,7 +466,7 @@ def sphere_adhesive_energy(
     Notes
     -----
     Closed forms for the modified DMT (cap integral up to the root of Eq. 9) and JKR
-    (:math:`W = 0.7514\ldots\,\pi w R\,(\pi^2 w^2 R/K^2)^{1/3}`); 64-point Gauss-Legendre for
+    (:math:`W = 2.1023\,\pi w R\,(\pi^2 w^2 R/K^2)^{1/3}`); 64-point Gauss-Legendre for
     the contact parts of DMT and Maugis, whose non-contact parts are closed forms.
 
     Examples
