@@ -199,7 +199,8 @@ def isotropic_to_2d(psd, qx, qy) -> xr.DataArray:
     """
     if "q" not in psd.dims:
         raise ValueError(f"psd must have a 'q' dimension (isotropic PSD), got dims {psd.dims}.")
-    _units_psd(psd)
+    attrs = psd.attrs
+    psd = _units_psd(psd)
     check_core_not_chunked(psd, ["q"])
     qx = np.asarray(qx.values if isinstance(qx, xr.DataArray) else qx, dtype=float)
     qy = np.asarray(qy.values if isinstance(qy, xr.DataArray) else qy, dtype=float)
@@ -224,7 +225,7 @@ def isotropic_to_2d(psd, qx, qy) -> xr.DataArray:
         dask_gufunc_kwargs={"output_sizes": {"qy": qy.size, "qx": qx.size}},
     )
     out = out.assign_coords(qy=qy, qx=qx)
-    return set_attrs(out.rename("psd"), "psd", **_keep(psd.attrs, "references"))
+    return set_attrs(out.rename("psd"), "psd", **_keep(attrs, "references"))
 
 
 def _keep(attrs, *keys):

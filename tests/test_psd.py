@@ -423,3 +423,11 @@ def test_cli_psd(tmp_path, capsys):
     assert main(["psd", str(tmp_path / "m0.npy"), str(tmp_path / "small.npy"), "--spacing",
                  "5 nm", "--units", "nm", "--out", str(tmp_path / "x.nc")]) == 1
     assert "same size" in capsys.readouterr().err
+
+
+def test_isotropic_to_2d_converts_units():
+    iso = xr.DataArray([1e4, 1e2, 1.0], dims="q", coords={"q": [0.0, 1e8, 2e8]},
+                       attrs={"units": "nm4"})
+    s = rs.isotropic_to_2d(iso, qx=[0.0, 1e8], qy=[0.0])
+    np.testing.assert_allclose(s.values, [[1e-32, 1e-34]], rtol=1e-12)
+    assert s.attrs["units"] == "m4"
