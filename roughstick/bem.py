@@ -18,7 +18,7 @@ from scipy import ndimage
 from scipy.special import erfc
 
 from ._units import require
-from .conventions import append_history, dataset_attrs, set_attrs, set_coord_attrs
+from .conventions import ATTRS, append_history, dataset_attrs, set_attrs, set_coord_attrs
 from .materials import POLYSILICON, Material, reduced_modulus
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
@@ -377,7 +377,9 @@ def bem_contact_curves(
     Returns
     -------
     xarray.Dataset
-        Over ``(..., rh, distance)``: ``pressure`` (mean pressure, Pa, + repulsive),
+        Over ``(..., rh, distance)`` (``rh`` dropped for a scalar humidity, as in
+        :func:`roughstick.rough_contact_curves`), coordinates ``water_height`` and
+        ``laplace_pressure`` along ``rh``: ``pressure`` (mean pressure, Pa, + repulsive),
         ``repulsive_pressure`` (Pa, the traction carried by the contact area),
         ``wet_fraction`` (adhesive zone: gap below :math:`h_{water}` and not in contact),
         ``contact_fraction``, ``n_contacts`` (periodic 4-connected contact clusters),
@@ -565,7 +567,13 @@ def bem_contact_curves(
             "solver_residual",
         ]
     ]
+    ds = ds.assign_coords(
+        water_height=("rh", hw, ATTRS["water_height"]),
+        laplace_pressure=("rh", dp, ATTRS["laplace_pressure"]),
+    )
     set_coord_attrs(ds)
+    if rh.ndim == 0:
+        ds = ds.squeeze("rh")
     ds.attrs = dataset_attrs(
         "Humid adhesive contact of a rough surface and a flat: boundary-element reference",
         references=_REFERENCES,

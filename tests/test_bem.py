@@ -43,12 +43,12 @@ def test_hertz_sphere_within_one_percent():
         h, relative_humidity=0.3, distance=d, tolerance=1e-10, adhesion=False
     )
     area = (n * dx) ** 2
-    force = ds.pressure.isel(rh=0).values * area
-    delta = ds.max_interference.isel(rh=0).values
+    force = ds.pressure.values * area
+    delta = ds.max_interference.values
     K = rs.hertz_modulus()
     np.testing.assert_allclose(force, K * np.sqrt(R) * delta**1.5, rtol=0.01)
     # contact radius a^2 = R delta (pixelated: a is 5-12 pixels here)
-    a = np.sqrt(ds.contact_fraction.isel(rh=0).values * area / np.pi)
+    a = np.sqrt(ds.contact_fraction.values * area / np.pi)
     np.testing.assert_allclose(a, np.sqrt(R * delta), rtol=0.04)
     # the periodic-offset conversion matters: the raw mean-gap distance is off by > 10 % in force
     raw = zmax - ds.distance.values
@@ -67,8 +67,8 @@ def test_maugis_dugdale_sphere_pull_off_and_curve():
     zmax = float(h.max())
     d = zmax + np.linspace(-0.6e-9, 1.2e-9, 19)
     ds = rs.bem_contact_curves(h, relative_humidity=rh, distance=d, tolerance=1e-8, material=mat)
-    force = ds.pressure.isel(rh=0).values * (n * dx) ** 2
-    delta = ds.max_interference.isel(rh=0).values
+    force = ds.pressure.values * (n * dx) ** 2
+    delta = ds.max_interference.values
     md = rs.sphere_force(
         np.linspace(-2e-9, 1e-9, 3001), model="maugis", radius=R, relative_humidity=rh, material=mat
     )
@@ -76,13 +76,13 @@ def test_maugis_dugdale_sphere_pull_off_and_curve():
     assert -force.min() == pytest.approx(pull_off_md, rel=0.03)
     # the attached branch, point by point (2 nm resolution of the neck: a few %)
     md_at = rs.sphere_force(delta, model="maugis", radius=R, relative_humidity=rh, material=mat)
-    attached = ds.contact_fraction.isel(rh=0).values > 0
+    attached = ds.contact_fraction.values > 0
     assert attached.sum() >= 10
     np.testing.assert_allclose(force[attached], md_at.values[attached], rtol=0.04)
     # the neck holds beyond the undeformed first contact (d > max z) on retraction
     assert np.any(attached & (ds.distance.values > zmax))
     # adhesive zone: one annulus
-    assert np.all(ds.wet_fraction.values[0, attached] > 0)
+    assert np.all(ds.wet_fraction.values[attached] > 0)
 
 
 def test_noncontact_states_match_dugdale_on_the_gap():
@@ -180,10 +180,10 @@ def test_dask_matches_numpy_and_stays_lazy(no_compute):
     z = rng.normal(size=(2, 16, 16)) * 1e-9
     h = make_topography(z, spacing=5e-9, periodic=True).rename(dim_0="realization")
     d = np.array([z.max() - 0.3e-9, z.max() + 0.5e-9])
-    eager = rs.bem_contact_curves(h, relative_humidity=0.5, distance=d)
+    eager = rs.bem_contact_curves(h, relative_humidity=[0.5], distance=d)
     lazy_in = h.chunk({"realization": 1})
     with no_compute():
-        lazy = rs.bem_contact_curves(lazy_in, relative_humidity=0.5, distance=d)
+        lazy = rs.bem_contact_curves(lazy_in, relative_humidity=[0.5], distance=d)
     assert lazy.pressure.chunks is not None
     assert eager.pressure.dims == ("realization", "rh", "distance")
     xr.testing.assert_allclose(lazy.compute().pressure, eager.pressure)
@@ -213,7 +213,7 @@ def test_default_grid_spans_first_water_contact():
     z = rng.normal(size=(16, 16)) * 1e-9
     h = make_topography(z, spacing=5e-9, periodic=True)
     ds = rs.bem_contact_curves(h, relative_humidity=0.5, n_distances=6)
-    assert ds.sizes["distance"] == 6
+    assert ds.sizes["distance"] == 6 and ds.pressure.dims == ("distance",)
     hw = float(rs.water_height(0.5))
     assert ds.distance.max() == pytest.approx(z.max() + hw)
     assert ds.distance.min() < z.max()
