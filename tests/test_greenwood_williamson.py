@@ -203,16 +203,18 @@ def test_hertz_equals_classical_gw_integral():
 def test_quadrature_converges():
     d = np.linspace(-2, 30, 97) * NM
     res = {}
-    for nh, nk in [(12, 8), (24, 16), (48, 32), (64, 48), (128, 96)]:
+    for nh, nk in [(8, 6), (16, 12), (32, 24), (128, 96)]:
         c = rs.gw_contact_curves(S1, relative_humidity=[0.3, 0.9], distance=d, height_cutoff=2.5,
                                  n_height=nh, n_curvature=nk)
         res[nh] = (gamma(c.pressure), c.pressure.values)
     g_ref, p_ref = res[128]
-    errs = [np.max(np.abs(res[n][0] / g_ref - 1)) for n in (12, 24, 48)]
-    assert errs[0] > errs[1] > errs[2]
-    assert np.max(np.abs(res[64][0] / g_ref - 1)) < 1e-5  # the defaults
+    errs = [np.max(np.abs(res[n][0] / g_ref - 1)) for n in (8, 16)]
+    assert errs[0] > errs[1] > 0
+    assert np.max(np.abs(res[32][0] / g_ref - 1)) < 1e-7  # the defaults
     scale = np.abs(p_ref).max(axis=-1, keepdims=True)
-    assert np.max(np.abs(res[64][1] - p_ref) / scale) < 1e-6
+    assert np.max(np.abs(res[32][1] - p_ref) / scale) < 1e-7
+    default = rs.gw_contact_curves(S1, relative_humidity=[0.3, 0.9], distance=d, height_cutoff=2.5)
+    np.testing.assert_array_equal(default.pressure.values, res[32][1])
 
 
 def test_integration_top_is_beyond_the_density():
