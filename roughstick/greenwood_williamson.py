@@ -261,7 +261,8 @@ def summit_joint_density(height, curvature, *, moments: xr.Dataset, curvature_me
     Returns
     -------
     xarray.DataArray
-        :math:`\rho` [m-1 m] = [1] per (m · m-1); broadcast over the inputs' dims.
+        :math:`\rho` per unit height [m-1] and per unit curvature [m], so units "1";
+        broadcast over the inputs' dims.
 
     Notes
     -----
