@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import importlib.util
 import warnings
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import roughstick as rs
 from roughstick import validity
+from roughstick.testing import make_topography
 
 
 def synthetic_table():
@@ -115,3 +118,43 @@ def test_bad_input(fake_map):
         rs.model_error("gw", reduced_modulus_value=1e9, relative_humidity=0.5, quantity="force")
     with pytest.raises(ValueError, match=r"\(0, 1\)"):
         rs.select_model(tolerance=0.1, relative_humidity=50)
+
+
+def test_auto_dispatch_records_choice(fake_map):
+    calls = []
+
+    def fake_curves(height, *, relative_humidity, material, material2, model, **kwargs):
+        calls.append((model, kwargs))
+        return xr.Dataset(attrs={"contact_model": model})
+
+    h = make_topography(np.zeros((8, 8)), spacing=5e-9, periodic=True)
+    ds = validity._dispatch_model(
+        fake_curves, "auto", h, relative_humidity=[0.3, 0.9], error_tolerance=0.1, connectivity=4
+    )
+    assert calls == [("modified_dmt", {"connectivity": 4})]
+    assert ds.attrs["model_selection"].startswith("auto -> modified_dmt: measured")
+    # GW is cheapest when the tolerance allows it
+    ds = validity._dispatch_model(
+        fake_curves, "auto", h, relative_humidity=0.5, error_tolerance=0.45
+    )
+    assert calls[-1][0] == "gw" and "gw" in ds.attrs["model_selection"]
+
+
+@pytest.mark.skipif(
+    importlib.util.find_spec("tamaas") is None,
+    reason="Tamaas (pip install roughstick[bem]) is absent",
+)
+def test_auto_dispatch_runs_bem_when_nothing_cheaper_fits(fake_map):
+    soft = rs.Material(youngs_modulus=2 * (1 - 0.23**2) * 1e9, poisson_ratio=0.23)
+    z = np.random.default_rng(0).normal(size=(16, 16)) * 1e-9
+    h = make_topography(z, spacing=5e-9, periodic=True)
+    ds = validity._dispatch_model(
+        None,
+        "auto",
+        h,
+        relative_humidity=0.5,
+        material=soft,
+        distance=[z.max() - 0.2e-9, z.max() + 1e-9],
+    )
+    assert ds.attrs["contact_model"] == "bem"
+    assert "auto -> bem" in ds.attrs["model_selection"]
