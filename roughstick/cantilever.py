@@ -63,6 +63,7 @@ __all__ = [
     "PAPER_HUMIDITIES",
     "predict_adhesive_energy",
     "interaction_zone_shape",
+    "cantilever_distance_grid",
 ]
 
 REFERENCES = (
@@ -1089,6 +1090,33 @@ def _psd_on_grid(fit: xr.Dataset, shape, spacing) -> xr.DataArray:
     return out.drop_vars([c for c in out.coords if c not in ("qx", "qy")])
 
 
+def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer="paper",
+                             lower: float = 1.0, num: int = 200) -> xr.DataArray:
+    r"""Distance grid for the interaction-zone ensembles, shared by both adsorbed-layer models.
+
+    :func:`roughstick.ensemble_distance_grid` with its top set by the larger of the water heights
+    of ``adsorbed_layer`` and of the paper's layer, so the runs with and without the layer use the
+    same grid (identical Γ below 65 % RH, same surfaces), and its bottom at ``lower``
+    :math:`\sqrt{m_0}`.
+
+    Notes
+    -----
+    Eq. 13 integrates every attractive part of the curve. On the Table 4 surface the modified
+    DMT repulsion peaks near :math:`0.8\sqrt{m_0}` and falls again deeper down (asperities merge
+    into a few huge, flat fitted spheres), so a grid reaching far below the equilibrium picks up a
+    spurious second attractive region. ``lower = 1`` keeps the bottom in the repulsive range for
+    the paper's cantilever zone (checked on 64 x 512 to 524 x 6000 pixel zones, 30-95 % RH,
+    both layer models); :func:`roughstick.run_ensemble` raises if a curve is still attractive at
+    the bottom, so a bad choice never passes silently.
+    """
+    from .ensemble import ensemble_distance_grid
+
+    grids = [ensemble_distance_grid(psd, shape=shape, n=n, relative_humidity=relative_humidity,
+                                    adsorbed_layer=layer, lower=lower, num=num)
+             for layer in (adsorbed_layer, "paper")]
+    return grids[int(np.argmax([float(g[-1]) for g in grids]))]
+
+
 def predict_adhesive_energy(
     psd=None,
     *,
@@ -1131,7 +1159,8 @@ def predict_adhesive_energy(
     adsorbed_layer : {"paper", "none"} or callable
         ``"paper"``: 0.9 nm per surface above 65 % RH (Fig. 20b); ``"none"``: Fig. 20a.
     seed, chunks, output, **ensemble_kwargs
-        Passed to :func:`roughstick.run_ensemble` (``output`` streams and resumes).
+        Passed to :func:`roughstick.run_ensemble` (``output`` streams and resumes). The default
+        ``distance`` grid is :func:`cantilever_distance_grid`.
 
     Returns
     -------
@@ -1153,7 +1182,12 @@ def predict_adhesive_energy(
         grid_psd = psd
     else:
         raise TypeError(f"psd must be None, an Eq. 37 Dataset or a PSD DataArray, got {type(psd).__name__}.")
-    ds = run_ensemble(grid_psd, n=n, relative_humidity=list(relative_humidity), spacing=spacing, shape=shp,
+    rh = list(relative_humidity)
+    if ensemble_kwargs.get("distance") is None:
+        ensemble_kwargs["distance"] = cantilever_distance_grid(
+            grid_psd, shape=shp, n=ensemble_kwargs.get("n_max", 3000) if n == "auto" else n,
+            relative_humidity=rh, adsorbed_layer=adsorbed_layer)
+    ds = run_ensemble(grid_psd, n=n, relative_humidity=rh, spacing=spacing, shape=shp,
                       seed=seed, chunks=chunks, adsorbed_layer=adsorbed_layer, output=output, **ensemble_kwargs)
     ds.attrs.update({**beam.attrs(), "interaction_zone_shape": list(shp),
                      "interaction_zone_area": float(shp[0] * shp[1] * spacing**2)})

@@ -477,3 +477,24 @@ def test_cli_risk_bad_config(tmp_path):
     cfg.write_text("[beems]\n")
     assert main(["risk", str(cfg)]) == 1
     assert main(["risk", str(tmp_path / "missing.toml")]) == 1
+
+
+# ----------------------------------------------------------------------------- full §5.2 pipeline
+def test_predicted_gamma_layer_vs_no_layer():
+    """Fig. 20a vs 20b on a small interaction zone (64 x 512 px, 6 surfaces): the same surfaces
+    give the same Gamma without the layer below 65 % RH and a smaller one above it."""
+    rh = [0.55, 0.6, 0.7, 0.8, 0.9]
+    runs = {layer: rs.predict_adhesive_energy(n=6, shape=(64, 512), relative_humidity=rh,
+                                              adsorbed_layer=layer, seed=3)
+            for layer in ("none", "paper")}
+    g = {k: v.adhesive_energy.compute() for k, v in runs.items()}
+    assert g["none"].dims == ("realization", "rh") and g["none"].sizes["realization"] == 6
+    assert (g["none"] > 0).all()
+    below = [r for r in rh if r <= 0.65]
+    above = [r for r in rh if r > 0.65]
+    xr.testing.assert_allclose(g["none"].sel(rh=below), g["paper"].sel(rh=below), rtol=1e-12)
+    assert (g["none"].sel(rh=above) < g["paper"].sel(rh=above)).all()
+    assert runs["paper"].attrs["interaction_zone_shape"] == [64, 512]
+    # risk on the prediction: longer beams stick at least as often
+    risk = rs.stiction_risk(g["paper"], length=[150e-6, 250e-6, 400e-6, 800e-6])
+    assert (risk.stiction_probability.diff("beam_length") >= 0).all()
