@@ -1,3 +1,476 @@
-"""Placeholder: filled in by its issue."""
+"""Adhesive contact of a rough surface against a flat in humid air: the modified DMT (Eqs. 16-23).
 
-__all__: list[str] = []
+:func:`rough_contact_curves` takes any ``height`` map (measured or generated) and returns the
+mean pressure on the apparent area versus the distance ``d`` between the flat and the mean plane
+of the heights, at one or several relative humidities. Asperities are the connected components of
+``{z >= d}`` (the paper's flooding); each is fitted with the constrained sphere of Eqs. 19-21 and
+Hertz (Eqs. 10-11) gives its repulsive force and contact area; the water term uses the area of
+the whole map above ``d - h_water``, so merged menisci (saturation) come out naturally (Eq. 16).
+
+All distances are done in one pass over the heights sorted in descending order, with a
+union-find (:mod:`roughstick._rough_kernels`); a literal slow implementation that relabels the
+map at every distance and fits each asperity with a generic optimiser lives in
+:mod:`roughstick._rough_reference` and the tests hold the two together. See
+``docs/rough_contact.md`` for the algorithm, its cost and the accuracy evidence.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from . import _rough_kernels as _k
+from ._dask import check_core_not_chunked, is_lazy
+from ._units import as_si, require
+from .conventions import ATTRS, append_history, dataset_attrs, set_attrs
+from .materials import POLYSILICON, hertz_modulus
+from .meniscus import as_relative_humidity, laplace_pressure, water_height
+
+__all__ = ["rough_contact_curves", "contact_distance_grid"]
+
+REFERENCES = (
+    "Wu L., Nguyen V.-D., Golinval J.-C., Noels L. et al., A probabilistic model for predicting the "
+    "uncertainties of the humid stiction phenomenon on hard materials, J. Comput. Appl. Math. "
+    "(2015), doi:10.1016/j.cam.2015.02.048; Hertz contact: Johnson K.L., Contact Mechanics (1985), "
+    "doi:10.1017/CBO9781139171731"
+)
+
+_MISSING_NOTE = (
+    "heights referred to their mean over the valid pixels; NaN pixels are excluded: never part of "
+    "an asperity nor of the wetted area, and the apparent area is that of the valid pixels"
+)
+
+
+# --------------------------------------------------------------------------------------------
+# input checks
+
+
+def _spacing(height: xr.DataArray, dim: str) -> float:
+    if dim not in height.dims:
+        raise ValueError(
+            f"height must have dims (..., 'y', 'x'); got {height.dims}. Rename the spatial dims, "
+            "e.g. height.rename({'row': 'y', 'col': 'x'})."
+        )
+    n = height.sizes[dim]
+    if n < 3:
+        raise ValueError(
+            f"height has only {n} pixel(s) along {dim!r}: a contact map needs at least 3 x 3 pixels."
+        )
+    if dim not in height.coords:
+        raise ValueError(
+            f"height has no {dim!r} coordinate, so its pixel size is unknown. Build it with "
+            "roughstick.testing.make_topography(values, spacing=...) or assign pixel-centre coords in m."
+        )
+    c = np.asarray(height[dim].values, dtype=float)
+    units = height[dim].attrs.get("units")
+    if units is not None:
+        c = c * float(require(xr.DataArray(1.0, attrs={"units": units}), "length", name=dim))
+    step = np.diff(c)
+    if not (np.all(step > 0) and np.allclose(step, step[0], rtol=1e-6, atol=0)):
+        raise ValueError(
+            f"coordinate {dim!r} must be uniform and ascending (pixel centres); got steps from "
+            f"{step.min()!r} to {step.max()!r}. Resample the map onto a regular grid first."
+        )
+    return float(step[0])
+
+
+def _humidity(relative_humidity):
+    rh = as_relative_humidity(relative_humidity)
+    if is_lazy(rh):
+        raise ValueError(
+            "relative_humidity must be known in advance (it becomes the 'rh' coordinate); pass "
+            "floats or a computed DataArray, e.g. rh.compute()."
+        )
+    if rh.ndim > 1 or (rh.ndim == 1 and rh.dims != ("rh",)):
+        raise ValueError(
+            f"relative_humidity must be a scalar or 1-D along 'rh'; got dims {rh.dims}. "
+            "Pass e.g. [0.3, 0.5, 0.7]."
+        )
+    return rh
+
+
+def _distance(distance):
+    if isinstance(distance, xr.DataArray):
+        distance = as_si(distance, "length", name="distance")
+        d = np.asarray(distance.values, dtype=float)  # a coordinate-like parameter (eager)
+    else:
+        d = np.asarray(distance, dtype=float)
+    d = np.atleast_1d(d)
+    if d.ndim != 1 or d.size < 1:
+        raise ValueError(f"distance must be a 1-D array of distances [m]; got shape {d.shape}.")
+    if not np.all(np.isfinite(d)):
+        raise ValueError("distance contains NaN or inf; pass finite distances in m.")
+    if np.unique(d).size != d.size:
+        raise ValueError("distance has repeated values; pass each distance once.")
+    return np.sort(d)
+
+
+def _connectivity(connectivity):
+    if connectivity not in (4, 8):
+        raise ValueError(
+            f"connectivity must be 4 (pixels sharing an edge) or 8 (edges or corners); got {connectivity!r}."
+        )
+    return int(connectivity)
+
+
+# --------------------------------------------------------------------------------------------
+# automatic distance grid
+
+
+def _auto_curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, n):
+    """Distance grid and curves of one eager map (see :func:`contact_distance_grid`)."""
+    zc, _ = _k.prepare_heights(z)
+    zmax = float(np.nanmax(zc))
+    zmin = float(np.nanmin(zc))
+    span = max(zmax - zmin, 1e-12)
+    top = zmax + float(np.max(hw)) + 1e-3 * span
+    kw = dict(dx=dx, dy=dy, K=K, periodic=periodic, connectivity=connectivity)
+
+    def run(d):
+        return _k.curves_kernel(zc, d, hw, dp, **kw)
+
+    # walk down from the highest pixel until every humidity is repulsive (past equilibrium)
+    step = span / 200.0
+    low = zmin
+    j = 0
+    while True:
+        probes = zmax - step * np.arange(j + 1, j + 17)
+        probes = probes[probes >= zmin]
+        if probes.size == 0:
+            break
+        p = run(probes)[0]
+        ok = np.all(p > 0, axis=0)
+        if np.any(ok):
+            low = float(probes[int(np.argmax(ok))]) - 2 * step
+            break
+        j += 16
+        step *= 1.5  # coarser as it goes: the tail grows quickly below the top
+    low = max(low, zmin - step)
+    n = max(int(n), 8)
+    n0 = max(n // 2, 8)
+    d = np.linspace(low, top, n0)
+    out = list(run(d))
+    while d.size < n:
+        p = out[0]
+        scale = np.maximum(np.max(np.abs(p), axis=1, keepdims=True), 1e-300)
+        jump = np.max(np.abs(np.diff(p, axis=1)) / scale, axis=0)
+        sign = np.any(np.diff(np.sign(p), axis=1) != 0, axis=0)
+        score = jump + sign
+        widths = np.diff(d)
+        score = np.where(widths > 1e-6 * span, score, -1.0)
+        k = min(n - d.size, max(n0 // 4, 1))
+        pick = np.argsort(-score, kind="stable")[:k]
+        pick = pick[score[pick] > 0]
+        if pick.size == 0:
+            break
+        new = 0.5 * (d[pick] + d[pick + 1])
+        more = run(new)
+        d = np.concatenate([d, new])
+        srt = np.argsort(d, kind="stable")
+        d = d[srt]
+        out = [np.concatenate([a, b], axis=1)[:, srt] for a, b in zip(out, more, strict=True)]
+    return d, out
+
+
+def contact_distance_grid(
+    height: xr.DataArray,
+    *,
+    relative_humidity,
+    n: int = 200,
+    material=POLYSILICON,
+    material2=None,
+    adsorbed_layer="paper",
+    connectivity: int = 4,
+    periodic: bool | None = None,
+) -> xr.DataArray:
+    """Automatic distance grid of :func:`rough_contact_curves` for one eager map.
+
+    From the first water contact (``d = max z + h_water`` of the wettest humidity) down past the
+    equilibrium distance of every humidity (the first distance where all pressures are
+    repulsive, found by walking down from the highest pixel), ``n // 2`` uniform points, then
+    midpoints added where the pressure changes most or changes sign (the curve turns), until
+    ``n`` points.
+
+    Parameters
+    ----------
+    height : xarray.DataArray
+        Topography, dims ``(y, x)``, units length, eager (numpy).
+    relative_humidity : float or sequence
+        RH fractions in (0, 1).
+    n : int, default 200
+        Number of distances.
+    material, material2, adsorbed_layer, connectivity, periodic
+        As in :func:`rough_contact_curves`.
+
+    Returns
+    -------
+    xarray.DataArray
+        ``distance`` [m], ascending, dims ``("distance",)``.
+    """
+    d, _ = _prepare_auto(
+        height, relative_humidity, n, material, material2, adsorbed_layer, connectivity, periodic
+    )
+    return set_attrs(xr.DataArray(d, dims=("distance",), coords={"distance": d}), "distance")
+
+
+def _prepare_auto(height, relative_humidity, n, material, material2, adsorbed_layer, connectivity, periodic):
+    height = require(height, "length", name="height")
+    if height.ndim != 2 or is_lazy(height):
+        raise ValueError(
+            "the automatic distance grid needs one eager (y, x) map; for stacks or dask arrays pass "
+            "distance= explicitly, e.g. distance=roughstick.contact_distance_grid(height.isel("
+            "realization=0).compute(), relative_humidity=...)."
+        )
+    dx, dy = _spacing(height, "x"), _spacing(height, "y")
+    rh = _humidity(relative_humidity)
+    hw = np.atleast_1d(water_height(rh, adsorbed_layer=adsorbed_layer).values)
+    dp = np.atleast_1d(laplace_pressure(rh).values)
+    per = bool(height.attrs.get("periodic", 0)) if periodic is None else bool(periodic)
+    z = np.asarray(height.transpose("y", "x").values, dtype=float)  # eager, checked above
+    return _auto_curves(
+        z, hw, dp, dx=dx, dy=dy, K=hertz_modulus(material, material2), periodic=per,
+        connectivity=_connectivity(connectivity), n=n,
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# public entry point
+
+
+def rough_contact_curves(
+    height: xr.DataArray,
+    *,
+    relative_humidity,
+    distance=None,
+    material=POLYSILICON,
+    material2=None,
+    adsorbed_layer="paper",
+    model: str = "modified_dmt",
+    connectivity: int = 4,
+    periodic: bool | None = None,
+    n_distance: int = 200,
+    **model_kwargs,
+) -> xr.Dataset:
+    r"""Force-distance curves of a rough surface against a flat in humid air (Eqs. 16-23).
+
+    Parameters
+    ----------
+    height : xarray.DataArray
+        Topography, dims ``(..., y, x)``, units length (converted to m), uniform pixel-centre
+        coords ``x``, ``y``. Attribute ``periodic`` (1: generated, wraps round; 0: measured)
+        decides whether asperities connect across the map edges. Leading dims (e.g.
+        ``realization``) are carried through; dask arrays stay lazy (chunk over the leading
+        dims only; ``x`` and ``y`` must be single chunks).
+    relative_humidity : float, sequence or xarray.DataArray
+        RH as fractions in (0, 1); a sequence gives an ``rh`` dimension.
+    distance : array-like or xarray.DataArray, optional
+        Distances ``d`` [m] from the flat to the mean plane of the heights, any order. Default:
+        an automatic grid of ``n_distance`` points (:func:`contact_distance_grid`; eager 2-D
+        maps only).
+    material, material2 : roughstick.Material
+        The two bodies (``material2=None``: same as ``material``); poly-silicon by default,
+        :math:`K = \tfrac43 E^* = 115.4` GPa.
+    adsorbed_layer : {"paper", "none"} or callable
+        Adsorbed-water model of :func:`roughstick.water_height` (0.9 nm per surface above 65 %
+        RH by default).
+    model : {"modified_dmt", "gw"}
+        ``"modified_dmt"`` (this function, Eq. 16); ``"gw"`` forwards to
+        :func:`roughstick.greenwood_williamson.gw_contact_curves` with the moments of the map
+        (Eq. 14), on the same distances; ``model_kwargs`` go to it.
+    connectivity : {4, 8}, default 4
+        Pixels of one asperity share an edge (4) or an edge or a corner (8). 4 is the paper's
+        flooding on a square grid and scipy's default.
+    periodic : bool, optional
+        Override ``height.attrs["periodic"]``.
+    n_distance : int, default 200
+        Size of the automatic distance grid.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``(..., rh, distance)`` (``distance`` ascending): ``pressure`` [Pa] (force per
+        apparent area, positive repulsive), ``repulsive_pressure`` [Pa] (the Hertz part),
+        ``wet_fraction`` (wetted area net of the contact area, over the apparent area; Fig. 11b),
+        ``contact_fraction`` (Hertz contact area over apparent area), ``n_contacts``,
+        ``fit_error`` [m] (:math:`E^S` of Eq. 23; NaN without contact) and
+        ``max_interference`` [m] (:math:`\delta_{max} = \max z - d`, negative before contact).
+        Coordinates ``water_height`` and ``laplace_pressure`` along ``rh``.
+
+    Raises
+    ------
+    ValueError
+        Chunked ``x``/``y``, non-uniform coords, fewer than 3 pixels along an axis, an all-NaN
+        map, RH outside (0, 1), a bad ``distance``, or ``distance=None`` for a stack / dask map.
+
+    Notes
+    -----
+    Eq. 16, per unit apparent area :math:`A`:
+
+    .. math:: p(d) = \frac{1}{A}\Big[\sum_i F_r^{a_i}(d)
+              + \Delta P\big(A\{z \ge d - h_{water}\} - \sum_i \pi a_i^2\big)\Big]
+
+    with, for the sphere of Eqs. 19-21 fitted to asperity :math:`a_i` (footprint area
+    :math:`A_i = \pi a_f^2`, radius :math:`R_i`, :math:`z_0 = d - \sqrt{R_i^2 - A_i/\pi}`),
+    the interference :math:`\delta_i = z_0 + R_i - d`, :math:`F_r = K\sqrt{R_i}\delta_i^{3/2}`
+    and :math:`a_i^2 = R_i\delta_i` (Eqs. 10-11). Assumptions (paper §3.3): stiff bodies, so
+    the adhesive stress does not deform the asperities and the water footprint is that of the
+    undeformed surface (valid for poly-silicon; not for soft materials); non-interacting
+    asperities. Conventions of the fit (centre kept in the footprint's bounding box, one- and
+    two-pixel footprints, plateaus, NaN pixels) are listed in :mod:`roughstick._rough_kernels`.
+    An asperity that wraps all the way round a periodic map (far past equilibrium) is fitted in
+    the coordinates of its union-find tree; its sphere has no meaning.
+
+    References
+    ----------
+    Wu et al. (2015), doi:10.1016/j.cam.2015.02.048, §3.3 (Eqs. 16-23).
+
+    Examples
+    --------
+    >>> h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
+    >>> ds = rs.rough_contact_curves(h, relative_humidity=[0.3, 0.7], distance=[-1e-9, 1e-9])
+    >>> ds.pressure.dims
+    ('rh', 'distance')
+    """
+    if model not in ("modified_dmt", "gw", "bem", "auto"):
+        raise ValueError(f"model must be 'modified_dmt' or 'gw' (or 'bem'/'auto'), got {model!r}.")
+    # --- HOOK: model dispatch to the BEM reference (bem.py) / validity-based choice -------------
+    # The BEM helper wires model="bem" and model="auto" here through roughstick.validity.
+    if model in ("bem", "auto"):
+        raise NotImplementedError(
+            f"model={model!r} is not available yet (BEM via roughstick.bem / roughstick.validity); "
+            "use model='modified_dmt' or model='gw'."
+        )
+    # --- end HOOK -------------------------------------------------------------------------------
+    if model == "modified_dmt" and model_kwargs:
+        raise TypeError(f"unexpected keyword argument(s) {sorted(model_kwargs)} for model='modified_dmt'.")
+    height = require(height, "length", name="height")
+    dx, dy = _spacing(height, "x"), _spacing(height, "y")
+    check_core_not_chunked(height, ["y", "x"])
+    rh = _humidity(relative_humidity)
+    connectivity = _connectivity(connectivity)
+    per = bool(height.attrs.get("periodic", 0)) if periodic is None else bool(periodic)
+    K = hertz_modulus(material, material2)
+    hw_da = water_height(rh, adsorbed_layer=adsorbed_layer)
+    dp_da = laplace_pressure(rh)
+    hw = np.atleast_1d(hw_da.values)
+    dp = np.atleast_1d(dp_da.values)
+
+    if model == "gw":
+        return _forward_gw(height, rh, distance, material, material2, adsorbed_layer,
+                           connectivity, per, n_distance, model_kwargs)
+
+    if distance is None:
+        d, outs = _prepare_auto(height, rh, n_distance, material, material2, adsorbed_layer,
+                                connectivity, per)
+        lead: tuple = ()
+        data = [o for o in outs]
+    else:
+        d = _distance(distance)
+        lead = tuple(dim for dim in height.dims if dim not in ("y", "x"))
+
+    rh_vals = np.atleast_1d(rh.values)
+    coords = {"rh": rh_vals, "distance": d}
+    if distance is not None:
+        def kernel(z):
+            return _k.curves_kernel(z, d, hw, dp, dx=dx, dy=dy, K=K, periodic=per,
+                                    connectivity=connectivity)
+
+        outs = xr.apply_ufunc(
+            kernel,
+            height.transpose(*lead, "y", "x"),
+            input_core_dims=[["y", "x"]],
+            output_core_dims=[["rh", "distance"]] * len(_k.OUTPUTS),
+            vectorize=bool(lead),
+            dask="parallelized",
+            output_dtypes=[float] * len(_k.OUTPUTS),
+            dask_gufunc_kwargs={"output_sizes": {"rh": rh_vals.size, "distance": d.size}},
+        )
+        data = list(outs)
+    ds = xr.Dataset()
+    for name, arr in zip(_k.OUTPUTS, data, strict=True):
+        if not isinstance(arr, xr.DataArray):
+            arr = xr.DataArray(arr, dims=("rh", "distance"))
+        arr = arr.assign_coords(coords)
+        ds[name] = set_attrs(arr, name)
+    ds = ds.assign_coords(
+        water_height=("rh", hw, ATTRS["water_height"]),
+        laplace_pressure=("rh", dp, ATTRS["laplace_pressure"]),
+    )
+    for c in ("rh", "distance"):
+        ds[c].attrs = dict(ATTRS[c])
+    if rh.ndim == 0:
+        ds = ds.squeeze("rh")
+    for c in lead:
+        if c in height.coords:
+            ds = ds.assign_coords({c: height[c]})
+    ds.attrs = dataset_attrs(
+        "rough-surface adhesive contact curves (modified DMT, Eq. 16)",
+        references=REFERENCES,
+        contact_model="modified_dmt",
+        hertz_modulus=K,
+        connectivity=connectivity,
+        periodic=int(per),
+        adsorbed_layer=str(getattr(adsorbed_layer, "__name__", adsorbed_layer)),
+        missing_pixels=_MISSING_NOTE,
+    )
+    append_history(
+        ds,
+        f"rough_contact_curves(model='modified_dmt', n_distance={d.size}, connectivity={connectivity}, "
+        f"periodic={int(per)}); {_MISSING_NOTE}",
+    )
+    return ds
+
+
+def _map_moments(height: xr.DataArray) -> xr.Dataset:
+    """m0, m2, m4 of a map (Nayak one-direction convention), for the GW forwarding.
+
+    Uses ``roughstick.topography.roughness_moments`` when it exists; otherwise central finite
+    differences averaged over the x and y directions (periodic maps wrap, measured maps drop
+    the edge pixels).
+    """
+    from . import topography
+
+    fn = getattr(topography, "roughness_moments", None)
+    if fn is not None:
+        return fn(height)
+    z = height - height.mean(("y", "x"))
+    dx, dy = _spacing(height, "x"), _spacing(height, "y")
+    per = bool(height.attrs.get("periodic", 0))
+    m2s, m4s = [], []
+    for dim, h in (("x", dx), ("y", dy)):
+        if per:
+            zp, zm = z.roll({dim: -1}, roll_coords=False), z.roll({dim: 1}, roll_coords=False)
+        else:
+            zp, zm = z.shift({dim: -1}), z.shift({dim: 1})
+        m2s.append((((zp - zm) / (2 * h)) ** 2).mean(("y", "x")))
+        m4s.append((((zp - 2 * z + zm) / h**2) ** 2).mean(("y", "x")))
+    return xr.Dataset(
+        {
+            "m0": set_attrs((z**2).mean(("y", "x")), "m0"),
+            "m2": set_attrs(0.5 * (m2s[0] + m2s[1]), "m2"),
+            "m4": set_attrs(0.5 * (m4s[0] + m4s[1]), "m4"),
+        }
+    )
+
+
+def _forward_gw(height, rh, distance, material, material2, adsorbed_layer, connectivity, per,
+                n_distance, model_kwargs):
+    from . import greenwood_williamson as gw
+
+    fn = getattr(gw, "gw_contact_curves", None)
+    if fn is None:
+        raise NotImplementedError(
+            "model='gw' needs roughstick.greenwood_williamson.gw_contact_curves, which is not "
+            "available in this version."
+        )
+    if distance is None:
+        distance = contact_distance_grid(
+            height, relative_humidity=rh, n=n_distance, material=material, material2=material2,
+            adsorbed_layer=adsorbed_layer, connectivity=connectivity, periodic=per,
+        )
+    d = _distance(distance)
+    moments = _map_moments(height)
+    kwargs = dict(relative_humidity=rh, distance=d, **model_kwargs)
+    kwargs.setdefault("material", material)
+    kwargs.setdefault("adsorbed_layer", adsorbed_layer)
+    return fn(moments, **kwargs)

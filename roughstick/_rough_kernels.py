@@ -1,0 +1,636 @@
+"""Compiled kernels of the rough-surface modified DMT (Eqs. 16-23), plain numpy/numba on SI floats.
+
+One pass over the heights in descending order with a union-find gives the asperities (connected
+components of ``{z >= d}``) at every distance level ``d`` (DESIGN.md §4). Each asperity is fitted
+with the constrained sphere of Eqs. 19-21 by a projected Levenberg-Marquardt iteration with an
+analytic Jacobian; Hertz (Eqs. 10-11) gives its repulsive force and contact area. The water term
+(the area ``A{z >= d - h_water}``) is a complementary cumulative count of the heights, done once
+for all distances and all humidities.
+
+Conventions shared with :mod:`roughstick._rough_reference` (the literal slow implementation):
+
+* heights are referred to their mean over the valid (non-NaN) pixels: ``d`` is the distance from
+  the flat to the mean plane; NaN pixels are never part of an asperity nor of the wetted area,
+  and the apparent area is the area of the valid pixels;
+* a pixel belongs to the footprint when ``z >= d`` (ties included);
+* 4-connectivity (pixels sharing an edge) by default, 8-connectivity on request; periodic maps
+  connect across their edges and their asperities are unwrapped;
+* the fit's unknowns are the centre (x0, y0) and the cap height ``t = delta / a_f`` in
+  ``[0, 1]``, where ``a_f = sqrt(A / pi)`` is the footprint radius and ``delta`` the Hertz
+  interference; ``R = a_f (1 + t^2) / (2 t)`` and ``z0`` follow from Eq. 20. ``t = 0`` is a
+  plateau (``R`` infinite, zero force, Hertz area A/2), ``t = 1`` the hemisphere ``R = a_f``,
+  the largest cap Eq. 20 allows. This parametrisation of Eq. 21 is smooth on the whole closed
+  interval (``R`` or ``1/R`` are not: their derivatives blow up at the hemisphere). The start
+  is the footprint centroid and ``t = min(2 mean(h) / a_f, 0.999)`` (a paraboloid cap's mean
+  height is half its height);
+* where a pixel lies outside the sphere's projection (``r > R``) the profile is taken at ``r = R``;
+* footprints of one or two pixels (under-determined fits) use the sphere centred on the
+  footprint centroid whose height at the pixels equals their mean height above ``d``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+__all__: list[str] = []
+
+# Levenberg-Marquardt controls of the sphere fit (shared with nothing: the reference uses scipy).
+_MAX_ITER = 200
+_T_MAX_START = 0.999
+_PARABOLOID_MIN_PIXELS = 5
+_PARABOLOID_RCOND = 1e-10
+
+
+@nb.njit(cache=True)
+def _small_fit(h, rho):  # pragma: no cover - compiled
+    """Cap height ``t`` for one- and two-pixel footprints (see module docstring).
+
+    The sphere through the footprint circle whose height at distance ``rho`` from the centre
+    equals the mean of ``h`` (all lengths in units of a_f), capped at the hemisphere ``t = 1``.
+    """
+    H = 0.0
+    for v in h:
+        H += v
+    H /= h.size
+    if H <= 0.0:
+        return 0.0
+    c = (1.0 - rho * rho - H * H) / (2.0 * H)  # depth of the sphere centre below the plane
+    if c <= 0.0:
+        return 1.0
+    return 1.0 / (math.sqrt(1.0 + c * c) + c)  # t = R - c
+
+
+@nb.njit(cache=True)
+def _profile(rho2, t):  # pragma: no cover - compiled
+    """Height above the contact plane of the constrained sphere of cap height ``t`` (Eq. 21).
+
+    Dimensionless (lengths over a_f): ``R = (1 + t^2) / (2 t)``, centre ``c = (1 - t^2) / (2 t)``
+    below the plane, height ``sqrt(R^2 - rho^2) - c`` written without cancellation; outside the
+    sphere's projection (``rho > R``) the profile is taken at ``rho = R``, i.e. ``-c``.
+    Returns ``(H, W)`` with ``W = 2 t sqrt(R^2 - rho^2)`` (0 outside the projection).
+    """
+    Q = 1.0 + t * t
+    W2 = Q * Q - 4.0 * t * t * rho2
+    if W2 > 0.0:
+        W = math.sqrt(W2)
+        return 2.0 * t * (1.0 - rho2) / (W + 1.0 - t * t), W
+    if t > 0.0:
+        return -(1.0 - t * t) / (2.0 * t), 0.0
+    return 0.0, 0.0
+
+
+@nb.njit(cache=True)
+def _model_and_cost(xs, ys, hs, x0, y0, t):  # pragma: no cover - compiled
+    """Sum of squared residuals of Eq. 21 (dimensionless, lengths in units of a_f)."""
+    cost = 0.0
+    for p in range(xs.size):
+        dx = xs[p] - x0
+        dy = ys[p] - y0
+        Hm, _W = _profile(dx * dx + dy * dy, t)
+        r = hs[p] - Hm
+        cost += r * r
+    return cost
+
+
+@nb.njit(cache=True)
+def _paraboloid_start(xs, ys, hs):  # pragma: no cover - compiled
+    """Second start of the fit: linear least squares ``h = w + u x + v y - q (x^2 + y^2)``.
+
+    Returns ``(ok, x0, y0, t0)``: the paraboloid's apex and the cap height of the sphere of
+    radius ``1 / (2 q)`` through the footprint circle (clipped to [0, 0.999]; the caller clips
+    the apex to the footprint box); ``ok`` is False when the system is singular or the
+    paraboloid is not a cap.
+    """
+    n = xs.size
+    M = np.zeros((4, 5))
+    for p in range(n):
+        g0 = 1.0
+        g1 = xs[p]
+        g2 = ys[p]
+        g3 = -(xs[p] * xs[p] + ys[p] * ys[p])
+        g = (g0, g1, g2, g3)
+        for i in range(4):
+            for j in range(4):
+                M[i, j] += g[i] * g[j]
+            M[i, 4] += g[i] * hs[p]
+    scale = 0.0
+    for i in range(4):
+        scale = max(scale, M[i, i])
+    # Gaussian elimination with partial pivoting
+    for c in range(4):
+        piv = c
+        for r in range(c + 1, 4):
+            if abs(M[r, c]) > abs(M[piv, c]):
+                piv = r
+        if abs(M[piv, c]) <= _PARABOLOID_RCOND * scale:
+            return False, 0.0, 0.0, 0.0
+        if piv != c:
+            for j in range(5):
+                tmp = M[c, j]
+                M[c, j] = M[piv, j]
+                M[piv, j] = tmp
+        for r in range(c + 1, 4):
+            f = M[r, c] / M[c, c]
+            for j in range(c, 5):
+                M[r, j] -= f * M[c, j]
+    sol = np.zeros(4)
+    for r in range(3, -1, -1):
+        acc = M[r, 4]
+        for j in range(r + 1, 4):
+            acc -= M[r, j] * sol[j]
+        sol[r] = acc / M[r, r]
+    q = sol[3]
+    if not (q > 0.0) or not math.isfinite(q):
+        return False, 0.0, 0.0, 0.0
+    x0 = sol[1] / (2.0 * q)
+    y0 = sol[2] / (2.0 * q)
+    R = 1.0 / (2.0 * q)
+    t0 = 1.0 if R <= 1.0 else 1.0 / (R + math.sqrt(R * R - 1.0))
+    return True, x0, y0, min(t0, _T_MAX_START)
+
+
+@nb.njit(cache=True)
+def _fit_sphere(xs, ys, hs, hx, hy):  # pragma: no cover - compiled
+    """Constrained sphere fit of Eq. 21 on dimensionless data (lengths in units of a_f).
+
+    ``xs, ys`` are pixel centres relative to the footprint centroid and ``hs`` the heights above
+    the contact plane, all divided by the footprint radius a_f; ``hx, hy`` are half a pixel in
+    the same unit. The unknowns are the centre ``(x0, y0)``, kept inside the footprint as Eq. 21
+    asks (``X in Omega``; here its bounding box, half a pixel beyond the outer pixel centres),
+    and the cap height ``t = delta / a_f`` in [0, 1] (the Hertz interference over the footprint
+    radius; ``R = a_f (1 + t^2) / (2 t)``), a smooth parametrisation of Eq. 20 from the plateau
+    (t = 0, R infinite) to the hemisphere (t = 1). Eq. 21 is not convex (steep asperities cut
+    by the edge of a measured map especially), so two starts are refined and the better kept:
+    the footprint centroid with the cap of twice the mean height, and the apex and curvature of
+    the least-squares paraboloid. Returns ``(t, cost, x0, y0)``
+    with ``cost`` the sum of squared dimensionless residuals.
+    """
+    n = xs.size
+    if n <= 2:
+        rho = 0.0
+        if n == 2:
+            rho = 0.5 * math.sqrt((xs[1] - xs[0]) ** 2 + (ys[1] - ys[0]) ** 2)
+        t = _small_fit(hs, rho)
+        return t, _model_and_cost(xs, ys, hs, 0.0, 0.0, t), 0.0, 0.0
+    H = 0.0
+    for v in hs:
+        H += v
+    H = 2.0 * H / n
+    if H <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0  # plateau exactly at the contact plane: t = 0 fits exactly
+    lo = np.array([xs.min() - hx, ys.min() - hy, 0.0])
+    hi = np.array([xs.max() + hx, ys.max() + hy, 1.0])
+    t, cost, x0, y0 = _lm(xs, ys, hs, 0.0, 0.0, min(H, _T_MAX_START), lo, hi)
+    if n >= _PARABOLOID_MIN_PIXELS:
+        ok, px, py, pt = _paraboloid_start(xs, ys, hs)
+        if ok:
+            t2, cost2, x2, y2 = _lm(xs, ys, hs, px, py, pt, lo, hi)
+            if cost2 < cost:
+                return t2, cost2, x2, y2
+    return t, cost, x0, y0
+
+
+@nb.njit(cache=True)
+def _derivatives(xs, ys, hs, x0, y0, t):  # pragma: no cover - compiled
+    """Cost, gradient and exact Hessian of ``sum (h - H)^2`` in ``(x0, y0, t)`` (Eq. 21).
+
+    The residuals of Eq. 21 are not small where a sphere fits an asperity badly, so the
+    Gauss-Newton matrix ``J^T J`` misses a large ``sum r d2H`` term (the centre of a flat cap is
+    set by it); the full Hessian makes the Newton iteration converge quadratically. All
+    expressions are written without cancellation for small ``t``.
+    """
+    n = xs.size
+    Q = 1.0 + t * t
+    cost = 0.0
+    g = np.zeros(3)
+    Hs = np.zeros((3, 3))
+    for p in range(n):
+        ex = xs[p] - x0
+        ey = ys[p] - y0
+        rho2 = ex * ex + ey * ey
+        W2 = Q * Q - 4.0 * t * t * rho2
+        if W2 > 0.0:
+            W = math.sqrt(W2)
+            Den = W + 1.0 - t * t
+            Hm = 2.0 * t * (1.0 - rho2) / Den
+            j0 = 2.0 * t * ex / W
+            j1 = 2.0 * t * ey / W
+            j2 = 2.0 * Q * (1.0 - rho2) / (W * Den)
+            W3 = W2 * W
+            hxx = -2.0 * t / W - 8.0 * t ** 3 * ex * ex / W3
+            hyy = -2.0 * t / W - 8.0 * t ** 3 * ey * ey / W3
+            hxy = -8.0 * t ** 3 * ex * ey / W3
+            hxt = 2.0 * ex * (1.0 - t ** 4) / W3
+            hyt = 2.0 * ey * (1.0 - t ** 4) / W3
+            dW = 2.0 * t * (Q - 2.0 * rho2) / W
+            dDen = dW - 2.0 * t
+            WD = W * Den
+            htt = 2.0 * (1.0 - rho2) * (2.0 * t / WD - Q * (dW * Den + W * dDen) / (WD * WD))
+        elif t > 0.0:
+            # outside the projection of the sphere: H = -c(t)
+            Hm = -(1.0 - t * t) / (2.0 * t)
+            j0 = 0.0
+            j1 = 0.0
+            j2 = Q / (2.0 * t * t)
+            hxx = hyy = hxy = hxt = hyt = 0.0
+            htt = -1.0 / t ** 3
+        else:
+            Hm = 0.0
+            j0 = j1 = 0.0
+            j2 = 1.0 - rho2
+            hxx = hyy = hxy = hxt = hyt = htt = 0.0
+        r = hs[p] - Hm
+        cost += r * r
+        g[0] += j0 * r
+        g[1] += j1 * r
+        g[2] += j2 * r
+        Hs[0, 0] += j0 * j0 - r * hxx
+        Hs[0, 1] += j0 * j1 - r * hxy
+        Hs[0, 2] += j0 * j2 - r * hxt
+        Hs[1, 1] += j1 * j1 - r * hyy
+        Hs[1, 2] += j1 * j2 - r * hyt
+        Hs[2, 2] += j2 * j2 - r * htt
+    Hs[1, 0] = Hs[0, 1]
+    Hs[2, 0] = Hs[0, 2]
+    Hs[2, 1] = Hs[1, 2]
+    # g = J^T r = -grad(cost) / 2 and Hs = Hessian(cost) / 2: the Newton step solves Hs s = g
+    return cost, g, Hs
+
+
+@nb.njit(cache=True)
+def _solve_spd(A, b, free):  # pragma: no cover - compiled
+    """Solve ``A s = b`` on the ``free`` unknowns by Cholesky (others 0); ``ok`` False if not SPD."""
+    idx = np.empty(3, np.int64)
+    m = 0
+    for i in range(3):
+        if free[i]:
+            idx[m] = i
+            m += 1
+    L = np.zeros((3, 3))
+    for i in range(m):
+        for j in range(i + 1):
+            acc = A[idx[i], idx[j]]
+            for k in range(j):
+                acc -= L[i, k] * L[j, k]
+            if i == j:
+                if not (acc > 0.0):
+                    return False, np.zeros(3)
+                L[i, i] = math.sqrt(acc)
+            else:
+                L[i, j] = acc / L[j, j]
+    y = np.zeros(3)
+    for i in range(m):
+        acc = b[idx[i]]
+        for k in range(i):
+            acc -= L[i, k] * y[k]
+        y[i] = acc / L[i, i]
+    sr = np.zeros(3)
+    for i in range(m - 1, -1, -1):
+        acc = y[i]
+        for k in range(i + 1, m):
+            acc -= L[k, i] * sr[k]
+        sr[i] = acc / L[i, i]
+    s = np.zeros(3)
+    for i in range(m):
+        s[idx[i]] = sr[i]
+    return True, s
+
+
+@nb.njit(cache=True)
+def _lm(xs, ys, hs, x0, y0, t, lo, hi):  # pragma: no cover - compiled
+    """Damped Newton (Levenberg-Marquardt on the exact Hessian) within the box ``lo <= p <= hi``.
+
+    ``p = (x0, y0, t)``. Active set: an unknown sitting on a bound with the descent direction
+    pointing out stays there while the others move. The damping grows until the matrix is
+    positive definite and the cost decreases, and shrinks after each success. Stops when the
+    step is at rounding level.
+    """
+    lam = 1e-3
+    p = np.array([min(max(x0, lo[0]), hi[0]), min(max(y0, lo[1]), hi[1]), min(max(t, lo[2]), hi[2])])
+    cost, g, A = _derivatives(xs, ys, hs, p[0], p[1], p[2])
+    B = np.empty((3, 3))
+    free = np.ones(3, np.bool_)
+    q = np.empty(3)
+    for _ in range(_MAX_ITER):
+        for i in range(3):
+            free[i] = not ((p[i] <= lo[i] and g[i] < 0.0) or (p[i] >= hi[i] and g[i] > 0.0))
+        scale = max(abs(A[0, 0]), abs(A[1, 1]), abs(A[2, 2]), 1e-300)
+        improved = False
+        small = False
+        for _inner in range(80):
+            for i in range(3):
+                for j in range(3):
+                    B[i, j] = A[i, j]
+                B[i, i] += lam * max(abs(A[i, i]), 1e-12 * scale)
+            ok, s = _solve_spd(B, g, free)
+            if not ok:
+                lam = max(lam * 10.0, 1e-12)
+                continue
+            step = 0.0
+            for i in range(3):
+                q[i] = min(max(p[i] + s[i], lo[i]), hi[i])
+                step += abs(q[i] - p[i])
+            if step <= 1e-14 * (1.0 + abs(p[0]) + abs(p[1])):
+                small = True
+                break
+            ncost = _model_and_cost(xs, ys, hs, q[0], q[1], q[2])
+            if ncost <= cost:
+                p[:] = q
+                cost, g, A = _derivatives(xs, ys, hs, p[0], p[1], p[2])
+                lam = lam / 10.0 if lam > 1e-15 else 0.0
+                improved = True
+                small = step <= 1e-13 * (1.0 + abs(p[0]) + abs(p[1]))
+                break
+            lam = max(lam * 10.0, 1e-12)
+            if lam > 1e25:
+                break
+        if small or not improved:
+            break
+    return p[2], cost, p[0], p[1]
+
+
+@nb.njit(cache=True)
+def _find(parent, vx, vy, stack, i):  # pragma: no cover - compiled
+    """Root of ``i`` with path compression; ``vx, vy`` become displacements to the root."""
+    top = 0
+    r = i
+    while parent[r] != r:
+        stack[top] = r
+        top += 1
+        r = parent[r]
+    # compress, nearest-to-root first so the parent's displacement is already to the root
+    for t in range(top - 1, -1, -1):
+        u = stack[t]
+        p = parent[u]
+        if p != r:
+            vx[u] += vx[p]
+            vy[u] += vy[p]
+            parent[u] = r
+    return r
+
+
+@nb.njit(cache=True)
+def _hertz_levels(zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivity):  # pragma: no cover
+    """Hertz part of Eq. 16 at every level, in one descending pass with a union-find.
+
+    Parameters
+    ----------
+    zflat : (ny*nx,) float64, mean-referred heights (NaN allowed).
+    order : (T,) int64, raster indices of the pixels with ``z >= levels[-1]``, by descending
+        height (ties in raster order).
+    levels : (D,) float64, strictly descending distances.
+
+    Returns
+    -------
+    force, hertz_area, foot_area, err2_area, n_comp, wraps : (D,) arrays
+        Sum over asperities of the Hertz force [N], Hertz contact area [m2], footprint area [m2],
+        squared fit error times footprint area [m4], number of asperities, and the number of
+        asperities that wrap all the way round a periodic map.
+    """
+    T = order.size
+    D = levels.size
+    pos = np.full(ny * nx, -1, np.int64)
+    for k in range(T):
+        pos[order[k]] = k
+    parent = np.arange(T)
+    vx = np.zeros(T, np.int64)
+    vy = np.zeros(T, np.int64)
+    wrap = np.zeros(T, np.bool_)
+    stack = np.empty(T, np.int64)
+    count = np.zeros(T, np.int64)
+    start = np.zeros(T + 1, np.int64)
+    members = np.empty(T, np.int64)
+    xs = np.empty(T)
+    ys = np.empty(T)
+    hs = np.empty(T)
+    if connectivity == 8:
+        ndir = 4
+    else:
+        ndir = 2
+    # half of the neighbourhood is enough: each pair is met once, from the later pixel
+    drs = np.array([0, 1, 0, -1, 1, 1, -1, -1])
+    dcs = np.array([1, 0, -1, 0, 1, -1, 1, -1])
+    nd = 2 * ndir
+    force = np.zeros(D)
+    harea = np.zeros(D)
+    farea = np.zeros(D)
+    e2a = np.zeros(D)
+    ncomp = np.zeros(D, np.int64)
+    nwrap = np.zeros(D, np.int64)
+    pix = dx * dy
+    added = 0
+    for li in range(D):
+        d = levels[li]
+        while added < T and zflat[order[added]] >= d:
+            k = added
+            idx = order[k]
+            r0 = idx // nx
+            c0 = idx - r0 * nx
+            for t in range(nd):
+                rr = r0 + drs[t]
+                cc = c0 + dcs[t]
+                if periodic:
+                    rr = rr % ny
+                    cc = cc % nx
+                elif rr < 0 or rr >= ny or cc < 0 or cc >= nx:
+                    continue
+                q = pos[rr * nx + cc]
+                if q < 0 or q >= k:
+                    continue
+                rp = _find(parent, vx, vy, stack, k)
+                vpx = vx[k] if rp != k else 0
+                vpy = vy[k] if rp != k else 0
+                rq = _find(parent, vx, vy, stack, q)
+                vqx = vx[q] if rq != q else 0
+                vqy = vy[q] if rq != q else 0
+                sx = dcs[t]
+                sy = drs[t]
+                if rp != rq:
+                    if rq < rp:  # the root is the higher (earlier) pixel
+                        parent[rp] = rq
+                        vx[rp] = -sx - vpx + vqx
+                        vy[rp] = -sy - vpy + vqy
+                        wrap[rq] = wrap[rq] or wrap[rp]
+                    else:
+                        parent[rq] = rp
+                        vx[rq] = sx - vqx + vpx
+                        vy[rq] = sy - vqy + vpy
+                        wrap[rp] = wrap[rp] or wrap[rq]
+                elif vqx - vpx != sx or vqy - vpy != sy:
+                    wrap[rp] = True
+            added += 1
+        n_act = added
+        if n_act == 0:
+            continue
+        # group the active pixels by root (counting sort)
+        for j in range(n_act):
+            count[j] = 0
+        for j in range(n_act):
+            r = _find(parent, vx, vy, stack, j)
+            count[r] += 1
+        start[0] = 0
+        for j in range(n_act):
+            start[j + 1] = start[j] + count[j]
+        for j in range(n_act):
+            count[j] = 0
+        for j in range(n_act):
+            r = parent[j]
+            members[start[r] + count[r]] = j
+            count[r] += 1
+        for r in range(n_act):
+            m = start[r + 1] - start[r]
+            if m == 0:
+                continue
+            area = m * pix
+            af = math.sqrt(area / math.pi)
+            mx = 0.0
+            my = 0.0
+            for t in range(m):
+                j = members[start[r] + t]
+                ux = vx[j] if j != r else 0
+                uy = vy[j] if j != r else 0
+                xs[t] = ux * dx
+                ys[t] = uy * dy
+                hs[t] = zflat[order[j]] - d
+                mx += xs[t]
+                my += ys[t]
+            mx /= m
+            my /= m
+            for t in range(m):
+                xs[t] = (xs[t] - mx) / af
+                ys[t] = (ys[t] - my) / af
+                hs[t] = hs[t] / af
+            tt, cost, _x0, _y0 = _fit_sphere(xs[:m], ys[:m], hs[:m], 0.5 * dx / af, 0.5 * dy / af)
+            # Hertz (Eqs. 10-11) with delta = t a_f, R = a_f (1 + t^2) / (2 t):
+            # F = K sqrt(R) delta^1.5 = K a_f^2 t sqrt((1 + t^2) / 2), area pi R delta
+            force[li] += K * af * af * tt * math.sqrt(0.5 * (1.0 + tt * tt))
+            harea[li] += 0.5 * math.pi * af * af * (1.0 + tt * tt)
+            farea[li] += area
+            e2a[li] += cost / m * af * af * area
+            ncomp[li] += 1
+            if wrap[r]:
+                nwrap[li] += 1
+    return force, harea, farea, e2a, ncomp, nwrap
+
+
+@nb.njit(cache=True)
+def _count_above(zflat, thresholds):  # pragma: no cover - compiled
+    """Number of valid pixels with ``z >= t`` for every ``t`` of ascending ``thresholds``."""
+    m = thresholds.size
+    hist = np.zeros(m + 1, np.int64)
+    for z in zflat:
+        if z != z:  # NaN
+            continue
+        # number of thresholds <= z (bisect right)
+        lo = 0
+        hi = m
+        while lo < hi:
+            mid = (lo + hi) >> 1
+            if thresholds[mid] <= z:
+                lo = mid + 1
+            else:
+                hi = mid
+        hist[lo] += 1
+    out = np.zeros(m, np.int64)
+    acc = 0
+    for j in range(m, 0, -1):
+        acc += hist[j]
+        out[j - 1] = acc
+    return out
+
+
+def prepare_heights(z):
+    """Mean-referred float64 heights and the number of valid pixels (shared with the reference)."""
+    z = np.asarray(z, dtype=np.float64)
+    valid = np.isfinite(z)
+    nvalid = int(valid.sum())
+    if nvalid == 0:
+        raise ValueError(
+            "the height map has no finite pixel (all NaN/inf): nothing to put in contact. "
+            "Check the input or fill the dropouts first."
+        )
+    mean = z[valid].mean()
+    out = np.where(valid, z - mean, np.nan)
+    return np.ascontiguousarray(out), nvalid
+
+
+#: names and order of the kernel's outputs
+OUTPUTS = (
+    "pressure",
+    "repulsive_pressure",
+    "wet_fraction",
+    "contact_fraction",
+    "n_contacts",
+    "fit_error",
+    "max_interference",
+)
+
+
+def curves_kernel(z, distance, water_height, laplace_pressure, *, dx, dy, K, periodic, connectivity):
+    """Force-distance curves of one map (Eq. 16) at every distance and humidity.
+
+    Parameters
+    ----------
+    z : (ny, nx) array
+        Heights [m] (NaN = missing pixel).
+    distance : (D,) array
+        Distances [m], any order, no duplicates.
+    water_height, laplace_pressure : (R,) arrays
+        h_water [m] and Delta P [Pa] (< 0) per humidity.
+    dx, dy : float
+        Pixel spacing [m].
+    K : float
+        Hertz modulus 4/3 E* [Pa].
+    periodic : bool
+        Connect across the map edges.
+    connectivity : {4, 8}
+
+    Returns
+    -------
+    tuple of (R, D) float64 arrays, in the order of :data:`OUTPUTS`.
+    """
+    z, nvalid = prepare_heights(z)
+    ny, nx = z.shape
+    distance = np.asarray(distance, dtype=np.float64)
+    hw = np.atleast_1d(np.asarray(water_height, dtype=np.float64))
+    dp = np.atleast_1d(np.asarray(laplace_pressure, dtype=np.float64))
+    D = distance.size
+    R = hw.size
+    zflat = z.ravel()
+    apparent = nvalid * dx * dy
+    desc = np.argsort(-distance, kind="stable")
+    levels = distance[desc]
+    # the top tail: only pixels at or above the lowest level can touch the flat
+    tail = np.flatnonzero(zflat >= levels[-1]) if D else np.empty(0, np.int64)
+    order = tail[np.argsort(-zflat[tail], kind="stable")].astype(np.int64)
+    f, ha, _fa, e2a, nc, _nw = _hertz_levels(
+        zflat, ny, nx, order, levels, float(dx), float(dy), float(K), bool(periodic), int(connectivity)
+    )
+    inv = np.empty(D, np.int64)
+    inv[desc] = np.arange(D)
+    f, ha, e2a, fa, nc = f[inv], ha[inv], e2a[inv], _fa[inv], nc[inv]
+    # water: complementary cumulative count at every d - h_water (one pass for all d and rh)
+    thr = (distance[None, :] - hw[:, None]).ravel()
+    srt = np.argsort(thr, kind="stable")
+    counts = np.empty(thr.size, np.int64)
+    counts[srt] = _count_above(zflat, np.ascontiguousarray(thr[srt]))
+    wet_area = counts.reshape(R, D) * (dx * dy)
+    net_wet = (wet_area - ha[None, :]) / apparent
+    rep = f / apparent
+    pressure = rep[None, :] + dp[:, None] * net_wet
+    with np.errstate(invalid="ignore", divide="ignore"):
+        fit_error = np.where(nc > 0, np.sqrt(e2a / np.where(fa > 0, fa, 1.0)), np.nan)
+    zmax = np.nanmax(zflat)
+    shape = (R, D)
+    return (
+        pressure,
+        np.broadcast_to(rep, shape).copy(),
+        net_wet,
+        np.broadcast_to(ha / apparent, shape).copy(),
+        np.broadcast_to(nc.astype(np.float64), shape).copy(),
+        np.broadcast_to(fit_error, shape).copy(),
+        np.broadcast_to(zmax - distance, shape).copy(),
+    )

@@ -1,0 +1,263 @@
+"""Literal, slow reference of the rough-surface modified DMT (Eqs. 16-23).
+
+It follows the paper step by step, one distance at a time, with generic library tools and no
+cleverness, so that the fast path in :mod:`roughstick._rough_kernels` can be tested against it:
+
+1. flood the map at level ``d``: ``scipy.ndimage.label`` of ``{z >= d}``; on a periodic map the
+   labels touching opposite edges are merged, and each asperity is unwrapped by a breadth-first
+   walk over its pixels;
+2. fit every asperity with the constrained sphere of Eqs. 19-21 using the generic optimiser
+   ``scipy.optimize.least_squares`` (finite-difference Jacobian, bounds), from the same
+   documented starts as the fast path (footprint centroid with the cap of twice the mean height,
+   and the least-squares paraboloid), keeping the better; one- and
+   two-pixel footprints use the same rule as the fast path but solved by ``scipy.optimize.brentq``;
+3. Hertz force and contact area of each sphere (Eqs. 10-11), fit error (Eq. 23), and Eq. 16 with
+   the wetted area ``(z >= d - h_water).sum()`` counted directly.
+
+The conventions (mean plane, NaN pixels, connectivity, parametrisation by the cap height) are
+those listed in :mod:`roughstick._rough_kernels`.
+"""
+
+from __future__ import annotations
+
+import collections
+import math
+
+import numpy as np
+from scipy import linalg, ndimage, optimize
+
+from ._rough_kernels import prepare_heights
+
+__all__: list[str] = []
+
+
+def _structure(connectivity):
+    if connectivity == 4:
+        return ndimage.generate_binary_structure(2, 1)
+    if connectivity == 8:
+        return ndimage.generate_binary_structure(2, 2)
+    raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}.")
+
+
+def _label(mask, connectivity, periodic):
+    """Labels of ``mask`` (0 = background), merged across the edges when ``periodic``."""
+    labels, n = ndimage.label(mask, structure=_structure(connectivity))
+    if not periodic or n == 0:
+        return labels, n
+    parent = list(range(n + 1))
+
+    def find(a):
+        while parent[a] != a:
+            a = parent[a]
+        return a
+
+    ny, nx = mask.shape
+    steps = [(0, 1), (1, 0)] if connectivity == 4 else [(0, 1), (1, 0), (1, 1), (1, -1)]
+    for r in range(ny):
+        for c in range(nx):
+            if not labels[r, c]:
+                continue
+            for dr, dc in steps:
+                rr, cc = r + dr, c + dc
+                if 0 <= rr < ny and 0 <= cc < nx:
+                    continue  # interior neighbours are already labelled together
+                rr, cc = rr % ny, cc % nx
+                if labels[rr, cc]:
+                    a, b = find(labels[r, c]), find(labels[rr, cc])
+                    if a != b:
+                        parent[max(a, b)] = min(a, b)
+    roots = np.array([find(i) for i in range(n + 1)])
+    uniq, new = np.unique(roots, return_inverse=True)
+    return new[labels], len(uniq) - 1
+
+
+def _unwrap(mask_component, connectivity, periodic):
+    """Unwrapped (row, col) of the pixels of one component by breadth-first search."""
+    ny, nx = mask_component.shape
+    pix = np.argwhere(mask_component)
+    seen = {}
+    start = (int(pix[0, 0]), int(pix[0, 1]))
+    seen[start] = start
+    queue = collections.deque([start])
+    if connectivity == 4:
+        steps = [(0, 1), (1, 0), (0, -1), (-1, 0)]
+    else:
+        steps = [(dr, dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1) if (dr, dc) != (0, 0)]
+    wraps = False
+    while queue:
+        r, c = queue.popleft()
+        ur, uc = seen[(r, c)]
+        for dr, dc in steps:
+            rr, cc = r + dr, c + dc
+            if periodic:
+                rr, cc = rr % ny, cc % nx
+            elif not (0 <= rr < ny and 0 <= cc < nx):
+                continue
+            if not mask_component[rr, cc]:
+                continue
+            u = (ur + dr, uc + dc)
+            if (rr, cc) in seen:
+                if seen[(rr, cc)] != u:
+                    wraps = True
+                continue
+            seen[(rr, cc)] = u
+            queue.append((rr, cc))
+    rows = np.array([seen[(int(r), int(c))][0] for r, c in pix], dtype=float)
+    cols = np.array([seen[(int(r), int(c))][1] for r, c in pix], dtype=float)
+    return pix, rows, cols, wraps
+
+
+def sphere_profile(x, y, x0, y0, R, d, area):
+    """Height of the constrained sphere of Eqs. 20-21 at (x, y), literally.
+
+    ``sqrt(R^2 - r^2) + z0`` with ``z0 = d - sqrt(R^2 - A / pi)`` (Eq. 20); outside the
+    projection of the sphere (r > R) the profile is taken at r = R. Written as
+    ``d + (A/pi - r^2) / (sqrt(R^2 - r^2) + sqrt(R^2 - A/pi))``, the same number without the
+    cancellation of two nearly equal square roots when R is large.
+    """
+    if math.isinf(R):
+        return np.full(np.shape(x), float(d))
+    r2 = np.minimum((x - x0) ** 2 + (y - y0) ** 2, R * R)
+    a2 = area / math.pi
+    s = np.sqrt(R * R - r2)
+    c = math.sqrt(max(R * R - a2, 0.0))
+    if s.size and np.any(s + c == 0):
+        return np.where(s + c == 0, d, d + (a2 - r2) / np.where(s + c == 0, 1.0, s + c))
+    return d + (a2 - r2) / (s + c)
+
+
+def radius_from_cap(t, af):
+    """Sphere radius with footprint radius ``af`` and cap height ``t * af`` (inf for t = 0)."""
+    return af * (1.0 + t * t) / (2.0 * t) if t > 0 else math.inf
+
+
+def fit_asperity(x, y, z, d, area, dx, dy):
+    """Constrained sphere fit of one asperity (Eq. 21). Returns ``(R, E)`` [m].
+
+    ``x, y`` are unwrapped pixel centres [m], ``z`` heights [m], ``d`` the level, ``area`` the
+    footprint area A, ``dx, dy`` the pixel size. The unknowns are the centre (x0, y0), within the
+    footprint's bounding box, and the cap height ``t = delta / a_f`` in [0, 1]
+    (a smooth parametrisation of R, see :mod:`roughstick._rough_kernels`).
+    """
+    af = math.sqrt(area / math.pi)
+    x = x - x.mean()
+    y = y - y.mean()
+    h = z - d
+    n = x.size
+
+    def residual(p):
+        R = radius_from_cap(p[2], af)
+        return (z - sphere_profile(x, y, p[0] * af, p[1] * af, R, d, area)) / af
+
+    if n <= 2:
+        rho = 0.0 if n == 1 else 0.5 * math.hypot(x[1] - x[0], y[1] - y[0]) / af
+        H = h.mean() / af
+        if H <= 0:
+            t = 0.0
+        elif _cap(1.0, rho) <= H:
+            t = 1.0
+        else:
+            t = optimize.brentq(lambda t: H - _cap(t, rho), 0.0, 1.0, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        p = (0.0, 0.0, t)
+    else:
+        H = 2.0 * h.mean() / af
+        if H <= 0:
+            return math.inf, 0.0
+        # the centre stays in the footprint (X in Omega, Eq. 21): its bounding box
+        lo = [(x.min() - dx / 2) / af, (y.min() - dy / 2) / af, 0.0]
+        hi = [(x.max() + dx / 2) / af, (y.max() + dy / 2) / af, 1.0]
+        starts = [[0.0, 0.0, min(H, 0.999)]]
+        if n >= 5:
+            second = _paraboloid_start(x / af, y / af, h / af)
+            if second is not None:
+                starts.append(second)
+        best = None
+        for x0 in starts:
+            x0 = np.clip(x0, lo, hi)
+            sol = optimize.least_squares(
+                residual,
+                x0=x0,
+                bounds=(lo, hi),
+                jac="3-point",
+                method="trf",
+                xtol=1e-15,
+                ftol=1e-15,
+                gtol=1e-15,
+                max_nfev=2000,
+            )
+            cost = float(np.sum(residual(sol.x) ** 2))
+            if best is None or cost < best[0]:
+                best = (cost, sol.x)
+        p = best[1]
+    E = math.sqrt(np.mean(residual(p) ** 2)) * af
+    return radius_from_cap(p[2], af), E
+
+
+def _paraboloid_start(x, y, h):
+    """Apex and cap height of the least-squares paraboloid (the fast path's second start)."""
+    G = np.stack([np.ones_like(x), x, y, -(x * x + y * y)], axis=1)
+    M = G.T @ G
+    lu, _piv = linalg.lu_factor(M, check_finite=False)
+    if np.min(np.abs(np.diag(lu))) <= 1e-10 * np.max(np.diag(M)):
+        return None
+    w, u, v, q = linalg.lu_solve((lu, _piv), G.T @ h)
+    if not q > 0:
+        return None
+    R = 1.0 / (2.0 * q)
+    t0 = 1.0 if R <= 1.0 else 1.0 / (R + math.sqrt(R * R - 1.0))
+    return [float(u / (2 * q)), float(v / (2 * q)), min(t0, 0.999)]
+
+
+def _cap(t, rho):
+    """Dimensionless height above the plane, at distance rho from the centre, of the cap t."""
+    if t == 0:
+        return 0.0
+    R = (1.0 + t * t) / (2.0 * t)
+    return math.sqrt(max(R * R - rho * rho, 0.0)) - math.sqrt(max(R * R - 1.0, 0.0))
+
+
+def hertz(R, area, K):
+    """Hertz force [N] and contact area [m2] of a sphere of radius R cut by the plane (Eqs. 10-11)."""
+    a2 = area / math.pi
+    if math.isinf(R):
+        return 0.0, math.pi * a2 / 2
+    delta = a2 / (R + math.sqrt(max(R * R - a2, 0.0)))  # = R - sqrt(R^2 - a2): z0 + R - d
+    return K * math.sqrt(R) * delta**1.5, math.pi * R * delta
+
+
+def reference_curves(z, distance, water_height, laplace_pressure, *, dx, dy, K, periodic, connectivity):
+    """Same contract as :func:`roughstick._rough_kernels.curves_kernel`, computed literally."""
+    z, nvalid = prepare_heights(z)
+    ny, nx = z.shape
+    distance = np.asarray(distance, dtype=float)
+    hw = np.atleast_1d(np.asarray(water_height, dtype=float))
+    dp = np.atleast_1d(np.asarray(laplace_pressure, dtype=float))
+    A_S = nvalid * dx * dy
+    D, NR = distance.size, hw.size
+    out = {k: np.zeros((NR, D)) for k in ("p", "rep", "wet", "cf", "nc", "fe", "dm")}
+    for j, d in enumerate(distance):
+        with np.errstate(invalid="ignore"):
+            mask = z >= d
+        labels, n = _label(mask, connectivity, periodic)
+        F = Ah = Af = E2A = 0.0
+        for lab in range(1, n + 1):
+            comp = labels == lab
+            pix, rows, cols, _wraps = _unwrap(comp, connectivity, periodic)
+            area = len(pix) * dx * dy
+            R, E = fit_asperity(cols * dx, rows * dy, z[pix[:, 0], pix[:, 1]], d, area, dx, dy)
+            f, a = hertz(R, area, K)
+            F += f
+            Ah += a
+            Af += area
+            E2A += E * E * area
+        for i in range(NR):
+            with np.errstate(invalid="ignore"):
+                wet = np.count_nonzero(z >= d - hw[i]) * dx * dy
+            out["wet"][i, j] = (wet - Ah) / A_S
+            out["p"][i, j] = (F + dp[i] * (wet - Ah)) / A_S
+        out["rep"][:, j] = F / A_S
+        out["cf"][:, j] = Ah / A_S
+        out["nc"][:, j] = n
+        out["fe"][:, j] = math.sqrt(E2A / Af) if n else np.nan
+        out["dm"][:, j] = np.nanmax(z) - d
+    return tuple(out[k] for k in ("p", "rep", "wet", "cf", "nc", "fe", "dm"))

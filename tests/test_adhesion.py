@@ -1,0 +1,98 @@
+"""adhesion_summary (Eq. 13): closed forms, the sphere's adhesive energy, backends, metadata."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from scipy import integrate
+
+import roughstick as rs
+from conftest import raise_if_dask_computes
+from roughstick.testing import sphere_topography
+
+
+def curves_from(p, d, wet=None):
+    p = np.asarray(p, float)
+    wet = np.zeros_like(p) if wet is None else np.asarray(wet, float)
+    dims = ("rh", "distance")[-p.ndim:]
+    return xr.Dataset({"pressure": (dims, p), "wet_fraction": (dims, wet)}, coords={"distance": d})
+
+
+def test_kernel_closed_forms():
+    d = np.array([0.0, 1.0, 2.0, 3.0])
+    # negative from the crossing at 0.5 to the one at 2.5: triangles 0.5 + 0.5, trapezoid 2
+    p = np.array([2.0, -2.0, -2.0, 2.0])
+    assert rs.adhesive_energy_kernel(p, d) == pytest.approx(3.0)
+    assert rs.adhesive_energy_kernel(np.array([1.0, 2.0, 0.0, 5.0]), d) == 0.0
+    # exact for a piecewise-linear curve, independent of where the grid points fall
+    dd = np.linspace(-1, 1, 7)
+    assert rs.adhesive_energy_kernel(np.abs(dd) - 0.5, dd) == pytest.approx(0.25)
+
+
+def test_summary_values_and_equilibrium():
+    d = np.array([0.0, 1.0, 2.0, 3.0, 4.0]) * 1e-9
+    p = np.array([[3.0, 1.0, -1.0, -0.5, 0.0], [5.0, 4.0, 3.0, 2.0, 1.0]]) * 1e6
+    wet = np.array([[0.5, 0.4, 0.2, 0.1, 0.0], [0.1] * 5])
+    s = rs.adhesion_summary(curves_from(p, d, wet))
+    np.testing.assert_allclose(s.pull_off_pressure, [1e6, 0.0])
+    assert float(s.equilibrium_distance[0]) == pytest.approx(1.5e-9)
+    assert float(s.wet_fraction_at_equilibrium[0]) == pytest.approx(0.3)
+    assert np.isnan(s.equilibrium_distance[1]) and np.isnan(s.wet_fraction_at_equilibrium[1])
+    expect = (0.5 * 1e6 * 0.5 + 0.75e6 + 0.25e6) * 1e-9
+    assert float(s.adhesive_energy[0]) == pytest.approx(expect)
+    assert float(s.adhesive_energy[1]) == 0.0
+    # descending distance input gives the same answer
+    s2 = rs.adhesion_summary(curves_from(p[:, ::-1], d[::-1], wet[:, ::-1]))
+    xr.testing.assert_allclose(s, s2)
+
+
+def test_sphere_adhesive_energy_matches_integral_of_eq9():
+    # one finely resolved sphere: Gamma * A equals the integral of the sphere's modified DMT
+    # force (Eq. 9, 10, 11) over the interference, computed independently with scipy.quad
+    R, dx, rh = 300e-9, 1e-9, 0.5
+    h = sphere_topography(R, n=121, spacing=dx)
+    hw = float(rs.water_height(rh))
+    dp = float(rs.laplace_pressure(rh))
+    K = rs.hertz_modulus()
+    top = float(h.max() - h.mean())
+    d = top - np.linspace(-hw - 0.2e-9, 0.3e-9, 400)
+    c = rs.rough_contact_curves(h, relative_humidity=rh, distance=d)
+    gamma = float(rs.adhesion_summary(c).adhesive_energy) * h.size * dx * dx
+
+    def force(delta):
+        fr = K * np.sqrt(R) * max(delta, 0) ** 1.5
+        a2 = R * max(delta, 0)
+        c2 = R**2 - (R - delta - hw) ** 2 if delta + hw > 0 else 0.0
+        return fr + dp * np.pi * (c2 - a2)
+
+    from scipy import optimize
+
+    eq = optimize.brentq(force, 1e-15, 5e-9)
+    expect = -integrate.quad(force, -hw, eq, limit=200, points=[0.0])[0]
+    assert gamma == pytest.approx(expect, rel=0.03)
+
+
+def test_dask_lazy_and_metadata(backend):
+    d = np.linspace(0, 4e-9, 5)
+    p = np.array([[3.0, 1.0, -1.0, -0.5, 0.0]] * 4) * 1e6
+    c = curves_from(p, d).assign_coords(rh=[0.3, 0.5, 0.7, 0.9])
+    c = c.assign_attrs(title="t", history="x")
+    inp = backend(c, {"rh": 2})
+    with raise_if_dask_computes():
+        s = rs.adhesion_summary(inp)
+    assert isinstance(s.adhesive_energy.data, type(inp.pressure.data))
+    s = s.compute()
+    rs.testing.assert_units(s.adhesive_energy, "J m-2")
+    rs.testing.assert_units(s.pull_off_pressure, "Pa")
+    rs.testing.assert_units(s.equilibrium_distance, "m")
+    rs.testing.assert_units(s.wet_fraction_at_equilibrium, "1")
+    assert set(s.dims) == {"rh"} and "adhesion_summary" in s.attrs["history"]
+
+
+def test_errors():
+    with pytest.raises(ValueError, match="distance"):
+        rs.adhesion_summary(xr.Dataset({"pressure": ("x", [1.0])}))
+    c = curves_from(np.zeros(6), np.arange(6.0)).chunk({"distance": 3})
+    with pytest.raises(ValueError, match="chunk"):
+        rs.adhesion_summary(c)
