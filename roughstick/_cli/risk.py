@@ -234,6 +234,8 @@ def _run(args):
                              squeeze=False, sharey=True)
     for ax, layer in zip(axes[0], layers, strict=True):
         plotting.plot_crack_length_band(risk, ax=ax, layer=layer, measured=measured)
+        if layer is not None:
+            ax.set_title(f"beams longer than s stay stuck (adsorbed layer: {layer})", fontsize="medium")
     files.append(_save(fig, out / "crack_length.png"))
 
     # a short table on the terminal

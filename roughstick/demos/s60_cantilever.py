@@ -1,0 +1,101 @@
+"""Demo step: cantilever comparison and stiction risk (paper §5, Eq. 36, Table 4, Eq. 37, Fig. 20).
+
+Table 4 -> Nayak moments -> Eq. 37 PSD (both the N = 80.1 µm⁻² of the table and the 88.1 µm⁻²
+that reproduces the printed solution), an ensemble of interaction-zone surfaces with and without
+the adsorbed layer, and the stiction probability of beams of several lengths. Writes:
+
+- ``table4_eq37.csv``: moments and Eq. 37 parameters for N = 80.1 and 88.1 µm⁻², next to the
+  values printed in the paper;
+- ``cantilever_risk.nc``: Γ sample, bands, P(stuck) with its interval, crossing RH and length;
+- ``fig20_adhesive_energy_bands.png``, ``stiction_probability.png``, ``crack_length.png``.
+
+The interaction zone is smaller than the paper's 2.62 x 30 µm (524 x 6000 px) to keep the demo
+short (``quick``: 64 x 512 px, 8 surfaces; otherwise 128 x 1500 px, 20 surfaces): a smaller zone
+holds fewer tall asperities, so its Γ is biased upwards at low RH (paper Fig. 16a). Run
+``roughstick risk examples/risk.toml`` without ``shape`` for the full zone.
+"""
+
+from __future__ import annotations
+
+import csv
+import pathlib
+
+import numpy as np
+import xarray as xr
+
+import roughstick as rs
+
+LENGTHS = [250e-6, 300e-6, 350e-6, 400e-6, 500e-6, 1500e-6]
+PRINTED = {"q0": 19.4e6, "s0": 6.46e3 * 1e-36, "s1": 6.29e-3 * 1e-36}
+
+
+def _table4(out: pathlib.Path) -> pathlib.Path:
+    path = out / "table4_eq37.csv"
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["case", "N_per_um2", "sqrt_m0_nm", "m2", "m4_per_um2", "q0_rad_per_um",
+                    "s0_nm4", "s1_nm4"])
+        for n in (80.1, 88.1):
+            p = rs.cantilever_psd(asperity_density=n * 1e12)
+            w.writerow([f"solved, N = {n}", n, f"{float(p.m0) ** 0.5 * 1e9:.3f}", f"{float(p.m2):.5f}",
+                        f"{float(p.m4) / 1e12:.3f}", f"{float(p.q0) / 1e6:.2f}",
+                        f"{float(p.s0) * 1e36:.4g}", f"{float(p.s1) * 1e36:.4g}"])
+        w.writerow(["printed in the paper", 80.1, 3.54, 0.0035, 9.1, PRINTED["q0"] / 1e6,
+                    PRINTED["s0"] * 1e36, PRINTED["s1"] * 1e36])
+    return path
+
+
+def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
+    import matplotlib.pyplot as plt
+
+    from roughstick import plotting
+
+    out = pathlib.Path(out)
+    files = [_table4(out)]
+    shape, n = ((64, 512), 8) if quick else ((128, 1500), 20)
+    rh = list(rs.PAPER_HUMIDITIES)
+    layers = ["none", "paper"]
+    gammas = [rs.predict_adhesive_energy(n=n, shape=shape, relative_humidity=rh, adsorbed_layer=layer,
+                                         seed=2015).adhesive_energy.compute()
+              for layer in layers]
+    g = xr.concat(gammas, dim=xr.DataArray(layers, dims="adsorbed_layer", name="adsorbed_layer"))
+    g["adsorbed_layer"].attrs = {"units": "1", "long_name": "adsorbed water layer model"}
+    risk = rs.stiction_risk(g, length=LENGTHS, levels=[0.05, 0.5, 0.95])
+    risk["adhesive_energy"] = rs.conventions.set_attrs(g, "surface_adhesive_energy")
+    risk["realization"].attrs = {"units": "1", "long_name": "realization index"}
+    risk.attrs.update(interaction_zone_shape=list(shape), interaction_zone_spacing=5e-9,
+                      note="demo: interaction zone smaller than the paper's 524 x 6000 px")
+    files.append(rs.io.netcdf.write(risk, out / "cantilever_risk.nc", compute=True))
+
+    fig = plotting.plot_cantilever_comparison(risk)
+    fig.suptitle(f"predicted Γ, {n} surfaces of {shape[0]} x {shape[1]} px (demo size)")
+    files.append(_save(fig, out / "fig20_adhesive_energy_bands.png"))
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), layout="constrained")
+    for ax, layer in zip(axes, layers, strict=True):
+        plotting.plot_stiction_probability(risk, ax=ax, layer=layer, level=0.5,
+                                           lengths=[300e-6, 400e-6, 500e-6, 1500e-6])
+        ax.set_title(f"P(stuck), adsorbed layer: {layer}", fontsize="medium")
+    files.append(_save(fig, out / "stiction_probability.png"))
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), layout="constrained", sharey=True)
+    for ax, layer in zip(axes, layers, strict=True):
+        plotting.plot_crack_length_band(risk, ax=ax, layer=layer)
+        ax.set_title(f"crack length, adsorbed layer: {layer}", fontsize="medium")
+    files.append(_save(fig, out / "crack_length.png"))
+    crossing = risk.crossing_humidity.sel(probability_level=0.5, adsorbed_layer="paper")
+    print("    RH at which half of the beams stay stuck (with layer): "
+          + ", ".join(f"{bl * 1e6:.0f} µm: {_pct(v)}" for bl, v in
+                      zip(crossing.beam_length.values, crossing.values, strict=True)))
+    return files
+
+
+def _pct(v):
+    v = float(v)
+    return "n/a" if np.isnan(v) else "<min RH" if v == -np.inf else ">max RH" if v == np.inf else f"{v * 100:.0f} %"
+
+
+def _save(fig, path):
+    import matplotlib.pyplot as plt
+
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
