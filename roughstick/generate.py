@@ -428,6 +428,7 @@ class _Kernel:
         self.A_box = np.ascontiguousarray(A[rows, :ncols]) * scale
         ctype = np.complex64 if out_dtype == np.float32 else np.complex128
         self.xi = np.zeros((ny, nx // 2 + 1), dtype=ctype)
+        self.work = np.zeros((ny, nx // 2 + 1), dtype=ctype)
         h = (ny - 1) // 2
         self.h = h
         self.mirror = ny - np.arange(1, h + 1)
@@ -461,6 +462,12 @@ class _Kernel:
                     else:
                         col[r] = np.copysign(abs(v), v.real)
                 col[self.mirror] = np.conj(col[1 : self.h + 1])
+        # Eq. 34 as two 1-D passes: the complex inverse FFT along y only over the columns that
+        # hold power (the support box), then the real inverse FFT along x of every row
+        if 0 < ncols < xi.shape[1]:
+            work = self.work
+            work[:, :ncols] = scipy.fft.ifft(xi[:, :ncols], axis=0, norm="forward", workers=1)
+            return scipy.fft.irfft(work, n=self.nx, axis=1, norm="forward", workers=1)
         return scipy.fft.irfft2(xi, s=(self.ny, self.nx), norm="forward", workers=1)
 
 
