@@ -431,7 +431,7 @@ def _map_moments(height: xr.DataArray) -> xr.Dataset:
     from . import topography
 
     fn = getattr(topography, "roughness_moments", None)
-    if fn is not None:
+    if fn is not None and not is_lazy(height) and not bool(height.isnull().any()):
         return fn(height)
     z = height - height.mean(("y", "x"))
     dx, dy = _spacing(height, "x"), _spacing(height, "y")
@@ -472,5 +472,9 @@ def _forward_gw(height, rh, distance, material, material2, adsorbed_layer, conne
     moments = _map_moments(height)
     kwargs = dict(relative_humidity=rh, distance=d, **model_kwargs)
     kwargs.setdefault("material", material)
+    kwargs.setdefault("material2", material2)
     kwargs.setdefault("adsorbed_layer", adsorbed_layer)
+    kwargs.setdefault(
+        "apparent_area", height.sizes["x"] * height.sizes["y"] * _spacing(height, "x") * _spacing(height, "y")
+    )
     return fn(moments, **kwargs)
