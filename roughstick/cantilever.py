@@ -64,6 +64,7 @@ __all__ = [
     "predict_adhesive_energy",
     "interaction_zone_shape",
     "cantilever_distance_grid",
+    "interaction_zone_psd",
 ]
 
 REFERENCES = (
@@ -1076,10 +1077,46 @@ def interaction_zone_shape(beam: Cantilever = PAPER_CANTILEVER, *, spacing: floa
     return ny, nx
 
 
+def interaction_zone_psd(fit: xr.Dataset | None = None, *, beam: Cantilever = PAPER_CANTILEVER,
+                         spacing: float = 5e-9, shape=None) -> xr.DataArray:
+    r"""The Eq. 37 PSD evaluated exactly on the wave-vector grid of the interaction zone.
+
+    Parameters
+    ----------
+    fit : xarray.Dataset, optional
+        Eq. 37 parameters (``q0``, ``s0``, ``s1``, ``qmax``); default :func:`cantilever_psd`.
+    beam : Cantilever
+        Sets the zone when ``shape`` is None (:func:`interaction_zone_shape`).
+    spacing : float
+        Pixel size [m].
+    shape : (int, int), optional
+        Pixels ``(ny, nx)``.
+
+    Returns
+    -------
+    xarray.DataArray
+        ``psd`` [m4] over ``(qy, qx)``, centred ascending coords (fftshift order) of the
+        ``shape`` grid, so :func:`roughstick.generate_surfaces` uses it without interpolation.
+
+    Examples
+    --------
+    >>> p = rs.interaction_zone_psd(shape=(64, 512))
+    >>> p.sizes["qy"], p.sizes["qx"], p.attrs["units"]
+    (64, 512, 'm4')
+    """
+    if fit is None:
+        fit = cantilever_psd()
+    shape = interaction_zone_shape(beam, spacing=spacing) if shape is None else shape
+    return _psd_on_grid(fit, tuple(int(v) for v in np.broadcast_to(shape, 2)), spacing)
+
+
 def _psd_on_grid(fit: xr.Dataset, shape, spacing) -> xr.DataArray:
     """The Eq. 37 PSD of ``fit`` evaluated exactly on the FFT grid of ``shape`` (no interpolation)."""
     from .psd import self_affine_psd
 
+    missing = [k for k in ("q0", "s0", "s1", "qmax") if k not in fit]
+    if missing:
+        raise ValueError(f"the PSD Dataset lacks the Eq. 37 parameters {missing}; pass rs.cantilever_psd(...).")
     ny, nx = shape
     qy = 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(ny, spacing))
     qx = 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(nx, spacing))
