@@ -154,7 +154,7 @@ class RunConfig:
         p = self.psd
         src = p["source"]
         if src == "samples":
-            maps = [rs.read_afm(f) for f in p["files"]]
+            maps = [rs.level(rs.read_afm(f), method="plane") for f in p["files"]]
             shapes = {m.shape for m in maps}
             if len(shapes) != 1:
                 raise ValueError(f"the sample maps differ in shape {sorted(shapes)}; give maps of one size.")

@@ -328,7 +328,7 @@ def open_ensemble(folder, *, chunks=None, allow_incomplete: bool = False) -> xr.
         coords="minimal",
         compat="override",
         join="exact",
-        combine_attrs="drop",
+        combine_attrs="override",
     )
     ds.attrs = dict(m.get("attrs", {}))
     if missing:

@@ -67,7 +67,12 @@ def plot_ensemble_curves(ds, *, rh=None, max_curves: int = 200, level: float = 0
         finite = q[np.isfinite(q)]
         if finite.size:
             lo = min(finite.min(), 0)
-            ax.set_ylim(1.15 * lo, -0.6 * lo if lo < 0 else None)
+            top = -0.6 * lo if lo < 0 else float(np.nanmax(q))
+            ax.set_ylim(1.15 * lo if lo < 0 else None, top)
+            active = np.flatnonzero(np.any(show[k] != 0, axis=0))
+            inside = np.flatnonzero(q[2] <= top)
+            if active.size and inside.size:
+                ax.set_xlim(max(d_nm[0], d_nm[inside[0]] - 1), min(d_nm[-1], d_nm[active[-1]] + 2))
     for ax in axes[len(rhs):]:
         ax.set_visible(False)
     axes[0].legend(fontsize="small")

@@ -1,0 +1,123 @@
+"""``roughstick reproduce [--quick]``: the paper's Figs. 13-17 from the bundled S1/S2 samples.
+
+Paper scale (default): 3000 surfaces per sample and size, 5.12 µm (1024²) and 10.24 µm (2048²)
+at 5 nm, six humidities: many CPU-hours; run it on a cluster with ``--scheduler tcp://...``, and
+re-run the same command after an interruption: every ensemble streams into its own folder under
+``--out`` and resumes. ``--quick``: 24 surfaces of 0.64 µm (128²) and 1.28 µm (256²), a few minutes
+on a laptop; the figures say which scale they show.
+"""
+
+from __future__ import annotations
+
+import pathlib
+import time
+
+RH = {"S1": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9], "S2": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]}
+SCALES = {
+    # n, (small, large) shapes at 5 nm
+    "paper": (3000, (1024, 2048)),
+    "quick": (24, (128, 256)),
+}
+
+
+def register(sub):
+    p = sub.add_parser(
+        "reproduce",
+        help="regenerate the paper's Figs. 13-17 (Monte Carlo ensembles) at paper scale or --quick",
+        description="Figs. 13-17 of the paper from the bundled S1/S2 samples. Resumable: re-run the "
+                    "same command after an interruption.",
+    )
+    p.add_argument("--quick", action="store_true", help="24 surfaces of 128² and 256² instead of 3000 of 1024² and 2048²")
+    p.add_argument("--out", default="roughstick-reproduce", help="output folder")
+    p.add_argument("--n", type=int, default=None, help="override the number of realizations")
+    p.add_argument("--scheduler", default=None, help="'threads' (default) or tcp://host:port")
+    p.add_argument("--overwrite", action="store_true", help="replace runs with other parameters in --out")
+    p.set_defaults(func=_run)
+
+
+def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwrite=False, log=print):
+    """Compute and plot Figs. 13-17; return the written paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    import xarray as xr
+
+    import roughstick as rs
+    from roughstick.demos.s50_ensemble import sample_psd
+    from roughstick.plotting.ensemble import (
+        plot_energy_band,
+        plot_energy_distribution,
+        plot_ensemble_curves,
+    )
+    from roughstick.plotting.generation import plot_surfaces
+
+    out = pathlib.Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    scale = "quick" if quick else "paper"
+    n_default, shapes = SCALES[scale]
+    n = n or n_default
+    files = []
+    results = {}
+    for k, sample in enumerate(("S1", "S2")):
+        psd = sample_psd(sample)
+        # Fig. 13: three generated surfaces
+        h = rs.generate_surfaces(psd, n=3, shape=shapes[0], spacing=5e-9, seed=13 + k)
+        axes = plot_surfaces(h.compute(), title=sample)
+        files.append(_save(axes[0].figure, out / f"fig13_surfaces_{sample}.png"))
+        dist = rs.ensemble_distance_grid(psd, shape=(shapes[1], shapes[1]), n=n,
+                                         relative_humidity=RH[sample])
+        per_size = []
+        for j, s in enumerate(shapes):
+            t0 = time.perf_counter()
+            folder = out / f"ensemble_{sample}_{s}"
+            ds = rs.run_ensemble(psd, n=n, shape=s, spacing=5e-9, relative_humidity=RH[sample],
+                                 seed=np.random.SeedSequence(2015, spawn_key=(k, j)), chunks=2 if s <= 512 else 1, distance=dist,
+                                 output=folder, overwrite=overwrite, scheduler=scheduler)
+            files.append(folder)
+            log(f"[{sample} {s}²] {n} realizations in {time.perf_counter() - t0:.1f} s -> {folder}")
+            per_size.append(ds.load())
+        both = xr.concat(per_size, dim="surface_size", data_vars="all", coords="minimal",
+                         compat="override", combine_attrs="drop_conflicts")
+        both = both.assign_coords(surface_size=("surface_size", [s * 5e-9 for s in shapes],
+                                                dict(rs.conventions.ATTRS["surface_size"])))
+        results[sample] = both
+        # Figs. 14 (S1) and 15 (S2): curve sets at the smaller size
+        fig = plot_ensemble_curves(per_size[0])
+        fig.suptitle(f"Fig. {14 + k}: {sample}, {n} surfaces of {shapes[0] * 5e-3:.2f} µm ({scale} scale)")
+        files.append(_save(fig, out / f"fig{14 + k}_curves_{sample}.png"))
+        band = rs.confidence_band(both)
+        files.append(rs.io.netcdf.write(band, out / f"band_{sample}.nc", compute=True))
+    # Fig. 16: Γ bands vs RH for both sizes, S1 (a) and S2 (b)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), constrained_layout=True)
+    for ax, sample in zip(axes, ("S1", "S2"), strict=True):
+        plot_energy_band(results[sample], ax=ax)
+        ax.set_title(f"Fig. 16: {sample}, n = {n} per size ({scale} scale)")
+    files.append(_save(fig, out / "fig16_energy_bands.png"))
+    # Fig. 17: distributions of Γ for S1, both sizes
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), constrained_layout=True)
+    plot_energy_distribution(results["S1"], rh=[0.3, 0.5, 0.6], ax=axes[0])
+    plot_energy_distribution(results["S1"], rh=[0.7, 0.8, 0.9], ax=axes[1])
+    fig.suptitle(f"Fig. 17: distribution of Γ, S1, two surface sizes ({scale} scale)")
+    files.append(_save(fig, out / "fig17_energy_distributions_S1.png"))
+    plt.close("all")
+    return files
+
+
+def _save(fig, path):
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def _run(args):
+    t0 = time.perf_counter()
+    try:
+        files = reproduce(args.out, quick=args.quick, n=args.n, scheduler=args.scheduler,
+                          overwrite=args.overwrite)
+    except ConnectionError as exc:
+        raise ValueError(str(exc)) from exc
+    for f in files:
+        print(f"    {f}")
+    print(f"wrote {len(files)} outputs to {pathlib.Path(args.out).resolve()} in {time.perf_counter() - t0:.0f} s")
+    return 0
