@@ -193,3 +193,23 @@ def test_gw_forwarding():
     ds = rs.rough_contact_curves(h, relative_humidity=[0.3, 0.9], distance=d, model="gw")
     assert ds.pressure.dims[-2:] == ("rh", "distance")
     np.testing.assert_allclose(ds.distance.values, d)
+
+
+def test_plots_smoke():
+    import matplotlib.pyplot as plt
+
+    from roughstick.plotting.rough_contact import (
+        plot_adhesion_vs_rh,
+        plot_fit_error,
+        plot_mdmt_vs_gw,
+        plot_rough_curves,
+    )
+
+    c = rs.rough_contact_curves(s1_like((48, 48)), relative_humidity=[0.3, 0.9], n_distance=60)
+    ax = plot_rough_curves(c)
+    assert len(ax.lines) == 3  # two curves and the zero line
+    plot_fit_error(c, rh=0.9)
+    plot_adhesion_vs_rh({"a": rs.adhesion_summary(c)})
+    fig = plot_mdmt_vs_gw({"a": c}, None, rh=(0.3, 0.9))
+    assert len(fig.axes) == 2
+    plt.close("all")
