@@ -346,14 +346,19 @@ def _symmetrise(P: np.ndarray, nx: int) -> np.ndarray:
     return P
 
 
-def _filter(P, nx):
-    """Amplitude filter sqrt(P) and the bounding box of its support (rows, number of columns)."""
+def _filter(P, nx, amplitude):
+    """Amplitudes sqrt(P) on the bounding box of the PSD support: (A_box, rows, ncols).
+
+    ``A_box`` is scaled for the draw of ``amplitude``: a Gaussian draw n1 + i n2 has
+    E|.|^2 = 2, hence the sqrt(1/2) for "rayleigh"."""
     P = _symmetrise(P, nx)
     A = np.sqrt(P)
     rows = np.flatnonzero(A.any(axis=1))
     cols_any = np.flatnonzero(A.any(axis=0))
     ncols = int(cols_any[-1]) + 1 if cols_any.size else 0
-    return A, rows, ncols
+    scale = np.sqrt(0.5) if amplitude == "rayleigh" else 1.0
+    A_box = np.ascontiguousarray(A[rows, :ncols]) * scale
+    return A_box, rows, ncols
 
 
 def surface_filter(psd, *, shape=None, size=None, spacing=None) -> xr.DataArray:
@@ -419,13 +424,10 @@ class _Kernel:
     """Per-block state: the amplitude filter on its support box and a reusable spectrum buffer."""
 
     def __init__(self, filt, ny, nx, amplitude, out_dtype):
-        A, rows, ncols = filt
+        self.A_box, rows, ncols = filt
         self.ny, self.nx, self.amplitude, self.out_dtype = ny, nx, amplitude, out_dtype
         self.rows, self.ncols = rows, ncols
         self.full_rows = rows.size == ny
-        # amplitude of each drawn mode; the Gaussian draw (n1 + i n2) has E|.|^2 = 2
-        scale = np.sqrt(0.5) if amplitude == "rayleigh" else 1.0
-        self.A_box = np.ascontiguousarray(A[rows, :ncols]) * scale
         ctype = np.complex64 if out_dtype == np.float32 else np.complex128
         self.xi = np.zeros((ny, nx // 2 + 1), dtype=ctype)
         self.work = np.zeros((ny, nx // 2 + 1), dtype=ctype)
@@ -598,7 +600,10 @@ def generate_surfaces(
     root, recorded_seed = _seed_root(seed)
 
     P, how = _half_plane_power(psd, ny, nx, dy, dx)
-    filt = dask.delayed(_filter, pure=True)(P, nx)
+    if isinstance(P, Delayed):  # lazy PSD: the filter is a task of the graph
+        filt = dask.delayed(_filter, pure=True)(P, nx, amplitude)
+    else:  # computed once here, held by one graph node shared by all chunks
+        filt = dask.delayed(_filter(P, nx, amplitude), pure=True)
 
     token = dask.base.tokenize(
         filt, root.entropy, tuple(root.spawn_key), ny, nx, amplitude, key, indices, chunk_sizes
