@@ -436,6 +436,8 @@ class _Kernel:
         self.mirror = ny - np.arange(1, h + 1)
         self.self_rows = [0] + ([ny // 2] if ny % 2 == 0 else [])
         self.self_cols = [c for c in [0] + ([nx // 2] if nx % 2 == 0 else []) if c < ncols]
+        self.in_place = self.full_rows and ncols == nx // 2 + 1 and ctype == np.complex128
+        self.draw = np.empty((rows.size, ncols, 2)) if amplitude == "rayleigh" else None
 
     def __call__(self, rng):
         """One surface: Hermitian amplitudes on the support box, one inverse real FFT (Eq. 34)."""
@@ -444,16 +446,22 @@ class _Kernel:
         xi, rows, ncols = self.xi, self.rows, self.ncols
         if ncols:
             shape = (rows.size, ncols)
-            if self.amplitude == "rayleigh":
-                # complex Gaussian: Rayleigh modulus (zeta of Eq. 33) with uniform phase
-                box = rng.standard_normal(shape + (2,)).view(np.complex128)[..., 0]
+            if self.amplitude == "rayleigh" and self.in_place:
+                # the box is the whole spectrum: draw straight into it (same stream as below)
+                rng.standard_normal(out=xi.view(np.float64))
+                xi *= self.A_box
             else:
-                box = np.exp(1j * (2 * np.pi) * rng.random(shape))
-            box *= self.A_box
-            if self.full_rows:
-                xi[:, :ncols] = box
-            else:
-                xi[rows, :ncols] = box
+                if self.amplitude == "rayleigh":
+                    # complex Gaussian: Rayleigh modulus (zeta of Eq. 33) with uniform phase
+                    rng.standard_normal(out=self.draw)
+                    box = self.draw.view(np.complex128)[..., 0]
+                else:
+                    box = np.exp(1j * (2 * np.pi) * rng.random(shape))
+                box *= self.A_box
+                if self.full_rows:
+                    xi[:, :ncols] = box
+                else:
+                    xi[rows, :ncols] = box
             # self-conjugate columns (qx = 0, Nyquist): Hermitian symmetry inside the column
             for c in self.self_cols:
                 col = xi[:, c]
