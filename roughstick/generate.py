@@ -278,15 +278,14 @@ def _half_plane_power(psd, ny, nx, dy, dx):
     dq2 = (2 * np.pi / (ny * dy)) * (2 * np.pi / (nx * dx))
     if callable(psd) and not isinstance(psd, xr.DataArray):
         q = np.hypot(qy[:, None], qx[None, :])
-        s = np.asarray(psd(q), dtype=float)
-        if s.shape != q.shape:
-            try:
-                s = np.broadcast_to(s, q.shape).copy()
-            except ValueError:
-                raise ValueError(
-                    f"the PSD callable returned shape {s.shape} for |q| of shape {q.shape}; it "
-                    "must map an array of |q| [rad m-1] to s(|q|) [m4] elementwise."
-                ) from None
+        s = psd(q.ravel())  # 1-D, so e.g. lambda q: rs.self_affine_psd(q, ...) works as is
+        s = np.asarray(s.values if isinstance(s, xr.DataArray) else s, dtype=float)
+        if s.size != q.size:
+            raise ValueError(
+                f"the PSD callable returned {s.size} values for {q.size} wave numbers; it must "
+                "map a 1-D array of |q| [rad m-1] to s(|q|) [m4] elementwise."
+            )
+        s = s.reshape(q.shape)
         return _values_checked(s, "PSD returned by the callable") * dq2, "isotropic callable s(|q|)"
     if not isinstance(psd, xr.DataArray):
         raise TypeError(
@@ -540,8 +539,10 @@ def generate_surfaces(
         ``roughstick.power_spectrum``; bilinearly interpolated by ``roughstick.interpolate_psd``
         when the target grid differs), an isotropic PSD over ``(q,)`` (evaluated at
         :math:`|\mathbf q|` by ``roughstick.isotropic_to_2d``: log-linear, zero beyond its
-        largest ``q``, so the grid corners beyond it are zero), or a callable mapping an array of :math:`|\mathbf q|` [rad m-1] to
-        :math:`s(|\mathbf q|)` [m4] (e.g. ``lambda q: rs.self_affine_psd(q, ...)`` values).
+        largest ``q``, so the grid corners beyond it are zero), or a callable mapping a 1-D
+        array of :math:`|\mathbf q|` [rad m-1] to :math:`s(|\mathbf q|)` [m4] (array or
+        DataArray, e.g.
+        ``lambda q: rs.self_affine_psd(q, s0=..., s1=..., q0=..., qmax=...)``).
         DataArrays need ``units`` ``m4`` (or ``nm4``, ``um4``). A dask-backed PSD stays lazy.
     n : int, optional
         Number of surfaces (realizations ``0 .. n-1``), >= 1.

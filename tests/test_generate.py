@@ -415,3 +415,15 @@ def test_plotting_ensemble_psd_and_figures():
     ax = plot_generated_psd(h, S1)
     assert ax.get_xscale() == "log"
     plt.close("all")
+
+
+def test_callable_may_return_a_dataarray():
+    """rs.self_affine_psd can be passed directly as a lambda (1-D |q| in, DataArray out)."""
+    fit = rs.fit_self_affine(**TABLE3["S2"], qmax=289e6)
+    p = {k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}
+    a = generate_surfaces(lambda q: rs.self_affine_psd(q, **p), n=2, shape=(20, 30),
+                          spacing=5e-9, seed=4)
+    b = generate_surfaces(S2, n=2, shape=(20, 30), spacing=5e-9, seed=4)
+    np.testing.assert_array_equal(a.values, b.values)
+    with pytest.raises(ValueError, match="elementwise"):
+        generate_surfaces(lambda q: np.ones(3), n=1, shape=8, spacing=5e-9)
