@@ -26,6 +26,7 @@ import os
 import pathlib
 import sys
 import time
+import warnings
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -1221,7 +1222,9 @@ def confidence_band(
             da = da.chunk({dim: -1})
         keep = {k: a for k, a in da.attrs.items() if k in ("units", "standard_name")}
         long = da.attrs.get("long_name", v)
-        q = da.quantile(probs, dim=dim).transpose("quantile", ...)
+        with warnings.catch_warnings():  # all-NaN rows (e.g. fit_error before contact) give NaN
+            warnings.filterwarnings("ignore", "All-NaN slice", RuntimeWarning)
+            q = da.quantile(probs, dim=dim).transpose("quantile", ...)
         q.attrs = {**keep, "long_name": f"quantiles over {dim} of {long}"}
         out[v] = q
         mean = da.mean(dim)

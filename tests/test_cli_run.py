@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import json
 import pathlib
 
 import numpy as np
 import pytest
 
+import roughstick as rs
 from roughstick._config import load_config, parse_quantity
 from roughstick.cli import main
 
@@ -84,3 +86,50 @@ def test_cli_reports_bad_input(tmp_path, capsys):
     assert "relative_humidity is empty" in capsys.readouterr().err
     assert main(["run", str(tmp_path / "missing.toml")]) == 1
     assert "not found" in capsys.readouterr().err
+
+
+def test_run_end_to_end_resume_and_refuse(tmp_path, capsys):
+    cfg = _cfg(tmp_path, n="4", rh="[0.3, 0.9]", figures="true")
+    assert main(["run", str(cfg)]) == 0
+    out = tmp_path / "out"
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["band.nc", "curves.png", "energy_band.png", "energy_ecdf.png", "ensemble"]
+    m = json.loads((out / "ensemble" / "manifest.json").read_text())
+    assert m["complete"] and m["n"] == 4 and len(m["completed"]) == 2
+    band = rs.open_dataset(out / "band.nc")
+    assert band.adhesive_energy.dims == ("quantile", "rh")
+    assert band.adhesive_energy.attrs["units"] == "J m-2"
+    ens = rs.open_ensemble(out / "ensemble")
+    assert ens.sizes["realization"] == 4 and ens.attrs["seed"] == "7"
+    stdout = capsys.readouterr().out
+    assert "RH 30%: Γ median" in stdout
+    # the same command again: nothing to compute, same numbers
+    before = ens.adhesive_energy.values
+    assert main(["run", str(cfg), "--no-figures"]) == 0
+    np.testing.assert_array_equal(rs.open_ensemble(out / "ensemble").adhesive_energy.values, before)
+    # other parameters into the same folder: refused with the fix; --overwrite replaces
+    capsys.readouterr()
+    assert main(["run", str(cfg), "--n", "4", "--no-figures", "--scheduler", "sync"]) == 0
+    other = _cfg(tmp_path, n="4", rh="[0.3, 0.8]")
+    assert main(["run", str(other)]) == 1
+    err = capsys.readouterr().err
+    assert "different parameters" in err and "--overwrite" in err
+    assert main(["run", str(other), "--overwrite"]) == 0
+    assert rs.open_ensemble(out / "ensemble").rh.values.tolist() == [0.3, 0.8]
+
+
+def test_run_unreachable_scheduler(tmp_path, capsys):
+    assert main(["run", str(_cfg(tmp_path)), "--scheduler", "tcp://127.0.0.1:9", "--no-figures",
+                 "--out", str(tmp_path / "o")]) == 1
+    assert "could not connect to the dask scheduler" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_reproduce_quick_small(tmp_path):
+    assert main(["reproduce", "--quick", "--n", "4", "--out", str(tmp_path)]) == 0
+    names = {p.name for p in tmp_path.iterdir()}
+    for f in ("fig13_surfaces_S1.png", "fig14_curves_S1.png", "fig15_curves_S2.png",
+              "fig16_energy_bands.png", "fig17_energy_distributions_S1.png", "band_S1.nc"):
+        assert f in names
+    band = rs.open_dataset(tmp_path / "band_S1.nc")
+    assert band.adhesive_energy.dims == ("quantile", "surface_size", "rh")

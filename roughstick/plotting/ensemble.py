@@ -104,10 +104,13 @@ def plot_energy_band(ds, *, level: float = 0.95, ax=None, label: str | None = No
         c = f"C{k}"
         ax.fill_between(rh, q[0], q[2], color=c, alpha=0.25, label=f"{name} {level:.0%} band".strip())
         for j in (0, 2):
-            lo = np.clip(b["g_ci_lower"].values[j] * 1e3, 0, None)
+            lo = b["g_ci_lower"].values[j] * 1e3
             hi = b["g_ci_upper"].values[j] * 1e3
-            ax.fill_between(rh, lo, np.where(np.isfinite(hi), hi, np.nan), color=c, alpha=0.15, hatch="//",
-                            lw=0, label="95 % CI of the band edges" if (k == 0 and j == 0) else None)
+            ok = np.isfinite(lo) & np.isfinite(hi) & (lo > 0)  # +-inf: n too small to bound it
+            if ok.any():
+                ax.fill_between(rh, np.where(ok, lo, np.nan), np.where(ok, hi, np.nan), color=c,
+                                alpha=0.15, hatch="//", lw=0,
+                                label="95 % CI of the band edges" if (k == 0 and j == 0) else None)
         ax.plot(rh, b["g_mean"].values * 1e3, "o-", color=c, label=f"{name} mean".strip())
     ax.set_yscale("log")
     ax.set_xlabel("relative humidity [%]")
