@@ -469,6 +469,16 @@ def _interactive() -> bool:
     return bool(getattr(sys.stderr, "isatty", lambda: False)())
 
 
+def _tqdm_class():
+    """tqdm.auto (a Jupyter widget) when ipywidgets is there, else the text bar."""
+    try:
+        import ipywidgets  # noqa: F401
+        from tqdm.auto import tqdm
+    except ImportError:
+        from tqdm import tqdm
+    return tqdm
+
+
 def progress_bar(progress: bool | None = None, **kwargs):
     """A dask callback showing a tqdm progress bar (terminal or Jupyter), or a no-op.
 
@@ -486,10 +496,9 @@ def progress_bar(progress: bool | None = None, **kwargs):
         progress = _interactive()
     if not progress:
         return contextlib.nullcontext()
-    from tqdm.auto import tqdm
     from tqdm.dask import TqdmCallback
 
-    return TqdmCallback(tqdm_class=tqdm, **kwargs)
+    return TqdmCallback(tqdm_class=_tqdm_class(), **kwargs)
 
 
 def _resolve_client(scheduler, connect_timeout: float):
@@ -528,9 +537,7 @@ def _compute_blocks(spec, todo, client, local, on_block, progress):
         return
     bar = None
     if progress if progress is not None else _interactive():
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=len(todo), desc="ensemble blocks", unit="block")
+        bar = _tqdm_class()(total=len(todo), desc="ensemble blocks", unit="block")
     spec_d = dask.delayed(spec, pure=True, name=f"roughstick-ensemble-spec-{spec.token}")
     delayed = {}
     for i, a, b, j, lo, hi in todo:
