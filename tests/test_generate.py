@@ -206,7 +206,8 @@ def _reference():
     return _REF["ref"]
 
 
-@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=15, deadline=None, database=None,
+          suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.integers(1, 7), min_size=1, max_size=7).filter(lambda c: sum(c) >= 7))
 def test_chunk_invariance(parts):
     """Any chunking of the realizations gives bit-identical surfaces."""
@@ -427,3 +428,14 @@ def test_callable_may_return_a_dataarray():
     np.testing.assert_array_equal(a.values, b.values)
     with pytest.raises(ValueError, match="elementwise"):
         generate_surfaces(lambda q: np.ones(3), n=1, shape=8, spacing=5e-9)
+
+
+@pytest.mark.slow
+def test_distributed_cluster_gives_the_same_surfaces():
+    """Two worker processes of a dask.distributed LocalCluster reproduce the serial values."""
+    distributed = pytest.importorskip("distributed")
+    ref = _reference()
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster):
+        h = generate_surfaces(S1, n=7, shape=(12, 18), spacing=20e-9, seed=99, chunks=3)
+        np.testing.assert_array_equal(h.values, ref)
