@@ -119,7 +119,8 @@ def test_run_end_to_end_resume_and_refuse(tmp_path, capsys):
 
 
 def test_run_unreachable_scheduler(tmp_path, capsys):
-    assert main(["run", str(_cfg(tmp_path)), "--scheduler", "tcp://127.0.0.1:9", "--no-figures",
+    cfg = _cfg(tmp_path, extra="[run]\nconnect_timeout = 1\n")
+    assert main(["run", str(cfg), "--scheduler", "tcp://127.0.0.1:9", "--no-figures",
                  "--out", str(tmp_path / "o")]) == 1
     assert "could not connect to the dask scheduler" in capsys.readouterr().err
 

@@ -209,7 +209,7 @@ def test_unreachable_scheduler_fails_fast(tmp_path):
     for kw in ({"n": "auto", "n_max": 2, "batch": 2}, {"n": 2, "output": tmp_path / "run"}):
         t0 = time.perf_counter()
         with pytest.raises(ConnectionError, match="could not connect to the dask scheduler"):
-            toy_run(scheduler="tcp://127.0.0.1:9", connect_timeout=2, **kw)
+            toy_run(scheduler="tcp://127.0.0.1:9", connect_timeout=1, **kw)
         assert time.perf_counter() - t0 < 15
 
 
@@ -525,3 +525,11 @@ def test_section_4_3_findings_S2(sample_psds):
 @pytest.mark.slow
 def test_section_4_3_findings_S1(sample_psds):
     _findings(sample_psds["S1"], n=48, seed=3)
+
+
+def test_auto_n_streams_to_folder(tmp_path):
+    ds = toy_run(n="auto", batch=4, tolerance=1e-9, n_max=8, chunks=2, output=tmp_path / "a")
+    assert ds.attrs["n_final"] == 8 and not ds.attrs["auto_converged"]
+    m = json.loads((tmp_path / "a" / "manifest.json").read_text())
+    assert m["complete"] and m["n"] == 8 and len(m["completed"]) == 4
+    assert_same_values(toy_run(n=8, chunks=2, distance=ds.distance.values).compute(), ds)
