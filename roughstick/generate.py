@@ -361,10 +361,12 @@ def _filter(P, nx, amplitude):
 
 
 def surface_filter(psd, *, shape=None, size=None, spacing=None) -> xr.DataArray:
-    r"""The mode powers :math:`s(\mathbf q)\Delta q_x \Delta q_y` used by :func:`generate_surfaces`.
+    r"""The PSD on the target grid exactly as :func:`generate_surfaces` uses it (Eq. 33).
 
-    The PSD mapped onto the target FFT grid (interpolated when the grids differ), centred
-    (fftshift order). Its sum is the variance of the generated heights (Eq. 33).
+    The PSD mapped onto the target FFT grid (interpolated when the grids differ, even in
+    :math:`q_y` on the self-conjugate columns), centred (fftshift order). Each mode carries the
+    power :math:`s(\mathbf q)\Delta q_x \Delta q_y`; their sum is the expected variance of the
+    generated heights.
 
     Parameters
     ----------
