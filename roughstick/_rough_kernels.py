@@ -42,6 +42,13 @@ _MAX_ITER = 200
 _T_MAX_START = 0.999
 _PARABOLOID_MIN_PIXELS = 5
 _PARABOLOID_RCOND = 1e-10
+# rows of the fit's work array (see fit_workspace): vectors of 3, matrices of 3 rows, paraboloid 4 x 5
+_WS_P, _WS_G, _WS_Q, _WS_S, _WS_Y, _WS_SR, _WS_LO, _WS_HI, _WS_SOL = range(9)
+_WS_A = 9
+_WS_B = 12
+_WS_L = 15
+_WS_PARA = 18
+_WS_ROWS = 22
 
 
 @nb.njit(cache=True)
@@ -96,16 +103,16 @@ def _model_and_cost(xs, ys, hs, x0, y0, t):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True)
-def _paraboloid_start(xs, ys, hs):  # pragma: no cover - compiled
+def _paraboloid_start(xs, ys, hs, M, sol):  # pragma: no cover - compiled
     """Second start of the fit: linear least squares ``h = w + u x + v y - q (x^2 + y^2)``.
 
     Returns ``(ok, x0, y0, t0)``: the paraboloid's apex and the cap height of the sphere of
     radius ``1 / (2 q)`` through the footprint circle (clipped to [0, 0.999]; the caller clips
     the apex to the footprint box); ``ok`` is False when the system is singular or the
-    paraboloid is not a cap.
+    paraboloid is not a cap. ``M`` (4, 5) and ``sol`` (4,) are work arrays (no allocation).
     """
     n = xs.size
-    M = np.zeros((4, 5))
+    M[:, :] = 0.0
     for p in range(n):
         g0 = 1.0
         g1 = xs[p]
@@ -136,7 +143,7 @@ def _paraboloid_start(xs, ys, hs):  # pragma: no cover - compiled
             f = M[r, c] / M[c, c]
             for j in range(c, 5):
                 M[r, j] -= f * M[c, j]
-    sol = np.zeros(4)
+    sol[:] = 0.0
     for r in range(3, -1, -1):
         acc = M[r, 4]
         for j in range(r + 1, 4):
@@ -152,8 +159,13 @@ def _paraboloid_start(xs, ys, hs):  # pragma: no cover - compiled
     return True, x0, y0, min(t0, _T_MAX_START)
 
 
+def fit_workspace():
+    """Work arrays of :func:`_fit_sphere` (allocated once per map, reused by every fit)."""
+    return np.empty((_WS_ROWS, 5)), np.empty(3, np.int64), np.empty(3, np.bool_)
+
+
 @nb.njit(cache=True)
-def _fit_sphere(xs, ys, hs, hx, hy):  # pragma: no cover - compiled
+def _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free):  # pragma: no cover - compiled
     """Constrained sphere fit of Eq. 21 on dimensionless data (lengths in units of a_f).
 
     ``xs, ys`` are pixel centres relative to the footprint centroid and ``hs`` the heights above
@@ -166,7 +178,8 @@ def _fit_sphere(xs, ys, hs, hx, hy):  # pragma: no cover - compiled
     by the edge of a measured map especially), so two starts are refined and the better kept:
     the footprint centroid with the cap of twice the mean height, and the apex and curvature of
     the least-squares paraboloid. Returns ``(t, cost, x0, y0)``
-    with ``cost`` the sum of squared dimensionless residuals.
+    with ``cost`` the sum of squared dimensionless residuals. ``ws, iw, free`` come from
+    :func:`fit_workspace` (no allocation inside the fit).
     """
     n = xs.size
     if n <= 2:
@@ -181,32 +194,39 @@ def _fit_sphere(xs, ys, hs, hx, hy):  # pragma: no cover - compiled
     H = 2.0 * H / n
     if H <= 0.0:
         return 0.0, 0.0, 0.0, 0.0  # plateau exactly at the contact plane: t = 0 fits exactly
-    lo = np.array([xs.min() - hx, ys.min() - hy, 0.0])
-    hi = np.array([xs.max() + hx, ys.max() + hy, 1.0])
-    t, cost, x0, y0 = _lm(xs, ys, hs, 0.0, 0.0, min(H, _T_MAX_START), lo, hi)
+    lo = ws[_WS_LO, :3]
+    hi = ws[_WS_HI, :3]
+    lo[0] = xs.min() - hx
+    lo[1] = ys.min() - hy
+    lo[2] = 0.0
+    hi[0] = xs.max() + hx
+    hi[1] = ys.max() + hy
+    hi[2] = 1.0
+    t, cost, x0, y0 = _lm(xs, ys, hs, 0.0, 0.0, min(H, _T_MAX_START), lo, hi, ws, iw, free)
     if n >= _PARABOLOID_MIN_PIXELS:
-        ok, px, py, pt = _paraboloid_start(xs, ys, hs)
+        ok, px, py, pt = _paraboloid_start(xs, ys, hs, ws[_WS_PARA:_WS_PARA + 4, :], ws[_WS_SOL, :4])
         if ok:
-            t2, cost2, x2, y2 = _lm(xs, ys, hs, px, py, pt, lo, hi)
+            t2, cost2, x2, y2 = _lm(xs, ys, hs, px, py, pt, lo, hi, ws, iw, free)
             if cost2 < cost:
                 return t2, cost2, x2, y2
     return t, cost, x0, y0
 
 
 @nb.njit(cache=True)
-def _derivatives(xs, ys, hs, x0, y0, t):  # pragma: no cover - compiled
+def _derivatives(xs, ys, hs, x0, y0, t, g, Hs):  # pragma: no cover - compiled
     """Cost, gradient and exact Hessian of ``sum (h - H)^2`` in ``(x0, y0, t)`` (Eq. 21).
 
     The residuals of Eq. 21 are not small where a sphere fits an asperity badly, so the
     Gauss-Newton matrix ``J^T J`` misses a large ``sum r d2H`` term (the centre of a flat cap is
     set by it); the full Hessian makes the Newton iteration converge quadratically. All
-    expressions are written without cancellation for small ``t``.
+    expressions are written without cancellation for small ``t``. Fills ``g`` (3,) with
+    ``J^T r = -grad(cost) / 2`` and ``Hs`` (3, 3) with ``Hessian(cost) / 2``; returns the cost.
     """
     n = xs.size
     Q = 1.0 + t * t
     cost = 0.0
-    g = np.zeros(3)
-    Hs = np.zeros((3, 3))
+    g0 = g1 = g2 = 0.0
+    a00 = a01 = a02 = a11 = a12 = a22 = 0.0
     for p in range(n):
         ex = xs[p] - x0
         ey = ys[p] - y0
@@ -244,32 +264,41 @@ def _derivatives(xs, ys, hs, x0, y0, t):  # pragma: no cover - compiled
             hxx = hyy = hxy = hxt = hyt = htt = 0.0
         r = hs[p] - Hm
         cost += r * r
-        g[0] += j0 * r
-        g[1] += j1 * r
-        g[2] += j2 * r
-        Hs[0, 0] += j0 * j0 - r * hxx
-        Hs[0, 1] += j0 * j1 - r * hxy
-        Hs[0, 2] += j0 * j2 - r * hxt
-        Hs[1, 1] += j1 * j1 - r * hyy
-        Hs[1, 2] += j1 * j2 - r * hyt
-        Hs[2, 2] += j2 * j2 - r * htt
-    Hs[1, 0] = Hs[0, 1]
-    Hs[2, 0] = Hs[0, 2]
-    Hs[2, 1] = Hs[1, 2]
-    # g = J^T r = -grad(cost) / 2 and Hs = Hessian(cost) / 2: the Newton step solves Hs s = g
-    return cost, g, Hs
+        g0 += j0 * r
+        g1 += j1 * r
+        g2 += j2 * r
+        a00 += j0 * j0 - r * hxx
+        a01 += j0 * j1 - r * hxy
+        a02 += j0 * j2 - r * hxt
+        a11 += j1 * j1 - r * hyy
+        a12 += j1 * j2 - r * hyt
+        a22 += j2 * j2 - r * htt
+    g[0] = g0
+    g[1] = g1
+    g[2] = g2
+    Hs[0, 0] = a00
+    Hs[0, 1] = a01
+    Hs[0, 2] = a02
+    Hs[1, 1] = a11
+    Hs[1, 2] = a12
+    Hs[2, 2] = a22
+    Hs[1, 0] = a01
+    Hs[2, 0] = a02
+    Hs[2, 1] = a12
+    return cost
 
 
 @nb.njit(cache=True)
-def _solve_spd(A, b, free):  # pragma: no cover - compiled
-    """Solve ``A s = b`` on the ``free`` unknowns by Cholesky (others 0); ``ok`` False if not SPD."""
-    idx = np.empty(3, np.int64)
+def _solve_spd(A, b, free, L, y, sr, s, idx):  # pragma: no cover - compiled
+    """Solve ``A s = b`` on the ``free`` unknowns by Cholesky (others 0); False if not SPD.
+
+    ``L`` (3, 3), ``y, sr, s`` (3,) and ``idx`` (3,) int are work arrays; ``s`` receives the step.
+    """
     m = 0
     for i in range(3):
         if free[i]:
             idx[m] = i
             m += 1
-    L = np.zeros((3, 3))
     for i in range(m):
         for j in range(i + 1):
             acc = A[idx[i], idx[j]]
@@ -277,43 +306,51 @@ def _solve_spd(A, b, free):  # pragma: no cover - compiled
                 acc -= L[i, k] * L[j, k]
             if i == j:
                 if not (acc > 0.0):
-                    return False, np.zeros(3)
+                    return False
                 L[i, i] = math.sqrt(acc)
             else:
                 L[i, j] = acc / L[j, j]
-    y = np.zeros(3)
     for i in range(m):
         acc = b[idx[i]]
         for k in range(i):
             acc -= L[i, k] * y[k]
         y[i] = acc / L[i, i]
-    sr = np.zeros(3)
     for i in range(m - 1, -1, -1):
         acc = y[i]
         for k in range(i + 1, m):
             acc -= L[k, i] * sr[k]
         sr[i] = acc / L[i, i]
-    s = np.zeros(3)
+    s[0] = 0.0
+    s[1] = 0.0
+    s[2] = 0.0
     for i in range(m):
         s[idx[i]] = sr[i]
-    return True, s
+    return True
 
 
 @nb.njit(cache=True)
-def _lm(xs, ys, hs, x0, y0, t, lo, hi):  # pragma: no cover - compiled
+def _lm(xs, ys, hs, x0, y0, t, lo, hi, ws, iw, free):  # pragma: no cover - compiled
     """Damped Newton (Levenberg-Marquardt on the exact Hessian) within the box ``lo <= p <= hi``.
 
     ``p = (x0, y0, t)``. Active set: an unknown sitting on a bound with the descent direction
     pointing out stays there while the others move. The damping grows until the matrix is
     positive definite and the cost decreases, and shrinks after each success. Stops when the
-    step is at rounding level.
+    step is at rounding level. ``ws, iw, free`` are the work arrays of :func:`fit_workspace`.
     """
     lam = 1e-3
-    p = np.array([min(max(x0, lo[0]), hi[0]), min(max(y0, lo[1]), hi[1]), min(max(t, lo[2]), hi[2])])
-    cost, g, A = _derivatives(xs, ys, hs, p[0], p[1], p[2])
-    B = np.empty((3, 3))
-    free = np.ones(3, np.bool_)
-    q = np.empty(3)
+    p = ws[_WS_P, :3]
+    g = ws[_WS_G, :3]
+    q = ws[_WS_Q, :3]
+    s = ws[_WS_S, :3]
+    A = ws[_WS_A:_WS_A + 3, :3]
+    B = ws[_WS_B:_WS_B + 3, :3]
+    L = ws[_WS_L:_WS_L + 3, :3]
+    yv = ws[_WS_Y, :3]
+    sr = ws[_WS_SR, :3]
+    p[0] = min(max(x0, lo[0]), hi[0])
+    p[1] = min(max(y0, lo[1]), hi[1])
+    p[2] = min(max(t, lo[2]), hi[2])
+    cost = _derivatives(xs, ys, hs, p[0], p[1], p[2], g, A)
     for _ in range(_MAX_ITER):
         for i in range(3):
             free[i] = not ((p[i] <= lo[i] and g[i] < 0.0) or (p[i] >= hi[i] and g[i] > 0.0))
@@ -325,7 +362,7 @@ def _lm(xs, ys, hs, x0, y0, t, lo, hi):  # pragma: no cover - compiled
                 for j in range(3):
                     B[i, j] = A[i, j]
                 B[i, i] += lam * max(abs(A[i, i]), 1e-12 * scale)
-            ok, s = _solve_spd(B, g, free)
+            ok = _solve_spd(B, g, free, L, yv, sr, s, iw)
             if not ok:
                 lam = max(lam * 10.0, 1e-12)
                 continue
@@ -338,8 +375,10 @@ def _lm(xs, ys, hs, x0, y0, t, lo, hi):  # pragma: no cover - compiled
                 break
             ncost = _model_and_cost(xs, ys, hs, q[0], q[1], q[2])
             if ncost <= cost:
-                p[:] = q
-                cost, g, A = _derivatives(xs, ys, hs, p[0], p[1], p[2])
+                p[0] = q[0]
+                p[1] = q[1]
+                p[2] = q[2]
+                cost = _derivatives(xs, ys, hs, p[0], p[1], p[2], g, A)
                 lam = lam / 10.0 if lam > 1e-15 else 0.0
                 improved = True
                 small = step <= 1e-13 * (1.0 + abs(p[0]) + abs(p[1]))
@@ -406,6 +445,9 @@ def _hertz_levels(zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivit
     xs = np.empty(T)
     ys = np.empty(T)
     hs = np.empty(T)
+    ws = np.empty((_WS_ROWS, 5))
+    iw = np.empty(3, np.int64)
+    free = np.empty(3, np.bool_)
     if connectivity == 8:
         ndir = 4
     else:
@@ -503,7 +545,9 @@ def _hertz_levels(zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivit
                 xs[t] = (xs[t] - mx) / af
                 ys[t] = (ys[t] - my) / af
                 hs[t] = hs[t] / af
-            tt, cost, _x0, _y0 = _fit_sphere(xs[:m], ys[:m], hs[:m], 0.5 * dx / af, 0.5 * dy / af)
+            tt, cost, _x0, _y0 = _fit_sphere(
+                xs[:m], ys[:m], hs[:m], 0.5 * dx / af, 0.5 * dy / af, ws, iw, free
+            )
             # Hertz (Eqs. 10-11) with delta = t a_f, R = a_f (1 + t^2) / (2 t):
             # F = K sqrt(R) delta^1.5 = K a_f^2 t sqrt((1 + t^2) / 2), area pi R delta
             force[li] += K * af * af * tt * math.sqrt(0.5 * (1.0 + tt * tt))
@@ -518,23 +562,40 @@ def _hertz_levels(zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivit
 
 @nb.njit(cache=True)
 def _count_above(zflat, thresholds):  # pragma: no cover - compiled
-    """Number of valid pixels with ``z >= t`` for every ``t`` of ascending ``thresholds``."""
+    """Number of valid pixels with ``z >= t`` for every ``t`` of ascending ``thresholds``.
+
+    Each height is placed among the thresholds by a lookup in uniform buckets over
+    ``[thresholds[0], thresholds[-1]]`` (about four per threshold) followed by exact comparisons
+    in both directions, so the bin is exactly ``bisect_right(thresholds, z)`` whatever the
+    rounding of the bucket index, in O(1) per pixel for well-spread thresholds.
+    """
     m = thresholds.size
-    hist = np.zeros(m + 1, np.int64)
-    for z in zflat:
-        if z != z:  # NaN
-            continue
-        # number of thresholds <= z (bisect right)
-        lo = 0
-        hi = m
-        while lo < hi:
-            mid = (lo + hi) >> 1
-            if thresholds[mid] <= z:
-                lo = mid + 1
-            else:
-                hi = mid
-        hist[lo] += 1
     out = np.zeros(m, np.int64)
+    if m == 0:
+        return out
+    hist = np.zeros(m + 1, np.int64)
+    t0 = thresholds[0]
+    span = thresholds[m - 1] - t0
+    nb_ = 4 * m
+    inv = nb_ / span if span > 0.0 else 0.0
+    # first[b] = number of thresholds below the lower edge of bucket b (approximately: fixed below)
+    first = np.zeros(nb_ + 1, np.int64)
+    j = 0
+    for bk in range(nb_ + 1):
+        while j < m and (thresholds[j] - t0) * inv < bk:
+            j += 1
+        first[bk] = j
+    for z in zflat:
+        if not (z >= t0):  # NaN, or below every threshold
+            continue
+        x = (z - t0) * inv
+        bk = int(x) if x < nb_ else nb_  # (inf * 0 = NaN also lands in the last bucket)
+        lo = first[bk]
+        while lo > 0 and thresholds[lo - 1] > z:
+            lo -= 1
+        while lo < m and thresholds[lo] <= z:
+            lo += 1
+        hist[lo] += 1
     acc = 0
     for j in range(m, 0, -1):
         acc += hist[j]
