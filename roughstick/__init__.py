@@ -7,28 +7,14 @@ All values are SI; see :mod:`roughstick.conventions`.
 
 __version__ = "0.1.0"
 
-from . import constants, conventions
-from .materials import *  # noqa: F403
-from .meniscus import *  # noqa: F403
-from .contact import *  # noqa: F403
-from .io.afm import *  # noqa: F403
-from .io.netcdf import *  # noqa: F403
-from .topography import *  # noqa: F403
-from .psd import *  # noqa: F403
-from .generate import *  # noqa: F403
-from .greenwood_williamson import *  # noqa: F403
-from .rough_contact import *  # noqa: F403
-from .adhesion import *  # noqa: F403
-from .ensemble import *  # noqa: F403
-from .cantilever import *  # noqa: F403
-from .bem import *  # noqa: F403
-from .validity import *  # noqa: F403
-from . import accessor  # noqa: E402  registers the .rough accessor
 from . import (  # noqa: E402
+    accessor,  # noqa: E402  registers the .rough accessor
     adhesion,
     bem,
     cantilever,
+    constants,
     contact,
+    conventions,
     ensemble,
     generate,
     greenwood_williamson,
@@ -40,8 +26,23 @@ from . import (  # noqa: E402
     topography,
     validity,
 )
-
-from .io import afm as _afm, netcdf as _netcdf  # noqa: E402
+from .adhesion import *  # noqa: F403
+from .bem import *  # noqa: F403
+from .cantilever import *  # noqa: F403
+from .contact import *  # noqa: F403
+from .ensemble import *  # noqa: F403
+from .generate import *  # noqa: F403
+from .greenwood_williamson import *  # noqa: F403
+from .io import afm as _afm  # noqa: E402
+from .io import netcdf as _netcdf
+from .io.afm import *  # noqa: F403
+from .io.netcdf import *  # noqa: F403
+from .materials import *  # noqa: F403
+from .meniscus import *  # noqa: F403
+from .psd import *  # noqa: F403
+from .rough_contact import *  # noqa: F403
+from .topography import *  # noqa: F403
+from .validity import *  # noqa: F403
 
 #: Every public function and class, gathered from the modules' own ``__all__``.
 __all__ = sorted(
