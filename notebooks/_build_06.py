@@ -137,7 +137,7 @@ cells = [
         "## How many surfaces?\n\n"
         "The Monte-Carlo interval on P(stuck) is binomial: with n surfaces, its half-width near "
         "P = 0.5 is about 1/√n. To resolve a 1 % stiction risk the sample must hold well over 100 "
-        "surfaces (with k = 0 stuck out of n, the 95 % upper bound is ≈ 3.7/n for Wilson):"
+        "surfaces (with k = 0 stuck out of n, the 95 % upper bound is ≈ 3.8/n for Wilson):"
     ),
     code(
         "for n in (10, 30, 100, 300, 1000):\n"
