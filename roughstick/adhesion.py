@@ -55,11 +55,9 @@ def adhesive_energy_kernel(pressure, distance):
     return np.sum(both + tri, axis=-1)
 
 
-def _summary_kernel(p, wet, d):
-    """Per curve: (Gamma, pull-off, equilibrium distance, wet fraction there); last axis = distance."""
-    gamma = adhesive_energy_kernel(p, d)
-    with np.errstate(invalid="ignore"):
-        pull = np.maximum(-np.nanmin(np.where(np.isnan(p), np.inf, p), axis=-1), 0.0)
+def _summary_kernel(p, wet, d, from_equilibrium=True):
+    """Per curve: (Gamma, pull-off, equilibrium distance, wet fraction there, Gamma below
+    equilibrium); last axis = distance."""
     # equilibrium: the largest d whose interval goes from repulsive (>= 0) below to attractive above
     lower, upper = p[..., :-1], p[..., 1:]
     cross = (lower >= 0) & (upper < 0)
@@ -74,10 +72,20 @@ def _summary_kernel(p, wet, d):
     w0 = np.take_along_axis(wet[..., :-1], kk, -1)[..., 0]
     w1 = np.take_along_axis(wet[..., 1:], kk, -1)[..., 0]
     weq = np.where(found, w0 + frac * (w1 - w0), np.nan)
-    return gamma, pull, deq, weq
+    # separation path: from the equilibrium outwards. Points at or below the lower end of the
+    # crossing interval are clipped to >= 0, so only the attraction above d_eq is integrated
+    # (the crossing interval keeps its exact triangle).
+    below = np.arange(p.shape[-1]) <= np.where(found, k, -1)[..., None]
+    p_sep = np.where(below, np.maximum(p, 0.0), p)
+    gamma_all = adhesive_energy_kernel(p, d)
+    gamma_sep = adhesive_energy_kernel(p_sep, d)
+    with np.errstate(invalid="ignore"):
+        pull = np.maximum(-np.nanmin(np.where(np.isnan(p_sep), np.inf, p_sep), axis=-1), 0.0)
+    gamma = gamma_sep if from_equilibrium else gamma_all
+    return gamma, pull, deq, weq, gamma_all - gamma_sep
 
 
-def adhesion_summary(curves: xr.Dataset) -> xr.Dataset:
+def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True) -> xr.Dataset:
     r"""Apparent adhesive energy (Eq. 13), pull-off pressure and equilibrium of each curve.
 
     Parameters
@@ -85,6 +93,14 @@ def adhesion_summary(curves: xr.Dataset) -> xr.Dataset:
     curves : xarray.Dataset
         Output of :func:`roughstick.rough_contact_curves` (or GW): ``pressure`` [Pa] and
         ``wet_fraction`` over ``(..., distance)``; ``distance`` a single dask chunk.
+    from_equilibrium : bool, default True
+        Integrate Eq. 13 along the separation path only, from the equilibrium distance
+        outwards: the work to pull the surfaces apart from where they rest, which is how the
+        paper defines the adhesive energy. Deep in contact the modified DMT fits merged
+        asperities with huge flat spheres whose Hertz force can fall below the water term, a
+        spurious attraction *below* the equilibrium; ``False`` integrates Eq. 13 literally over
+        the whole grid, and ``attraction_below_equilibrium`` reports the difference either way.
+        The pull-off pressure is taken over the same range.
 
     Returns
     -------
@@ -97,7 +113,10 @@ def adhesion_summary(curves: xr.Dataset) -> xr.Dataset:
         - ``equilibrium_distance`` [m], the largest ``d`` where the pressure changes from
           repulsive below to attractive above (linear interpolation); NaN when the grid never
           reaches a repulsive state (then :math:`\Gamma` is a lower bound);
-        - ``wet_fraction_at_equilibrium``, interpolated at that distance (Fig. 11b).
+        - ``wet_fraction_at_equilibrium``, interpolated at that distance (Fig. 11b);
+        - ``attraction_below_equilibrium`` [J m-2], the attractive work below the equilibrium
+          distance (0 on a well-behaved curve; large values mean the grid reaches deep into the
+          regime where the modified DMT breaks down).
 
     Raises
     ------
@@ -132,22 +151,29 @@ def adhesion_summary(curves: xr.Dataset) -> xr.Dataset:
         _summary_kernel,
         p,
         wet,
-        kwargs={"d": d},
+        kwargs={"d": d, "from_equilibrium": bool(from_equilibrium)},
         input_core_dims=[["distance"], ["distance"]],
-        output_core_dims=[[], [], [], []],
+        output_core_dims=[[], [], [], [], []],
         dask="parallelized",
-        output_dtypes=[float] * 4,
+        output_dtypes=[float] * 5,
     )
     names = [
         ("adhesive_energy", "surface_adhesive_energy"),
         ("pull_off_pressure", "pull_off_pressure"),
         ("equilibrium_distance", "equilibrium_distance"),
         ("wet_fraction_at_equilibrium", "wet_fraction_at_equilibrium"),
+        ("attraction_below_equilibrium", "attraction_below_equilibrium"),
     ]
     ds = xr.Dataset({name: set_attrs(o, key) for (name, key), o in zip(names, outs, strict=True)})
     drop = [c for c in ds.coords if "distance" in ds[c].dims]
     ds = ds.drop_vars(drop)
     ds.attrs = dict(curves.attrs)
     ds.attrs["title"] = "adhesion summary (Eq. 13) of " + str(curves.attrs.get("title", "contact curves"))
-    append_history(ds, "adhesion_summary: Eq. 13 on the piecewise-linear pressure, pull-off, equilibrium")
+    ds.attrs["adhesive_energy_range"] = "from_equilibrium" if from_equilibrium else "whole_grid"
+    append_history(
+        ds,
+        "adhesion_summary: Eq. 13 on the piecewise-linear pressure "
+        + ("from the equilibrium outwards" if from_equilibrium else "over the whole grid")
+        + ", pull-off, equilibrium",
+    )
     return ds

@@ -83,6 +83,7 @@ ATTRS: dict[str, dict[str, str]] = {
     "surface_adhesive_energy": {"units": "J m-2", "long_name": "apparent adhesive energy (Eq. 13)"},
     "pull_off_pressure": {"units": "Pa", "long_name": "largest tensile mean pressure (pull-off)"},
     "equilibrium_distance": {"units": "m", "long_name": "distance at which the mean pressure vanishes"},
+    "attraction_below_equilibrium": {"units": "J m-2", "long_name": "attractive work below the equilibrium distance (excluded from the adhesive energy)"},
     "wet_fraction_at_equilibrium": {"units": "1", "long_name": "wetted area fraction at the equilibrium distance"},
     "distance_offset": {"units": "m", "long_name": "isolated-contact distance minus periodic (mean-gap) distance of the BEM"},
     "solver_residual": {"units": "1", "long_name": "relative residual of the boundary-element solve"},

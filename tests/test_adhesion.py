@@ -96,3 +96,34 @@ def test_errors():
     c = curves_from(np.zeros(6), np.arange(6.0)).chunk({"distance": 3})
     with pytest.raises(ValueError, match="chunk"):
         rs.adhesion_summary(c)
+
+
+def _curve(values, distance):
+    """Summaries of one curve along the separation path and over the whole grid."""
+    p = xr.DataArray(np.asarray(values, float), dims="distance", coords={"distance": distance})
+    ds = xr.Dataset({"pressure": p, "wet_fraction": xr.zeros_like(p)})
+    return rs.adhesion_summary(ds), rs.adhesion_summary(ds, from_equilibrium=False)
+
+
+def test_gamma_integrates_from_equilibrium_outwards():
+    # repulsive at d<=1, attractive triangle between 1 and 3, zero beyond; plus a spurious
+    # attractive dip deep in contact (d = -2 .. 0) that a pull-off test never visits
+    d = np.array([-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0, 4.0])
+    p = np.array([5.0, 0.0, -4.0, 0.0, 0.0, -2.0, 0.0, 0.0])
+    sep, whole = _curve(p, d)
+    # separation path: equilibrium at d = 1 (p >= 0 below, < 0 above); Gamma = 1/2 * 2 * 2 = 2
+    assert float(sep.equilibrium_distance) == pytest.approx(1.0)
+    assert float(sep.adhesive_energy) == pytest.approx(2.0)
+    assert float(sep.pull_off_pressure) == pytest.approx(2.0)
+    # the literal Eq. 13 over the whole grid adds the deep dip: 1/2 * 2 * 4 = 4 more
+    assert float(whole.adhesive_energy) == pytest.approx(6.0)
+    assert float(sep.attraction_below_equilibrium) == pytest.approx(4.0)
+    assert float(whole.attraction_below_equilibrium) == pytest.approx(4.0)
+    assert sep.attrs["adhesive_energy_range"] == "from_equilibrium"
+
+
+def test_gamma_without_equilibrium_is_whole_grid_lower_bound():
+    d = np.array([0.0, 1.0, 2.0])
+    sep, whole = _curve([-1.0, -1.0, 0.0], d)
+    assert np.isnan(float(sep.equilibrium_distance))
+    assert float(sep.adhesive_energy) == pytest.approx(float(whole.adhesive_energy)) == pytest.approx(1.5)
