@@ -42,6 +42,8 @@ _MAX_ITER = 200
 _T_MAX_START = 0.999
 _PARABOLOID_MIN_PIXELS = 5
 _PARABOLOID_RCOND = 1e-10
+# a rejected step below this (relative) ends the iteration: the cost differences are rounding
+_STEP_NOISE = 1e-10
 # rows of the fit's work array (see fit_workspace): vectors of 3, matrices of 3 rows, paraboloid 4 x 5
 _WS_P, _WS_G, _WS_Q, _WS_S, _WS_Y, _WS_SR, _WS_LO, _WS_HI, _WS_SOL = range(9)
 _WS_A = 9
@@ -202,14 +204,48 @@ def _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free):  # pragma: no cover - compile
     hi[0] = xs.max() + hx
     hi[1] = ys.max() + hy
     hi[2] = 1.0
-    t, cost, x0, y0 = _lm(xs, ys, hs, 0.0, 0.0, min(H, _T_MAX_START), lo, hi, ws, iw, free)
+    t, cost, x0, y0, _c = _lm(xs, ys, hs, 0.0, 0.0, min(H, _T_MAX_START), lo, hi, ws, iw, free)
     if n >= _PARABOLOID_MIN_PIXELS:
         ok, px, py, pt = _paraboloid_start(xs, ys, hs, ws[_WS_PARA:_WS_PARA + 4, :], ws[_WS_SOL, :4])
         if ok:
-            t2, cost2, x2, y2 = _lm(xs, ys, hs, px, py, pt, lo, hi, ws, iw, free)
+            t2, cost2, x2, y2, _c = _lm(xs, ys, hs, px, py, pt, lo, hi, ws, iw, free)
             if cost2 < cost:
                 return t2, cost2, x2, y2
     return t, cost, x0, y0
+
+
+@nb.njit(cache=True)
+def _fit_sphere_warm(xs, ys, hs, hx, hy, ws, iw, free, x0, y0, t0):  # pragma: no cover - compiled
+    """The fit of :func:`_fit_sphere` refined from one given start ``(x0, y0, t0)`` (a warm start).
+
+    Used for an asperity whose pixels are those of its fit at the previous (higher) distance:
+    only the heights moved, by the change of d, so that fit's solution is a close start and
+    the damped Newton iteration needs a few steps. Falls back to the two cold starts of
+    :func:`_fit_sphere` for one- and two-pixel footprints, a plateau at the plane, or when the
+    iteration does not converge. Eq. 21 is not convex: the warm start follows the local
+    minimum of the previous level, which can differ from the better of the two cold starts
+    (see docs/rough_contact.md).
+    """
+    n = xs.size
+    if n <= 2:
+        return _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free)
+    H = 0.0
+    for v in hs:
+        H += v
+    if H <= 0.0:
+        return _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free)
+    lo = ws[_WS_LO, :3]
+    hi = ws[_WS_HI, :3]
+    lo[0] = xs.min() - hx
+    lo[1] = ys.min() - hy
+    lo[2] = 0.0
+    hi[0] = xs.max() + hx
+    hi[1] = ys.max() + hy
+    hi[2] = 1.0
+    t, cost, x, y, conv = _lm(xs, ys, hs, x0, y0, t0, lo, hi, ws, iw, free)
+    if conv:
+        return t, cost, x, y
+    return _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free)
 
 
 @nb.njit(cache=True)
@@ -223,7 +259,14 @@ def _derivatives(xs, ys, hs, x0, y0, t, g, Hs):  # pragma: no cover - compiled
     ``J^T r = -grad(cost) / 2`` and ``Hs`` (3, 3) with ``Hessian(cost) / 2``; returns the cost.
     """
     n = xs.size
-    Q = 1.0 + t * t
+    tt2 = t * t
+    Q = 1.0 + tt2
+    QQ = Q * Q
+    ft2 = 4.0 * tt2
+    t2 = 2.0 * t
+    e8t3 = 8.0 * tt2 * t
+    omt4 = 1.0 - tt2 * tt2
+    omt2 = 1.0 - tt2
     cost = 0.0
     g0 = g1 = g2 = 0.0
     a00 = a01 = a02 = a11 = a12 = a22 = 0.0
@@ -231,32 +274,38 @@ def _derivatives(xs, ys, hs, x0, y0, t, g, Hs):  # pragma: no cover - compiled
         ex = xs[p] - x0
         ey = ys[p] - y0
         rho2 = ex * ex + ey * ey
-        W2 = Q * Q - 4.0 * t * t * rho2
+        W2 = QQ - ft2 * rho2
         if W2 > 0.0:
             W = math.sqrt(W2)
-            Den = W + 1.0 - t * t
-            Hm = 2.0 * t * (1.0 - rho2) / Den
-            j0 = 2.0 * t * ex / W
-            j1 = 2.0 * t * ey / W
-            j2 = 2.0 * Q * (1.0 - rho2) / (W * Den)
-            W3 = W2 * W
-            hxx = -2.0 * t / W - 8.0 * t ** 3 * ex * ex / W3
-            hyy = -2.0 * t / W - 8.0 * t ** 3 * ey * ey / W3
-            hxy = -8.0 * t ** 3 * ex * ey / W3
-            hxt = 2.0 * ex * (1.0 - t ** 4) / W3
-            hyt = 2.0 * ey * (1.0 - t ** 4) / W3
-            dW = 2.0 * t * (Q - 2.0 * rho2) / W
-            dDen = dW - 2.0 * t
-            WD = W * Den
-            htt = 2.0 * (1.0 - rho2) * (2.0 * t / WD - Q * (dW * Den + W * dDen) / (WD * WD))
+            iW = 1.0 / W
+            Den = W + omt2
+            iD = 1.0 / Den
+            omr = 1.0 - rho2
+            Hm = t2 * omr * iD
+            j0 = t2 * ex * iW
+            j1 = t2 * ey * iW
+            j2 = 2.0 * Q * omr * iW * iD
+            iW3 = iW * iW * iW
+            c8 = e8t3 * iW3
+            tw = t2 * iW
+            hxx = -tw - c8 * ex * ex
+            hyy = -tw - c8 * ey * ey
+            hxy = -c8 * ex * ey
+            c2 = 2.0 * omt4 * iW3
+            hxt = c2 * ex
+            hyt = c2 * ey
+            dW = t2 * (Q - 2.0 * rho2) * iW
+            dDen = dW - t2
+            iWD = iW * iD
+            htt = 2.0 * omr * (t2 * iWD - Q * (dW * Den + W * dDen) * iWD * iWD)
         elif t > 0.0:
             # outside the projection of the sphere: H = -c(t)
-            Hm = -(1.0 - t * t) / (2.0 * t)
+            Hm = -omt2 / t2
             j0 = 0.0
             j1 = 0.0
-            j2 = Q / (2.0 * t * t)
+            j2 = Q / (2.0 * tt2)
             hxx = hyy = hxy = hxt = hyt = 0.0
-            htt = -1.0 / t ** 3
+            htt = -1.0 / (tt2 * t)
         else:
             Hm = 0.0
             j0 = j1 = 0.0
@@ -351,6 +400,7 @@ def _lm(xs, ys, hs, x0, y0, t, lo, hi, ws, iw, free):  # pragma: no cover - comp
     p[1] = min(max(y0, lo[1]), hi[1])
     p[2] = min(max(t, lo[2]), hi[2])
     cost = _derivatives(xs, ys, hs, p[0], p[1], p[2], g, A)
+    small = False
     for _ in range(_MAX_ITER):
         for i in range(3):
             free[i] = not ((p[i] <= lo[i] and g[i] < 0.0) or (p[i] >= hi[i] and g[i] > 0.0))
@@ -374,6 +424,9 @@ def _lm(xs, ys, hs, x0, y0, t, lo, hi, ws, iw, free):  # pragma: no cover - comp
                 small = True
                 break
             ncost = _model_and_cost(xs, ys, hs, q[0], q[1], q[2])
+            if ncost > cost and step <= _STEP_NOISE * (1.0 + abs(p[0]) + abs(p[1])):
+                small = True  # a step this small that does not lower the cost: rounding level
+                break
             if ncost <= cost:
                 p[0] = q[0]
                 p[1] = q[1]
@@ -388,7 +441,7 @@ def _lm(xs, ys, hs, x0, y0, t, lo, hi, ws, iw, free):  # pragma: no cover - comp
                 break
         if small or not improved:
             break
-    return p[2], cost, p[0], p[1]
+    return p[2], cost, p[0], p[1], small
 
 
 @nb.njit(cache=True)
@@ -412,7 +465,9 @@ def _find(parent, vx, vy, stack, i):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True)
-def _hertz_levels(zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivity):  # pragma: no cover
+def _hertz_levels(
+    zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivity, warm=False
+):  # pragma: no cover
     """Hertz part of Eq. 16 at every level, in one descending pass with a union-find.
 
     Parameters
@@ -421,6 +476,11 @@ def _hertz_levels(zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivit
     order : (T,) int64, raster indices of the pixels with ``z >= levels[-1]``, by descending
         height (ties in raster order).
     levels : (D,) float64, strictly descending distances.
+    warm : bool
+        Start the fit of an asperity whose pixels did not change since the previous level from
+        that level's solution (one local refinement instead of two starts; falls back to the
+        two cold starts if it does not converge). False: every fit from the two cold starts,
+        so the values at a distance do not depend on the other distances of the grid.
 
     Returns
     -------
@@ -448,6 +508,10 @@ def _hertz_levels(zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivit
     ws = np.empty((_WS_ROWS, 5))
     iw = np.empty(3, np.int64)
     free = np.empty(3, np.bool_)
+    # warm starts: pixel count of each root's component at its last fit (0: never fitted) and
+    # that fit's solution (x0, y0, t) in the footprint's units
+    pm = np.zeros(T, np.int64)
+    sol = np.zeros((T, 3))
     if connectivity == 8:
         ndir = 4
     else:
@@ -545,9 +609,20 @@ def _hertz_levels(zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivit
                 xs[t] = (xs[t] - mx) / af
                 ys[t] = (ys[t] - my) / af
                 hs[t] = hs[t] / af
-            tt, cost, _x0, _y0 = _fit_sphere(
-                xs[:m], ys[:m], hs[:m], 0.5 * dx / af, 0.5 * dy / af, ws, iw, free
-            )
+            hx = 0.5 * dx / af
+            hy = 0.5 * dy / af
+            if warm and pm[r] == m:
+                # same pixels as at the last fit (sets only grow): same centroid and a_f, the
+                # data only shifted by the change of d; start from that fit's solution
+                tt, cost, x0, y0 = _fit_sphere_warm(
+                    xs[:m], ys[:m], hs[:m], hx, hy, ws, iw, free, sol[r, 0], sol[r, 1], sol[r, 2]
+                )
+            else:
+                tt, cost, x0, y0 = _fit_sphere(xs[:m], ys[:m], hs[:m], hx, hy, ws, iw, free)
+            pm[r] = m
+            sol[r, 0] = x0
+            sol[r, 1] = y0
+            sol[r, 2] = tt
             # Hertz (Eqs. 10-11) with delta = t a_f, R = a_f (1 + t^2) / (2 t):
             # F = K sqrt(R) delta^1.5 = K a_f^2 t sqrt((1 + t^2) / 2), area pi R delta
             force[li] += K * af * af * tt * math.sqrt(0.5 * (1.0 + tt * tt))
@@ -630,7 +705,9 @@ OUTPUTS = (
 )
 
 
-def curves_kernel(z, distance, water_height, laplace_pressure, *, dx, dy, K, periodic, connectivity):
+def curves_kernel(
+    z, distance, water_height, laplace_pressure, *, dx, dy, K, periodic, connectivity, warm_start=False
+):
     """Force-distance curves of one map (Eq. 16) at every distance and humidity.
 
     Parameters
@@ -648,6 +725,9 @@ def curves_kernel(z, distance, water_height, laplace_pressure, *, dx, dy, K, per
     periodic : bool
         Connect across the map edges.
     connectivity : {4, 8}
+    warm_start : bool
+        Refine the fit of an asperity whose pixels did not change since the next higher
+        distance from that distance's solution (faster; see :func:`_hertz_levels`).
 
     Returns
     -------
@@ -668,7 +748,17 @@ def curves_kernel(z, distance, water_height, laplace_pressure, *, dx, dy, K, per
     tail = np.flatnonzero(zflat >= levels[-1]) if D else np.empty(0, np.int64)
     order = tail[np.argsort(-zflat[tail], kind="stable")].astype(np.int64)
     f, ha, _fa, e2a, nc, _nw = _hertz_levels(
-        zflat, ny, nx, order, levels, float(dx), float(dy), float(K), bool(periodic), int(connectivity)
+        zflat,
+        ny,
+        nx,
+        order,
+        levels,
+        float(dx),
+        float(dy),
+        float(K),
+        bool(periodic),
+        int(connectivity),
+        bool(warm_start),
     )
     inv = np.empty(D, np.int64)
     inv[desc] = np.arange(D)
