@@ -44,6 +44,9 @@ _PARABOLOID_MIN_PIXELS = 5
 _PARABOLOID_RCOND = 1e-10
 # a rejected step below this (relative) ends the iteration: the cost differences are rounding
 _STEP_NOISE = 1e-10
+# the per-pixel sums of the fit may be reassociated (SIMD) and fused (FMA): about twice faster,
+# the values change at rounding level only (no 'nnan'/'ninf'/'afn': NaN, inf and libm kept exact)
+_FASTMATH = {"reassoc", "contract"}
 # rows of the fit's work array (see fit_workspace): vectors of 3, matrices of 3 rows, paraboloid 4 x 5
 _WS_P, _WS_G, _WS_Q, _WS_S, _WS_Y, _WS_SR, _WS_LO, _WS_HI, _WS_SOL = range(9)
 _WS_A = 9
@@ -72,7 +75,7 @@ def _small_fit(h, rho):  # pragma: no cover - compiled
     return 1.0 / (math.sqrt(1.0 + c * c) + c)  # t = R - c
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, fastmath=_FASTMATH)
 def _profile(rho2, t):  # pragma: no cover - compiled
     """Height above the contact plane of the constrained sphere of cap height ``t`` (Eq. 21).
 
@@ -91,7 +94,7 @@ def _profile(rho2, t):  # pragma: no cover - compiled
     return 0.0, 0.0
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, fastmath=_FASTMATH)
 def _model_and_cost(xs, ys, hs, x0, y0, t):  # pragma: no cover - compiled
     """Sum of squared residuals of Eq. 21 (dimensionless, lengths in units of a_f)."""
     cost = 0.0
@@ -248,7 +251,7 @@ def _fit_sphere_warm(xs, ys, hs, hx, hy, ws, iw, free, x0, y0, t0):  # pragma: n
     return _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, fastmath=_FASTMATH)
 def _derivatives(xs, ys, hs, x0, y0, t, g, Hs):  # pragma: no cover - compiled
     """Cost, gradient and exact Hessian of ``sum (h - H)^2`` in ``(x0, y0, t)`` (Eq. 21).
 
