@@ -448,6 +448,63 @@ def _lm(xs, ys, hs, x0, y0, t, lo, hi, ws, iw, free):  # pragma: no cover - comp
 
 
 @nb.njit(cache=True)
+def _fit_level(
+    roots, start, members, vx, vy, zflat, order, d, dx, dy, xs, ys, hs, warm, pm, sol, fit, ws, iw,
+    free,
+):  # pragma: no cover - compiled
+    """Fit every asperity of one level (Eqs. 19-21); ``fit[c] = (t, cost)`` for ``roots[c]``.
+
+    Asperity ``c`` uses the slice ``start[r]:start[r + 1]`` of ``xs, ys, hs`` (disjoint slices:
+    the fits are independent). A numba ``prange`` over them with per-thread work arrays gave
+    bit-identical results but was 2.6x slower on S2A on this shared 2-core machine (thread
+    wake-up at each of the 200 levels), so the fits run serially; maps run in parallel instead
+    (dask, :mod:`roughstick.ensemble`).
+    """
+    nr = roots.size
+    for c in range(nr):
+        r = roots[c]
+        a = start[r]
+        m = start[r + 1] - a
+        af = math.sqrt(m * (dx * dy) / math.pi)  # as in _hertz_levels, bit for bit
+        mx = 0.0
+        my = 0.0
+        for t in range(m):
+            j = members[a + t]
+            ux = vx[j] if j != r else 0
+            uy = vy[j] if j != r else 0
+            xs[a + t] = ux * dx
+            ys[a + t] = uy * dy
+            hs[a + t] = zflat[order[j]] - d
+            mx += xs[a + t]
+            my += ys[a + t]
+        mx /= m
+        my /= m
+        for t in range(a, a + m):
+            xs[t] = (xs[t] - mx) / af
+            ys[t] = (ys[t] - my) / af
+            hs[t] = hs[t] / af
+        hx = 0.5 * dx / af
+        hy = 0.5 * dy / af
+        X = xs[a : a + m]
+        Y = ys[a : a + m]
+        Z = hs[a : a + m]
+        if warm and pm[r] == m:
+            # same pixels as at the last fit (sets only grow): same centroid and a_f, the
+            # data only shifted by the change of d; start from that fit's solution
+            tt, cost, x0, y0 = _fit_sphere_warm(
+                X, Y, Z, hx, hy, ws, iw, free, sol[r, 0], sol[r, 1], sol[r, 2]
+            )
+        else:
+            tt, cost, x0, y0 = _fit_sphere(X, Y, Z, hx, hy, ws, iw, free)
+        pm[r] = m
+        sol[r, 0] = x0
+        sol[r, 1] = y0
+        sol[r, 2] = tt
+        fit[c, 0] = tt
+        fit[c, 1] = cost
+
+
+@nb.njit(cache=True)
 def _find(parent, vx, vy, stack, i):  # pragma: no cover - compiled
     """Root of ``i`` with path compression; ``vx, vy`` become displacements to the root."""
     top = 0
@@ -511,6 +568,8 @@ def _hertz_levels(
     ws = np.empty((_WS_ROWS, 5))
     iw = np.empty(3, np.int64)
     free = np.empty(3, np.bool_)
+    roots = np.empty(T, np.int64)
+    fit = np.empty((T, 2))
     # warm starts: pixel count of each root's component at its last fit (0: never fitted) and
     # that fit's solution (x0, y0, t) in the footprint's units
     pm = np.zeros(T, np.int64)
@@ -589,43 +648,23 @@ def _hertz_levels(
             r = parent[j]
             members[start[r] + count[r]] = j
             count[r] += 1
+        nr = 0
         for r in range(n_act):
+            if start[r + 1] > start[r]:
+                roots[nr] = r
+                nr += 1
+        _fit_level(
+            roots[:nr], start, members, vx, vy, zflat, order, d, dx, dy, xs, ys, hs, warm, pm,
+            sol, fit, ws, iw, free,
+        )
+        # sums over the asperities in root order
+        for c in range(nr):
+            r = roots[c]
             m = start[r + 1] - start[r]
-            if m == 0:
-                continue
             area = m * pix
             af = math.sqrt(area / math.pi)
-            mx = 0.0
-            my = 0.0
-            for t in range(m):
-                j = members[start[r] + t]
-                ux = vx[j] if j != r else 0
-                uy = vy[j] if j != r else 0
-                xs[t] = ux * dx
-                ys[t] = uy * dy
-                hs[t] = zflat[order[j]] - d
-                mx += xs[t]
-                my += ys[t]
-            mx /= m
-            my /= m
-            for t in range(m):
-                xs[t] = (xs[t] - mx) / af
-                ys[t] = (ys[t] - my) / af
-                hs[t] = hs[t] / af
-            hx = 0.5 * dx / af
-            hy = 0.5 * dy / af
-            if warm and pm[r] == m:
-                # same pixels as at the last fit (sets only grow): same centroid and a_f, the
-                # data only shifted by the change of d; start from that fit's solution
-                tt, cost, x0, y0 = _fit_sphere_warm(
-                    xs[:m], ys[:m], hs[:m], hx, hy, ws, iw, free, sol[r, 0], sol[r, 1], sol[r, 2]
-                )
-            else:
-                tt, cost, x0, y0 = _fit_sphere(xs[:m], ys[:m], hs[:m], hx, hy, ws, iw, free)
-            pm[r] = m
-            sol[r, 0] = x0
-            sol[r, 1] = y0
-            sol[r, 2] = tt
+            tt = fit[c, 0]
+            cost = fit[c, 1]
             # Hertz (Eqs. 10-11) with delta = t a_f, R = a_f (1 + t^2) / (2 t):
             # F = K sqrt(R) delta^1.5 = K a_f^2 t sqrt((1 + t^2) / 2), area pi R delta
             force[li] += K * af * af * tt * math.sqrt(0.5 * (1.0 + tt * tt))
@@ -709,7 +748,17 @@ OUTPUTS = (
 
 
 def curves_kernel(
-    z, distance, water_height, laplace_pressure, *, dx, dy, K, periodic, connectivity, warm_start=False
+    z,
+    distance,
+    water_height,
+    laplace_pressure,
+    *,
+    dx,
+    dy,
+    K,
+    periodic,
+    connectivity,
+    warm_start=False,
 ):
     """Force-distance curves of one map (Eq. 16) at every distance and humidity.
 
