@@ -56,7 +56,7 @@ _WS_PARA = 18
 _WS_ROWS = 22
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _small_fit(h, rho):  # pragma: no cover - compiled
     """Cap height ``t`` for one- and two-pixel footprints (see module docstring).
 
@@ -75,7 +75,7 @@ def _small_fit(h, rho):  # pragma: no cover - compiled
     return 1.0 / (math.sqrt(1.0 + c * c) + c)  # t = R - c
 
 
-@nb.njit(cache=True, fastmath=_FASTMATH)
+@nb.njit(cache=True, nogil=True, fastmath=_FASTMATH)
 def _profile(rho2, t):  # pragma: no cover - compiled
     """Height above the contact plane of the constrained sphere of cap height ``t`` (Eq. 21).
 
@@ -94,7 +94,7 @@ def _profile(rho2, t):  # pragma: no cover - compiled
     return 0.0, 0.0
 
 
-@nb.njit(cache=True, fastmath=_FASTMATH)
+@nb.njit(cache=True, nogil=True, fastmath=_FASTMATH)
 def _model_and_cost(xs, ys, hs, x0, y0, t):  # pragma: no cover - compiled
     """Sum of squared residuals of Eq. 21 (dimensionless, lengths in units of a_f)."""
     cost = 0.0
@@ -107,7 +107,7 @@ def _model_and_cost(xs, ys, hs, x0, y0, t):  # pragma: no cover - compiled
     return cost
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _paraboloid_start(xs, ys, hs, M, sol):  # pragma: no cover - compiled
     """Second start of the fit: linear least squares ``h = w + u x + v y - q (x^2 + y^2)``.
 
@@ -169,7 +169,7 @@ def fit_workspace():
     return np.empty((_WS_ROWS, 5)), np.empty(3, np.int64), np.empty(3, np.bool_)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free):  # pragma: no cover - compiled
     """Constrained sphere fit of Eq. 21 on dimensionless data (lengths in units of a_f).
 
@@ -217,7 +217,7 @@ def _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free):  # pragma: no cover - compile
     return t, cost, x0, y0
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _fit_sphere_warm(xs, ys, hs, hx, hy, ws, iw, free, x0, y0, t0):  # pragma: no cover - compiled
     """The fit of :func:`_fit_sphere` refined from one given start ``(x0, y0, t0)`` (a warm start).
 
@@ -251,7 +251,7 @@ def _fit_sphere_warm(xs, ys, hs, hx, hy, ws, iw, free, x0, y0, t0):  # pragma: n
     return _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free)
 
 
-@nb.njit(cache=True, fastmath=_FASTMATH)
+@nb.njit(cache=True, nogil=True, fastmath=_FASTMATH)
 def _derivatives(xs, ys, hs, x0, y0, t, g, Hs):  # pragma: no cover - compiled
     """Cost, gradient and exact Hessian of ``sum (h - H)^2`` in ``(x0, y0, t)`` (Eq. 21).
 
@@ -340,7 +340,7 @@ def _derivatives(xs, ys, hs, x0, y0, t, g, Hs):  # pragma: no cover - compiled
     return cost
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _solve_spd(A, b, free, L, y, sr, s, idx):  # pragma: no cover - compiled
     """Solve ``A s = b`` on the ``free`` unknowns by Cholesky (others 0); False if not SPD.
 
@@ -380,7 +380,7 @@ def _solve_spd(A, b, free, L, y, sr, s, idx):  # pragma: no cover - compiled
     return True
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _lm(xs, ys, hs, x0, y0, t, lo, hi, ws, iw, free):  # pragma: no cover - compiled
     """Damped Newton (Levenberg-Marquardt on the exact Hessian) within the box ``lo <= p <= hi``.
 
@@ -447,7 +447,7 @@ def _lm(xs, ys, hs, x0, y0, t, lo, hi, ws, iw, free):  # pragma: no cover - comp
     return p[2], cost, p[0], p[1], small
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _fit_level(
     roots, start, members, vx, vy, zflat, order, d, dx, dy, xs, ys, hs, warm, pm, sol, fit, ws, iw,
     free,
@@ -504,7 +504,7 @@ def _fit_level(
         fit[c, 1] = cost
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _find(parent, vx, vy, stack, i):  # pragma: no cover - compiled
     """Root of ``i`` with path compression; ``vx, vy`` become displacements to the root."""
     top = 0
@@ -524,7 +524,7 @@ def _find(parent, vx, vy, stack, i):  # pragma: no cover - compiled
     return r
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _hertz_levels(
     zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivity, warm=False
 ):  # pragma: no cover
@@ -677,7 +677,7 @@ def _hertz_levels(
     return force, harea, farea, e2a, ncomp, nwrap
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _count_above(zflat, thresholds):  # pragma: no cover - compiled
     """Number of valid pixels with ``z >= t`` for every ``t`` of ascending ``thresholds``.
 
