@@ -115,6 +115,9 @@ def model_error(
         return float("nan"), "the measured validity map is not installed"
     sel = table["method"] == method
     err = np.abs(table[f"error_{quantity}"][sel])
+    if "converged" in table:
+        # no equilibrium on the measurement grid: the error is not a number, only "large"
+        err = np.where(table["converged"][sel] == 0, np.inf, err)
     logE = np.log(table["reduced_modulus"][sel])
     rh = table["rh"][sel]
     if err.size == 0:
@@ -135,7 +138,8 @@ def model_error(
 
     def worst(e_val, r_val):
         m = (logE == e_val) & (rh == r_val)
-        return float(np.nanmax(err[m])) if np.any(m) and np.any(np.isfinite(err[m])) else np.nan
+        vals = err[m][~np.isnan(err[m])]
+        return float(vals.max()) if vals.size else np.nan
 
     def bracket(values, v):
         i = int(np.clip(np.searchsorted(values, v), 1, max(len(values) - 1, 1)))
@@ -152,9 +156,11 @@ def model_error(
         return float("nan"), "no measurement near this point"
     # missing corners: fall back to the worst measured neighbour (conservative)
     corners = np.where(np.isnan(corners), np.nanmax(corners), corners)
-    value = (1 - te) * ((1 - tr) * corners[0, 0] + tr * corners[0, 1]) + te * (
-        (1 - tr) * corners[1, 0] + tr * corners[1, 1]
-    )
+    weights = np.array([[(1 - te) * (1 - tr), (1 - te) * tr], [te * (1 - tr), te * tr]])
+    if np.any(np.isinf(corners) & (weights > 0)):
+        value = np.inf
+    else:
+        value = float(np.sum(weights * np.where(weights > 0, corners, 0.0)))
     how = "interpolated from the measured map (worst of the S1/S2-like surfaces)"
     return float(value), "; ".join([how, *note])
 
@@ -206,7 +212,10 @@ def select_model(
         err, how = model_error(
             method, reduced_modulus_value=E, relative_humidity=relative_humidity, quantity=quantity
         )
-        notes.append(f"{method}: {err:.1%}" if np.isfinite(err) else f"{method}: unmeasured")
+        if np.isinf(err):
+            notes.append(f"{method}: unbounded (no equilibrium on the measurement grid)")
+        else:
+            notes.append(f"{method}: {err:.1%}" if np.isfinite(err) else f"{method}: unmeasured")
         if np.isfinite(err) and err <= tolerance:
             return method, (
                 f"measured {quantity} error of {method} vs BEM {err:.1%} <= tolerance "
@@ -221,6 +230,18 @@ def select_model(
 _WARNED: set = set()
 
 
+def _external_stacklevel() -> int:
+    """``stacklevel`` of the first caller frame that is not inside the roughstick package."""
+    import sys
+
+    frame = sys._getframe(1)
+    level = 1
+    while frame is not None and frame.f_globals.get("__name__", "").split(".")[0] == "roughstick":
+        frame = frame.f_back
+        level += 1
+    return level
+
+
 def warn_if_outside_validity(
     *,
     relative_humidity,
@@ -228,7 +249,7 @@ def warn_if_outside_validity(
     material2: Material | None = None,
     reduced_modulus_value: float | None = None,
     bound: float = VALIDITY_BOUND,
-    stacklevel: int = 2,
+    stacklevel: int | None = None,
 ) -> bool:
     """Warn (once per process) if the modified DMT's measured error exceeds ``bound`` here.
 
@@ -240,8 +261,9 @@ def warn_if_outside_validity(
         As in :func:`select_model`.
     bound : float, default 0.10
         Relative error of the apparent adhesive energy taken as the validity limit.
-    stacklevel : int
-        Passed to :func:`warnings.warn`.
+    stacklevel : int, optional
+        Passed to :func:`warnings.warn`; default: the first frame outside roughstick, so the
+        warning points at the user's call.
 
     Returns
     -------
@@ -255,7 +277,7 @@ def warn_if_outside_validity(
         if not 0 < r < 1:
             continue
         err, how = model_error("modified_dmt", reduced_modulus_value=E, relative_humidity=float(r))
-        if np.isfinite(err) and err > worst:
+        if not np.isnan(err) and err > worst:
             worst, where = err, (float(r), how)
     if worst <= bound or where is None:
         return False
@@ -265,11 +287,12 @@ def warn_if_outside_validity(
         warnings.warn(
             f"the modified DMT (Eq. 16) is outside its measured validity regime here: its "
             f"apparent adhesive energy differs from the boundary-element reference by "
-            f"{worst:.0%} (> {bound:.0%}) at E* = {E / 1e9:.3g} GPa, RH = {where[0]:.2f} "
+            f"{'an unbounded amount' if np.isinf(worst) else format(worst, '.0%')} "
+            f"(> {bound:.0%}) at E* = {E / 1e9:.3g} GPa, RH = {where[0]:.2f} "
             f"({where[1]}). Use model='bem' (pip install roughstick[bem]) or model='auto'; see "
             "docs/accuracy.md. This warning is shown once per process.",
             ValidityWarning,
-            stacklevel=stacklevel,
+            stacklevel=_external_stacklevel() if stacklevel is None else stacklevel,
         )
     return True
 
@@ -295,9 +318,7 @@ def _check_modified_dmt_call(*, relative_humidity, material=POLYSILICON, materia
     rhs = rhs[(rhs > 0) & (rhs < 1)]
     if rhs.size == 0:
         return False
-    return warn_if_outside_validity(
-        relative_humidity=rhs, material=material, material2=material2, stacklevel=4
-    )
+    return warn_if_outside_validity(relative_humidity=rhs, material=material, material2=material2)
 
 
 def _dispatch_model(

@@ -28,6 +28,7 @@ def synthetic_table():
         "error_adhesive_energy": err,
         "error_pull_off_pressure": err / 2,
         "error_equilibrium_distance": err / 4,
+        "converged": np.ones(8),
     }
 
 
@@ -158,3 +159,19 @@ def test_auto_dispatch_runs_bem_when_nothing_cheaper_fits(fake_map):
     )
     assert ds.attrs["contact_model"] == "bem"
     assert "auto -> bem" in ds.attrs["model_selection"]
+
+
+def test_unconverged_measurements_count_as_unbounded(monkeypatch):
+    table = synthetic_table()
+    table["converged"] = np.where((table["reduced_modulus"] < 2e9) & (table["rh"] < 0.5), 0, 1)
+    monkeypatch.setattr(validity, "validity_map", lambda: table)
+    monkeypatch.setattr(validity, "_WARNED", set())
+    e, _ = rs.model_error("modified_dmt", reduced_modulus_value=1e9, relative_humidity=0.3)
+    assert np.isinf(e)
+    e, _ = rs.model_error("modified_dmt", reduced_modulus_value=1e9, relative_humidity=0.9)
+    assert e == pytest.approx(0.5)  # zero weight on the unconverged corner
+    model, reason = rs.select_model(tolerance=0.2, relative_humidity=0.3, reduced_modulus_value=1e9)
+    assert model == "bem" and "unbounded" in reason
+    with pytest.warns(rs.ValidityWarning, match="unbounded") as rec:
+        rs.warn_if_outside_validity(relative_humidity=0.3, reduced_modulus_value=1e9)
+    assert rec[0].filename == __file__  # points at the caller, not at roughstick
