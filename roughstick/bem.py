@@ -10,6 +10,7 @@ Tamaas is an optional dependency: ``pip install roughstick[bem]``.
 
 from __future__ import annotations
 
+import threading
 import time
 
 import numpy as np
@@ -152,7 +153,19 @@ class _Solver:
         )
 
 
-def _bem_kernel(
+#: Tamaas keeps global state (FFT plans, its own thread pool) and crashed the interpreter when two
+#: dask threads solved at once; its solver is serial C++ anyway, so maps are solved one at a time
+#: per process (use dask *processes* or a distributed cluster to run BEM maps in parallel).
+_TAMAAS_LOCK = threading.Lock()
+
+
+def _bem_kernel(*args, **kwargs):
+    """:func:`_bem_kernel_unlocked` under the process-wide Tamaas lock."""
+    with _TAMAAS_LOCK:
+        return _bem_kernel_unlocked(*args, **kwargs)
+
+
+def _bem_kernel_unlocked(
     z,
     *,
     spacing,
