@@ -273,10 +273,14 @@ def rough_contact_curves(
     adsorbed_layer : {"paper", "none"} or callable
         Adsorbed-water model of :func:`roughstick.water_height` (0.9 nm per surface above 65 %
         RH by default).
-    model : {"modified_dmt", "gw"}
+    model : {"modified_dmt", "gw", "bem", "auto"}
         ``"modified_dmt"`` (this function, Eq. 16); ``"gw"`` forwards to
         :func:`roughstick.greenwood_williamson.gw_contact_curves` with the moments of the map
-        (Eq. 14), on the same distances; ``model_kwargs`` go to it.
+        (Eq. 14), on the same distances; ``model_kwargs`` go to it. ``"bem"``: the
+        boundary-element reference :func:`roughstick.bem_contact_curves` (Tamaas extra).
+        ``"auto"``: the cheapest model whose measured error meets ``error_tolerance`` (a model
+        kwarg, default 0.10), by :func:`roughstick.select_model`; the choice is recorded in
+        ``attrs["model_selection"]``. See docs/accuracy.md.
     connectivity : {4, 8}, default 4
         Pixels of one asperity share an edge (4) or an edge or a corner (8). 4 is the paper's
         flooding on a square grid and scipy's default.
@@ -336,9 +340,19 @@ def rough_contact_curves(
     # --- HOOK: model dispatch to the BEM reference (bem.py) / validity-based choice -------------
     # The BEM helper wires model="bem" and model="auto" here through roughstick.validity.
     if model in ("bem", "auto"):
-        raise NotImplementedError(
-            f"model={model!r} is not available yet (BEM via roughstick.bem / roughstick.validity); "
-            "use model='modified_dmt' or model='gw'."
+        from .validity import _dispatch_model
+
+        return _dispatch_model(
+            rough_contact_curves, model, height, relative_humidity=relative_humidity,
+            distance=distance, material=material, material2=material2,
+            adsorbed_layer=adsorbed_layer, connectivity=connectivity, periodic=periodic,
+            n_distance=n_distance, **model_kwargs,
+        )
+    if model == "modified_dmt":  # once-per-process ValidityWarning outside the measured regime
+        from .validity import _check_modified_dmt_call
+
+        _check_modified_dmt_call(
+            relative_humidity=relative_humidity, material=material, material2=material2
         )
     # --- end HOOK -------------------------------------------------------------------------------
     if model == "modified_dmt" and model_kwargs:

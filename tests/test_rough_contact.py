@@ -170,8 +170,19 @@ def test_bad_maps():
     stack = xr.concat([s1_like((8, 8))] * 2, "realization")
     with pytest.raises(ValueError, match="distance= explicitly"):
         rs.rough_contact_curves(stack, relative_humidity=0.5)
-    with pytest.raises(NotImplementedError, match="bem"):
-        rs.rough_contact_curves(s1_like((8, 8)), relative_humidity=0.5, model="bem")
+    with pytest.raises(ValueError, match="model"):
+        rs.rough_contact_curves(s1_like((8, 8)), relative_humidity=0.5, model="no_such_model")
+
+
+def test_model_auto_records_its_choice_and_runs_the_chosen_model():
+    # RH 0.9 on poly-Si: the measured validity map puts the modified DMT within 10 % of the BEM
+    # there (docs/accuracy.md), so "auto" must pick it and give exactly its curves.
+    h = s1_like((24, 24))
+    d = np.linspace(float(h.max()) - 2e-9, float(h.max()) + 3e-9, 11)
+    auto = rs.rough_contact_curves(h, relative_humidity=0.9, distance=d, model="auto")
+    assert "modified_dmt" in auto.attrs["model_selection"]
+    mdmt = rs.rough_contact_curves(h, relative_humidity=0.9, distance=d)
+    xr.testing.assert_allclose(auto.pressure, mdmt.pressure)
 
 
 def test_nanometre_input_is_converted():
