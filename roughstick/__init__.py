@@ -1,6 +1,7 @@
 """roughstick: uncertainty of humid stiction between rough, hard surfaces.
 
-Implements Wu, Nguyen, Golinval, Noels et al., "A probabilistic model for predicting the
+Implements Hoang, Wu, Paquay, Obreja, Voicu, Müller, Golinval and Noels (J. Comput. Appl. Math.
+289 (2015) 173-195, doi:10.1016/j.cam.2015.02.022), "A probabilistic model for predicting the
 uncertainties of the humid stiction phenomenon on hard materials" as an xarray toolkit.
 All values are SI; see :mod:`roughstick.conventions`.
 """

@@ -23,7 +23,7 @@ References
 ----------
 Wu, L., Nguyen, V.-D., Golinval, J.-C., Noels, L. et al., "A probabilistic model for predicting
 the uncertainties of the humid stiction phenomenon on hard materials", J. Comput. Appl. Math.
-(2015), doi:10.1016/j.cam.2015.02.048.
+(2015), doi:10.1016/j.cam.2015.02.022.
 
 de Boer, M. P., Clews, P. J., Smith, B. K., Michalske, T. A., "Adhesion of polysilicon
 microbeams in controlled humidity ambients", MRS Proc. 518 (1998), doi:10.1557/PROC-518-131.
@@ -68,7 +68,7 @@ __all__ = [
 ]
 
 REFERENCES = (
-    "Wu et al., J. Comput. Appl. Math. (2015) doi:10.1016/j.cam.2015.02.048 (Eq. 36, Table 4, "
+    "Hoang, Wu et al., J. Comput. Appl. Math. (2015) doi:10.1016/j.cam.2015.02.022 (Eq. 36, Table 4, "
     "Eq. 37); de Boer et al., MRS Proc. 518 (1998) doi:10.1557/PROC-518-131 (cantilever tests); "
     "Mastrangelo and Hsu, JMEMS 2 (1993) doi:10.1109/84.232594 (S-shaped beam energy)"
 )

@@ -11,9 +11,16 @@ import datetime as _dt
 
 import xarray as xr
 
-__all__ = ["ATTRS", "DIMS", "CONVENTIONS", "set_attrs", "append_history", "dataset_attrs"]
+__all__ = ["ATTRS", "DIMS", "CONVENTIONS", "PAPER_REFERENCE", "set_attrs", "append_history", "dataset_attrs"]
 
 CONVENTIONS = "CF-1.10"
+
+#: The paper this package implements (checked against the journal record).
+PAPER_REFERENCE = (
+    "T.-V. Hoang, L. Wu, S. Paquay, A.C. Obreja, R.C. Voicu, R. Müller, J.-C. Golinval, L. Noels, "
+    "A probabilistic model for predicting the uncertainties of the humid stiction phenomenon on "
+    "hard materials, J. Comput. Appl. Math. 289 (2015) 173-195, doi:10.1016/j.cam.2015.02.022"
+)
 
 #: Short dimension names.
 DIMS = {

@@ -47,7 +47,7 @@ __all__ = [
 ]
 
 REFERENCES = (
-    "Wu et al., J. Comput. Appl. Math. (2015) doi:10.1016/j.cam.2014.08.024 (sections 4.2-4.3, "
+    "Hoang, Wu et al., J. Comput. Appl. Math. (2015) doi:10.1016/j.cam.2015.02.022 (sections 4.2-4.3, "
     "Eqs. 13, 16-23, 33-34)"
 )
 _CURVE_DIMS = ("realization", "rh", "distance")
@@ -871,7 +871,7 @@ def run_ensemble(
 
     References
     ----------
-    Wu et al., J. Comput. Appl. Math. (2015), doi:10.1016/j.cam.2014.08.024, §4.3.
+    Hoang, Wu et al., J. Comput. Appl. Math. (2015), doi:10.1016/j.cam.2015.02.022, §4.3.
     """
     from . import materials
 

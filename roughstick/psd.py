@@ -47,7 +47,7 @@ __all__ = [
 
 NAYAK_REFERENCE = "Nayak (1971) https://doi.org/10.1115/1.3451608"
 PAPER_REFERENCE = (
-    "Wu, Nguyen, Golinval, Noels et al., probabilistic model for humid stiction (paper Eqs. 24-37)"
+    "Hoang, Wu, Paquay, Obreja, Voicu, Müller, Golinval and Noels, probabilistic model for humid stiction (paper Eqs. 24-37)"
 )
 
 # --------------------------------------------------------------------------------------------

@@ -31,7 +31,7 @@ __all__ = ["rough_contact_curves", "contact_distance_grid"]
 REFERENCES = (
     "Wu L., Nguyen V.-D., Golinval J.-C., Noels L. et al., A probabilistic model for predicting the "
     "uncertainties of the humid stiction phenomenon on hard materials, J. Comput. Appl. Math. "
-    "(2015), doi:10.1016/j.cam.2015.02.048; Hertz contact: Johnson K.L., Contact Mechanics (1985), "
+    "(2015), doi:10.1016/j.cam.2015.02.022; Hertz contact: Johnson K.L., Contact Mechanics (1985), "
     "doi:10.1017/CBO9781139171731"
 )
 
@@ -326,7 +326,7 @@ def rough_contact_curves(
 
     References
     ----------
-    Wu et al. (2015), doi:10.1016/j.cam.2015.02.048, §3.3 (Eqs. 16-23).
+    Hoang, Wu et al. (2015), doi:10.1016/j.cam.2015.02.022, §3.3 (Eqs. 16-23).
 
     Examples
     --------

@@ -163,7 +163,7 @@ def test_probability_counts_and_ecdf_of_crack_length():
     assert p.stiction_probability.attrs["units"] == "1"
     assert p.beam_length.attrs["units"] == "m"
     assert p.attrs["confidence_level"] == 0.95 and p.attrs["interval_method"] == "wilson"
-    assert "10.1016/j.cam.2015.02.048" in p.attrs["references"]
+    assert "10.1016/j.cam.2015.02.022" in p.attrs["references"]
 
 
 def test_probability_monotone_in_beam_length():

@@ -42,7 +42,7 @@ _REFERENCES = {
     "doi:10.1016/0021-9797(75)90018-1",
     "maugis": "Maugis (1992) J. Colloid Interface Sci. 150, 243, doi:10.1016/0021-9797(92)90285-T; "
     "Kim, McMeeking, Johnson (1998) J. Mech. Phys. Solids 46, 243, doi:10.1016/S0022-5096(97)00070-7",
-    "modified_dmt": "Wu, Nguyen, Golinval, Noels et al., humid stiction of rough poly-silicon, Eqs. 8-11",
+    "modified_dmt": "Hoang, Wu, Paquay, Obreja, Voicu, Müller, Golinval and Noels, humid stiction of rough poly-silicon, Eqs. 8-11",
 }
 
 
