@@ -137,10 +137,20 @@ def plot_mdmt_vs_gw(curves: dict, gw: xr.Dataset | None = None, *, rh=(0.3, 0.5,
             ax.plot(s.distance * 1e9, s.pressure * 1e-6, "k--", label="GW (sample moments)")
             from roughstick.meniscus import laplace_pressure
 
-            ax.axhline(float(laplace_pressure(float(s.rh))) * 1e-6, color="r", lw=0.6, ls=":",
-                       label=r"$\Delta P$")
+            # Draw Delta P only where it does not squash the curves: at low RH it is 10-100x
+            # the adhesive pressures (that gap *is* the finding), so it goes into the title.
+            data_lim = ax.get_ylim()
+            dp = float(laplace_pressure(float(s.rh))) * 1e-6
+            span = data_lim[1] - data_lim[0]
+            if dp >= data_lim[0] - 0.5 * span:
+                ax.axhline(dp, color="r", lw=0.6, ls=":", label=r"$\Delta P$")
+            else:
+                ax.set_ylim(*data_lim)
         ax.axhline(0, color="0.6", lw=0.6)
-        ax.set_title(f"RH {100 * r:.0f} %", fontsize=9)
+        title = f"RH {100 * r:.0f} %"
+        if gw is not None:
+            title += f" ($\\Delta P$ = {dp:.1f} MPa)"
+        ax.set_title(title, fontsize=9)
         ax.set_xlabel("distance d [nm]")
     np.atleast_1d(axes)[0].set_ylabel("pressure [MPa]")
     np.atleast_1d(axes)[0].legend(fontsize=6)
