@@ -794,7 +794,12 @@ def submap_psd(
     h = validate_height(height)
     tiles = _split(h, n)
     s = power_spectrum(tiles, window=window)
-    lead = list(h.dims[:-2]) if average_dims is None else list(average_dims)
+    if average_dims is None:
+        lead = list(h.dims[:-2])
+    elif isinstance(average_dims, str):
+        lead = [average_dims]
+    else:
+        lead = list(average_dims)
     out = average_psd(s, ["submap", *lead])
     out.attrs["n_submaps"] = n
     return out

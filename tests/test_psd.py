@@ -431,3 +431,15 @@ def test_isotropic_to_2d_converts_units():
     s = rs.isotropic_to_2d(iso, qx=[0.0, 1e8], qy=[0.0])
     np.testing.assert_allclose(s.values, [[1e-32, 1e-34]], rtol=1e-12)
     assert s.attrs["units"] == "m4"
+
+
+def test_submap_psd_accepts_a_single_dim_name():
+    # a plain string names one dimension (it used to be split into characters)
+    rng = np.random.default_rng(3)
+    h = xr.concat(
+        [rs.testing.make_topography(rng.normal(size=(32, 32)) * 1e-9, spacing=5e-9) for _ in range(2)], "map"
+    )
+    by_name = rs.submap_psd(h, n=4, average_dims="map")
+    by_list = rs.submap_psd(h, n=4, average_dims=["map"])
+    xr.testing.assert_identical(by_name, by_list)
+    assert by_name.attrs["n_averaged"] == 8
