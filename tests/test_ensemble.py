@@ -309,7 +309,6 @@ SCRIPT = textwrap.dedent(
 )
 
 
-@pytest.mark.slow
 def test_killed_subprocess_resumes_bit_identical(tmp_path):
     folder = tmp_path / "run"
     script = tmp_path / "run.py"
@@ -338,7 +337,6 @@ def test_killed_subprocess_resumes_bit_identical(tmp_path):
     assert_same_values(uninterrupted, resumed)
 
 
-@pytest.mark.slow
 def test_local_cluster_processes_bit_identical(tmp_path):
     """The real pipeline on a LocalCluster of two worker processes = threads = other chunking."""
     distributed = pytest.importorskip("distributed")

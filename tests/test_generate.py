@@ -430,7 +430,6 @@ def test_callable_may_return_a_dataarray():
         generate_surfaces(lambda q: np.ones(3), n=1, shape=8, spacing=5e-9)
 
 
-@pytest.mark.slow
 def test_distributed_cluster_gives_the_same_surfaces():
     """Two worker processes of a dask.distributed LocalCluster reproduce the serial values."""
     distributed = pytest.importorskip("distributed")
