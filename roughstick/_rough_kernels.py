@@ -35,6 +35,8 @@ import math
 import numba as nb
 import numpy as np
 
+from .conventions import CURVE_VARIABLES
+
 __all__: list[str] = []
 
 # Levenberg-Marquardt controls of the sphere fit (shared with nothing: the reference uses scipy).
@@ -736,15 +738,7 @@ def prepare_heights(z):
 
 
 #: names and order of the kernel's outputs
-OUTPUTS = (
-    "pressure",
-    "repulsive_pressure",
-    "wet_fraction",
-    "contact_fraction",
-    "n_contacts",
-    "fit_error",
-    "max_interference",
-)
+OUTPUTS = CURVE_VARIABLES
 
 
 def curves_kernel(

@@ -19,7 +19,14 @@ from scipy import ndimage
 from scipy.special import erfc
 
 from ._units import require
-from .conventions import ATTRS, append_history, dataset_attrs, set_attrs, set_coord_attrs
+from .conventions import (
+    ATTRS,
+    CURVE_VARIABLES,
+    append_history,
+    dataset_attrs,
+    set_attrs,
+    set_coord_attrs,
+)
 from .materials import POLYSILICON, Material, reduced_modulus
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
@@ -35,6 +42,8 @@ _REFERENCES = (
 
 #: Internal length unit handed to Tamaas (nm): keeps heights and gaps of order one.
 _LENGTH_UNIT = 1e-9
+#: what the solver loop fills per (rh, distance); fit_error is NaN by construction (no fits)
+_BEM_VARS = (*(v for v in CURVE_VARIABLES if v != "fit_error"), "distance_offset", "solver_residual")
 
 
 def _import_tamaas():
@@ -213,16 +222,7 @@ def _bem_kernel_unlocked(
     nr, nd = len(sigma0s), len(dn)
     out = {
         k: np.full((nr, nd), np.nan)
-        for k in (
-            "pressure",
-            "repulsive_pressure",
-            "wet_fraction",
-            "contact_fraction",
-            "n_contacts",
-            "max_interference",
-            "distance_offset",
-            "solver_residual",
-        )
+        for k in _BEM_VARS
     }
     order = np.argsort(dn) if path == "retract" else np.argsort(dn)[::-1]
     contact_tol = 1e-9
@@ -567,19 +567,7 @@ def bem_contact_curves(
         key = {"distance_offset": "distance_offset", "solver_residual": "solver_residual"}.get(n, n)
         ds[n] = set_attrs(r, key)
     ds["fit_error"] = set_attrs(xr.full_like(ds["pressure"], np.nan), "fit_error")
-    ds = ds[
-        [
-            "pressure",
-            "repulsive_pressure",
-            "wet_fraction",
-            "contact_fraction",
-            "n_contacts",
-            "fit_error",
-            "max_interference",
-            "distance_offset",
-            "solver_residual",
-        ]
-    ]
+    ds = ds[[*CURVE_VARIABLES, "distance_offset", "solver_residual"]]
     ds = ds.assign_coords(
         water_height=("rh", hw, ATTRS["water_height"]),
         laplace_pressure=("rh", dp, ATTRS["laplace_pressure"]),

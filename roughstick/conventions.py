@@ -11,7 +11,7 @@ import datetime as _dt
 
 import xarray as xr
 
-__all__ = ["ATTRS", "DIMS", "CONVENTIONS", "PAPER_REFERENCE", "set_attrs", "append_history", "dataset_attrs"]
+__all__ = ["ATTRS", "DIMS", "CONVENTIONS", "PAPER_REFERENCE", "CURVE_VARIABLES", "set_attrs", "append_history", "dataset_attrs"]
 
 CONVENTIONS = "CF-1.10"
 
@@ -20,6 +20,19 @@ PAPER_REFERENCE = (
     "T.-V. Hoang, L. Wu, S. Paquay, A.C. Obreja, R.C. Voicu, R. Müller, J.-C. Golinval, L. Noels, "
     "A probabilistic model for predicting the uncertainties of the humid stiction phenomenon on "
     "hard materials, J. Comput. Appl. Math. 289 (2015) 173-195, doi:10.1016/j.cam.2015.02.022"
+)
+
+#: Variables of every force-distance curve Dataset over ``(..., rh, distance)``, in order: the
+#: modified DMT (rough_contact), Greenwood-Williamson (``fit_error`` NaN) and the BEM reference
+#: (which adds ``distance_offset`` and ``solver_residual``) all return them (docs/architecture.md).
+CURVE_VARIABLES = (
+    "pressure",
+    "repulsive_pressure",
+    "wet_fraction",
+    "contact_fraction",
+    "n_contacts",
+    "fit_error",
+    "max_interference",
 )
 
 #: Short dimension names.

@@ -45,7 +45,7 @@ from scipy import interpolate, special
 
 from ._dask import is_lazy
 from ._units import require
-from .conventions import append_history, dataset_attrs, set_attrs
+from .conventions import CURVE_VARIABLES, append_history, dataset_attrs, set_attrs
 from .materials import POLYSILICON, Material, hertz_modulus
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
@@ -69,14 +69,7 @@ _XI_TOP = 10.0
 _XI_BOTTOM = -10.0
 
 # order of the variables in the kernel output
-_VARS = (
-    "pressure",
-    "repulsive_pressure",
-    "wet_fraction",
-    "contact_fraction",
-    "n_contacts",
-    "max_interference",
-)
+_VARS = tuple(v for v in CURVE_VARIABLES if v != "fit_error")
 
 # --------------------------------------------------------------------------------------------
 # moments: units and validation
