@@ -716,6 +716,8 @@ def prepare_heights(z):
             "the height map has no finite pixel (all NaN/inf): nothing to put in contact. "
             "Check the input or fill the dropouts first."
         )
+    if nvalid == z.size:  # no masked copy (same mean bit for bit: the same values in the same order)
+        return np.ascontiguousarray(z - np.ascontiguousarray(z).ravel().mean()), nvalid
     mean = z[valid].mean()
     out = np.where(valid, z - mean, np.nan)
     return np.ascontiguousarray(out), nvalid

@@ -117,3 +117,19 @@ def test_warm_start_hard_cases_stay_finite():
     warm = curves_kernel(z, d, HW, DP, **kw, warm_start=True)
     assert np.all(np.isfinite(warm[0]))
     np.testing.assert_allclose(warm[0], cold[0], rtol=1e-8, atol=0)
+
+
+@pytest.mark.parametrize("order", ["C", "F"])
+def test_prepare_heights_fast_path_equals_masked_mean(order):
+    # all-valid maps skip the masked copy; the mean must be the same bits as over the mask
+    from roughstick._rough_kernels import prepare_heights
+
+    rng = np.random.default_rng(7)
+    z = np.asarray(rng.normal(1e-7, 3e-9, size=(37, 51)), order=order)
+    out, n = prepare_heights(z)
+    assert n == z.size and out.flags.c_contiguous
+    np.testing.assert_array_equal(out, z - z[np.isfinite(z)].mean())
+    z[3, 4] = np.nan
+    out, n = prepare_heights(z)
+    assert n == z.size - 1 and np.isnan(out[3, 4])
+    np.testing.assert_array_equal(out[np.isfinite(z)], z[np.isfinite(z)] - z[np.isfinite(z)].mean())
