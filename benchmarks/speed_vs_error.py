@@ -479,7 +479,9 @@ def main(argv=None):
         f"Written by `python benchmarks/speed_vs_error.py {' '.join(sys.argv[1:])}` on {started}, "
         f"{machine}. Do not edit by hand.",
         "",
-        "## Summary per method and setting (poly-Si, S1/S2-like 256², RH 30/50/70/90 %)",
+        "## Summary per method and setting (poly-Si, S1/S2-like "
+        + " and ".join(f"{n}²" for n in sorted({int(r["pixels"]) for r in rows}))
+        + " pooled, RH 30/50/70/90 %)",
         "",
         method_table(rows),
         "",
