@@ -171,6 +171,21 @@ def fit_workspace():
     return np.empty((_WS_ROWS, 5)), np.empty(3, np.int64), np.empty(3, np.bool_)
 
 
+
+@nb.njit(cache=True, nogil=True)
+def _search_box(xs, ys, hx, hy, ws):
+    """Bounds of (x0, y0, t) for the fit: the centre within the footprint's bounding box grown by
+    half a pixel (Eq. 21 asks for a centre inside the footprint), the cap height t in [0, 1]."""
+    lo = ws[_WS_LO, :3]
+    hi = ws[_WS_HI, :3]
+    lo[0] = xs.min() - hx
+    lo[1] = ys.min() - hy
+    lo[2] = 0.0
+    hi[0] = xs.max() + hx
+    hi[1] = ys.max() + hy
+    hi[2] = 1.0
+    return lo, hi
+
 @nb.njit(cache=True, nogil=True)
 def _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free):  # pragma: no cover - compiled
     """Constrained sphere fit of Eq. 21 on dimensionless data (lengths in units of a_f).
@@ -201,14 +216,7 @@ def _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free):  # pragma: no cover - compile
     H = 2.0 * H / n
     if H <= 0.0:
         return 0.0, 0.0, 0.0, 0.0  # plateau exactly at the contact plane: t = 0 fits exactly
-    lo = ws[_WS_LO, :3]
-    hi = ws[_WS_HI, :3]
-    lo[0] = xs.min() - hx
-    lo[1] = ys.min() - hy
-    lo[2] = 0.0
-    hi[0] = xs.max() + hx
-    hi[1] = ys.max() + hy
-    hi[2] = 1.0
+    lo, hi = _search_box(xs, ys, hx, hy, ws)
     t, cost, x0, y0, _c = _lm(xs, ys, hs, 0.0, 0.0, min(H, _T_MAX_START), lo, hi, ws, iw, free)
     if n >= _PARABOLOID_MIN_PIXELS:
         ok, px, py, pt = _paraboloid_start(xs, ys, hs, ws[_WS_PARA:_WS_PARA + 4, :], ws[_WS_SOL, :4])
@@ -239,14 +247,7 @@ def _fit_sphere_warm(xs, ys, hs, hx, hy, ws, iw, free, x0, y0, t0):  # pragma: n
         H += v
     if H <= 0.0:
         return _fit_sphere(xs, ys, hs, hx, hy, ws, iw, free)
-    lo = ws[_WS_LO, :3]
-    hi = ws[_WS_HI, :3]
-    lo[0] = xs.min() - hx
-    lo[1] = ys.min() - hy
-    lo[2] = 0.0
-    hi[0] = xs.max() + hx
-    hi[1] = ys.max() + hy
-    hi[2] = 1.0
+    lo, hi = _search_box(xs, ys, hx, hy, ws)
     t, cost, x, y, conv = _lm(xs, ys, hs, x0, y0, t0, lo, hi, ws, iw, free)
     if conv:
         return t, cost, x, y
