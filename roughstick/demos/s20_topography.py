@@ -58,6 +58,17 @@ def _write(ds: xr.Dataset, path: pathlib.Path) -> None:
         ds.to_netcdf(path, engine="netcdf4")
 
 
+
+def _write_csv(path, rows):
+    """Write a list of dicts as CSV, floats to 4 significant digits."""
+    import csv
+
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in r.items()})
+
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     """Compute the statistics and PSD figures; return the files written."""
     import matplotlib.pyplot as plt
@@ -86,14 +97,8 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
                 "xi_max_rad_per_um": q * 1e-6,
                 "eq32_scheme2": eq32[4], "eq32_scheme3": eq32[16],
             })
-    import csv
-
     table = out / "topography_statistics.csv"
-    with open(table, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in r.items()})
+    _write_csv(table, rows)
     written.append(table)
     ds = xr.concat([summaries[s].drop_vars(["psd"]) for s in ("S1", "S2")], dim="sample",
                    coords="minimal", compat="override", join="outer")
@@ -127,11 +132,7 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     trows.append({"N_um-2": "paper (printed)", "mu0_nm2": 12.53, "mu2": 0.0035, "mu4_um-2": 9.1,
                   "xi0_rad_per_um": 19.4, "s0_nm4": 6.46e3, "s1_nm4": 6.29e-3})
     t4 = out / "table4_self_affine.csv"
-    with open(t4, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(trows[0]))
-        w.writeheader()
-        for r in trows:
-            w.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in r.items()})
+    _write_csv(t4, trows)
     written.append(t4)
     fig, ax = plt.subplots(figsize=(6, 4.5))
     plot_self_affine_psd(fits, measured={f"{s} (scheme 3)": schemes[s][16] for s in ("S1", "S2")},
