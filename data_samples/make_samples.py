@@ -29,7 +29,7 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
-from roughstick.conventions import ATTRS, append_history, dataset_attrs
+from roughstick._core.conventions import ATTRS, append_history, dataset_attrs
 
 HERE = pathlib.Path(__file__).resolve().parent
 

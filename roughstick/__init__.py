@@ -3,23 +3,18 @@
 Implements Hoang, Wu, Paquay, Obreja, Voicu, Müller, Golinval and Noels (J. Comput. Appl. Math.
 289 (2015) 173-195, doi:10.1016/j.cam.2015.02.022), "A probabilistic model for predicting the
 uncertainties of the humid stiction phenomenon on hard materials" as an xarray toolkit.
-All values are SI; see :mod:`roughstick.conventions`.
+All values are SI; see :mod:`roughstick._core.conventions`.
 """
-
-__version__ = "0.1.0"
 
 from . import (  # noqa: E402
     accessor,  # noqa: E402  registers the .rough accessor
     adhesion,
     bem,
     cantilever,
-    constants,
     contact,
-    conventions,
     ensemble,
     generate,
     greenwood_williamson,
-    materials,
     meniscus,
     psd,
     rough_contact,
@@ -27,6 +22,10 @@ from . import (  # noqa: E402
     topography,
     validity,
 )
+from ._core import constants, conventions, materials
+from ._core.materials import *  # noqa: F403
+from ._core.units import UnitsError
+from ._core.version import __version__
 from .adhesion import *  # noqa: F403
 from .bem import *  # noqa: F403
 from .cantilever import *  # noqa: F403
@@ -38,7 +37,6 @@ from .io import afm as _afm  # noqa: E402
 from .io import netcdf as _netcdf
 from .io.afm import *  # noqa: F403
 from .io.netcdf import *  # noqa: F403
-from .materials import *  # noqa: F403
 from .meniscus import *  # noqa: F403
 from .psd import *  # noqa: F403
 from .rough_contact import *  # noqa: F403

@@ -80,7 +80,7 @@ _NUM = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$"
 def parse_quantity(value, kind: str, *, name: str, power: int = 1) -> float:
     """A number (SI) or a string ``"<number> <unit>"`` → SI float.
 
-    ``kind`` is a :mod:`roughstick._units` kind (``length``, ``wavevector`` ...); ``power`` the
+    ``kind`` is a :mod:`roughstick._core.units` kind (``length``, ``wavevector`` ...); ``power`` the
     exponent of a length unit, so ``"15.7 nm2"`` with ``power=2`` gives 1.57e-17 (m2).
 
     Examples
@@ -93,7 +93,7 @@ def parse_quantity(value, kind: str, *, name: str, power: int = 1) -> float:
     >>> parse_quantity("289 rad/um", "wavevector", name="qmax")
     289000000.0
     """
-    from ._units import _TABLE
+    from ._core.units import _TABLE
 
     if isinstance(value, bool):
         raise ValueError(f"{name} must be a number or a string with units, got {value!r}.")

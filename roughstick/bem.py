@@ -18,8 +18,7 @@ import xarray as xr
 from scipy import ndimage
 from scipy.special import erfc
 
-from ._units import require
-from .conventions import (
+from ._core.conventions import (
     ATTRS,
     CURVE_VARIABLES,
     append_history,
@@ -27,7 +26,8 @@ from .conventions import (
     set_attrs,
     set_coord_attrs,
 )
-from .materials import POLYSILICON, Material, reduced_modulus
+from ._core.materials import POLYSILICON, Material, reduced_modulus
+from ._core.units import require
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = ["bem_contact_curves", "periodic_offset_coefficient"]
@@ -466,7 +466,7 @@ def bem_contact_curves(
                 "map of at least 4 x 4 pixels."
             )
     if height.chunks is not None:
-        from ._dask import check_core_not_chunked
+        from ._core.dask import check_core_not_chunked
 
         check_core_not_chunked(height, ("y", "x"))
     spacing = []

@@ -41,9 +41,9 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from . import constants as C
-from ._units import as_si, require
-from .conventions import append_history, dataset_attrs, set_attrs
+from ._core import constants as C
+from ._core.conventions import append_history, dataset_attrs, set_attrs
+from ._core.units import as_si, require
 
 __all__ = [
     "Cantilever",
@@ -639,7 +639,7 @@ def crossing_humidity(probability: xr.Dataset | xr.DataArray, *, level: float = 
         rh = np.asarray(p["rh"].values, dtype=float)
         if rh.size > 1 and np.any(np.diff(rh) <= 0):
             raise ValueError("the 'rh' coordinate must be strictly increasing; sort first: .sortby('rh').")
-        from ._dask import check_core_not_chunked
+        from ._core.dask import check_core_not_chunked
 
         check_core_not_chunked(p, ["rh"])
         da = xr.apply_ufunc(

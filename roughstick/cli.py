@@ -11,7 +11,8 @@ import importlib
 import pkgutil
 import sys
 
-from . import __version__, _cli
+from . import _cli
+from ._core.version import __version__
 
 __all__ = ["main", "build_parser"]
 

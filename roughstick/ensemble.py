@@ -3,7 +3,7 @@
 :func:`run_ensemble` builds the lazy pipeline ``generate_surfaces`` → ``rough_contact_curves`` →
 ``adhesion_summary`` as one Dataset over ``(realization, rh, distance)`` and ``(realization, rh)``,
 chunked over realization and humidity; nothing is computed until asked. Realization ``k`` is
-always generated from the same ``SeedSequence`` child (:func:`roughstick._dask.realization_rng`),
+always generated from the same ``SeedSequence`` child (:func:`roughstick._core.dask.realization_rng`),
 so results do not depend on the chunking, the scheduler or the number of workers.
 
 With ``output=folder`` the run streams one CF NetCDF file per block into ``folder`` as blocks
@@ -32,8 +32,9 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import xarray as xr
 
-from ._dask import as_seed_sequence
-from .conventions import ATTRS, append_history, dataset_attrs
+from ._core.conventions import ATTRS, append_history, dataset_attrs
+from ._core.dask import as_seed_sequence
+from ._core.version import __version__
 
 __all__ = [
     "run_ensemble",
@@ -258,8 +259,6 @@ def _hash_params(spec_fields: dict) -> str:
         h.update(np.ascontiguousarray(np.asarray(psd[c].values, dtype=float)).tobytes())
     h.update(np.ascontiguousarray(spec_fields["distance"]).tobytes())
     h.update(np.ascontiguousarray(spec_fields["rh"]).tobytes())
-    from . import __version__
-
     rest = {
         k: spec_fields[k]
         for k in ("shape", "spacing", "chunk", "rh_chunk", "seed_entropy", "seed_spawn_key")
@@ -873,7 +872,7 @@ def run_ensemble(
     ----------
     Hoang, Wu et al., J. Comput. Appl. Math. (2015), doi:10.1016/j.cam.2015.02.022, §4.3.
     """
-    from . import materials
+    from ._core import materials
 
     if isinstance(n, str):
         if n != "auto":
@@ -910,7 +909,7 @@ def run_ensemble(
         )
     else:
         if isinstance(distance, xr.DataArray):
-            from ._units import require
+            from ._core.units import require
 
             distance = require(distance, "length", name="distance").values
         dist = np.asarray(distance, dtype=float).ravel()

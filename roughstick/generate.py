@@ -36,9 +36,9 @@ import numpy as np
 import xarray as xr
 from dask.delayed import Delayed
 
-from . import _units
-from ._dask import as_seed_sequence, is_lazy, realization_rng
-from .conventions import append_history, set_attrs
+from ._core import units as _units
+from ._core.conventions import append_history, set_attrs
+from ._core.dask import as_seed_sequence, is_lazy, realization_rng
 
 __all__ = ["generate_surfaces", "surface_filter"]
 
@@ -530,7 +530,7 @@ def generate_surfaces(
 
     Nothing is computed until asked: the result is a dask-backed DataArray chunked over
     ``realization`` only. Realization ``k`` draws its amplitudes from its own generator
-    ``roughstick._dask.realization_rng(SeedSequence(seed), k)``, so the values are bit-identical
+    ``roughstick._core.dask.realization_rng(SeedSequence(seed), k)``, so the values are bit-identical
     whatever the chunking, the number of workers or the order of evaluation, and any realization
     can be regenerated alone (``realizations=[k]``).
 

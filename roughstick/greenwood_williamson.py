@@ -43,10 +43,10 @@ import numpy as np
 import xarray as xr
 from scipy import interpolate, special
 
-from ._dask import is_lazy
-from ._units import require
-from .conventions import CURVE_VARIABLES, append_history, dataset_attrs, set_attrs
-from .materials import POLYSILICON, Material, hertz_modulus
+from ._core.conventions import CURVE_VARIABLES, append_history, dataset_attrs, set_attrs
+from ._core.dask import is_lazy
+from ._core.materials import POLYSILICON, Material, hertz_modulus
+from ._core.units import require
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = ["summit_density", "summit_joint_density", "gw_contact_curves", "gw_cutoff_study"]

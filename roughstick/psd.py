@@ -24,9 +24,9 @@ import numbers
 import numpy as np
 import xarray as xr
 
-from . import _units
-from ._dask import check_core_not_chunked, is_lazy
-from .conventions import append_history, dataset_attrs, set_attrs
+from ._core import units as _units
+from ._core.conventions import append_history, dataset_attrs, set_attrs
+from ._core.dask import check_core_not_chunked, is_lazy
 
 __all__ = [
     "power_spectrum",

@@ -20,10 +20,10 @@ import numpy as np
 import xarray as xr
 
 from . import _rough_kernels as _k
-from ._dask import check_core_not_chunked, is_lazy
-from ._units import as_si, require
-from .conventions import ATTRS, append_history, dataset_attrs, set_attrs
-from .materials import POLYSILICON, hertz_modulus
+from ._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
+from ._core.dask import check_core_not_chunked, is_lazy
+from ._core.materials import POLYSILICON, hertz_modulus
+from ._core.units import as_si, require
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = ["rough_contact_curves", "contact_distance_grid"]

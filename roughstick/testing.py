@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .conventions import ATTRS, set_coord_attrs
+from ._core.conventions import ATTRS, set_coord_attrs
 
 __all__ = ["assert_units", "make_topography", "sphere_topography"]
 

@@ -19,10 +19,10 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from . import _units
-from ._dask import check_core_not_chunked, is_lazy
-from .conventions import append_history, dataset_attrs, set_attrs
-from .materials import POLYSILICON, Material
+from ._core import units as _units
+from ._core.conventions import append_history, dataset_attrs, set_attrs
+from ._core.dask import check_core_not_chunked, is_lazy
+from ._core.materials import POLYSILICON, Material
 
 __all__ = [
     "validate_height",
@@ -94,7 +94,7 @@ def validate_height(height: xr.DataArray) -> xr.DataArray:
 
     Raises
     ------
-    roughstick._units.UnitsError
+    roughstick._core.units.UnitsError
         Missing or non-length ``units``.
     ValueError
         Missing, descending, non-monotonic or non-uniform coordinates; fewer than 8 pixels;

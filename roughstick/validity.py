@@ -20,7 +20,7 @@ from importlib import resources
 
 import numpy as np
 
-from .materials import POLYSILICON, Material, reduced_modulus
+from ._core.materials import POLYSILICON, Material, reduced_modulus
 
 __all__ = [
     "ValidityWarning",

@@ -204,7 +204,7 @@ def test_bad_input():
         rs.bem_contact_curves(h.isel(x=slice(0, 3)), relative_humidity=0.5, distance=[1e-9, 2e-9])
     with pytest.raises(TypeError, match="DataArray"):
         rs.bem_contact_curves(h.values, relative_humidity=0.5)
-    with pytest.raises(rs._units.UnitsError):
+    with pytest.raises(rs.UnitsError):
         rs.bem_contact_curves(h.assign_attrs(units="furlong"), relative_humidity=0.5)
 
 

@@ -22,8 +22,8 @@ import xarray as xr
 
 import roughstick as rs
 from conftest import raise_if_dask_computes
-from roughstick._dask import realization_rng
-from roughstick.conventions import ATTRS
+from roughstick._core.conventions import ATTRS
+from roughstick._core.dask import is_lazy, realization_rng
 
 # ----------------------------------------------------------------------------- stand-ins
 SIGMA = 4e-9  # rms height of the toy surfaces [m]
@@ -112,7 +112,7 @@ def assert_same_values(a, b):
 def test_lazy_nothing_computed_and_layout():
     with raise_if_dask_computes():
         ds = toy_run(n=7, chunks=3)
-    assert rs._dask.is_lazy(ds)
+    assert is_lazy(ds)
     assert ds["pressure"].dims == ("realization", "rh", "distance")
     assert ds["adhesive_energy"].dims == ("realization", "rh")
     assert ds["max_height"].dims == ("realization",)

@@ -6,7 +6,7 @@ import xarray as xr
 
 import roughstick as rs
 from conftest import raise_if_dask_computes
-from roughstick import constants as C
+from roughstick._core import constants as C
 from roughstick.testing import assert_units
 
 RH = np.array([0.3, 0.5, 0.7, 0.9])

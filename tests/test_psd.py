@@ -8,7 +8,7 @@ import xarray as xr
 from scipy.integrate import quad
 
 import roughstick as rs
-from roughstick import _units
+from roughstick._core import units as _units
 
 QMAX = 289e6  # rad/m (paper: 289 rad/µm)
 TABLE4 = dict(roughness=[2.6e-9, 2.4e-9], radius=220e-9)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import roughstick as rs
-from roughstick import _units
+from roughstick._core import units as _units
 from roughstick.testing import make_topography
 
 SP = 5e-9

@@ -3,9 +3,9 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
-from roughstick._dask import as_seed_sequence, check_core_not_chunked, is_lazy, realization_rng
-from roughstick._units import UnitsError, as_si, require
-from roughstick.conventions import ATTRS, append_history, set_attrs
+from roughstick._core.conventions import ATTRS, append_history, set_attrs
+from roughstick._core.dask import as_seed_sequence, check_core_not_chunked, is_lazy, realization_rng
+from roughstick._core.units import UnitsError, as_si, require
 
 
 @pytest.mark.parametrize(

@@ -183,7 +183,7 @@ def _run(args):
 
     import roughstick as rs
     from roughstick import plotting
-    from roughstick.conventions import append_history, set_attrs
+    from roughstick._core.conventions import append_history, set_attrs
 
     cfg_path = pathlib.Path(args.config)
     cfg = _load_toml(cfg_path)

@@ -18,10 +18,10 @@ import numbers
 import numpy as np
 import xarray as xr
 
-from roughstick._units import require
+from roughstick._core.conventions import ATTRS, dataset_attrs, set_attrs
+from roughstick._core.materials import POLYSILICON, Material, hertz_modulus
+from roughstick._core.units import require
 from roughstick.contact import _kernels as K_
-from roughstick.conventions import ATTRS, dataset_attrs, set_attrs
-from roughstick.materials import POLYSILICON, Material, hertz_modulus
 from roughstick.meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = [
@@ -386,7 +386,7 @@ def sphere_force(
     ------
     ValueError
         Unknown model, RH outside (0, 1), non-positive radius/modulus/adhesion, missing adhesion.
-    roughstick._units.UnitsError
+    roughstick._core.units.UnitsError
         A DataArray argument without (or with wrong) ``units``.
 
     Notes

@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
-from roughstick.conventions import append_history, dataset_attrs, set_coord_attrs
+from roughstick._core.conventions import append_history, dataset_attrs, set_coord_attrs
 
 MODELS = ["maugis", "dmt", "modified_dmt"]
 RADII = [100e-9, 800e-9]

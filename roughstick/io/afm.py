@@ -13,8 +13,8 @@ import re
 import numpy as np
 import xarray as xr
 
-from roughstick import _units
-from roughstick.conventions import ATTRS, append_history, set_coord_attrs
+from roughstick._core import units as _units
+from roughstick._core.conventions import ATTRS, append_history, set_coord_attrs
 
 __all__ = ["read_afm"]
 

@@ -65,7 +65,7 @@ def check_cf(ds: xr.Dataset) -> None:
     if missing:
         raise ValueError(
             "not CF-complete: " + "; ".join(missing) + "; set them before writing, e.g. "
-            "roughstick.conventions.set_attrs(da, key) or da.attrs.update(units='m', long_name='...')."
+            "roughstick._core.conventions.set_attrs(da, key) or da.attrs.update(units='m', long_name='...')."
         )
 
 

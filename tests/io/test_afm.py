@@ -37,7 +37,7 @@ def test_npy_and_text(tmp_path):
     np.testing.assert_allclose(rs.read_afm(tmp_path / "m.csv", spacing=1e-9, units="m").values, z)
     with pytest.raises(ValueError, match="spacing="):
         rs.read_afm(tmp_path / "m.npy")
-    with pytest.raises(rs._units.UnitsError, match="not a length"):
+    with pytest.raises(rs.UnitsError, match="not a length"):
         rs.read_afm(tmp_path / "m.npy", spacing=1e-9, units="s")
     with pytest.raises(ValueError, match="positive length"):
         rs.read_afm(tmp_path / "m.npy", spacing=-1.0, units="m")

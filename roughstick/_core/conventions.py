@@ -11,6 +11,8 @@ import datetime as _dt
 
 import xarray as xr
 
+from .version import __version__
+
 __all__ = ["ATTRS", "DIMS", "CONVENTIONS", "PAPER_REFERENCE", "CURVE_VARIABLES", "set_attrs", "append_history", "dataset_attrs"]
 
 CONVENTIONS = "CF-1.10"
@@ -155,8 +157,6 @@ def append_history(obj, line: str):
 
 def dataset_attrs(title: str, *, references: str = "", **params) -> dict:
     """Global attributes of a Dataset written by roughstick (STYLE.md §3)."""
-    from . import __version__
-
     attrs = {
         "Conventions": CONVENTIONS,
         "title": title,
