@@ -1,8 +1,9 @@
 """roughstick: uncertainty of humid stiction between rough, hard surfaces.
 
-Implements Hoang, Wu, Paquay, Obreja, Voicu, Müller, Golinval and Noels (J. Comput. Appl. Math.
-289 (2015) 173-195, doi:10.1016/j.cam.2015.02.022), "A probabilistic model for predicting the
-uncertainties of the humid stiction phenomenon on hard materials" as an xarray toolkit.
+Implements T.-V. Hoang, L. Wu, S. Paquay, A.C. Obreja, R.C. Voicu, R. Müller, J.-C. Golinval,
+L. Noels, "A probabilistic model for predicting the uncertainties of the humid stiction phenomenon
+on hard materials", J. Comput. Appl. Math. 289 (2015) 173-195, doi:10.1016/j.cam.2015.02.022
+(:data:`roughstick._core.references.BIBLIOGRAPHY`), as an xarray toolkit.
 All values are SI; see :mod:`roughstick._core.conventions`.
 """
 

@@ -39,9 +39,10 @@ from __future__ import annotations
 
 import dataclasses
 import pathlib
-import re
 
 import numpy as np
+
+from ._core.units import parse_quantity
 
 __all__ = ["RunConfig", "load_config", "parse_quantity"]
 
@@ -72,52 +73,6 @@ def _toml_load(path: pathlib.Path) -> dict:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise ValueError(f"{str(path)!r} is not valid TOML: {exc}") from exc
-
-
-_NUM = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
-
-
-def parse_quantity(value, kind: str, *, name: str, power: int = 1) -> float:
-    """A number (SI) or a string ``"<number> <unit>"`` → SI float.
-
-    ``kind`` is a :mod:`roughstick._core.units` kind (``length``, ``wavevector`` ...); ``power`` the
-    exponent of a length unit, so ``"15.7 nm2"`` with ``power=2`` gives 1.57e-17 (m2).
-
-    Examples
-    --------
-    >>> from roughstick._config import parse_quantity
-    >>> parse_quantity("5 nm", "length", name="spacing")
-    5e-09
-    >>> parse_quantity("5.08e-4 nm-2", "length", name="m4", power=-2)
-    508000000000000.0
-    >>> parse_quantity("289 rad/um", "wavevector", name="qmax")
-    289000000.0
-    """
-    from ._core.units import _TABLE
-
-    if isinstance(value, bool):
-        raise ValueError(f"{name} must be a number or a string with units, got {value!r}.")
-    if isinstance(value, (int, float)):
-        return float(value)
-    if not isinstance(value, str):
-        raise ValueError(f"{name} must be a number or a string with units, got {value!r}.")
-    m = _NUM.match(value)
-    if not m:
-        raise ValueError(f"{name} = {value!r}: expected '<number> <unit>', e.g. '5 nm'.")
-    number, unit = float(m.group(1)), m.group(2)
-    if not unit:
-        return number
-    table = _TABLE[kind]
-    if kind == "length" and power != 1:
-        base = re.match(r"^(.*?)(\^?)(-?\d+)$", unit)
-        if not base or int(base.group(3)) != power or base.group(1) not in table:
-            raise ValueError(
-                f"{name} = {value!r}: expected a length unit to the power {power}, e.g. 'nm{power}'."
-            )
-        return number * table[base.group(1)] ** power
-    if unit not in table:
-        raise ValueError(f"{name} = {value!r}: unknown {kind} unit {unit!r}; use one of {sorted(k for k in table if k)}.")
-    return number * table[unit]
 
 
 @dataclasses.dataclass

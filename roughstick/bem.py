@@ -27,18 +27,13 @@ from ._core.conventions import (
     set_coord_attrs,
 )
 from ._core.materials import POLYSILICON, Material, reduced_modulus
+from ._core.references import cite
 from ._core.units import require
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = ["bem_contact_curves", "periodic_offset_coefficient"]
 
-_REFERENCES = (
-    "Frerot, Anciaux, Rey, Pham-Ba, Molinari (2020) Tamaas: a library for elastic-plastic contact "
-    "of periodic rough surfaces, J. Open Source Softw. 5, 2121, doi:10.21105/joss.02121; "
-    "Polonsky, Keer (1999) Wear 231, 206-219, doi:10.1016/S0043-1648(99)00113-1; "
-    "Rey, Anciaux, Molinari (2017) Comput. Mech. 60, 69-81, doi:10.1007/s00466-017-1392-5; "
-    "Maugis (1992) J. Colloid Interface Sci. 150, 243-269, doi:10.1016/0021-9797(92)90285-T"
-)
+_REFERENCES = cite("frerot2020", "polonsky1999", "rey2017", "maugis1992")
 
 #: Internal length unit handed to Tamaas (nm): keeps heights and gaps of order one.
 _LENGTH_UNIT = 1e-9

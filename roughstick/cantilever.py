@@ -21,9 +21,9 @@ domain :math:`\Delta s \times w`) is :func:`cantilever_moments`, :func:`cantilev
 
 References
 ----------
-Wu, L., Nguyen, V.-D., Golinval, J.-C., Noels, L. et al., "A probabilistic model for predicting
-the uncertainties of the humid stiction phenomenon on hard materials", J. Comput. Appl. Math.
-(2015), doi:10.1016/j.cam.2015.02.022.
+Hoang, T.-V., Wu, L., Paquay, S., Obreja, A.C., Voicu, R.C., Müller, R., Golinval, J.-C., Noels,
+L., "A probabilistic model for predicting the uncertainties of the humid stiction phenomenon on
+hard materials", J. Comput. Appl. Math. 289 (2015) 173-195, doi:10.1016/j.cam.2015.02.022.
 
 de Boer, M. P., Clews, P. J., Smith, B. K., Michalske, T. A., "Adhesion of polysilicon
 microbeams in controlled humidity ambients", MRS Proc. 518 (1998), doi:10.1557/PROC-518-131.
@@ -43,6 +43,7 @@ import xarray as xr
 
 from ._core import constants as C
 from ._core.conventions import append_history, dataset_attrs, set_attrs
+from ._core.references import PAPER, cite
 from ._core.units import as_si, require
 
 __all__ = [
@@ -67,11 +68,8 @@ __all__ = [
     "interaction_zone_psd",
 ]
 
-REFERENCES = (
-    "Hoang, Wu et al., J. Comput. Appl. Math. (2015) doi:10.1016/j.cam.2015.02.022 (Eq. 36, Table 4, "
-    "Eq. 37); de Boer et al., MRS Proc. 518 (1998) doi:10.1557/PROC-518-131 (cantilever tests); "
-    "Mastrangelo and Hsu, JMEMS 2 (1993) doi:10.1109/84.232594 (S-shaped beam energy)"
-)
+REFERENCES = cite((PAPER, "Eq. 36, Table 4, Eq. 37"), ("deboer1998", "cantilever tests"),
+                  ("mastrangelo1993", "S-shaped beam energy"))
 
 
 # ----------------------------------------------------------------------------- beam geometry

@@ -34,6 +34,7 @@ import xarray as xr
 
 from ._core.conventions import ATTRS, append_history, dataset_attrs
 from ._core.dask import as_seed_sequence
+from ._core.references import PAPER, cite
 from ._core.version import __version__
 
 __all__ = [
@@ -47,10 +48,7 @@ __all__ = [
     "progress_bar",
 ]
 
-REFERENCES = (
-    "Hoang, Wu et al., J. Comput. Appl. Math. (2015) doi:10.1016/j.cam.2015.02.022 (sections 4.2-4.3, "
-    "Eqs. 13, 16-23, 33-34)"
-)
+REFERENCES = cite((PAPER, "sections 4.2-4.3, Eqs. 13, 16-23, 33-34"))
 _CURVE_DIMS = ("realization", "rh", "distance")
 
 
@@ -870,7 +868,7 @@ def run_ensemble(
 
     References
     ----------
-    Hoang, Wu et al., J. Comput. Appl. Math. (2015), doi:10.1016/j.cam.2015.02.022, §4.3.
+    Hoang et al. (2015), doi:10.1016/j.cam.2015.02.022, §4.3.
     """
     from ._core import materials
 

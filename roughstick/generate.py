@@ -39,17 +39,14 @@ from dask.delayed import Delayed
 from ._core import units as _units
 from ._core.conventions import append_history, set_attrs
 from ._core.dask import as_seed_sequence, is_lazy, realization_rng
+from ._core.references import PAPER, cite
 
 __all__ = ["generate_surfaces", "surface_filter"]
 
-REFERENCES = (
-    "Shinozuka and Deodatis (1991) https://doi.org/10.1115/1.3119501; "
-    "paper Eqs. 33-35 (spectral representation, inverse FFT)"
-)
+REFERENCES = cite("shinozuka1991", (PAPER, "Eqs. 33-35, spectral representation by inverse FFT"))
 
 _AMPLITUDES = ("rayleigh", "fixed")
 _DTYPES = {"float64": np.float64, "float32": np.float32}
-_PSD_UNITS = {"m4": 1.0, "m^4": 1.0, "m**4": 1.0, "um4": 1e-24, "µm4": 1e-24, "nm4": 1e-36}
 #: default chunk size along ``realization`` in bytes of output (auto chunks)
 _AUTO_CHUNK_BYTES = 64 * 2**20
 
@@ -194,18 +191,8 @@ def _chunk_tuple(chunks, count: int, ny: int, nx: int, itemsize: int):
 # the PSD on the target grid
 # --------------------------------------------------------------------------------------------
 def _psd_factor(psd: xr.DataArray) -> float:
-    units = psd.attrs.get("units")
-    if units is None:
-        raise _units.UnitsError(
-            "the PSD has no 'units' attribute; set psd.attrs['units'] = 'm4' (2D density in "
-            "m4, normalised so that sum * dqx * dqy is the height variance)."
-        )
-    if str(units).strip() not in _PSD_UNITS:
-        raise _units.UnitsError(
-            f"the PSD has units {units!r}; roughstick expects a 2D density in one of "
-            f"{sorted(_PSD_UNITS)} (e.g. psd.attrs['units'] = 'm4')."
-        )
-    return _PSD_UNITS[str(units).strip()]
+    """Factor to m4 of the PSD's units (a 2D density, sum * dqx * dqy = height variance)."""
+    return _units.factor(psd.attrs.get("units"), "length4", name="the PSD")
 
 
 def _q_coord(psd: xr.DataArray, dim: str) -> np.ndarray:

@@ -46,16 +46,13 @@ from scipy import interpolate, special
 from ._core.conventions import CURVE_VARIABLES, append_history, dataset_attrs, set_attrs
 from ._core.dask import is_lazy
 from ._core.materials import POLYSILICON, Material, hertz_modulus
+from ._core.references import PAPER, cite
 from ._core.units import require
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = ["summit_density", "summit_joint_density", "gw_contact_curves", "gw_cutoff_study"]
 
-REFERENCES = (
-    "Nayak (1971) https://doi.org/10.1115/1.3451608; "
-    "Greenwood and Williamson (1966) https://doi.org/10.1098/rspa.1966.0242; "
-    "Greenwood (2006) https://doi.org/10.1016/j.wear.2005.09.031"
-)
+REFERENCES = cite("nayak1971", "greenwood1966", "greenwood2006", (PAPER, "Eq. 14"))
 
 #: Sphere models accepted per summit (``roughstick.contact._kernels.sphere_force_kernel``).
 SPHERE_MODELS = ("modified_dmt", "dmt", "maugis", "hertz")
@@ -75,14 +72,7 @@ _VARS = tuple(v for v in CURVE_VARIABLES if v != "fit_error")
 # moments: units and validation
 # --------------------------------------------------------------------------------------------
 
-_MOMENT_UNITS = {
-    "m0": {"m2": 1.0, "m^2": 1.0, "m**2": 1.0, "nm2": 1e-18, "nm^2": 1e-18, "um2": 1e-12,
-           "um^2": 1e-12, "µm2": 1e-12},
-    "m2": {"1": 1.0, "": 1.0, "-": 1.0},
-    "m4": {"m-2": 1.0, "m^-2": 1.0, "1/m2": 1.0, "nm-2": 1e18, "nm^-2": 1e18, "um-2": 1e12,
-           "um^-2": 1e12, "µm-2": 1e12},
-}
-_MOMENT_SI = {"m0": "m2", "m2": "1", "m4": "m-2"}
+_MOMENT_KIND = {"m0": "area", "m2": "dimensionless", "m4": "inverse_area"}
 
 
 def _moment_si(ds: xr.Dataset, key: str) -> xr.DataArray:
@@ -92,24 +82,8 @@ def _moment_si(ds: xr.Dataset, key: str) -> xr.DataArray:
             f"spectral moments, docs/architecture.md); {key!r} is missing. "
             "roughstick.fit_self_affine / moments_from_asperities return such a Dataset."
         )
-    da = ds[key]
-    units = da.attrs.get("units")
-    if units is None:
-        raise ValueError(
-            f"moments[{key!r}] has no 'units' attribute; set it, e.g. "
-            f"moments[{key!r}].attrs['units'] = {_MOMENT_SI[key]!r} (SI)."
-        )
-    table = _MOMENT_UNITS[key]
-    u = str(units).strip()
-    if u not in table:
-        raise ValueError(
-            f"moments[{key!r}] has units {units!r}; expected one of {sorted(k for k in table if k)} "
-            f"(SI: {_MOMENT_SI[key]!r})."
-        )
-    f = table[u]
-    out = da * f if f != 1.0 else da
-    out = out.copy(deep=False)
-    out.attrs = {"units": _MOMENT_SI[key]}
+    out = require(ds[key], _MOMENT_KIND[key], name=f"moments[{key!r}]").copy(deep=False)
+    out.attrs = {"units": out.attrs["units"]}
     return out
 
 

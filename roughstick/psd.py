@@ -19,14 +19,13 @@ https://doi.org/10.1115/1.3451608
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 import xarray as xr
 
 from ._core import units as _units
 from ._core.conventions import append_history, dataset_attrs, set_attrs
 from ._core.dask import check_core_not_chunked, is_lazy
+from ._core.references import PAPER, cite
 
 __all__ = [
     "power_spectrum",
@@ -45,50 +44,13 @@ __all__ = [
     "moments_from_asperities",
 ]
 
-NAYAK_REFERENCE = "Nayak (1971) https://doi.org/10.1115/1.3451608"
-PAPER_REFERENCE = (
-    "Hoang, Wu, Paquay, Obreja, Voicu, Müller, Golinval and Noels, probabilistic model for humid stiction (paper Eqs. 24-37)"
-)
+NAYAK_REFERENCE = cite("nayak1971")
 
 # --------------------------------------------------------------------------------------------
 # small unit helpers for quantities _units has no kind for (m4, m2, m-2)
 # --------------------------------------------------------------------------------------------
 
-_LENGTH_POWER_UNITS = {
-    4: {"m4": 1.0, "m^4": 1.0, "m**4": 1.0, "nm4": 1e-36, "nm^4": 1e-36, "um4": 1e-24,
-        "um^4": 1e-24, "µm4": 1e-24},
-    2: {"m2": 1.0, "m^2": 1.0, "m**2": 1.0, "nm2": 1e-18, "nm^2": 1e-18, "um2": 1e-12,
-        "um^2": 1e-12, "µm2": 1e-12},
-    0: {"1": 1.0, "": 1.0, "-": 1.0},
-    -2: {"m-2": 1.0, "m^-2": 1.0, "1/m2": 1.0, "nm-2": 1e18, "nm^-2": 1e18, "um-2": 1e12,
-         "um^-2": 1e12, "µm-2": 1e12},
-}
-
-
-def _si_power(value, power: int, *, name: str):
-    """Plain number (SI) or DataArray with ``units`` of length**power; return SI."""
-    if isinstance(value, xr.DataArray):
-        if "units" not in value.attrs:
-            si = next(iter(_LENGTH_POWER_UNITS[power]))
-            raise _units.UnitsError(
-                f"{name!r} has no 'units' attribute. Set it, e.g. da.attrs['units'] = {si!r}."
-            )
-        u = str(value.attrs["units"]).strip()
-        table = _LENGTH_POWER_UNITS[power]
-        if u not in table:
-            raise _units.UnitsError(
-                f"{name!r} has units {u!r}; expected one of {sorted(k for k in table if k)}."
-            )
-        f = table[u]
-        return value if f == 1.0 else value * f
-    if isinstance(value, numbers.Number) and not isinstance(value, bool):
-        return float(value)
-    return np.asarray(value, dtype=float)
-
-
 def _wavevector(value, *, name: str):
-    if isinstance(value, xr.DataArray):
-        return _units.require(value, "wavevector", name=name)
     return _units.as_si(value, "wavevector", name=name)
 
 
@@ -154,8 +116,8 @@ def self_affine_psd(q, *, s0, s1, q0, qmax) -> xr.DataArray:
     >>> s.values
     array([1.e-32, 1.e-32, 1.e-32, 0.e+00])
     """
-    s0 = _si_power(s0, 4, name="s0")
-    s1 = _si_power(s1, 4, name="s1")
+    s0 = _units.as_si(s0, "length4", name="s0")
+    s1 = _units.as_si(s1, "length4", name="s1")
     q0 = _wavevector(q0, name="q0")
     qmax = _wavevector(qmax, name="qmax")
     for v, n, u in ((s0, "s0", "m4"), (s1, "s1", "m4"), (q0, "q0", "rad m-1"),
@@ -174,7 +136,7 @@ def self_affine_psd(q, *, s0, s1, q0, qmax) -> xr.DataArray:
             )
         qq = xr.DataArray(arr, dims=("q",), coords={"q": arr})
     out = xr.apply_ufunc(_self_affine_kernel, qq, s0, s1, q0, qmax, dask="allowed")
-    out = set_attrs(out.rename("psd"), "psd_isotropic", references=PAPER_REFERENCE + " Eq. 37")
+    out = set_attrs(out.rename("psd"), "psd_isotropic", references=cite((PAPER, "Eq. 37")))
     return out
 
 
@@ -233,16 +195,7 @@ def _keep(attrs, *keys):
 
 
 def _units_psd(psd):
-    u = psd.attrs.get("units")
-    if u is None:
-        raise _units.UnitsError(
-            f"{psd.name or 'psd'!r} has no 'units' attribute. Set psd.attrs['units'] = 'm4'."
-        )
-    if str(u).strip() not in _LENGTH_POWER_UNITS[4]:
-        raise _units.UnitsError(
-            f"{psd.name or 'psd'!r} has units {u!r}; a 2D/isotropic height PSD has units 'm4'."
-        )
-    return _si_power(psd, 4, name=psd.name or "psd")
+    return _units.require(psd, "length4", name=psd.name or "psd")
 
 
 def _J(a, t):
@@ -293,8 +246,8 @@ def self_affine_moments(*, s0, s1, q0, qmax) -> xr.Dataset:
     >>> round(float(m.m0) * 1e18, 1), round(float(m.m2), 4), round(float(m.m4) * 1e-12, 2)
     (12.5, 0.0032, 9.07)
     """
-    s0 = _si_power(s0, 4, name="s0")
-    s1 = _si_power(s1, 4, name="s1")
+    s0 = _units.as_si(s0, "length4", name="s0")
+    s1 = _units.as_si(s1, "length4", name="s1")
     q0 = _wavevector(q0, name="q0")
     qmax = _wavevector(qmax, name="qmax")
     beta = np.log(s1 / s0) / np.log(qmax / q0)
@@ -402,9 +355,9 @@ def fit_self_affine(*, m0, m2, m4, qmax, tolerance: float = 1e-6) -> xr.Dataset:
     (19.5, 6400, 6.31)
     """
     vals = {
-        "m0": _si_power(m0, 2, name="m0"),
-        "m2": _si_power(m2, 0, name="m2"),
-        "m4": _si_power(m4, -2, name="m4"),
+        "m0": _units.as_si(m0, "area", name="m0"),
+        "m2": _units.as_si(m2, "dimensionless", name="m2"),
+        "m4": _units.as_si(m4, "inverse_area", name="m4"),
         "qmax": _wavevector(qmax, name="qmax"),
     }
     labelled = any(isinstance(v, xr.DataArray) for v in vals.values())
@@ -432,7 +385,7 @@ def fit_self_affine(*, m0, m2, m4, qmax, tolerance: float = 1e-6) -> xr.Dataset:
             units="1", long_name=f"relative error of {k} of the fitted PSD"
         )
     ds.attrs = dataset_attrs(
-        "self-affine PSD (Eq. 37) fitted to moments", references=PAPER_REFERENCE + " Eq. 37"
+        "self-affine PSD (Eq. 37) fitted to moments", references=cite((PAPER, "Eq. 37"))
     )
     append_history(ds, "fit_self_affine: Eq. 37 solved for (q0, s0, s1) from (m0, m2, m4, qmax)")
     if not labelled and not is_lazy(ds):
@@ -588,14 +541,14 @@ def power_spectrum(height: xr.DataArray, *, window: str | None = None) -> xr.Dat
     out = xr.DataArray(s, dims=h.dims[:-2] + ("qy", "qx"),
                        coords={**lead, "qy": qy, "qx": qx}, name="psd")
     out = set_attrs(out, "psd", spacing_x=dx, spacing_y=dy, window=str(window),
-                    references=PAPER_REFERENCE + " Eqs. 26-30")
+                    references=cite((PAPER, "Eqs. 26-30")))
     return out
 
 
 def _check_psd2d(psd):
     if not ({"qx", "qy"} <= set(psd.dims)):
         raise ValueError(f"expected a 2D PSD with dims (..., 'qy', 'qx'), got {psd.dims}.")
-    _units_psd(psd)
+    psd = _units_psd(psd)
     check_core_not_chunked(psd, ["qx", "qy"])
     if not is_lazy(psd) and np.any(psd.data < 0):
         raise ValueError(
@@ -606,7 +559,7 @@ def _check_psd2d(psd):
         c = psd[d].values
         if np.any(np.diff(c) <= 0):
             raise ValueError(f"coordinate {d!r} must be ascending (fftshift order); use psd.sortby({d!r}).")
-    return _si_power(psd, 4, name="psd").transpose(..., "qy", "qx")
+    return psd.transpose(..., "qy", "qx")
 
 
 def _dq(c):
@@ -842,7 +795,7 @@ def submap_variance_check(
         hc = h - h.mean(("y", "x"))
         m0 = (hc**2).mean(("y", "x")).mean()
     else:
-        m0 = xr.DataArray(float(_si_power(reference, 2, name="reference")))
+        m0 = xr.DataArray(float(_units.as_si(reference, "area", name="reference")))
     eps = np.sqrt(((m0j - m0) ** 2).mean()) / m0
     ds = xr.Dataset({
         "m0_submap": m0j.assign_attrs(units="m2", long_name="height variance of each sub-map"),
@@ -850,7 +803,7 @@ def submap_variance_check(
         "relative_std": eps.assign_attrs(units="1", long_name="Eq. 32 relative std of sub-map variances"),
         "representative": (eps < threshold).assign_attrs(long_name=f"Eq. 32 below {threshold}"),
     })
-    ds.attrs = dataset_attrs("Eq. 32 sub-map representativeness", references=PAPER_REFERENCE,
+    ds.attrs = dataset_attrs("Eq. 32 sub-map representativeness", references=cite((PAPER, "Eq. 32")),
                              n_submaps=n, threshold=threshold)
     return ds
 
@@ -1071,7 +1024,7 @@ def psd_summary(
     ds["relative_std"] = chk["relative_std"]
     ds.attrs = dataset_attrs(
         "PSD and roughness statistics of AFM maps (paper §4.1, Tables 2-3, Fig. 12)",
-        references=PAPER_REFERENCE + "; " + NAYAK_REFERENCE,
+        references=cite((PAPER, "section 4.1, Eqs. 26-32"), "nayak1971"),
         n_submaps=n, n_maps=int(np.prod([h.sizes[d] for d in lead])) if lead else 1,
         window=str(window),
     )

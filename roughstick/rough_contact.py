@@ -23,17 +23,13 @@ from . import _rough_kernels as _k
 from ._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
 from ._core.dask import check_core_not_chunked, is_lazy
 from ._core.materials import POLYSILICON, hertz_modulus
+from ._core.references import PAPER, cite
 from ._core.units import as_si, require
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = ["rough_contact_curves", "contact_distance_grid"]
 
-REFERENCES = (
-    "Wu L., Nguyen V.-D., Golinval J.-C., Noels L. et al., A probabilistic model for predicting the "
-    "uncertainties of the humid stiction phenomenon on hard materials, J. Comput. Appl. Math. "
-    "(2015), doi:10.1016/j.cam.2015.02.022; Hertz contact: Johnson K.L., Contact Mechanics (1985), "
-    "doi:10.1017/CBO9781139171731"
-)
+REFERENCES = cite((PAPER, "section 3.3, Eqs. 16-23"), "johnson1985")
 
 _MISSING_NOTE = (
     "heights referred to their mean over the valid pixels; NaN pixels are excluded: never part of "
@@ -326,7 +322,7 @@ def rough_contact_curves(
 
     References
     ----------
-    Hoang, Wu et al. (2015), doi:10.1016/j.cam.2015.02.022, §3.3 (Eqs. 16-23).
+    Hoang et al. (2015), doi:10.1016/j.cam.2015.02.022, §3.3 (Eqs. 16-23).
 
     Examples
     --------

@@ -23,6 +23,7 @@ from ._core import units as _units
 from ._core.conventions import append_history, dataset_attrs, set_attrs
 from ._core.dask import check_core_not_chunked, is_lazy
 from ._core.materials import POLYSILICON, Material
+from ._core.references import cite
 
 __all__ = [
     "validate_height",
@@ -34,8 +35,8 @@ __all__ = [
 ]
 
 MIN_PIXELS = 8
-NAYAK_REFERENCE = "Nayak (1971) https://doi.org/10.1115/1.3451608"
-GW_REFERENCE = "Greenwood and Williamson (1966) https://doi.org/10.1098/rspa.1966.0242"
+NAYAK_REFERENCE = cite("nayak1971")
+GW_REFERENCE = cite("greenwood1966")
 
 
 def _check_axis(da: xr.DataArray, dim: str) -> float:
@@ -58,7 +59,7 @@ def _check_axis(da: xr.DataArray, dim: str) -> float:
         )
     c = da[dim]
     cu = c.attrs.get("units", "m")
-    cvals = np.asarray(c.values, dtype=float) * _units._factor(str(cu), "length", f"coordinate {dim}")
+    cvals = np.asarray(c.values, dtype=float) * _units.factor(cu, "length", name=f"coordinate {dim}")
     d = np.diff(cvals)
     if np.any(d <= 0):
         if np.all(d < 0):
@@ -112,7 +113,7 @@ def validate_height(height: xr.DataArray) -> xr.DataArray:
     h = h.transpose(..., "y", "x")
     for dim in ("x", "y"):
         cu = h[dim].attrs.get("units", "m")
-        f = _units._factor(str(cu), "length", f"coordinate {dim}")
+        f = _units.factor(cu, "length", name=f"coordinate {dim}")
         if f != 1.0:
             h = h.assign_coords({dim: h[dim].values * f})
     attrs = dict(h.attrs)

@@ -11,6 +11,7 @@ import datetime as _dt
 
 import xarray as xr
 
+from .references import PAPER, cite
 from .version import __version__
 
 __all__ = ["ATTRS", "DIMS", "CONVENTIONS", "PAPER_REFERENCE", "CURVE_VARIABLES", "set_attrs", "append_history", "dataset_attrs"]
@@ -18,11 +19,7 @@ __all__ = ["ATTRS", "DIMS", "CONVENTIONS", "PAPER_REFERENCE", "CURVE_VARIABLES",
 CONVENTIONS = "CF-1.10"
 
 #: The paper this package implements (checked against the journal record).
-PAPER_REFERENCE = (
-    "T.-V. Hoang, L. Wu, S. Paquay, A.C. Obreja, R.C. Voicu, R. Müller, J.-C. Golinval, L. Noels, "
-    "A probabilistic model for predicting the uncertainties of the humid stiction phenomenon on "
-    "hard materials, J. Comput. Appl. Math. 289 (2015) 173-195, doi:10.1016/j.cam.2015.02.022"
-)
+PAPER_REFERENCE = cite(PAPER)
 
 #: Variables of every force-distance curve Dataset over ``(..., rh, distance)``, in order: the
 #: modified DMT (rough_contact), Greenwood-Williamson (``fit_error`` NaN) and the BEM reference

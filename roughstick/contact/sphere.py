@@ -20,6 +20,7 @@ import xarray as xr
 
 from roughstick._core.conventions import ATTRS, dataset_attrs, set_attrs
 from roughstick._core.materials import POLYSILICON, Material, hertz_modulus
+from roughstick._core.references import PAPER, cite
 from roughstick._core.units import require
 from roughstick.contact import _kernels as K_
 from roughstick.meniscus import as_relative_humidity, laplace_pressure, water_height
@@ -36,13 +37,11 @@ __all__ = [
 SPHERE_MODELS = K_.MODELS
 
 _REFERENCES = {
-    "hertz": "Hertz (1882) J. reine angew. Math. 92, 156, doi:10.1515/crll.1882.92.156",
-    "jkr": "Johnson, Kendall, Roberts (1971) Proc. R. Soc. Lond. A 324, 301, doi:10.1098/rspa.1971.0141",
-    "dmt": "Derjaguin, Muller, Toporov (1975) J. Colloid Interface Sci. 53, 314, "
-    "doi:10.1016/0021-9797(75)90018-1",
-    "maugis": "Maugis (1992) J. Colloid Interface Sci. 150, 243, doi:10.1016/0021-9797(92)90285-T; "
-    "Kim, McMeeking, Johnson (1998) J. Mech. Phys. Solids 46, 243, doi:10.1016/S0022-5096(97)00070-7",
-    "modified_dmt": "Hoang, Wu, Paquay, Obreja, Voicu, Müller, Golinval and Noels, humid stiction of rough poly-silicon, Eqs. 8-11",
+    "hertz": cite("hertz1882"),
+    "jkr": cite("jkr1971"),
+    "dmt": cite("dmt1975"),
+    "maugis": cite("maugis1992", "kim1998"),
+    "modified_dmt": cite((PAPER, "Eqs. 8-11")),
 }
 
 

@@ -18,6 +18,7 @@ import xarray as xr
 
 import roughstick as rs
 from roughstick._core.conventions import append_history, dataset_attrs, set_coord_attrs
+from roughstick._core.references import cite
 
 MODELS = ["maugis", "dmt", "modified_dmt"]
 RADII = [100e-9, 800e-9]
@@ -54,7 +55,7 @@ def table1() -> xr.Dataset:
     ds["model"].attrs = {"units": "1", "long_name": "sphere contact model"}
     set_coord_attrs(ds)
     ds.attrs = dataset_attrs("Table 1: adhesive energy of a poly-Si sphere on a poly-Si flat",
-                             references="Maugis (1992) doi:10.1016/0021-9797(92)90285-T")
+                             references=cite("maugis1992"))
     return append_history(ds, "roughstick.demos.s10_sphere.table1()")
 
 

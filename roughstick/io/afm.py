@@ -8,7 +8,6 @@ an optional extra: ``pip install roughstick[afm]``.
 from __future__ import annotations
 
 import pathlib
-import re
 
 import numpy as np
 import xarray as xr
@@ -24,14 +23,7 @@ _NETCDF = {".nc", ".nc4", ".netcdf", ".cdf"}
 
 def _length(value, name: str) -> float:
     """A length as float m: a number (m) or a string such as ``"5 nm"``."""
-    if isinstance(value, str):
-        m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([^\s0-9].*)?\s*", value)
-        if not m:
-            raise ValueError(f"cannot read {name}={value!r}; write e.g. '5 nm' or 5e-9 (m).")
-        f = _units._factor(m.group(2) or "m", "length", name)
-        v = float(m.group(1)) * f
-    else:
-        v = float(value)
+    v = _units.parse_quantity(value, "length", name=name)
     if not np.isfinite(v) or v <= 0:
         raise ValueError(f"{name} must be a positive length, got {value!r}.")
     return v
@@ -41,7 +33,7 @@ def _grid(values, dx, dy, *, units, source, periodic=0):
     z = np.asarray(values, dtype=float)
     if z.ndim != 2:
         raise ValueError(f"a height map must be 2-D, got an array of shape {z.shape} from {source}.")
-    f = _units._factor(str(units), "length", "height")
+    f = _units.factor(units, "length", name="height")
     ny, nx = z.shape
     da = xr.DataArray(
         z * f,
@@ -127,7 +119,7 @@ def _read_vendor(path: pathlib.Path, channel, spacing):
         h = h.filled(np.nan)
     # SurfaceTopography indexes heights[x, y]: transpose to (y, x) with scan lines along x
     z = np.asarray(h, dtype=float).T
-    f = _units._factor(str(unit), "length", "SurfaceTopography unit")
+    f = _units.factor(unit, "length", name="SurfaceTopography unit")
     sx, sy = t.physical_sizes
     nx, ny = t.nb_grid_pts
     dx, dy = (sx * f / nx, sy * f / ny) if spacing is None else (spacing[1], spacing[0])
