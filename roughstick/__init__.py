@@ -14,13 +14,11 @@ from . import (  # noqa: E402
     cantilever,
     contact,
     ensemble,
-    generate,
     greenwood_williamson,
     meniscus,
-    psd,
     rough_contact,
+    surface,
     testing,
-    topography,
     validity,
 )
 from ._core import constants, conventions, materials
@@ -32,23 +30,21 @@ from .bem import *  # noqa: F403
 from .cantilever import *  # noqa: F403
 from .contact import *  # noqa: F403
 from .ensemble import *  # noqa: F403
-from .generate import *  # noqa: F403
 from .greenwood_williamson import *  # noqa: F403
 from .io import afm as _afm  # noqa: E402
 from .io import netcdf as _netcdf
 from .io.afm import *  # noqa: F403
 from .io.netcdf import *  # noqa: F403
 from .meniscus import *  # noqa: F403
-from .psd import *  # noqa: F403
 from .rough_contact import *  # noqa: F403
-from .topography import *  # noqa: F403
+from .surface import *  # noqa: F403
 from .validity import *  # noqa: F403
 
 #: Every public function and class, gathered from the modules' own ``__all__``.
 __all__ = sorted(
     name
     for mod in (
-        materials, meniscus, contact, _afm, _netcdf, topography, psd, generate,
+        materials, meniscus, contact, _afm, _netcdf, surface,
         greenwood_williamson, rough_contact, adhesion, ensemble, cantilever, bem, validity,
     )
     for name in mod.__all__

@@ -987,7 +987,7 @@ def cantilever_moments(
     >>> round(float(m.m0) ** 0.5 * 1e9, 2), round(float(m.m2), 4), round(float(m.m4) / 1e12, 2)
     (3.54, 0.0035, 9.13)
     """
-    from .psd import moments_from_asperities
+    from .surface.moments import moments_from_asperities
 
     return moments_from_asperities(roughness=roughness, radius=asperity_radius, density=asperity_density)
 
@@ -1028,7 +1028,7 @@ def cantilever_psd(
     >>> round(float(p.q0) / 1e6, 1), round(float(p.s0) * 1e36, -2), round(float(p.s1) * 1e39, 1)
     (21.2, 5500.0, 5.5)
     """
-    from .psd import fit_self_affine
+    from .surface.self_affine import fit_self_affine
 
     m = cantilever_moments(roughness=roughness, asperity_radius=asperity_radius,
                            asperity_density=asperity_density)
@@ -1110,7 +1110,7 @@ def interaction_zone_psd(fit: xr.Dataset | None = None, *, beam: Cantilever = PA
 
 def _psd_on_grid(fit: xr.Dataset, shape, spacing) -> xr.DataArray:
     """The Eq. 37 PSD of ``fit`` evaluated exactly on the FFT grid of ``shape`` (no interpolation)."""
-    from .psd import self_affine_psd
+    from .surface.self_affine import self_affine_psd
 
     missing = [k for k in ("q0", "s0", "s1", "qmax") if k not in fit]
     if missing:

@@ -894,7 +894,7 @@ def run_ensemble(
     if material is None:
         material = materials.POLYSILICON
     if generate is None:
-        from .generate import generate_surfaces as generate
+        from .surface.generate import generate_surfaces as generate
     if curves is None:
         from .rough_contact import rough_contact_curves as curves
     if summary is None:

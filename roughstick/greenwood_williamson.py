@@ -408,7 +408,8 @@ def _as_moments(moments) -> xr.Dataset:
 
 def _height_moments(height: xr.DataArray) -> xr.Dataset:
     """Nayak moments of a height map from its periodogram (``psd_moments(power_spectrum(h))``)."""
-    from .psd import power_spectrum, psd_moments
+    from .surface.moments import psd_moments
+    from .surface.spectrum import power_spectrum
 
     return psd_moments(power_spectrum(height), direction="mean")
 

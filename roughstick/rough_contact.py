@@ -438,7 +438,7 @@ def _map_moments(height: xr.DataArray) -> xr.Dataset:
     differences averaged over the x and y directions (periodic maps wrap, measured maps drop
     the edge pixels).
     """
-    from . import topography
+    from .surface import moments as topography
 
     fn = getattr(topography, "roughness_moments", None)
     if fn is not None and not is_lazy(height) and not bool(height.isnull().any()):

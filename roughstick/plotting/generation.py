@@ -135,7 +135,7 @@ def plot_generated_psd(height: xr.DataArray, psd, *, ax=None, label: str = "gene
     """
     import matplotlib.pyplot as plt
 
-    from roughstick.generate import surface_filter
+    from roughstick.surface.generate import surface_filter
 
     if ax is None:
         _, ax = plt.subplots(figsize=(5.5, 4), layout="constrained")

@@ -32,7 +32,7 @@ def plot_height(height, *, ax=None, cmap="viridis"):
 
 
 def _iso(psd):
-    from roughstick.psd import psd_isotropic
+    from roughstick.surface.spectrum import psd_isotropic
 
     return psd if "q" in psd.dims else psd_isotropic(psd)
 
@@ -86,7 +86,7 @@ def plot_self_affine_psd(fits: dict, *, measured: dict | None = None, ax=None, q
     -------
     matplotlib.axes.Axes
     """
-    from roughstick.psd import self_affine_psd
+    from roughstick.surface.self_affine import self_affine_psd
 
     ax = _ax(ax)
     q = np.geomspace(1e6, 7e8, 600) if q is None else np.asarray(q, dtype=float)

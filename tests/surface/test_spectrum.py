@@ -1,165 +1,15 @@
-"""Tests of roughstick.psd: Eq. 37 and its inverse, PSD estimation, averaging, cutoff."""
+"""Tests of roughstick.surface.spectrum and .summary: PSD estimation, averaging, sub-maps, interpolation."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import xarray as xr
-from scipy.integrate import quad
 
 import roughstick as rs
 from roughstick._core import units as _units
 
 QMAX = 289e6  # rad/m (paper: 289 rad/µm)
-TABLE4 = dict(roughness=[2.6e-9, 2.4e-9], radius=220e-9)
-
-
-# ------------------------------------------------------------------ Eq. 37 and its inverse
-
-
-def test_self_affine_psd_shape_and_branches():
-    q = np.array([0.0, 1e6, 2e7, 5e7, 2e8, 2.0000001e8, 1e9])
-    s = rs.self_affine_psd(q, s0=1e-32, s1=1e-38, q0=2e7, qmax=2e8)
-    assert s.dims == ("q",) and s.name == "psd"
-    rs.testing.assert_units(s, "m4")
-    np.testing.assert_allclose(s.values[:3], 1e-32)
-    np.testing.assert_allclose(s.values[4], 1e-38, rtol=1e-12)  # s(qmax) = s1
-    assert s.values[5] == 0 and s.values[6] == 0
-    # log-log straight line between q0 and qmax with slope log10(s1/s0)/log10(qmax/q0) = -6
-    slope = np.log10(s.values[3] / 1e-32) / np.log10(5e7 / 2e7)
-    np.testing.assert_allclose(slope, -6.0, rtol=1e-12)
-
-
-def test_self_affine_psd_on_2d_grid_and_isotropic_to_2d():
-    qx = xr.DataArray(np.linspace(-3e8, 3e8, 31), dims="qx", attrs={"units": "rad m-1"})
-    qy = xr.DataArray(np.linspace(-3e8, 3e8, 21), dims="qy", attrs={"units": "rad m-1"})
-    qx = qx.assign_coords(qx=qx.values)
-    qy = qy.assign_coords(qy=qy.values)
-    qmag = np.hypot(qy, qx).assign_attrs(units="rad m-1")
-    s2 = rs.self_affine_psd(qmag, s0=1e-32, s1=1e-38, q0=2e7, qmax=2e8)
-    assert s2.dims == ("qy", "qx")
-    iso = rs.self_affine_psd(np.linspace(0, 4e8, 4001), s0=1e-32, s1=1e-38, q0=2e7, qmax=2e8)
-    s2b = rs.isotropic_to_2d(iso, qx=qx.values, qy=qy.values)
-    assert s2b.dims == ("qy", "qx")
-    # linear interpolation in log of a power law on a fine grid: close to the exact 2D values
-    np.testing.assert_allclose(s2b.values, s2.values, rtol=2e-3, atol=0)
-
-
-def test_self_affine_psd_units_of_dataarray_params():
-    s = rs.self_affine_psd(
-        [1e7], s0=xr.DataArray(1e4, attrs={"units": "nm4"}), s1=1e-38, q0=2e7, qmax=2e8
-    )
-    np.testing.assert_allclose(s.values, 1e-32)
-    with pytest.raises(_units.UnitsError, match="units"):
-        rs.self_affine_psd([1e7], s0=xr.DataArray(1e4), s1=1e-38, q0=2e7, qmax=2e8)
-    with pytest.raises(ValueError, match="q0 must be smaller"):
-        rs.self_affine_psd([1e7], s0=1e-32, s1=1e-38, q0=3e8, qmax=2e8)
-    with pytest.raises(ValueError, match="positive"):
-        rs.self_affine_psd([1e7], s0=-1e-32, s1=1e-38, q0=2e7, qmax=2e8)
-
-
-@pytest.mark.parametrize("beta_s1", [1e-38, 1e-34, 1e-32 * (10 ** -2 / 1)])
-def test_self_affine_moments_closed_form_vs_quadrature(beta_s1):
-    # independent check: numerical quadrature of the isotropic moment integrals
-    p = dict(s0=1e-32, s1=beta_s1, q0=2e7, qmax=2e8)
-    m = rs.self_affine_moments(**p)
-
-    def s(q):
-        return float(rs.self_affine_psd([q], **p).values[0])
-
-    pts = [p["q0"]]
-    m0 = 2 * np.pi * quad(lambda q: s(q) * q, 0, p["qmax"], points=pts, limit=200)[0]
-    m2 = np.pi * quad(lambda q: s(q) * q**3, 0, p["qmax"], points=pts, limit=200)[0]
-    m4 = 0.75 * np.pi * quad(lambda q: s(q) * q**5, 0, p["qmax"], points=pts, limit=200)[0]
-    np.testing.assert_allclose([float(m.m0), float(m.m2), float(m.m4)], [m0, m2, m4], rtol=1e-7)
-
-
-def test_self_affine_exponent_special_cases():
-    # exponents -2, -4, -6 hit the logarithmic branches of the closed form
-    for k in (2, 4, 6):
-        s1 = 1e-32 * 10.0 ** (-k)  # qmax/q0 = 10, so exponent = -k
-        m = rs.self_affine_moments(s0=1e-32, s1=s1, q0=2e7, qmax=2e8)
-        m_near = rs.self_affine_moments(s0=1e-32, s1=s1 * (1 + 1e-7), q0=2e7, qmax=2e8)
-        for v in ("m0", "m2", "m4"):
-            np.testing.assert_allclose(float(m[v]), float(m_near[v]), rtol=1e-6)
-
-
-def test_moments_from_asperities_table4():
-    m = rs.moments_from_asperities(**TABLE4, density=80.1e12)
-    np.testing.assert_allclose(np.sqrt(float(m.m0)), 3.54e-9, rtol=2e-3)  # Table 4: 3.54 nm
-    np.testing.assert_allclose(float(m.m4), 9.1e12, rtol=5e-3)  # 9.1 µm^-2 (squared formula)
-    np.testing.assert_allclose(float(m.m2), 0.0035, rtol=5e-3)  # Table 4: 0.0035
-    assert m.m0.attrs["units"] == "m2" and m.m4.attrs["units"] == "m-2"
-    # Nayak: density and radius come back from the moments
-    n = float(m.m4) / (6 * np.pi * np.sqrt(3) * float(m.m2))
-    np.testing.assert_allclose(n, 80.1e12, rtol=1e-12)
-    with pytest.raises(ValueError, match="roughness"):
-        rs.moments_from_asperities(roughness=-1e-9, radius=220e-9, density=80.1e12)
-    with pytest.raises(ValueError, match="radius"):
-        rs.moments_from_asperities(roughness=1e-9, radius=0, density=80.1e12)
-
-
-def test_fit_self_affine_table4_as_computed_n801():
-    """Table 4 with N = 80.1 µm^-2: q0 ≈ 21.2 rad/µm, s0 ≈ 5.5e3 nm^4, s1 ≈ 5.5e-3 nm^4."""
-    m = rs.moments_from_asperities(**TABLE4, density=80.1e12)
-    fit = rs.fit_self_affine(m0=m.m0, m2=m.m2, m4=m.m4, qmax=QMAX)
-    np.testing.assert_allclose(float(fit.q0), 21.2e6, rtol=5e-3)
-    np.testing.assert_allclose(float(fit.s0), 5.5e-33, rtol=1e-2)
-    np.testing.assert_allclose(float(fit.s1), 5.5e-39, rtol=1e-2)
-    for k in ("m0", "m2", "m4"):
-        assert abs(float(fit[f"residual_{k}"])) < 1e-9
-    # it is NOT the printed solution (the discrepancy DESIGN.md §3 documents)
-    assert abs(float(fit.q0) / 19.4e6 - 1) > 0.05
-
-
-def test_fit_self_affine_table4_printed_values_need_n881():
-    """The printed 19.4 rad/µm, 6.46e3 nm^4, 6.29e-3 nm^4 come out with N = 88.1 µm^-2."""
-    m = rs.moments_from_asperities(**TABLE4, density=88.1e12)
-    fit = rs.fit_self_affine(m0=m.m0, m2=m.m2, m4=m.m4, qmax=QMAX)
-    np.testing.assert_allclose(float(fit.q0), 19.4e6, rtol=1e-2)
-    np.testing.assert_allclose(float(fit.s0), 6.46e-33, rtol=1.5e-2)
-    np.testing.assert_allclose(float(fit.s1), 6.29e-39, rtol=1e-2)
-
-
-def test_fit_self_affine_round_trip_and_units():
-    p = dict(s0=3e-33, s1=4e-39, q0=3e7, qmax=3e8)
-    m = rs.self_affine_moments(**p)
-    m0_nm = (m.m0 * 1e18).assign_attrs(units="nm2")
-    fit = rs.fit_self_affine(m0=m0_nm, m2=m.m2, m4=m.m4, qmax=p["qmax"])
-    np.testing.assert_allclose(float(fit.q0), p["q0"], rtol=1e-6)
-    np.testing.assert_allclose(float(fit.s0), p["s0"], rtol=1e-6)
-    np.testing.assert_allclose(float(fit.s1), p["s1"], rtol=1e-5)
-    assert fit.s0.attrs["units"] == "m4" and fit.q0.attrs["units"] == "rad m-1"
-    assert "fit_self_affine" in fit.attrs["history"]
-    # the fitted parameters feed self_affine_psd directly (DataArrays with units)
-    s = rs.self_affine_psd([1e7, 2e8], s0=fit.s0, s1=fit.s1, q0=fit.q0, qmax=fit.qmax)
-    np.testing.assert_allclose(s.values[0], p["s0"], rtol=1e-6)
-
-
-def test_fit_self_affine_sweep_backend(backend, no_compute):
-    p = dict(s1=4e-39, q0=3e7, qmax=3e8)
-    s0 = xr.DataArray([2e-33, 3e-33, 5e-33], dims="sample", attrs={"units": "m4"})
-    m = rs.self_affine_moments(s0=s0, **p)
-    m0 = backend(m.m0.assign_attrs(units="m2"), {"sample": 1})
-    with no_compute():
-        fit = rs.fit_self_affine(m0=m0, m2=m.m2, m4=m.m4, qmax=p["qmax"])
-    assert fit.s0.dims == ("sample",)
-    assert isinstance(fit.s0.data, type(m0.data))
-    np.testing.assert_allclose(fit.s0.values, s0.values, rtol=1e-6)
-    np.testing.assert_allclose(fit.q0.values, 3e7, rtol=1e-6)
-
-
-def test_fit_self_affine_unreachable_raises():
-    # m2^2 > m0 m4 is impossible for any PSD (Cauchy-Schwarz): no Eq. 37 solution
-    with pytest.raises(ValueError, match="no Eq. 37 PSD"):
-        rs.fit_self_affine(m0=1e-17, m2=0.5, m4=1e12, qmax=QMAX)
-    out = rs.fit_self_affine(m0=1e-17, m2=0.5, m4=1e12, qmax=QMAX, tolerance=np.inf)
-    assert abs(float(out.residual_m2)) > 1e-3
-    with pytest.raises(ValueError, match="positive"):
-        rs.fit_self_affine(m0=0.0, m2=0.5, m4=1e12, qmax=QMAX)
-
-
-# ------------------------------------------------------------------ PSD estimation
 
 
 def filtered_noise(shape, spacing, filt, rng, sigma=1e-9):
@@ -267,30 +117,6 @@ def test_bad_psd_inputs():
         rs.power_spectrum(h.isel(y=slice(0, 6)))
 
 
-def test_isotropic_and_moments_of_eq37_grid():
-    # 2D sampling of the Eq. 37 PSD on a fine grid: moments agree with the closed form
-    p = dict(s0=5.5e-33, s1=5.5e-39, q0=21.2e6, qmax=289e6)
-    n, sp = 512, 5e-9
-    q1 = 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(n, sp))
-    qx = xr.DataArray(q1, dims="qx", coords={"qx": q1}, attrs={"units": "rad m-1"})
-    qy = xr.DataArray(q1, dims="qy", coords={"qy": q1}, attrs={"units": "rad m-1"})
-    s2 = rs.self_affine_psd(np.hypot(qy, qx).assign_attrs(units="rad m-1"), **p)
-    s2 = s2.assign_attrs(units="m4")
-    exact = rs.self_affine_moments(**p)
-    m2d = rs.psd_moments(s2)
-    iso = rs.psd_isotropic(s2)
-    miso = rs.psd_moments(iso)
-    for k in ("m0", "m2", "m4"):
-        np.testing.assert_allclose(float(m2d[k]), float(exact[k]), rtol=0.02)
-        np.testing.assert_allclose(float(miso[k]), float(exact[k]), rtol=0.03)
-    # cutting at q0 keeps only the plateau: pi q0^2 s0 within the grid's disc error
-    np.testing.assert_allclose(float(rs.psd_moments(s2, qmax=p["q0"]).m0),
-                               np.pi * p["q0"] ** 2 * p["s0"], rtol=0.05)
-
-
-# ------------------------------------------------------------------ sub-maps, cutoff, interp
-
-
 def test_submap_schemes_and_eq32():
     h, expected = filtered_noise((3, 128, 128), 5e-9, lorentz, np.random.default_rng(12))
     outs = {n: rs.submap_psd(h, n=n) for n in (1, 4, 16)}
@@ -317,34 +143,6 @@ def test_submap_schemes_and_eq32():
         rs.submap_psd(h, n=3)
     with pytest.raises(ValueError, match="8 x 8"):
         rs.submap_psd(h, n=400)
-
-
-def test_choose_cutoff_recovers_known_qmax():
-    h, _ = filtered_noise((64, 64), 5e-9, lorentz, np.random.default_rng(13))
-    s = rs.power_spectrum(h)
-    qtrue = 3.0e8
-    target = rs.psd_moments(s, qmax=qtrue)
-    cut = rs.choose_cutoff(s, target)
-    rings = np.unique(np.hypot(*np.meshgrid(s.qx, s.qy)))
-    q_expected = rings[rings <= qtrue].max()
-    np.testing.assert_allclose(float(cut.qmax), q_expected, rtol=1e-12)
-    for k in ("m0", "m2", "m4"):
-        assert abs(float(cut[f"residual_{k}"])) < 1e-12
-    assert cut.qmax.attrs["units"] == "rad m-1"
-    # on a map smooth at the pixel scale, spline (spatial) and spectral moments agree and the
-    # cutoff matches them to < 1 %
-    smooth, _ = filtered_noise((128, 128), 5e-9, lambda q: np.exp(-((q / 3e7) ** 2)),
-                               np.random.default_rng(13))
-    spatial = rs.roughness_moments(smooth)
-    spectral = rs.roughness_moments(smooth, method="spectral")
-    for k in ("m0", "m2", "m4"):
-        np.testing.assert_allclose(float(spatial[k]), float(spectral[k]), rtol=0.01)
-    cut2 = rs.choose_cutoff(rs.power_spectrum(smooth), spatial)
-    assert abs(float(cut2.residual_m4)) < 0.01 and abs(float(cut2.residual_m2)) < 0.01
-    # with power up to the Nyquist wave number, cubic-spline curvatures exceed the spectral
-    # m4 (spline response > q^2 near Nyquist): no cutoff can match, and the residual says so
-    cut3 = rs.choose_cutoff(s, rs.roughness_moments(h))
-    assert float(cut3.residual_m4) < -0.2
 
 
 def test_interpolate_psd_preserves_moments():

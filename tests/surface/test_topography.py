@@ -1,4 +1,4 @@
-"""Tests of roughstick.topography: validation, levelling, NaN handling, roughness statistics."""
+"""Tests of roughstick.surface.topography: validation, levelling, NaN handling."""
 
 from __future__ import annotations
 
@@ -8,20 +8,6 @@ import pytest
 import roughstick as rs
 from roughstick._core import units as _units
 from roughstick.testing import make_topography
-
-SP = 5e-9
-
-
-def cosine_map(ny=64, nx=80, *, ax=2e-9, ay=1e-9, kx=3, ky=2, spacing=SP):
-    """A periodic smooth map: ax cos(qx x) + ay cos(qy y) with whole periods in the box."""
-    x = (np.arange(nx) + 0.5) * spacing
-    y = (np.arange(ny) + 0.5) * spacing
-    qx, qy = 2 * np.pi * kx / (nx * spacing), 2 * np.pi * ky / (ny * spacing)
-    z = ax * np.cos(qx * x)[None, :] + ay * np.cos(qy * y)[:, None]
-    return make_topography(z, spacing=spacing, periodic=True), qx, qy
-
-
-# ------------------------------------------------------------------------------ validation
 
 
 def test_validate_bad_inputs():
@@ -58,9 +44,6 @@ def test_validate_converts_units_and_transposes():
     assert v.dims == ("y", "x") and v.attrs["units"] == "m"
     np.testing.assert_allclose(v.values, h.values * 1e-9)
     np.testing.assert_allclose(v.attrs["spacing_x"], 1e-9)
-
-
-# ------------------------------------------------------------------------------- levelling
 
 
 def test_level_plane_mean_line():
@@ -111,70 +94,8 @@ def test_level_backend(backend, no_compute):
     np.testing.assert_allclose(out.values, rs.level(stack, method="line").values, atol=1e-22)
 
 
-# ------------------------------------------------------------------------------- moments
-
-
-def test_moments_cosines_analytic_both_methods():
-    h, qx, qy = cosine_map(ny=96, nx=128, kx=3, ky=2)
-    ax, ay = 2e-9, 1e-9
-    exact_x = dict(m0=(ax**2 + ay**2) / 2, m2=ax**2 * qx**2 / 2, m4=ax**2 * qx**4 / 2)
-    exact_mean = dict(m0=exact_x["m0"], m2=(ax**2 * qx**2 + ay**2 * qy**2) / 4,
-                      m4=(ax**2 * qx**4 + ay**2 * qy**4) / 4)
-    for direction, exact in (("x", exact_x), ("mean", exact_mean)):
-        spec = rs.roughness_moments(h, method="spectral", direction=direction)
-        spl = rs.roughness_moments(h, method="spline", direction=direction)
-        for k in ("m0", "m2", "m4"):
-            np.testing.assert_allclose(float(spec[k]), exact[k], rtol=1e-10)  # exact (periodic)
-            # spline: edge effects of the not-a-knot interpolant on a non-periodic fit only
-            np.testing.assert_allclose(float(spl[k]), exact[k], rtol=1e-2)
-    assert spl.m4.attrs["units"] == "m-2" and spl.m0.attrs["units"] == "m2"
-
-
-def test_moments_backend_and_odd_nonsquare(backend, no_compute):
-    z = np.random.default_rng(4).normal(size=(2, 33, 20)) * 1e-9
-    h = make_topography(z)
-    inp = backend(h, {"dim_0": 1})
-    with no_compute():
-        m = rs.roughness_moments(inp)
-    assert isinstance(m.m2.data, type(inp.data)) and m.m2.dims == ("dim_0",)
-    ref = rs.roughness_moments(h)
-    for k in ("m0", "m2", "m4"):
-        np.testing.assert_allclose(m[k].values, ref[k].values, rtol=1e-12)
-    np.testing.assert_allclose(ref.m0.values, z.var(axis=(-2, -1)), rtol=1e-12)
-
-
 def test_constant_map_raises():
     with pytest.raises(ValueError, match="constant"):
         rs.roughness_moments(make_topography(np.full((16, 16), 3e-9)))
     with pytest.raises(ValueError, match="constant"):
         rs.power_spectrum(make_topography(np.full((16, 16), 3e-9)))
-
-
-# ------------------------------------------------------------------------- asperity stats
-
-
-def test_asperity_statistics_and_plasticity():
-    m = rs.moments_from_asperities(roughness=3.54e-9, radius=220e-9, density=80.1e12)
-    st = rs.asperity_statistics(m)
-    np.testing.assert_allclose(float(st.summit_density), 80.1e12, rtol=1e-12)
-    np.testing.assert_allclose(float(st.summit_radius), 220e-9, rtol=1e-12)
-    alpha = float(m.m0 * m.m4 / m.m2**2)
-    np.testing.assert_allclose(float(st.bandwidth), alpha, rtol=1e-12)
-    # Eq. 15 by hand with sigma_s given
-    psi = rs.plasticity_index(m, hardness=10e9, summit_height_std=2e-9)
-    e = 164e9 / (2 * (1 - 0.23**2))
-    np.testing.assert_allclose(float(psi), e / 10e9 * np.sqrt(2e-9 / 220e-9), rtol=1e-12)
-    assert psi.attrs["units"] == "1" and "doi" in psi.attrs["references"]
-    with pytest.raises(ValueError, match="hardness"):
-        rs.plasticity_index(m)
-    # Nayak: sigma_s < sqrt(m0), -> sqrt(m0) as alpha -> infinity
-    assert 0 < float(st.summit_height_std) < np.sqrt(float(m.m0))
-
-
-def test_roughness_statistics_table():
-    h = make_topography(np.random.default_rng(5).normal(size=(40, 40)) * 1e-9)
-    st = rs.roughness_statistics(rs.level(h))
-    for v in ("m0", "m2", "m4", "rms_height", "rms_slope", "skewness", "kurtosis",
-              "summit_density", "summit_radius", "bandwidth"):
-        assert v in st and "units" in st[v].attrs
-    assert 2 < float(st.kurtosis) < 4 and abs(float(st.skewness)) < 0.5

@@ -19,7 +19,7 @@ from scipy import stats
 import roughstick as rs
 from conftest import raise_if_dask_computes
 from roughstick._core.dask import is_lazy
-from roughstick.generate import generate_surfaces, surface_filter
+from roughstick.surface.generate import generate_surfaces, surface_filter
 
 SPACING = 5e-9
 TABLE3 = {

@@ -33,13 +33,15 @@ from collections.abc import Sequence
 import dask
 import dask.array as dsa
 import numpy as np
+import scipy.fft
 import xarray as xr
 from dask.delayed import Delayed
 
-from ._core import units as _units
-from ._core.conventions import append_history, set_attrs
-from ._core.dask import as_seed_sequence, is_lazy, realization_rng
-from ._core.references import PAPER, cite
+from .._core import units as _units
+from .._core.conventions import append_history, set_attrs
+from .._core.dask import as_seed_sequence, is_lazy, realization_rng
+from .._core.references import PAPER, cite
+from .spectrum import interpolate_psd, isotropic_to_2d
 
 __all__ = ["generate_surfaces", "surface_filter"]
 
@@ -236,9 +238,7 @@ def _values_checked(s: np.ndarray, what: str) -> np.ndarray:
 
 def _psd_2d_on_grid(values, qy_c, qx_c, ny, nx, dy, dx, factor):
     """A centred 2D PSD interpolated onto the rfft half-plane of the target grid
-    (``roughstick.psd.interpolate_psd``: bilinear, periodic extension by one row/column)."""
-    from .psd import interpolate_psd
-
+    (``roughstick.surface.spectrum.interpolate_psd``: bilinear, periodic extension by one row/column)."""
     values = _values_checked(np.asarray(values, dtype=float) * factor, "PSD")
     src = xr.DataArray(values, dims=("qy", "qx"), coords={"qy": qy_c, "qx": qx_c},
                        attrs={"units": "m4", "spacing_x": dx, "spacing_y": dy})
@@ -247,10 +247,8 @@ def _psd_2d_on_grid(values, qy_c, qx_c, ny, nx, dy, dx, factor):
 
 
 def _psd_iso_on_grid(values, q_c, qy, qx, factor):
-    """An isotropic PSD at |q| of the half-plane (``roughstick.psd.isotropic_to_2d``: linear in
+    """An isotropic PSD at |q| of the half-plane (``roughstick.surface.spectrum.isotropic_to_2d``: linear in
     log s between samples, zero beyond the last q, the first value below the first q)."""
-    from .psd import isotropic_to_2d
-
     values = _values_checked(np.asarray(values, dtype=float) * factor, "isotropic PSD")
     src = xr.DataArray(values, dims=("q",), coords={"q": q_c}, attrs={"units": "m4"})
     return np.asarray(isotropic_to_2d(src, qx, qy).values)
@@ -429,8 +427,6 @@ class _Kernel:
 
     def __call__(self, rng):
         """One surface: Hermitian amplitudes on the support box, one inverse real FFT (Eq. 34)."""
-        import scipy.fft
-
         xi, rows, ncols = self.xi, self.rows, self.ncols
         if ncols:
             shape = (rows.size, ncols)

@@ -1,0 +1,242 @@
+r"""Height maps: validation, levelling and NaN dropouts (paper §3.1).
+
+A height map is a DataArray ``height`` over ``(..., y, x)`` in m with uniform ascending pixel-centre
+coordinates (docs/architecture.md). :func:`validate_height` checks one and returns it in SI;
+:func:`level` removes its mean, mean plane or scan-line offsets and handles NaN pixels. Roughness
+statistics of a map are in :mod:`roughstick.surface.moments`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+from scipy.ndimage import distance_transform_edt
+
+from .._core import units as _units
+from .._core.conventions import append_history, set_attrs
+from .._core.dask import check_core_not_chunked, is_lazy
+
+__all__ = ["validate_height", "level"]
+
+MIN_PIXELS = 8
+
+
+def _check_axis(da: xr.DataArray, dim: str) -> float:
+    if dim not in da.dims:
+        raise ValueError(
+            f"height must have dims (..., 'y', 'x'); got {da.dims}. Rename with "
+            f".rename({{'<row dim>': 'y', '<column dim>': 'x'}})."
+        )
+    n = da.sizes[dim]
+    if n < MIN_PIXELS:
+        raise ValueError(
+            f"the map has {n} pixels along {dim!r}; roughness statistics and spectra need at least "
+            f"{MIN_PIXELS} x {MIN_PIXELS} pixels."
+        )
+    if dim not in da.coords:
+        raise ValueError(
+            f"height has no {dim!r} coordinate, so its pixel size is unknown. Assign pixel centres "
+            f"in m, e.g. height.assign_coords({dim}=(np.arange(n) + 0.5) * spacing), or build it "
+            "with roughstick.testing.make_topography(values, spacing=...)."
+        )
+    c = da[dim]
+    cu = c.attrs.get("units", "m")
+    cvals = np.asarray(c.values, dtype=float) * _units.factor(cu, "length", name=f"coordinate {dim}")
+    d = np.diff(cvals)
+    if np.any(d <= 0):
+        if np.all(d < 0):
+            raise ValueError(
+                f"coordinate {dim!r} is descending; roughstick expects ascending pixel centres. "
+                f"Use height.sortby({dim!r}) (or height.isel({dim}=slice(None, None, -1)))."
+            )
+        raise ValueError(f"coordinate {dim!r} is not monotonic: sort it with height.sortby({dim!r}).")
+    step = d.mean()
+    if np.max(np.abs(d - step)) > 1e-6 * step:
+        raise ValueError(
+            f"coordinate {dim!r} is not uniformly spaced (steps from {d.min():.6g} to {d.max():.6g} m); "
+            f"FFT spectra need a uniform grid. Interpolate first, e.g. "
+            f"height.interp({dim}=np.linspace(first, last, n))."
+        )
+    return float(step)
+
+def validate_height(height: xr.DataArray) -> xr.DataArray:
+    """Check a height map and return it in SI with canonical attributes.
+
+    Parameters
+    ----------
+    height : xarray.DataArray
+        Topography, dims ``(..., y, x)``, units length (converted to m); coordinates ``x``, ``y``
+        uniform and ascending; at least 8 x 8 pixels; ``x`` and ``y`` single-chunk.
+
+    Returns
+    -------
+    xarray.DataArray
+        ``height`` transposed to ``(..., y, x)`` in m with coordinates in m; attributes
+        ``spacing_x``, ``spacing_y`` [m] added.
+
+    Raises
+    ------
+    roughstick._core.units.UnitsError
+        Missing or non-length ``units``.
+    ValueError
+        Missing, descending, non-monotonic or non-uniform coordinates; fewer than 8 pixels;
+        chunked ``x``/``y``.
+    """
+    if not isinstance(height, xr.DataArray):
+        raise TypeError(
+            f"height must be an xarray.DataArray, got {type(height).__name__}; wrap arrays with "
+            "roughstick.testing.make_topography(values, spacing=...) or read them with read_afm."
+        )
+    h = _units.require(height, "length", name=height.name or "height")
+    dx = _check_axis(h, "x")
+    dy = _check_axis(h, "y")
+    check_core_not_chunked(h, ["x", "y"])
+    h = h.transpose(..., "y", "x")
+    for dim in ("x", "y"):
+        cu = h[dim].attrs.get("units", "m")
+        f = _units.factor(cu, "length", name=f"coordinate {dim}")
+        if f != 1.0:
+            h = h.assign_coords({dim: h[dim].values * f})
+    attrs = dict(h.attrs)
+    h = set_attrs(h.rename("height"), "height")
+    h.attrs.update({k: v for k, v in attrs.items() if k not in h.attrs})
+    h.attrs["units"] = "m"
+    h.attrs["spacing_x"] = dx
+    h.attrs["spacing_y"] = dy
+    return h
+
+
+# ------------------------------------------------------------------------------ levelling
+
+
+def _nearest_fill(z, mask):
+    idx = distance_transform_edt(mask, return_distances=False, return_indices=True)
+    return z[tuple(idx)]
+
+def _level_kernel(z, *, method, nan, max_nan_fraction, x, y):
+    """Level maps over the last two axes (y, x). Returns a float array of the same shape."""
+    out = np.array(z, dtype=float, copy=True)
+    flat = out.reshape((-1,) + out.shape[-2:])
+    X, Y = np.meshgrid(x - x.mean(), y - y.mean())
+    for k in range(flat.shape[0]):
+        zz = flat[k]
+        bad = ~np.isfinite(zz)
+        frac = bad.mean()
+        if frac > max_nan_fraction:
+            raise ValueError(
+                f"{100 * frac:.1f} % of the map is NaN (more than max_nan_fraction="
+                f"{max_nan_fraction}); it cannot be levelled reliably. Crop the valid region "
+                "(height.isel(x=..., y=...)) or raise max_nan_fraction."
+            )
+        if bad.any() and nan == "raise":
+            raise ValueError(
+                f"the map has {int(bad.sum())} NaN pixels (dropouts); pass nan='fill' (nearest valid "
+                "value after levelling) or nan='mask' (keep NaN; spectra then refuse the map)."
+            )
+        good = ~bad
+        if method == "mean":
+            zz = zz - zz[good].mean()
+        elif method == "plane":
+            A = np.column_stack([np.ones(good.sum()), X[good], Y[good]])
+            coef, *_ = np.linalg.lstsq(A, zz[good], rcond=None)
+            zz = zz - (coef[0] + coef[1] * X + coef[2] * Y)
+        elif method == "line":
+            # scan lines run along x (rows): remove a least-squares line from each row,
+            # then the mean plane of the result
+            xs = X[0]
+            for j in range(zz.shape[0]):
+                g = good[j]
+                if g.sum() >= 2:
+                    p = np.polyfit(xs[g], zz[j, g], 1)
+                    zz[j] = zz[j] - np.polyval(p, xs)
+                elif g.sum() == 1:
+                    zz[j] = zz[j] - zz[j, g][0]
+            zz = zz - zz[good].mean()
+        if bad.any() and nan == "fill":
+            zz = _nearest_fill(zz, bad)
+        flat[k] = zz
+    return out
+
+def level(
+    height: xr.DataArray,
+    *,
+    method: str = "plane",
+    nan: str = "raise",
+    max_nan_fraction: float = 0.5,
+) -> xr.DataArray:
+    """Level a height map: remove its mean, mean plane, or a line per scan line.
+
+    Parameters
+    ----------
+    height : xarray.DataArray
+        Topography, dims ``(..., y, x)``, units length (converted to m). Scan lines run along
+        ``x``.
+    method : {"plane", "mean", "line", "none"}
+        ``"mean"`` subtracts the mean height; ``"plane"`` the least-squares plane; ``"line"``
+        a least-squares line from each scan line (row) and then the mean (scan-line alignment,
+        removes line-to-line offsets and tilts of AFM images); ``"none"`` only handles NaN.
+    nan : {"raise", "fill", "mask"}
+        What to do with NaN pixels (AFM dropouts). ``"fill"`` replaces them, after levelling,
+        by the nearest valid pixel; ``"mask"`` keeps them as NaN (levelling ignores them; spectra
+        refuse such maps). The choice and the number of NaN pixels are appended to ``history``.
+    max_nan_fraction : float
+        A map with a larger NaN fraction raises ``ValueError`` whatever ``nan`` says.
+
+    Returns
+    -------
+    xarray.DataArray
+        Levelled ``height`` [m], same dims; lazy input stays lazy (errors then surface when the
+        result is computed).
+
+    Examples
+    --------
+    >>> x = (np.arange(16) + 0.5) * 1e-9
+    >>> tilt = rs.testing.make_topography(2e-3 * x[None, :] + 1e-3 * x[:, None], spacing=1e-9)
+    >>> float(abs(rs.level(tilt)).max()) < 1e-20
+    True
+    """
+    if method not in ("plane", "mean", "line", "none"):
+        raise ValueError(f"method must be 'plane', 'mean', 'line' or 'none', got {method!r}.")
+    if nan not in ("raise", "fill", "mask"):
+        raise ValueError(f"nan must be 'raise', 'fill' or 'mask', got {nan!r}.")
+    h = validate_height(height)
+    x = h["x"].values
+    y = h["y"].values
+    out = xr.apply_ufunc(
+        _level_kernel, h, input_core_dims=[["y", "x"]], output_core_dims=[["y", "x"]],
+        dask="parallelized", output_dtypes=[float],
+        kwargs=dict(method=method, nan=nan, max_nan_fraction=max_nan_fraction, x=x, y=y),
+    )
+    out.attrs = dict(h.attrs)
+    out = out.rename("height")
+    line = f"level: method={method!r}"
+    if not is_lazy(h):
+        n_nan = int(np.count_nonzero(~np.isfinite(h.data)))
+        frac = n_nan / h.size
+        if n_nan:
+            what = "filled with the nearest valid pixel" if nan == "fill" else "kept as NaN (masked)"
+            line += f"; {n_nan} NaN pixels ({100 * frac:.3g} %) {what}"
+    else:
+        line += f"; NaN pixels (counted at compute time) handled with nan={nan!r}"
+    append_history(out, line)
+    return out
+
+
+def _refuse_constant_or_nan(h: xr.DataArray) -> None:
+    """Eager inputs only: NaN pixels and constant maps raise (lazy ones are not computed)."""
+    if is_lazy(h):
+        return
+    z = h.data
+    if not np.all(np.isfinite(z)):
+        raise ValueError(
+            "the height map has NaN/inf pixels; level it first with "
+            "roughstick.level(height, nan='fill') (or crop the dropouts)."
+        )
+    zz = z.reshape((-1,) + z.shape[-2:])
+    spread = zz.max(axis=(-2, -1)) - zz.min(axis=(-2, -1))
+    scale = np.maximum(np.abs(zz).max(axis=(-2, -1)), np.finfo(float).tiny)
+    if np.any(spread <= 1e-12 * scale):
+        raise ValueError(
+            "the height map is constant (zero variance): it has no roughness, so moments, "
+            "summit statistics and spectra are undefined. Check the channel and the units."
+        )
