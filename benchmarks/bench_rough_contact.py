@@ -31,8 +31,8 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
-from roughstick import _rough_kernels as k
-from roughstick._rough_reference import reference_curves
+from roughstick.contact import _rough_kernels as k
+from roughstick.contact._rough_reference import reference_curves
 
 DATA = pathlib.Path(__file__).resolve().parents[1] / "data_samples"
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]

@@ -18,7 +18,7 @@ import numpy as np
 from scipy.integrate import trapezoid
 
 import roughstick as rs
-from roughstick.contact import _kernels
+from roughstick.contact import _sphere_kernels as _kernels
 
 COLUMNS = [(0.3, 100e-9), (0.3, 800e-9), (0.5, 100e-9), (0.5, 800e-9), (0.7, 100e-9), (0.7, 800e-9)]
 PRINTED = {

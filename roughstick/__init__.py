@@ -9,43 +9,30 @@ All values are SI; see :mod:`roughstick._core.conventions`.
 
 from . import (  # noqa: E402
     accessor,  # noqa: E402  registers the .rough accessor
-    adhesion,
-    bem,
     cantilever,
     contact,
     ensemble,
-    greenwood_williamson,
-    meniscus,
-    rough_contact,
     surface,
     testing,
-    validity,
 )
 from ._core import constants, conventions, materials
 from ._core.materials import *  # noqa: F403
 from ._core.units import UnitsError
 from ._core.version import __version__
-from .adhesion import *  # noqa: F403
-from .bem import *  # noqa: F403
 from .cantilever import *  # noqa: F403
 from .contact import *  # noqa: F403
 from .ensemble import *  # noqa: F403
-from .greenwood_williamson import *  # noqa: F403
 from .io import afm as _afm  # noqa: E402
 from .io import netcdf as _netcdf
 from .io.afm import *  # noqa: F403
 from .io.netcdf import *  # noqa: F403
-from .meniscus import *  # noqa: F403
-from .rough_contact import *  # noqa: F403
 from .surface import *  # noqa: F403
-from .validity import *  # noqa: F403
 
 #: Every public function and class, gathered from the modules' own ``__all__``.
 __all__ = sorted(
     name
     for mod in (
-        materials, meniscus, contact, _afm, _netcdf, surface,
-        greenwood_williamson, rough_contact, adhesion, ensemble, cantilever, bem, validity,
+        materials, contact, _afm, _netcdf, surface, ensemble, cantilever,
     )
     for name in mod.__all__
 )

@@ -810,7 +810,7 @@ def measured_adhesion(
     >>> (m.adhesive_energy.values * 1e3).round(3)  # mJ m-2
     array([0.624, 1.064])
     """
-    from .meniscus import as_relative_humidity
+    from .contact.meniscus import as_relative_humidity
 
     if (crack_length is None) == (adhesive_energy is None):
         raise ValueError("give exactly one of crack_length= (m) or adhesive_energy= (J m-2) for the measured points.")

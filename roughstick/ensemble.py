@@ -72,7 +72,7 @@ def _psd_m0(psd: xr.DataArray) -> float:
 
 
 def _as_rh(relative_humidity) -> np.ndarray:
-    from .meniscus import as_relative_humidity
+    from .contact.meniscus import as_relative_humidity
 
     if isinstance(relative_humidity, xr.DataArray):
         rh = as_relative_humidity(relative_humidity)
@@ -91,7 +91,7 @@ def _as_rh(relative_humidity) -> np.ndarray:
 
 
 def _water_heights(rh: np.ndarray, adsorbed_layer) -> np.ndarray:
-    from .meniscus import water_height
+    from .contact.meniscus import water_height
 
     return np.asarray(water_height(rh, adsorbed_layer=adsorbed_layer).values, float)
 
@@ -304,7 +304,7 @@ def _surfaces(spec: _Spec, start: int, stop: int) -> xr.DataArray:
 
 def _block(spec: _Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> xr.Dataset:
     """Compute realizations [start, stop) at humidities rh[rh_lo:rh_hi] (numpy in, numpy out)."""
-    from .meniscus import as_relative_humidity
+    from .contact.meniscus import as_relative_humidity
 
     h = _surfaces(spec, start, stop)
     top = h.max(("y", "x")) - h.mean(("y", "x"))  # d is measured from the mean plane (Eq. 16)
@@ -896,9 +896,9 @@ def run_ensemble(
     if generate is None:
         from .surface.generate import generate_surfaces as generate
     if curves is None:
-        from .rough_contact import rough_contact_curves as curves
+        from .contact.curves import rough_contact_curves as curves
     if summary is None:
-        from .adhesion import adhesion_summary as summary
+        from .contact.adhesion import adhesion_summary as summary
     root = as_seed_sequence(seed)
     if distance is None:
         dist = np.asarray(

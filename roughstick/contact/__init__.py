@@ -1,4 +1,26 @@
-"""Sphere-on-flat contact models (sphere.py) and their numpy kernels (_kernels.py)."""
+"""Contact: from a humidity and a surface (or a sphere) to force-distance curves and Eq. 13.
 
+The second stage of the data flow (paper §2-3): meniscus physics (:mod:`.meniscus`, Eqs. 1-6),
+sphere-on-flat models (:mod:`.sphere` over the kernels of :mod:`._sphere_kernels`, Eqs. 7-11),
+the rough-surface models (:mod:`.rough`, the modified DMT of Eqs. 16-23 with its compiled kernels
+and literal reference; :mod:`.gw`, Greenwood-Williamson, Eq. 14; :mod:`.bem`, the boundary-element
+reference), their measured validity (:mod:`.validity`), ONE dispatcher above them
+(:mod:`.curves`, :func:`rough_contact_curves`) and the reduction to the adhesive energy
+(:mod:`.adhesion`, Eq. 13). The models never import the dispatcher.
+"""
+
+from . import adhesion, bem, curves, gw, meniscus, rough, sphere, validity
+from .adhesion import *  # noqa: F403
+from .bem import *  # noqa: F403
+from .curves import *  # noqa: F403
+from .gw import *  # noqa: F403
+from .meniscus import *  # noqa: F403
+from .rough import *  # noqa: F403
 from .sphere import *  # noqa: F403
-from .sphere import __all__  # noqa: F401
+from .validity import *  # noqa: F403
+
+__all__ = [
+    name
+    for mod in (meniscus, sphere, rough, gw, bem, validity, curves, adhesion)
+    for name in mod.__all__
+]

@@ -1,6 +1,6 @@
 r"""Sphere-on-flat contact models: Hertz, JKR, DMT, Maugis-Dugdale (+ Kim) and modified DMT.
 
-Public xarray layer over the numpy kernels of :mod:`roughstick.contact._kernels` (paper §2.2,
+Public xarray layer over the numpy kernels of :mod:`roughstick.contact._sphere_kernels` (paper §2.2,
 Eqs. 7-11, Table 1, Fig. 3). Adhesion is either capillary (``relative_humidity``: Dugdale
 stress :math:`\sigma_0 = |\Delta P|` over the range :math:`h_0 = h_{water}`, Eqs. 2 and 6,
 :math:`w = \sigma_0 h_0`) or given directly (``work_of_adhesion`` and, for the Dugdale models,
@@ -18,12 +18,12 @@ import numbers
 import numpy as np
 import xarray as xr
 
-from roughstick._core.conventions import ATTRS, dataset_attrs, set_attrs
-from roughstick._core.materials import POLYSILICON, Material, hertz_modulus
-from roughstick._core.references import PAPER, cite
-from roughstick._core.units import require
-from roughstick.contact import _kernels as K_
-from roughstick.meniscus import as_relative_humidity, laplace_pressure, water_height
+from .._core.conventions import ATTRS, dataset_attrs, set_attrs
+from .._core.materials import POLYSILICON, Material, hertz_modulus
+from .._core.references import PAPER, cite
+from .._core.units import require
+from . import _sphere_kernels as K_
+from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = [
     "SPHERE_MODELS",

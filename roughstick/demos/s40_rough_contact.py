@@ -88,7 +88,7 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
 
     # one NetCDF: curves on their own grids, kept as separate groups of variables per map
     ds = xr.Dataset(attrs=rs.conventions.dataset_attrs(
-        "modified-DMT curves and adhesion summary of the S1 samples", references=rs.rough_contact.REFERENCES))
+        "modified-DMT curves and adhesion summary of the S1 samples", references=rs.contact.rough.REFERENCES))
     for i, (k, c) in enumerate(curves.items()):
         c = c.rename({"distance": f"distance_{i}"})
         for v in c.data_vars:

@@ -5,21 +5,14 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ..contact.adhesion import adhesion_summary
+
 __all__ = ["plot_gw_cutoff_study"]
 
 
 def _adhesive_energy(pressure: xr.DataArray) -> xr.DataArray:
-    """Eq. 13 per curve: ``roughstick.adhesion_summary`` when available, else the trapezoid rule."""
-    import roughstick
-
-    summary = getattr(roughstick, "adhesion_summary", None)
-    if summary is not None:
-        ds = summary(pressure.to_dataset(name="pressure"))
-        for name in ("adhesive_energy", "surface_adhesive_energy"):
-            if name in ds:
-                return ds[name]
-    neg = pressure.where(pressure < 0, 0.0)
-    return -neg.integrate("distance")
+    """Eq. 13 per curve (:func:`roughstick.adhesion_summary`)."""
+    return adhesion_summary(pressure.to_dataset(name="pressure"))["adhesive_energy"]
 
 
 def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):

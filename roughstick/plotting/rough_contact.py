@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ..contact.meniscus import laplace_pressure
+
 __all__ = ["plot_rough_curves", "plot_fit_error", "plot_adhesion_vs_rh", "plot_mdmt_vs_gw"]
 
 SILICON_UNIT_CELL_NM = 0.543
@@ -135,8 +137,6 @@ def plot_mdmt_vs_gw(curves: dict, gw: xr.Dataset | None = None, *, rh=(0.3, 0.5,
         if gw is not None:
             s = gw.sel(rh=r, method="nearest")
             ax.plot(s.distance * 1e9, s.pressure * 1e-6, "k--", label="GW (sample moments)")
-            from roughstick.meniscus import laplace_pressure
-
             # Draw Delta P only where it does not squash the curves: at low RH it is 10-100x
             # the adhesive pressures (that gap *is* the finding), so it goes into the title.
             data_lim = ax.get_ylim()

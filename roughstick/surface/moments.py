@@ -37,6 +37,8 @@ from .spectrum import _check_psd2d, _dq, _positive, _units_psd, _wavevector, pow
 from .topography import _refuse_constant_or_nan, validate_height
 
 __all__ = [
+    "moments_si",
+    "summit_density",
     "roughness_moments",
     "psd_moments",
     "self_affine_moments",
@@ -61,6 +63,70 @@ def _moments_dataset(m0, m2, m4, *, title: str, **extra_vars) -> xr.Dataset:
         ds[k] = v
     ds.attrs = dataset_attrs(title, references=NAYAK_REFERENCE)
     return ds
+
+
+#: Kind of quantity (roughstick._core.units) of each moment.
+_MOMENT_KIND = {"m0": "area", "m2": "dimensionless", "m4": "inverse_area"}
+
+
+def moments_si(moments: xr.Dataset) -> tuple[xr.DataArray, xr.DataArray, xr.DataArray]:
+    """``m0``, ``m2``, ``m4`` of a moments Dataset, checked and converted to SI (m2, 1, m-2).
+
+    Raises
+    ------
+    TypeError
+        ``moments`` is not a Dataset.
+    ValueError
+        A moment is missing, or its ``units`` are missing or not a power of a length
+        (:class:`roughstick.UnitsError`).
+    """
+    if not isinstance(moments, xr.Dataset):
+        raise TypeError(
+            "moments must be an xarray.Dataset with m0, m2, m4 (e.g. from roughstick.fit_self_affine, "
+            f"roughness_moments or psd_moments); got {type(moments).__name__}."
+        )
+    out = []
+    for key in ("m0", "m2", "m4"):
+        if key not in moments:
+            raise ValueError(
+                f"moments must be a Dataset with variables 'm0', 'm2' and 'm4' (Nayak's one-direction "
+                f"spectral moments, docs/architecture.md); {key!r} is missing. "
+                "roughstick.fit_self_affine / moments_from_asperities return such a Dataset."
+            )
+        da = _units.require(moments[key], _MOMENT_KIND[key], name=f"moments[{key!r}]").copy(deep=False)
+        da.attrs = {"units": da.attrs["units"]}
+        out.append(da)
+    return out[0], out[1], out[2]
+
+
+def summit_density(moments: xr.Dataset) -> xr.DataArray:
+    r"""Number of summits per unit area, :math:`N = m_4 / (6\pi\sqrt3\, m_2)` (Nayak 1971).
+
+    Parameters
+    ----------
+    moments : xarray.Dataset
+        ``m0`` (m2), ``m2`` (1), ``m4`` (m-2), any dims (docs/architecture.md).
+
+    Returns
+    -------
+    xarray.DataArray
+        :math:`N` [m-2].
+
+    References
+    ----------
+    Nayak (1971), https://doi.org/10.1115/1.3451608
+
+    Examples
+    --------
+    >>> ds = xr.Dataset({"m0": ((), 15.7e-18, {"units": "m2"}), "m2": ((), 0.040, {"units": "1"}),
+    ...                  "m4": ((), 5.08e-4, {"units": "nm-2"})})
+    >>> round(float(rs.summit_density(ds)) * 1e-12, 2)  # per square micrometre
+    388.99
+    """
+    _, m2, m4 = moments_si(moments)
+    out = m4 / (6.0 * np.pi * np.sqrt(3.0) * m2)
+    return set_attrs(out.rename("summit_density"), "summit_density", references=NAYAK_REFERENCE)
+
 
 
 # ------------------------------------------------------------------------ moments of a map
@@ -129,6 +195,11 @@ def roughness_moments(
         return psd_moments(power_spectrum(height, window=window), qmax=qmax, direction=direction)
     if method != "spline":
         raise ValueError(f"method must be 'spline' or 'spectral', got {method!r}.")
+    if qmax is not None or window is not None:
+        raise ValueError(
+            "qmax and window apply to method='spectral' only (the spline moments use every "
+            "pixel); pass method='spectral' to cut the periodogram at qmax."
+        )
     h = validate_height(height)
     _refuse_constant_or_nan(h)
     m0, m2, m4 = xr.apply_ufunc(
@@ -394,11 +465,6 @@ def choose_cutoff(
 # ------------------------------------------------------------------------ summit statistics
 
 
-def _as_moments(moments) -> tuple:
-    if not isinstance(moments, xr.Dataset) or not {"m0", "m2", "m4"} <= set(moments.data_vars):
-        raise TypeError("moments must be a Dataset with m0, m2, m4 (roughness_moments or psd_moments).")
-    return moments["m0"], moments["m2"], moments["m4"]
-
 def asperity_statistics(moments: xr.Dataset) -> xr.Dataset:
     r"""Nayak summit statistics from the moments.
 
@@ -431,13 +497,13 @@ def asperity_statistics(moments: xr.Dataset) -> xr.Dataset:
     >>> round(float(s.summit_density) * 1e-12, 1), round(float(s.summit_radius) * 1e9)
     (80.1, 220)
     """
-    m0, m2, m4 = _as_moments(moments)
-    n = m4 / (6 * np.pi * np.sqrt(3) * m2)
+    m0, m2, m4 = moments_si(moments)
+    n = summit_density(moments)
     r = 3 * np.sqrt(np.pi) / (8 * np.sqrt(m4))
     a = m0 * m4 / m2**2
     sig = np.sqrt(((1 - 0.8968 / a) * m0).where(a >= 0.8968))
     ds = xr.Dataset({
-        "m0": m0, "m2": m2, "m4": m4,
+        "m0": set_attrs(m0, "m0"), "m2": set_attrs(m2, "m2"), "m4": set_attrs(m4, "m4"),
         "summit_density": set_attrs(n.rename("summit_density"), "summit_density"),
         "summit_radius": set_attrs(r.rename("summit_radius"), "summit_radius"),
         "bandwidth": set_attrs(a.rename("bandwidth"), "bandwidth"),

@@ -8,19 +8,21 @@ from poly-silicon to 1 GPa and as the humidity rises, and writes the table
 ``roughstick/data/validity_map.csv`` that this module reads (docs/accuracy.md gives the command,
 date and machine). :func:`select_model` picks the cheapest model that meets a tolerance from that
 table; :func:`warn_if_outside_validity` warns once per process when a modified-DMT call falls
-where its measured error exceeds the bound.
+where its measured error exceeds the bound. The dispatcher :func:`roughstick.rough_contact_curves`
+(:mod:`roughstick.contact.curves`) uses both; the models themselves do not import this module.
 """
 
 from __future__ import annotations
 
 import csv
 import functools
+import sys
 import warnings
 from importlib import resources
 
 import numpy as np
 
-from ._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.materials import POLYSILICON, Material, reduced_modulus
 
 __all__ = [
     "ValidityWarning",
@@ -232,8 +234,6 @@ _WARNED: set = set()
 
 def _external_stacklevel() -> int:
     """``stacklevel`` of the first caller frame that is not inside the roughstick package."""
-    import sys
-
     frame = sys._getframe(1)
     level = 1
     while frame is not None and frame.f_globals.get("__name__", "").split(".")[0] == "roughstick":
@@ -295,95 +295,3 @@ def warn_if_outside_validity(
             stacklevel=_external_stacklevel() if stacklevel is None else stacklevel,
         )
     return True
-
-
-def _humidity_values(relative_humidity) -> np.ndarray:
-    """RH values to look up (eager coords or values; a lazy DataArray gives its rh coord)."""
-    import xarray as xr
-
-    if isinstance(relative_humidity, xr.DataArray):
-        if relative_humidity.chunks is not None:
-            if "rh" in relative_humidity.coords:
-                return np.asarray(relative_humidity["rh"].values, dtype=float).ravel()
-            return np.array([], dtype=float)
-        units = relative_humidity.attrs.get("units", "1")
-        scale = 0.01 if units in ("%", "percent") else 1.0
-        return np.asarray(relative_humidity.values, dtype=float).ravel() * scale
-    return np.asarray(relative_humidity, dtype=float).ravel()
-
-
-def _check_modified_dmt_call(*, relative_humidity, material=POLYSILICON, material2=None) -> bool:
-    """Validity check run by ``rough_contact_curves(model="modified_dmt")`` (warns once)."""
-    rhs = _humidity_values(relative_humidity)
-    rhs = rhs[(rhs > 0) & (rhs < 1)]
-    if rhs.size == 0:
-        return False
-    return warn_if_outside_validity(relative_humidity=rhs, material=material, material2=material2)
-
-
-def _dispatch_model(
-    curves_function,
-    model,
-    height,
-    *,
-    relative_humidity,
-    material=POLYSILICON,
-    material2=None,
-    **kwargs,
-):
-    """``rough_contact_curves(model="bem" | "auto")``: run the BEM, or pick a model and run it.
-
-    ``model="auto"`` takes ``error_tolerance`` (relative error of Γ accepted, default 0.10) and
-    ``quantity`` from ``kwargs``, calls :func:`select_model` at the worst of the requested
-    humidities, runs the chosen model through ``curves_function`` (or the BEM) and records the
-    choice and its reason in ``attrs["model_selection"]``.
-    """
-    reason = None
-    if model == "auto":
-        tolerance = kwargs.pop("error_tolerance", VALIDITY_BOUND)
-        quantity = kwargs.pop("quantity", "adhesive_energy")
-        rhs = _humidity_values(relative_humidity)
-        order = {"gw": 0, "modified_dmt": 1, "bem": 2}
-        model, reason = "gw", None
-        for r in rhs if rhs.size else [np.nan]:
-            if not np.isfinite(r):
-                m, why = "bem", "humidity not known before computing; BEM chosen to be safe"
-            else:
-                m, why = select_model(
-                    tolerance=tolerance,
-                    relative_humidity=float(r),
-                    material=material,
-                    material2=material2,
-                    quantity=quantity,
-                )
-            if reason is None or order[m] > order[model]:
-                model, reason = m, why
-    if model == "bem":
-        from .bem import bem_contact_curves
-
-        bem_kwargs = {
-            k: kwargs.pop(k)
-            for k in list(kwargs)
-            if k in ("distance", "adsorbed_layer", "tolerance", "max_iterations", "path", "retries")
-        }
-        if "n_distance" in kwargs:
-            bem_kwargs["n_distances"] = kwargs.pop("n_distance")
-        ds = bem_contact_curves(
-            height,
-            relative_humidity=relative_humidity,
-            material=material,
-            material2=material2,
-            **bem_kwargs,
-        )
-    else:
-        ds = curves_function(
-            height,
-            relative_humidity=relative_humidity,
-            material=material,
-            material2=material2,
-            model=model,
-            **kwargs,
-        )
-    if reason is not None:
-        ds.attrs["model_selection"] = f"auto -> {model}: {reason}"
-    return ds

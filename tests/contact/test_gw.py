@@ -14,8 +14,7 @@ import xarray as xr
 from scipy import integrate, special
 
 import roughstick as rs
-from roughstick.contact._kernels import sphere_force_kernel
-from roughstick.greenwood_williamson import _height_moments
+from roughstick.contact._sphere_kernels import sphere_force_kernel
 from tests.conftest import raise_if_dask_computes
 
 NM = 1e-9
@@ -124,7 +123,8 @@ def monte_carlo():
         h, r = summits(z, QX, QY)
         H.append(h)
         R.append(r)
-        mom.append(_height_moments(rs.testing.make_topography(z, spacing=dx, periodic=True)))
+        h_map = rs.testing.make_topography(z, spacing=dx, periodic=True)
+        mom.append(rs.roughness_moments(h_map, method="spectral"))
     m = xr.concat(mom, "r").mean("r")
     for k in m:
         m[k].attrs = mom[0][k].attrs
@@ -367,12 +367,16 @@ def test_height_map_input():
     rng = np.random.default_rng(0)
     z, _, _ = gaussian_field(rng, 128, 5 * NM, q0=0.2 / (5 * NM), sigma=3 * NM)
     h = rs.testing.make_topography(z, spacing=5 * NM, periodic=True)
-    m = _height_moments(h)
+    m = rs.roughness_moments(h, method="spectral")
     assert float(m.m0) == pytest.approx(z.var(), rel=1e-12)  # Parseval
     d = np.linspace(0, 20, 21) * NM
-    a = rs.gw_contact_curves(h, relative_humidity=0.7, distance=d)
+    a = rs.gw_contact_curves(h, relative_humidity=0.7, distance=d, moment_method="spectral")
     b = rs.gw_contact_curves(m, relative_humidity=0.7, distance=d)
     xr.testing.assert_allclose(a.pressure, b.pressure)
+    # the default estimator of a map's moments is the paper's (Table 2 cubic splines)
+    c = rs.gw_contact_curves(h, relative_humidity=0.7, distance=d)
+    e = rs.gw_contact_curves(rs.roughness_moments(h, method="spline"), relative_humidity=0.7, distance=d)
+    xr.testing.assert_allclose(c.pressure, e.pressure)
     bad = h.copy()
     bad[3, 4] = np.nan
     with pytest.raises(ValueError, match="(?i)nan"):

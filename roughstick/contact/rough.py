@@ -1,6 +1,6 @@
 """Adhesive contact of a rough surface against a flat in humid air: the modified DMT (Eqs. 16-23).
 
-:func:`rough_contact_curves` takes any ``height`` map (measured or generated) and returns the
+:func:`modified_dmt_curves` takes any ``height`` map (measured or generated) and returns the
 mean pressure on the apparent area versus the distance ``d`` between the flat and the mean plane
 of the heights, at one or several relative humidities. Asperities are the connected components of
 ``{z >= d}`` (the paper's flooding); each is fitted with the constrained sphere of Eqs. 19-21 and
@@ -8,9 +8,11 @@ Hertz (Eqs. 10-11) gives its repulsive force and contact area; the water term us
 the whole map above ``d - h_water``, so merged menisci (saturation) come out naturally (Eq. 16).
 
 All distances are done in one pass over the heights sorted in descending order, with a
-union-find (:mod:`roughstick._rough_kernels`); a literal slow implementation that relabels the
-map at every distance and fits each asperity with a generic optimiser lives in
-:mod:`roughstick._rough_reference` and the tests hold the two together. See
+union-find (:mod:`roughstick.contact._rough_kernels`); a literal slow implementation that relabels
+the map at every distance and fits each asperity with a generic optimiser lives in
+:mod:`roughstick.contact._rough_reference` and the tests hold the two together. The public entry
+that chooses between this model, Greenwood-Williamson and the BEM is
+:func:`roughstick.rough_contact_curves` (:mod:`roughstick.contact.curves`). See
 ``docs/rough_contact.md`` for the algorithm, its cost and the accuracy evidence.
 """
 
@@ -19,15 +21,15 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
+from .._core.dask import check_core_not_chunked, is_lazy
+from .._core.materials import POLYSILICON, hertz_modulus
+from .._core.references import PAPER, cite
+from .._core.units import as_si, require
 from . import _rough_kernels as _k
-from ._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
-from ._core.dask import check_core_not_chunked, is_lazy
-from ._core.materials import POLYSILICON, hertz_modulus
-from ._core.references import PAPER, cite
-from ._core.units import as_si, require
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
-__all__ = ["rough_contact_curves", "contact_distance_grid"]
+__all__ = ["modified_dmt_curves", "contact_distance_grid"]
 
 REFERENCES = cite((PAPER, "section 3.3, Eqs. 16-23"), "johnson1985")
 
@@ -179,7 +181,7 @@ def contact_distance_grid(
     connectivity: int = 4,
     periodic: bool | None = None,
 ) -> xr.DataArray:
-    """Automatic distance grid of :func:`rough_contact_curves` for one eager map.
+    """Automatic distance grid of :func:`modified_dmt_curves` for one eager map.
 
     From the first water contact (``d = max z + h_water`` of the wettest humidity) down past the
     equilibrium distance of every humidity (the first distance where all pressures are
@@ -196,7 +198,7 @@ def contact_distance_grid(
     n : int, default 200
         Number of distances.
     material, material2, adsorbed_layer, connectivity, periodic
-        As in :func:`rough_contact_curves`.
+        As in :func:`modified_dmt_curves`.
 
     Returns
     -------
@@ -233,7 +235,7 @@ def _prepare_auto(height, relative_humidity, n, material, material2, adsorbed_la
 # public entry point
 
 
-def rough_contact_curves(
+def modified_dmt_curves(
     height: xr.DataArray,
     *,
     relative_humidity,
@@ -241,11 +243,9 @@ def rough_contact_curves(
     material=POLYSILICON,
     material2=None,
     adsorbed_layer="paper",
-    model: str = "modified_dmt",
     connectivity: int = 4,
     periodic: bool | None = None,
     n_distance: int = 200,
-    **model_kwargs,
 ) -> xr.Dataset:
     r"""Force-distance curves of a rough surface against a flat in humid air (Eqs. 16-23).
 
@@ -269,14 +269,6 @@ def rough_contact_curves(
     adsorbed_layer : {"paper", "none"} or callable
         Adsorbed-water model of :func:`roughstick.water_height` (0.9 nm per surface above 65 %
         RH by default).
-    model : {"modified_dmt", "gw", "bem", "auto"}
-        ``"modified_dmt"`` (this function, Eq. 16); ``"gw"`` forwards to
-        :func:`roughstick.greenwood_williamson.gw_contact_curves` with the moments of the map
-        (Eq. 14), on the same distances; ``model_kwargs`` go to it. ``"bem"``: the
-        boundary-element reference :func:`roughstick.bem_contact_curves` (Tamaas extra).
-        ``"auto"``: the cheapest model whose measured error meets ``error_tolerance`` (a model
-        kwarg, default 0.10), by :func:`roughstick.select_model`; the choice is recorded in
-        ``attrs["model_selection"]``. See docs/accuracy.md.
     connectivity : {4, 8}, default 4
         Pixels of one asperity share an edge (4) or an edge or a corner (8). 4 is the paper's
         flooding on a square grid and scipy's default.
@@ -316,7 +308,9 @@ def rough_contact_curves(
     the adhesive stress does not deform the asperities and the water footprint is that of the
     undeformed surface (valid for poly-silicon; not for soft materials); non-interacting
     asperities. Conventions of the fit (centre kept in the footprint's bounding box, one- and
-    two-pixel footprints, plateaus, NaN pixels) are listed in :mod:`roughstick._rough_kernels`.
+    two-pixel footprints, plateaus, NaN pixels) are listed in
+    :mod:`roughstick.contact._rough_kernels`. This function does not warn outside the measured
+    validity regime: :func:`roughstick.rough_contact_curves` does (docs/accuracy.md).
     An asperity that wraps all the way round a periodic map (far past equilibrium) is fitted in
     the coordinates of its union-find tree; its sphere has no meaning.
 
@@ -327,32 +321,10 @@ def rough_contact_curves(
     Examples
     --------
     >>> h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
-    >>> ds = rs.rough_contact_curves(h, relative_humidity=[0.3, 0.7], distance=[-1e-9, 1e-9])
+    >>> ds = rs.modified_dmt_curves(h, relative_humidity=[0.3, 0.7], distance=[-1e-9, 1e-9])
     >>> ds.pressure.dims
     ('rh', 'distance')
     """
-    if model not in ("modified_dmt", "gw", "bem", "auto"):
-        raise ValueError(f"model must be 'modified_dmt' or 'gw' (or 'bem'/'auto'), got {model!r}.")
-    # --- HOOK: model dispatch to the BEM reference (bem.py) / validity-based choice -------------
-    # The BEM helper wires model="bem" and model="auto" here through roughstick.validity.
-    if model in ("bem", "auto"):
-        from .validity import _dispatch_model
-
-        return _dispatch_model(
-            rough_contact_curves, model, height, relative_humidity=relative_humidity,
-            distance=distance, material=material, material2=material2,
-            adsorbed_layer=adsorbed_layer, connectivity=connectivity, periodic=periodic,
-            n_distance=n_distance, **model_kwargs,
-        )
-    if model == "modified_dmt":  # once-per-process ValidityWarning outside the measured regime
-        from .validity import _check_modified_dmt_call
-
-        _check_modified_dmt_call(
-            relative_humidity=relative_humidity, material=material, material2=material2
-        )
-    # --- end HOOK -------------------------------------------------------------------------------
-    if model == "modified_dmt" and model_kwargs:
-        raise TypeError(f"unexpected keyword argument(s) {sorted(model_kwargs)} for model='modified_dmt'.")
     height = require(height, "length", name="height")
     dx, dy = _spacing(height, "x"), _spacing(height, "y")
     check_core_not_chunked(height, ["y", "x"])
@@ -364,10 +336,6 @@ def rough_contact_curves(
     dp_da = laplace_pressure(rh)
     hw = np.atleast_1d(hw_da.values)
     dp = np.atleast_1d(dp_da.values)
-
-    if model == "gw":
-        return _forward_gw(height, rh, distance, material, material2, adsorbed_layer,
-                           connectivity, per, n_distance, model_kwargs)
 
     if distance is None:
         d, outs = _prepare_auto(height, rh, n_distance, material, material2, adsorbed_layer,
@@ -425,66 +393,7 @@ def rough_contact_curves(
     )
     append_history(
         ds,
-        f"rough_contact_curves(model='modified_dmt', n_distance={d.size}, connectivity={connectivity}, "
+        f"modified_dmt_curves(n_distance={d.size}, connectivity={connectivity}, "
         f"periodic={int(per)}); {_MISSING_NOTE}",
     )
     return ds
-
-
-def _map_moments(height: xr.DataArray) -> xr.Dataset:
-    """m0, m2, m4 of a map (Nayak one-direction convention), for the GW forwarding.
-
-    Uses ``roughstick.topography.roughness_moments`` when it exists; otherwise central finite
-    differences averaged over the x and y directions (periodic maps wrap, measured maps drop
-    the edge pixels).
-    """
-    from .surface import moments as topography
-
-    fn = getattr(topography, "roughness_moments", None)
-    if fn is not None and not is_lazy(height) and not bool(height.isnull().any()):
-        return fn(height)
-    z = height - height.mean(("y", "x"))
-    dx, dy = _spacing(height, "x"), _spacing(height, "y")
-    per = bool(height.attrs.get("periodic", 0))
-    m2s, m4s = [], []
-    for dim, h in (("x", dx), ("y", dy)):
-        if per:
-            zp, zm = z.roll({dim: -1}, roll_coords=False), z.roll({dim: 1}, roll_coords=False)
-        else:
-            zp, zm = z.shift({dim: -1}), z.shift({dim: 1})
-        m2s.append((((zp - zm) / (2 * h)) ** 2).mean(("y", "x")))
-        m4s.append((((zp - 2 * z + zm) / h**2) ** 2).mean(("y", "x")))
-    return xr.Dataset(
-        {
-            "m0": set_attrs((z**2).mean(("y", "x")), "m0"),
-            "m2": set_attrs(0.5 * (m2s[0] + m2s[1]), "m2"),
-            "m4": set_attrs(0.5 * (m4s[0] + m4s[1]), "m4"),
-        }
-    )
-
-
-def _forward_gw(height, rh, distance, material, material2, adsorbed_layer, connectivity, per,
-                n_distance, model_kwargs):
-    from . import greenwood_williamson as gw
-
-    fn = getattr(gw, "gw_contact_curves", None)
-    if fn is None:
-        raise NotImplementedError(
-            "model='gw' needs roughstick.greenwood_williamson.gw_contact_curves, which is not "
-            "available in this version."
-        )
-    if distance is None:
-        distance = contact_distance_grid(
-            height, relative_humidity=rh, n=n_distance, material=material, material2=material2,
-            adsorbed_layer=adsorbed_layer, connectivity=connectivity, periodic=per,
-        )
-    d = _distance(distance)
-    moments = _map_moments(height)
-    kwargs = dict(relative_humidity=rh, distance=d, **model_kwargs)
-    kwargs.setdefault("material", material)
-    kwargs.setdefault("material2", material2)
-    kwargs.setdefault("adsorbed_layer", adsorbed_layer)
-    kwargs.setdefault(
-        "apparent_area", height.sizes["x"] * height.sizes["y"] * _spacing(height, "x") * _spacing(height, "y")
-    )
-    return fn(moments, **kwargs)

@@ -11,8 +11,8 @@ and the summit forces are summed with the joint density of summit height and cur
 
 Functions
 ---------
-:func:`summit_density`
-    :math:`N` from a moments Dataset.
+:func:`roughstick.summit_density`
+    :math:`N` from a moments Dataset (in :mod:`roughstick.surface.moments`).
 :func:`summit_joint_density`
     The joint density :math:`\rho(h, \kappa)` of summit height and curvature.
 :func:`gw_contact_curves`
@@ -43,18 +43,20 @@ import numpy as np
 import xarray as xr
 from scipy import interpolate, special
 
-from ._core.conventions import CURVE_VARIABLES, append_history, dataset_attrs, set_attrs
-from ._core.dask import is_lazy
-from ._core.materials import POLYSILICON, Material, hertz_modulus
-from ._core.references import PAPER, cite
-from ._core.units import require
+from .._core.conventions import CURVE_VARIABLES, append_history, dataset_attrs, set_attrs
+from .._core.dask import is_lazy
+from .._core.materials import POLYSILICON, Material, hertz_modulus
+from .._core.references import PAPER, cite
+from .._core.units import require
+from ..surface.moments import moments_si, roughness_moments, summit_density
+from . import _sphere_kernels
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
-__all__ = ["summit_density", "summit_joint_density", "gw_contact_curves", "gw_cutoff_study"]
+__all__ = ["summit_joint_density", "gw_contact_curves", "gw_cutoff_study"]
 
 REFERENCES = cite("nayak1971", "greenwood1966", "greenwood2006", (PAPER, "Eq. 14"))
 
-#: Sphere models accepted per summit (``roughstick.contact._kernels.sphere_force_kernel``).
+#: Sphere models accepted per summit (``roughstick.contact._sphere_kernels.sphere_force_kernel``).
 SPHERE_MODELS = ("modified_dmt", "dmt", "maugis", "hertz")
 #: Curvature measures of a summit used for its sphere radius.
 CURVATURE_MEASURES = ("geometric", "mean")
@@ -71,21 +73,6 @@ _VARS = tuple(v for v in CURVE_VARIABLES if v != "fit_error")
 # --------------------------------------------------------------------------------------------
 # moments: units and validation
 # --------------------------------------------------------------------------------------------
-
-_MOMENT_KIND = {"m0": "area", "m2": "dimensionless", "m4": "inverse_area"}
-
-
-def _moment_si(ds: xr.Dataset, key: str) -> xr.DataArray:
-    if key not in ds:
-        raise ValueError(
-            f"moments must be a Dataset with variables 'm0', 'm2' and 'm4' (Nayak's one-direction "
-            f"spectral moments, docs/architecture.md); {key!r} is missing. "
-            "roughstick.fit_self_affine / moments_from_asperities return such a Dataset."
-        )
-    out = require(ds[key], _MOMENT_KIND[key], name=f"moments[{key!r}]").copy(deep=False)
-    out.attrs = {"units": out.attrs["units"]}
-    return out
-
 
 def _check_moments_np(m0, m2, m4):
     """Raise a clear ValueError for impossible moments (numpy values)."""
@@ -177,36 +164,6 @@ def _log_density(xi, t, alpha, measure="geometric"):
     return np.where(t > 0, out, -np.inf)
 
 
-def summit_density(moments: xr.Dataset) -> xr.DataArray:
-    r"""Number of summits per unit area, :math:`N = m_4 / (6\pi\sqrt3\, m_2)` (Nayak 1971).
-
-    Parameters
-    ----------
-    moments : xarray.Dataset
-        ``m0`` (m2), ``m2`` (1), ``m4`` (m-2), any dims (docs/architecture.md).
-
-    Returns
-    -------
-    xarray.DataArray
-        :math:`N` [m-2].
-
-    References
-    ----------
-    Nayak (1971), https://doi.org/10.1115/1.3451608
-
-    Examples
-    --------
-    >>> ds = xr.Dataset({"m0": ((), 15.7e-18, {"units": "m2"}), "m2": ((), 0.040, {"units": "1"}),
-    ...                  "m4": ((), 5.08e-4, {"units": "nm-2"})})
-    >>> round(float(rs.summit_density(ds)) * 1e-12, 2)  # per square micrometre
-    388.99
-    """
-    m2 = _moment_si(moments, "m2")
-    m4 = _moment_si(moments, "m4")
-    out = m4 / (6.0 * np.pi * np.sqrt(3.0) * m2)
-    return set_attrs(out.rename("summit_density"), "summit_density", references=REFERENCES)
-
-
 def summit_joint_density(height, curvature, *, moments: xr.Dataset, curvature_measure="geometric"):
     r"""Joint probability density :math:`\rho(h, \kappa)` of summit height and curvature.
 
@@ -249,9 +206,7 @@ def summit_joint_density(height, curvature, *, moments: xr.Dataset, curvature_me
     Nayak (1971), https://doi.org/10.1115/1.3451608;
     Greenwood (2006), https://doi.org/10.1016/j.wear.2005.09.031
     """
-    m0 = _moment_si(moments, "m0")
-    m2 = _moment_si(moments, "m2")
-    m4 = _moment_si(moments, "m4")
+    m0, m2, m4 = moments_si(moments)
     if is_lazy(moments):
         raise ValueError("summit_joint_density needs eager moments: call moments.compute() first.")
     h = require(height, "length", name="height") if isinstance(height, xr.DataArray) else xr.DataArray(
@@ -287,10 +242,8 @@ def _gauss(n: int):
 
 
 def _sphere_force(model, delta, radius, K, sigma0, h0):
-    from .contact import _kernels
-
     delta, radius = np.broadcast_arrays(np.asarray(delta, float), np.asarray(radius, float))
-    f = _kernels.sphere_force_kernel(model, delta.ravel(), radius.ravel(), K, sigma0, h0)
+    f = _sphere_kernels.sphere_force_kernel(model, delta.ravel(), radius.ravel(), K, sigma0, h0)
     return np.reshape(f, delta.shape)
 
 
@@ -395,23 +348,20 @@ def _gw_block(m0, m2, m4, dP, hw, distance, **kw):
 # --------------------------------------------------------------------------------------------
 
 
-def _as_moments(moments) -> xr.Dataset:
-    if isinstance(moments, xr.Dataset):
-        return moments
+def _as_moments(moments, moment_method, qmax) -> xr.Dataset:
     if isinstance(moments, xr.DataArray):
-        return _height_moments(moments)
+        return roughness_moments(moments, method=moment_method, qmax=qmax)
+    if isinstance(moments, xr.Dataset):
+        if moment_method != "spline" or qmax is not None:
+            raise ValueError(
+                "moment_method and qmax choose how the moments of a height map are estimated; "
+                "moments were given as a Dataset, so drop them."
+            )
+        return moments
     raise TypeError(
         "moments must be an xarray.Dataset with m0, m2, m4 (e.g. from roughstick.fit_self_affine) "
         f"or a height DataArray (y, x); got {type(moments).__name__}."
     )
-
-
-def _height_moments(height: xr.DataArray) -> xr.Dataset:
-    """Nayak moments of a height map from its periodogram (``psd_moments(power_spectrum(h))``)."""
-    from .surface.moments import psd_moments
-    from .surface.spectrum import power_spectrum
-
-    return psd_moments(power_spectrum(height), direction="mean")
 
 
 def _as_distance(distance) -> np.ndarray:
@@ -455,6 +405,8 @@ def gw_contact_curves(
     n_height: int = 32,
     n_curvature: int = 24,
     force_table: int | None = None,
+    moment_method: str = "spline",
+    qmax=None,
 ) -> xr.Dataset:
     r"""Greenwood–Williamson force–distance curves of a rough surface on a flat (Eq. 14).
 
@@ -463,14 +415,15 @@ def gw_contact_curves(
     moments : xarray.Dataset or xarray.DataArray
         Dataset with ``m0`` (m2), ``m2`` (1), ``m4`` (m-2), any leading dims (e.g.
         ``realization``), numpy or dask; or a ``height`` DataArray ``(..., y, x)`` whose moments
-        are taken from its periodogram, ``psd_moments(power_spectrum(height))`` (one-direction
-        moments averaged over x and y, no cutoff; pass a cut Dataset for Table 3's).
+        are measured by ``roughness_moments(height, method=moment_method, qmax=qmax)``
+        (one-direction moments averaged over x and y). :func:`roughstick.rough_contact_curves`
+        with ``model="gw"`` does the same, so both entry points give the same curves.
     relative_humidity : float, sequence or xarray.DataArray
         RH as a fraction in (0, 1); a sequence becomes the ``rh`` dimension.
     distance : array-like or xarray.DataArray
         Distances d from the flat to the mean plane [m], 1-D; stored ascending.
     sphere_model : {"modified_dmt", "dmt", "maugis", "hertz"}, default "modified_dmt"
-        Force of one summit (``roughstick.contact._kernels.sphere_force_kernel``, retraction
+        Force of one summit (``roughstick.contact._sphere_kernels.sphere_force_kernel``, retraction
         branch) with the Laplace pressure :math:`\sigma_0 = |\Delta P|` acting over the water
         height :math:`h_0 = h_{water}`. ``"hertz"`` ignores the water. (JKR is not offered: it
         has no adhesion outside the contact, so it misses every meniscus that does not touch.)
@@ -504,6 +457,16 @@ def gw_contact_curves(
         directly. None: direct for the closed forms ("hertz", "modified_dmt"), 256 for the
         models that solve equations per point ("dmt", "maugis"), 20 to 50 times faster for
         them at a relative error of about 1e-4 in the adhesive energy.
+    moment_method : {"spline", "spectral"}, default "spline"
+        Estimator of the moments of a height map (:func:`roughstick.roughness_moments`):
+        ``"spline"``, the variances of cubic-spline derivatives of the paper's Table 2, which its
+        §3.4.2 feeds to GW (Fig. 10); or ``"spectral"``, the periodogram moments of Table 3.
+        A moments Dataset takes neither this nor ``qmax`` (``ValueError``).
+    qmax : float, optional
+        With ``moment_method="spectral"``: cutoff wave number [rad m-1] of the periodogram (Table 3
+        uses 289 rad/µm). Without a cutoff the periodogram of a non-periodic map carries the
+        edge discontinuity up to the Nyquist wave number, which inflates m4 (3x on a 256² crop of
+        S1A).
 
     Returns
     -------
@@ -584,10 +547,8 @@ def gw_contact_curves(
         raise ValueError(f"apparent_area must be a positive area in m2 or None, got {apparent_area!r}.")
     d = _as_distance(distance)
 
-    ds_in = _as_moments(moments)
-    m0 = _moment_si(ds_in, "m0")
-    m2 = _moment_si(ds_in, "m2")
-    m4 = _moment_si(ds_in, "m4")
+    ds_in = _as_moments(moments, moment_method, qmax)
+    m0, m2, m4 = moments_si(ds_in)
     rh = as_relative_humidity(relative_humidity)
     dP = laplace_pressure(rh)
     hw = water_height(rh, adsorbed_layer=adsorbed_layer)

@@ -35,7 +35,7 @@ import math
 import numba as nb
 import numpy as np
 
-from ._core.conventions import CURVE_VARIABLES
+from .._core.conventions import CURVE_VARIABLES
 
 __all__: list[str] = []
 

@@ -1,6 +1,6 @@
 """The fast modified-DMT path (union-find + Newton fits) against the literal reference.
 
-The reference (`roughstick._rough_reference`) relabels the map at every distance with
+The reference (`roughstick.contact._rough_reference`) relabels the map at every distance with
 scipy.ndimage.label, unwraps each asperity by a breadth-first walk and fits it with
 scipy.optimize.least_squares; the test asks the pressure to agree to 1e-6 (relative) wherever
 |p| > 1e-3 max|p|, and every other output to agree closely, on small maps with the hard cases.
@@ -15,8 +15,8 @@ import pytest
 from scipy import ndimage
 
 from roughstick import hertz_modulus, laplace_pressure, water_height
-from roughstick._rough_kernels import _hertz_levels, curves_kernel, prepare_heights
-from roughstick._rough_reference import reference_curves
+from roughstick.contact._rough_kernels import _hertz_levels, curves_kernel, prepare_heights
+from roughstick.contact._rough_reference import reference_curves
 
 K = hertz_modulus()
 RH = np.array([0.3, 0.7, 0.9])

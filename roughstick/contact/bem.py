@@ -18,7 +18,7 @@ import xarray as xr
 from scipy import ndimage
 from scipy.special import erfc
 
-from ._core.conventions import (
+from .._core.conventions import (
     ATTRS,
     CURVE_VARIABLES,
     append_history,
@@ -26,9 +26,10 @@ from ._core.conventions import (
     set_attrs,
     set_coord_attrs,
 )
-from ._core.materials import POLYSILICON, Material, reduced_modulus
-from ._core.references import cite
-from ._core.units import require
+from .._core.dask import check_core_not_chunked
+from .._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.references import cite
+from .._core.units import require
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = ["bem_contact_curves", "periodic_offset_coefficient"]
@@ -461,8 +462,6 @@ def bem_contact_curves(
                 "map of at least 4 x 4 pixels."
             )
     if height.chunks is not None:
-        from ._core.dask import check_core_not_chunked
-
         check_core_not_chunked(height, ("y", "x"))
     spacing = []
     for dim in ("y", "x"):

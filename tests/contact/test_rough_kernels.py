@@ -1,4 +1,4 @@
-"""The speed-ups of `roughstick._rough_kernels` keep its values.
+"""The speed-ups of `roughstick.contact._rough_kernels` keep its values.
 
 - the water count (bucketed lookup) equals a brute-force count, with ties, NaN and inf;
 - the allocation-free sphere fit recovers an exact constrained sphere (Eqs. 19-21);
@@ -17,7 +17,12 @@ import pytest
 from scipy import ndimage
 
 from roughstick import hertz_modulus, laplace_pressure, water_height
-from roughstick._rough_kernels import _count_above, _fit_sphere, curves_kernel, fit_workspace
+from roughstick.contact._rough_kernels import (
+    _count_above,
+    _fit_sphere,
+    curves_kernel,
+    fit_workspace,
+)
 
 K = hertz_modulus()
 RH = np.array([0.3, 0.7, 0.9])
@@ -122,7 +127,7 @@ def test_warm_start_hard_cases_stay_finite():
 @pytest.mark.parametrize("order", ["C", "F"])
 def test_prepare_heights_fast_path_equals_masked_mean(order):
     # all-valid maps skip the masked copy; the mean must be the same bits as over the mask
-    from roughstick._rough_kernels import prepare_heights
+    from roughstick.contact._rough_kernels import prepare_heights
 
     rng = np.random.default_rng(7)
     z = np.asarray(rng.normal(1e-7, 3e-9, size=(37, 51)), order=order)

@@ -207,9 +207,6 @@ def test_nanometre_input_is_converted():
 
 
 def test_gw_forwarding():
-    gw = pytest.importorskip("roughstick.greenwood_williamson")
-    if not hasattr(gw, "gw_contact_curves"):
-        pytest.skip("GW model not available")
     h = s1_like((64, 64))
     d = np.linspace(0, 16e-9, 17)
     ds = rs.rough_contact_curves(h, relative_humidity=[0.3, 0.9], distance=d, model="gw")

@@ -12,9 +12,9 @@ from collections.abc import Callable
 import numpy as np
 import xarray as xr
 
-from ._core import constants as C
-from ._core.conventions import set_attrs
-from ._core.units import as_si, require
+from .._core import constants as C
+from .._core.conventions import set_attrs
+from .._core.units import as_si, require
 
 __all__ = [
     "kelvin_radius",

@@ -1,4 +1,4 @@
-"""Validity map and model selection (roughstick/validity.py)."""
+"""Validity map, model selection and the dispatcher's use of them (roughstick/contact/validity.py, curves.py)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,8 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
-from roughstick import validity
+from roughstick.contact import curves as dispatcher
+from roughstick.contact import validity
 from roughstick.testing import make_topography
 
 
@@ -121,23 +122,27 @@ def test_bad_input(fake_map):
         rs.select_model(tolerance=0.1, relative_humidity=50)
 
 
-def test_auto_dispatch_records_choice(fake_map):
+def test_auto_dispatch_records_choice(fake_map, monkeypatch):
     calls = []
 
-    def fake_curves(height, *, relative_humidity, material, material2, model, **kwargs):
-        calls.append((model, kwargs))
-        return xr.Dataset(attrs={"contact_model": model})
+    def fake(name):
+        def curves(height, *, relative_humidity, material, material2, **kwargs):
+            calls.append((name, kwargs))
+            return xr.Dataset(attrs={"contact_model": name})
+        return curves
 
+    # the dispatcher calls the models; stand-ins record what it passes them
+    monkeypatch.setattr(dispatcher, "modified_dmt_curves", fake("modified_dmt"))
+    monkeypatch.setattr(dispatcher, "gw_contact_curves", fake("gw"))
     h = make_topography(np.zeros((8, 8)), spacing=5e-9, periodic=True)
-    ds = validity._dispatch_model(
-        fake_curves, "auto", h, relative_humidity=[0.3, 0.9], error_tolerance=0.1, connectivity=4
-    )
-    assert calls == [("modified_dmt", {"connectivity": 4})]
+    ds = rs.rough_contact_curves(h, relative_humidity=[0.3, 0.9], model="auto", error_tolerance=0.1,
+                                 connectivity=8, distance=[0.0, 1e-9])
+    assert [c[0] for c in calls] == ["modified_dmt"] and calls[0][1]["connectivity"] == 8
     assert ds.attrs["model_selection"].startswith("auto -> modified_dmt: measured")
+    assert "chosen by model='auto'" in ds.attrs["history"]
     # GW is cheapest when the tolerance allows it
-    ds = validity._dispatch_model(
-        fake_curves, "auto", h, relative_humidity=0.5, error_tolerance=0.45
-    )
+    ds = rs.rough_contact_curves(h, relative_humidity=0.5, model="auto", error_tolerance=0.45,
+                                 distance=[0.0, 1e-9])
     assert calls[-1][0] == "gw" and "gw" in ds.attrs["model_selection"]
 
 
@@ -149,10 +154,9 @@ def test_auto_dispatch_runs_bem_when_nothing_cheaper_fits(fake_map):
     soft = rs.Material(youngs_modulus=2 * (1 - 0.23**2) * 1e9, poisson_ratio=0.23)
     z = np.random.default_rng(0).normal(size=(16, 16)) * 1e-9
     h = make_topography(z, spacing=5e-9, periodic=True)
-    ds = validity._dispatch_model(
-        None,
-        "auto",
+    ds = rs.rough_contact_curves(
         h,
+        model="auto",
         relative_humidity=0.5,
         material=soft,
         distance=[z.max() - 0.2e-9, z.max() + 1e-9],

@@ -7,7 +7,7 @@ from scipy.integrate import trapezoid
 
 import roughstick as rs
 from conftest import raise_if_dask_computes
-from roughstick.contact import _kernels as k
+from roughstick.contact import _sphere_kernels as k
 from roughstick.testing import assert_units
 
 KPS = rs.hertz_modulus()  # 115.4 GPa

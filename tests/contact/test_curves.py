@@ -1,0 +1,76 @@
+"""The one dispatcher above the rough-surface models (roughstick.contact.curves)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import roughstick as rs
+from conftest import DATA_SAMPLES
+
+
+@pytest.fixture(scope="module")
+def s1a_crop():
+    """A 256² crop of the bundled S1A map (5 nm pixels), levelled."""
+    h = rs.read_afm(DATA_SAMPLES / "S1A.nc").isel(x=slice(0, 256), y=slice(0, 256))
+    return rs.level(h, method="plane")
+
+
+def test_gw_same_result_whichever_entry_point(s1a_crop):
+    # issue 11: rough_contact_curves(h, model="gw") used the spline moments and
+    # gw_contact_curves(h) the periodogram's (Gamma(70 %) 0.0378 vs 0.0134 mJ m-2); one estimator now
+    rh = [0.3, 0.7, 0.9]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        via_dispatch = rs.rough_contact_curves(s1a_crop, relative_humidity=rh, model="gw")
+    d = via_dispatch.distance.values
+    area = 256 * 256 * (5e-9) ** 2
+    direct = rs.gw_contact_curves(s1a_crop, relative_humidity=rh, distance=d, apparent_area=area)
+    xr.testing.assert_identical(via_dispatch.pressure, direct.pressure)
+    # the default estimator is the paper's Table 2 one (cubic splines), which §3.4.2 feeds to GW
+    from_moments = rs.gw_contact_curves(rs.roughness_moments(s1a_crop, method="spline"),
+                                        relative_humidity=rh, distance=d, apparent_area=area)
+    xr.testing.assert_identical(direct.pressure, from_moments.pressure)
+    gamma = rs.adhesion_summary(direct).adhesive_energy
+    assert float(gamma.sel(rh=0.7)) == pytest.approx(0.0377e-3, rel=0.01)
+    # the other estimator, by name, through both entry points alike
+    kw = dict(moment_method="spectral", qmax=289e6)
+    a = rs.rough_contact_curves(s1a_crop, relative_humidity=rh, model="gw", distance=d, **kw)
+    b = rs.gw_contact_curves(s1a_crop, relative_humidity=rh, distance=d, apparent_area=area, **kw)
+    xr.testing.assert_identical(a.pressure, b.pressure)
+
+
+def test_spectral_moments_with_the_paper_cutoff_match_the_spline_ones(s1a_crop):
+    # Table 3: with xi_max = 289 rad/um the PSD moments reproduce the spatial (spline) ones;
+    # without the cutoff the periodogram of a non-periodic map inflates m4 (edge discontinuity)
+    spline = rs.roughness_moments(s1a_crop, method="spline")
+    cut = rs.roughness_moments(s1a_crop, method="spectral", qmax=289e6)
+    raw = rs.roughness_moments(s1a_crop, method="spectral")
+    assert float(cut.m0) == pytest.approx(float(spline.m0), rel=0.01)
+    assert float(cut.m2) == pytest.approx(float(spline.m2), rel=0.08)
+    assert float(cut.m4) == pytest.approx(float(spline.m4), rel=0.03)
+    assert float(raw.m4) > 2 * float(spline.m4)
+
+
+def test_map_moments_refuse_cutoff_with_splines_and_options_with_a_dataset(s1a_crop):
+    with pytest.raises(ValueError, match="method='spectral' only"):
+        rs.roughness_moments(s1a_crop, qmax=289e6)
+    m = rs.roughness_moments(s1a_crop)
+    with pytest.raises(ValueError, match="moments were given as a Dataset"):
+        rs.gw_contact_curves(m, relative_humidity=0.5, distance=[0.0, 1e-9], moment_method="spectral")
+
+
+def test_dispatcher_names_and_history():
+    h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
+    with pytest.raises(ValueError, match="model must be one of"):
+        rs.rough_contact_curves(h, relative_humidity=0.5, model="jkr")
+    with pytest.raises(TypeError, match="for model='modified_dmt'"):
+        rs.rough_contact_curves(h, relative_humidity=0.5, distance=[0.0], sphere_model="dmt")
+    ds = rs.rough_contact_curves(h, relative_humidity=0.5, distance=[-1e-9, 1e-9])
+    direct = rs.modified_dmt_curves(h, relative_humidity=0.5, distance=[-1e-9, 1e-9])
+    xr.testing.assert_identical(ds.pressure, direct.pressure)
+    assert ds.attrs["history"].splitlines()[-1].endswith("rough_contact_curves(model='modified_dmt')")
+    assert np.isfinite(ds.pressure).all()
