@@ -45,6 +45,7 @@ from ._core import constants as C
 from ._core.conventions import append_history, dataset_attrs, set_attrs
 from ._core.references import PAPER, cite
 from ._core.units import as_si, require
+from ._core.validate import check_positive_block, positive
 
 __all__ = [
     "Cantilever",
@@ -150,15 +151,7 @@ PAPER_CANTILEVER = Cantilever()
 
 
 # ----------------------------------------------------------------------------- Eq. 36
-def _check_nonnegative_block(a, name):
-    a = np.asarray(a, dtype=float)
-    if np.any(a < 0):
-        v = a[a < 0].ravel()[0]
-        raise ValueError(
-            f"{name} must be >= 0, got {v!r}. Adhesive energies and crack lengths are magnitudes "
-            "in SI units (J m-2, m)."
-        )
-    return a
+_MAGNITUDES = "Adhesive energies and crack lengths are magnitudes in SI units (J m-2, m)."
 
 
 def _nonnegative(value, kind, name):
@@ -171,18 +164,7 @@ def _nonnegative(value, kind, name):
                 f"Pass the DataArray, e.g. ds[{key!r}]."
             )
         value = value[key]
-    v = as_si(value, kind, name=name)
-    if isinstance(v, xr.DataArray):
-        if v.chunks is None:
-            _check_nonnegative_block(v.data, name)
-            return v
-        out = xr.apply_ufunc(
-            _check_nonnegative_block, v, kwargs={"name": name}, dask="parallelized", output_dtypes=[float]
-        )
-        out.attrs = dict(v.attrs)
-        return out
-    _check_nonnegative_block(v, name)
-    return v
+    return positive(value, kind, name, _MAGNITUDES, allow_zero=True, arrays=True)
 
 
 def adhesive_energy_from_crack_length(crack_length, *, beam: Cantilever = PAPER_CANTILEVER):
@@ -637,7 +619,7 @@ def crossing_humidity(probability: xr.Dataset | xr.DataArray, *, level: float = 
         rh = np.asarray(p["rh"].values, dtype=float)
         if rh.size > 1 and np.any(np.diff(rh) <= 0):
             raise ValueError("the 'rh' coordinate must be strictly increasing; sort first: .sortby('rh').")
-        from ._core.dask import check_core_not_chunked
+        from ._core.validate import check_core_not_chunked
 
         check_core_not_chunked(p, ["rh"])
         da = xr.apply_ufunc(
@@ -830,12 +812,12 @@ def measured_adhesion(
         as_relative_humidity(rh)
     if crack_length is not None:
         s = _points(crack_length, "length", "crack_length")
-        _check_nonnegative_block(s, "crack_length")
+        check_positive_block(s, "crack_length", _MAGNITUDES, allow_zero=True)
         g = adhesive_energy_from_crack_length(s, beam=beam)
         given = "crack_length"
     else:
         g = _points(adhesive_energy, "energy_per_area", "adhesive_energy")
-        _check_nonnegative_block(g, "adhesive_energy")
+        check_positive_block(g, "adhesive_energy", _MAGNITUDES, allow_zero=True)
         s = crack_length_from_adhesive_energy(g, beam=beam)
         given = "adhesive_energy"
     if not (rh.shape == s.shape == g.shape) or rh.ndim != 1:

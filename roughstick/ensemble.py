@@ -35,6 +35,7 @@ import xarray as xr
 from ._core.conventions import ATTRS, append_history, dataset_attrs
 from ._core.dask import as_seed_sequence
 from ._core.references import PAPER, cite
+from ._core.validate import distance_array, relative_humidity_array
 from ._core.version import __version__
 
 __all__ = [
@@ -69,25 +70,6 @@ def _psd_m0(psd: xr.DataArray) -> float:
         f"psd must have dims ('qy', 'qx') or ('q',); got {psd.dims}. Build one with "
         "roughstick.power_spectrum / average_psd or roughstick.fit_self_affine."
     )
-
-
-def _as_rh(relative_humidity) -> np.ndarray:
-    from .contact.meniscus import as_relative_humidity
-
-    if isinstance(relative_humidity, xr.DataArray):
-        rh = as_relative_humidity(relative_humidity)
-        arr = np.atleast_1d(np.asarray(rh.values, float))
-    else:
-        arr = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
-    if arr.ndim != 1 or arr.size == 0:
-        raise ValueError(
-            "relative_humidity is empty: give at least one humidity as a fraction in (0, 1), "
-            "e.g. relative_humidity=[0.3, 0.5, 0.7, 0.9]."
-        )
-    as_relative_humidity(arr)  # validates (0, 1)
-    if np.unique(arr).size != arr.size:
-        raise ValueError(f"relative_humidity has repeated values {arr.tolist()}; give each humidity once.")
-    return arr
 
 
 def _water_heights(rh: np.ndarray, adsorbed_layer) -> np.ndarray:
@@ -190,7 +172,7 @@ def ensemble_distance_grid(
         raise ValueError(f"height variance m0 must be positive and finite, got {m0!r}.")
     if num is not None and int(num) < 2:
         raise ValueError(f"num must be >= 2, got {num!r}.")
-    rh = _as_rh(relative_humidity)
+    rh = relative_humidity_array(relative_humidity)
     sigma = math.sqrt(m0)
     npix = int(np.prod(shape)) * max(int(n), 1)
     z_top = sigma * float(norm.isf(exceedance / npix))
@@ -890,7 +872,7 @@ def run_ensemble(
     if not spacing > 0:
         raise ValueError(f"spacing must be a positive length in m, got {spacing!r}.")
     shp = _resolve_shape(shape, size, spacing)
-    rh = _as_rh(relative_humidity)
+    rh = relative_humidity_array(relative_humidity)
     if material is None:
         material = materials.POLYSILICON
     if generate is None:
@@ -906,14 +888,7 @@ def run_ensemble(
                                    adsorbed_layer=adsorbed_layer).values
         )
     else:
-        if isinstance(distance, xr.DataArray):
-            from ._core.units import require
-
-            distance = require(distance, "length", name="distance").values
-        dist = np.asarray(distance, dtype=float).ravel()
-        if dist.size < 2 or not np.all(np.isfinite(dist)) or np.any(np.diff(np.sort(dist)) <= 0):
-            raise ValueError("distance must hold at least two distinct finite values [m].")
-        dist = np.sort(dist)
+        dist = distance_array(distance, min_size=2)
     if isinstance(chunks, dict):
         c_r = chunks.get("realization")
         c_h = chunks.get("rh", -1)
@@ -1014,7 +989,7 @@ def surface_size_study(
     ]
     if not shp:
         raise ValueError("sizes/shapes is empty; give at least one surface size.")
-    rh = _as_rh(relative_humidity)
+    rh = relative_humidity_array(relative_humidity)
     dist = kwargs.pop("distance", None)
     if dist is None:
         big = max(shp, key=lambda s: s[0] * s[1])

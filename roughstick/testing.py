@@ -1,13 +1,18 @@
-"""Public testing helpers: unit assertions and small synthetic topographies."""
+"""Public testing helpers: unit assertions, small synthetic topographies and a dask-compute guard.
+
+For the tests of roughstick and of code built on it (cf. ``xarray.testing`` and xarray's
+``raise_if_dask_computes``).
+"""
 
 from __future__ import annotations
 
+import dask
 import numpy as np
 import xarray as xr
 
 from ._core.conventions import ATTRS, set_coord_attrs
 
-__all__ = ["assert_units", "make_topography", "sphere_topography"]
+__all__ = ["assert_units", "make_topography", "sphere_topography", "raise_if_dask_computes"]
 
 
 def assert_units(obj: xr.DataArray, units: str) -> None:
@@ -50,3 +55,30 @@ def sphere_topography(radius: float, *, n: int = 65, spacing: float, apex: float
     z = np.sqrt(np.clip(radius**2 - r2, 0, None)) - radius + apex
     z = np.where(r2 <= radius**2, z, z.min())
     return make_topography(z, spacing=spacing)
+
+
+class _CountingScheduler:
+    def __init__(self, max_computes=0):
+        self.total = 0
+        self.max_computes = max_computes
+
+    def __call__(self, dsk, keys, **kwargs):
+        self.total += 1
+        if self.total > self.max_computes:
+            raise RuntimeError(f"Too many dask computations were scheduled: {self.total}")
+        return dask.get(dsk, keys, **kwargs)
+
+
+def raise_if_dask_computes(max_computes: int = 0):
+    """Context manager raising ``RuntimeError`` if dask computes more than ``max_computes`` times.
+
+    Laziness is part of the contract (STYLE.md §6): build a pipeline inside it to check that
+    nothing is computed.
+
+    Examples
+    --------
+    >>> x = xr.DataArray(np.arange(4.0)).chunk(2)
+    >>> with rs.testing.raise_if_dask_computes():
+    ...     y = (x * 2).sum()  # still lazy
+    """
+    return dask.config.set(scheduler=_CountingScheduler(max_computes))

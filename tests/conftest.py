@@ -1,14 +1,15 @@
-"""Shared fixtures: numpy/dask backends, a dask-compute guard, paths to data."""
+"""Shared fixtures: numpy/dask backends, the dask-compute guard, paths to data."""
 
 from __future__ import annotations
 
 import pathlib
 
-import dask
 import dask.array as dsa
 import numpy as np
 import pytest
 import xarray as xr
+
+from roughstick.testing import raise_if_dask_computes
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 DATA_SAMPLES = ROOT / "data_samples"
@@ -29,23 +30,6 @@ def backend(request):
 
     convert.kind = kind
     return convert
-
-
-class _CountingScheduler:
-    def __init__(self, max_computes=0):
-        self.total = 0
-        self.max_computes = max_computes
-
-    def __call__(self, dsk, keys, **kwargs):
-        self.total += 1
-        if self.total > self.max_computes:
-            raise RuntimeError(f"Too many dask computations were scheduled: {self.total}")
-        return dask.get(dsk, keys, **kwargs)
-
-
-def raise_if_dask_computes(max_computes=0):
-    """Context manager raising if dask computes more than ``max_computes`` times (xarray's helper)."""
-    return dask.config.set(scheduler=_CountingScheduler(max_computes))
 
 
 @pytest.fixture

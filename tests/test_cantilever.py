@@ -12,8 +12,8 @@ import xarray as xr
 from scipy import integrate, optimize, stats
 
 import roughstick as rs
-from conftest import raise_if_dask_computes
 from roughstick._core.units import UnitsError
+from roughstick.testing import raise_if_dask_computes
 
 BEAM = rs.PAPER_CANTILEVER
 K = 1.5 * 164e9 * (1.9e-6) ** 2 * (2.62e-6) ** 3  # 3/2 E h^2 t^3 of the paper's beams [N m^2]

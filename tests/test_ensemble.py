@@ -21,9 +21,9 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
-from conftest import raise_if_dask_computes
 from roughstick._core.conventions import ATTRS
 from roughstick._core.dask import is_lazy, realization_rng
+from roughstick.testing import raise_if_dask_computes
 
 # ----------------------------------------------------------------------------- stand-ins
 SIGMA = 4e-9  # rms height of the toy surfaces [m]

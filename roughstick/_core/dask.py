@@ -1,11 +1,11 @@
-"""Small dask helpers: laziness checks, core-dimension chunk checks, per-realization RNG."""
+"""Small dask helpers: laziness check and per-realization random generators (seeds)."""
 
 from __future__ import annotations
 
 import numpy as np
 import xarray as xr
 
-__all__ = ["is_lazy", "check_core_not_chunked", "realization_rng", "as_seed_sequence"]
+__all__ = ["is_lazy", "realization_rng", "as_seed_sequence"]
 
 
 def is_lazy(obj) -> bool:
@@ -14,23 +14,6 @@ def is_lazy(obj) -> bool:
         return any(is_lazy(v) for v in obj.data_vars.values())
     data = getattr(obj, "data", obj)
     return type(data).__module__.startswith("dask")
-
-
-def check_core_not_chunked(da: xr.DataArray, dims) -> None:
-    """Raise ``ValueError`` if any of ``dims`` is split over several dask chunks.
-
-    The message names the fix, ``.chunk({dim: -1})``, in the xarray style.
-    """
-    if da.chunks is None:
-        return
-    bad = [d for d in dims if d in da.dims and len(da.chunksizes[d]) > 1]
-    if bad:
-        fix = ", ".join(f"{d!r}: -1" for d in bad)
-        raise ValueError(
-            f"dimension(s) {bad} of {da.name or 'the input'!r} are split over several dask chunks, "
-            f"but they are core dimensions of this computation. Rechunk first: "
-            f".chunk({{{fix}}})."
-        )
 
 
 def as_seed_sequence(seed) -> np.random.SeedSequence:

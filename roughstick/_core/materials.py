@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .constants import POLYSILICON_POISSON_RATIO, POLYSILICON_YOUNGS_MODULUS
+from .validate import check_positive_block
 
 __all__ = ["Material", "POLYSILICON", "reduced_modulus", "hertz_modulus"]
 
@@ -31,15 +32,12 @@ class Material:
     name: str = "poly-silicon"
 
     def __post_init__(self):
-        if not self.youngs_modulus > 0:
-            raise ValueError(
-                f"youngs_modulus must be positive (Pa), got {self.youngs_modulus!r}. "
-                "Pass SI units: poly-silicon is 164e9."
-            )
+        check_positive_block(self.youngs_modulus, "youngs_modulus",
+                             "Pass SI units (Pa): poly-silicon is 164e9.", finite=True)
         if not -1 < self.poisson_ratio <= 0.5:
             raise ValueError(f"poisson_ratio must lie in (-1, 0.5], got {self.poisson_ratio!r}.")
-        if self.hardness is not None and not self.hardness > 0:
-            raise ValueError(f"hardness must be positive (Pa), got {self.hardness!r}.")
+        if self.hardness is not None:
+            check_positive_block(self.hardness, "hardness", "Pass SI units (Pa).", finite=True)
 
 
 #: Poly-silicon, E = 164 GPa, nu = 0.23 (paper §2.2.5).

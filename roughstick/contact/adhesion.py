@@ -12,7 +12,7 @@ import numpy as np
 import xarray as xr
 
 from .._core.conventions import append_history, set_attrs
-from .._core.dask import check_core_not_chunked
+from .._core.validate import check_core_not_chunked
 
 __all__ = ["adhesion_summary", "adhesive_energy_kernel"]
 

@@ -26,11 +26,11 @@ from .._core.conventions import (
     set_attrs,
     set_coord_attrs,
 )
-from .._core.dask import check_core_not_chunked
 from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.references import cite
 from .._core.units import require
-from .meniscus import as_relative_humidity, laplace_pressure, water_height
+from .._core.validate import check_core_not_chunked, grid_spacing, relative_humidity_coordinate
+from .meniscus import laplace_pressure, water_height
 
 __all__ = ["bem_contact_curves", "periodic_offset_coefficient"]
 
@@ -453,32 +453,12 @@ def bem_contact_curves(
     if not (tolerance > 0):
         raise ValueError(f"tolerance must be positive, got {tolerance!r}.")
     height = require(height, "length", name="height")
-    for dim in ("y", "x"):
-        if dim not in height.dims:
-            raise ValueError(f"height needs dimensions 'y' and 'x'; it has {height.dims}.")
-        if height.sizes[dim] < 4:
-            raise ValueError(
-                f"height has only {height.sizes[dim]} pixels along {dim!r}; the solver needs a "
-                "map of at least 4 x 4 pixels."
-            )
+    spacing = [grid_spacing(height, dim, min_pixels=4, purpose="the boundary-element solver")
+               for dim in ("y", "x")]
     if height.chunks is not None:
         check_core_not_chunked(height, ("y", "x"))
-    spacing = []
-    for dim in ("y", "x"):
-        c = np.asarray(height[dim].values, dtype=float)
-        step = np.diff(c)
-        if not (np.all(step > 0) and np.allclose(step, step[0], rtol=1e-6)):
-            raise ValueError(
-                f"coordinate {dim!r} must be uniform and ascending for the FFT solver; "
-                "resample the map onto a uniform grid."
-            )
-        units = height[dim].attrs.get("units", "m")
-        coord = require(height[dim].copy(), "length", name=dim) if units != "m" else height[dim]
-        spacing.append(float(np.diff(np.asarray(coord.values, dtype=float))[0]))
 
-    rh = as_relative_humidity(relative_humidity)
-    if rh.ndim > 1 or (rh.ndim == 1 and rh.dims != ("rh",)):
-        raise ValueError("relative_humidity must be a scalar or 1-D along 'rh' for the BEM.")
+    rh = relative_humidity_coordinate(relative_humidity)
     rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
     rh_values = np.asarray(rh1.values, dtype=float)
     dp = np.asarray(laplace_pressure(rh1).values, dtype=float)

@@ -20,9 +20,10 @@ import xarray as xr
 from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
 from .._core.units import require
+from .._core.validate import distance_array, relative_humidity_values
 from .bem import bem_contact_curves
 from .gw import gw_contact_curves
-from .rough import _distance, _spacing, contact_distance_grid, modified_dmt_curves
+from .rough import _spacing, contact_distance_grid, modified_dmt_curves
 from .validity import VALIDITY_BOUND, select_model, warn_if_outside_validity
 
 __all__ = ["rough_contact_curves", "CONTACT_MODELS"]
@@ -37,22 +38,9 @@ _GW_KWARGS = ("sphere_model", "curvature_limits", "height_cutoff", "curvature_me
               "apparent_area", "n_height", "n_curvature", "force_table", "moment_method", "qmax")
 
 
-def _humidity_values(relative_humidity) -> np.ndarray:
-    """RH values to look up (eager coords or values; a lazy DataArray gives its rh coord)."""
-    if isinstance(relative_humidity, xr.DataArray):
-        if relative_humidity.chunks is not None:
-            if "rh" in relative_humidity.coords:
-                return np.asarray(relative_humidity["rh"].values, dtype=float).ravel()
-            return np.array([], dtype=float)
-        units = relative_humidity.attrs.get("units", "1")
-        scale = 0.01 if units in ("%", "percent") else 1.0
-        return np.asarray(relative_humidity.values, dtype=float).ravel() * scale
-    return np.asarray(relative_humidity, dtype=float).ravel()
-
-
 def _auto_model(relative_humidity, *, error_tolerance, quantity, material, material2):
     """(model, reason): the costliest of the per-humidity choices of :func:`select_model`."""
-    rhs = _humidity_values(relative_humidity)
+    rhs = relative_humidity_values(relative_humidity)
     order = {"gw": 0, "modified_dmt": 1, "bem": 2}
     model, reason = "gw", None
     for r in rhs if rhs.size else [np.nan]:
@@ -154,7 +142,7 @@ def rough_contact_curves(
     common = dict(relative_humidity=relative_humidity, material=material, material2=material2,
                   adsorbed_layer=adsorbed_layer)
     if model == "modified_dmt":
-        rhs = _humidity_values(relative_humidity)
+        rhs = relative_humidity_values(relative_humidity)
         rhs = rhs[(rhs > 0) & (rhs < 1)]
         if rhs.size:  # once-per-process ValidityWarning outside the measured regime
             warn_if_outside_validity(relative_humidity=rhs, material=material, material2=material2)
@@ -168,7 +156,7 @@ def rough_contact_curves(
         kwargs = dict(model_kwargs)
         kwargs.setdefault("apparent_area", height.sizes["x"] * height.sizes["y"]
                           * _spacing(height, "x") * _spacing(height, "y"))
-        ds = gw_contact_curves(height, distance=_distance(distance), **common, **kwargs)
+        ds = gw_contact_curves(height, distance=distance_array(distance), **common, **kwargs)
     else:
         ds = bem_contact_curves(height, distance=distance, n_distances=n_distance, **common,
                                 **model_kwargs)

@@ -48,6 +48,7 @@ from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material, hertz_modulus
 from .._core.references import PAPER, cite
 from .._core.units import require
+from .._core.validate import distance_array
 from ..surface.moments import moments_si, roughness_moments, summit_density
 from . import _sphere_kernels
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
@@ -364,31 +365,6 @@ def _as_moments(moments, moment_method, qmax) -> xr.Dataset:
     )
 
 
-def _as_distance(distance) -> np.ndarray:
-    if distance is None:
-        raise ValueError(
-            "distance is required: the flat-to-mean-plane distances d [m] at which to evaluate, e.g. "
-            "np.linspace(-1, 6, 200) * sqrt(m0)."
-        )
-    if isinstance(distance, xr.DataArray):
-        if distance.ndim != 1:
-            raise ValueError(f"distance must be 1-D, got dims {distance.dims}.")
-        d = require(distance, "length", name="distance")
-        if is_lazy(d):
-            raise ValueError("distance must be eager (it becomes a coordinate): call .compute().")
-        d = np.asarray(d.data, dtype=float)
-    else:
-        d = np.atleast_1d(np.asarray(distance, dtype=float))
-        if d.ndim != 1:
-            raise ValueError(f"distance must be 1-D, got shape {d.shape}.")
-    if d.size == 0 or not np.all(np.isfinite(d)):
-        raise ValueError("distance must be a non-empty array of finite values in metres.")
-    d = np.sort(d)
-    if np.any(np.diff(d) == 0):
-        raise ValueError("distance has repeated values; pass strictly monotonic distances.")
-    return d
-
-
 def gw_contact_curves(
     moments,
     *,
@@ -545,7 +521,7 @@ def gw_contact_curves(
         raise ValueError(f"force_table must be 0 (no table) or an integer >= 16, got {force_table!r}.")
     if apparent_area is not None and not (isinstance(apparent_area, numbers.Real) and apparent_area > 0):
         raise ValueError(f"apparent_area must be a positive area in m2 or None, got {apparent_area!r}.")
-    d = _as_distance(distance)
+    d = distance_array(distance)
 
     ds_in = _as_moments(moments, moment_method, qmax)
     m0, m2, m4 = moments_si(ds_in)

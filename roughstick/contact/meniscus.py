@@ -14,7 +14,8 @@ import xarray as xr
 
 from .._core import constants as C
 from .._core.conventions import set_attrs
-from .._core.units import as_si, require
+from .._core.units import as_si
+from .._core.validate import as_relative_humidity, positive
 
 __all__ = [
     "kelvin_radius",
@@ -26,59 +27,6 @@ __all__ = [
     "water_height",
     "as_relative_humidity",
 ]
-
-
-def _check_rh_block(a):
-    a = np.asarray(a, dtype=float)
-    bad = ~((a > 0) & (a < 1))
-    if np.any(bad):
-        v = a[bad].ravel()[0]
-        raise ValueError(
-            f"relative_humidity must lie strictly between 0 and 1 (a fraction, not %), got {v!r}. "
-            "Pass e.g. 0.3 for 30 % RH."
-        )
-    return a
-
-
-def as_relative_humidity(relative_humidity) -> xr.DataArray:
-    """Validate a relative humidity and return it as a DataArray (fraction, units "1").
-
-    A float gives a 0-d DataArray; a sequence or 1-D array gives dimension ``rh`` with an ``rh``
-    coordinate; a DataArray must carry ``units`` ("1", "%" ...). Lazy inputs are validated at
-    compute time.
-    """
-    if isinstance(relative_humidity, xr.DataArray):
-        da = require(relative_humidity, "dimensionless", name="relative_humidity")
-    else:
-        arr = np.asarray(relative_humidity, dtype=float)
-        if arr.ndim == 0:
-            da = xr.DataArray(arr)
-        elif arr.ndim == 1:
-            da = xr.DataArray(arr, dims=("rh",), coords={"rh": arr})
-        else:
-            raise ValueError(
-                "relative_humidity must be a scalar, a 1-D sequence or a DataArray; "
-                f"got an array of shape {arr.shape}. Wrap it in a DataArray with named dims."
-            )
-    if da.chunks is None:
-        _check_rh_block(da.data)
-        out = da
-    else:
-        out = xr.apply_ufunc(_check_rh_block, da, dask="parallelized", output_dtypes=[float])
-    out = out.copy(deep=False)
-    out.attrs = {"units": "1", "long_name": "relative humidity", "standard_name": "relative_humidity"}
-    if "rh" in out.coords:
-        out["rh"].attrs = {"units": "1", "long_name": "relative humidity", "standard_name": "relative_humidity"}
-    return out
-
-
-def _positive(value, kind, name):
-    v = as_si(value, kind, name=name)
-    if isinstance(v, xr.DataArray):
-        return v
-    if np.any(np.asarray(v) <= 0):
-        raise ValueError(f"{name} must be positive, got {value!r}.")
-    return v
 
 
 def kelvin_radius(
@@ -120,10 +68,10 @@ def kelvin_radius(
     """
     rh = as_relative_humidity(relative_humidity)
     if kelvin_length is None:
-        T = _positive(temperature, "temperature", "temperature")
+        T = positive(temperature, "temperature", "temperature")
         length = surface_tension * molar_volume / (C.GAS_CONSTANT * T)
     else:
-        length = _positive(kelvin_length, "length", "kelvin_length")
+        length = positive(kelvin_length, "length", "kelvin_length")
     out = length / np.log(rh)
     return set_attrs(out, "kelvin_radius")
 
@@ -155,7 +103,7 @@ def laplace_pressure(
     -166.8...
     """
     rh = as_relative_humidity(relative_humidity)
-    T = _positive(temperature, "temperature", "temperature")
+    T = positive(temperature, "temperature", "temperature")
     out = C.GAS_CONSTANT * T * np.log(rh) / molar_volume
     return set_attrs(out, "laplace_pressure")
 

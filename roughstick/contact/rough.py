@@ -22,12 +22,18 @@ import numpy as np
 import xarray as xr
 
 from .._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
-from .._core.dask import check_core_not_chunked, is_lazy
+from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, hertz_modulus
 from .._core.references import PAPER, cite
-from .._core.units import as_si, require
+from .._core.units import require
+from .._core.validate import (
+    check_core_not_chunked,
+    distance_array,
+    grid_spacing,
+    relative_humidity_coordinate,
+)
 from . import _rough_kernels as _k
-from .meniscus import as_relative_humidity, laplace_pressure, water_height
+from .meniscus import laplace_pressure, water_height
 
 __all__ = ["modified_dmt_curves", "contact_distance_grid"]
 
@@ -44,63 +50,7 @@ _MISSING_NOTE = (
 
 
 def _spacing(height: xr.DataArray, dim: str) -> float:
-    if dim not in height.dims:
-        raise ValueError(
-            f"height must have dims (..., 'y', 'x'); got {height.dims}. Rename the spatial dims, "
-            "e.g. height.rename({'row': 'y', 'col': 'x'})."
-        )
-    n = height.sizes[dim]
-    if n < 3:
-        raise ValueError(
-            f"height has only {n} pixel(s) along {dim!r}: a contact map needs at least 3 x 3 pixels."
-        )
-    if dim not in height.coords:
-        raise ValueError(
-            f"height has no {dim!r} coordinate, so its pixel size is unknown. Build it with "
-            "roughstick.testing.make_topography(values, spacing=...) or assign pixel-centre coords in m."
-        )
-    c = np.asarray(height[dim].values, dtype=float)
-    units = height[dim].attrs.get("units")
-    if units is not None:
-        c = c * float(require(xr.DataArray(1.0, attrs={"units": units}), "length", name=dim))
-    step = np.diff(c)
-    if not (np.all(step > 0) and np.allclose(step, step[0], rtol=1e-6, atol=0)):
-        raise ValueError(
-            f"coordinate {dim!r} must be uniform and ascending (pixel centres); got steps from "
-            f"{step.min()!r} to {step.max()!r}. Resample the map onto a regular grid first."
-        )
-    return float(step[0])
-
-
-def _humidity(relative_humidity):
-    rh = as_relative_humidity(relative_humidity)
-    if is_lazy(rh):
-        raise ValueError(
-            "relative_humidity must be known in advance (it becomes the 'rh' coordinate); pass "
-            "floats or a computed DataArray, e.g. rh.compute()."
-        )
-    if rh.ndim > 1 or (rh.ndim == 1 and rh.dims != ("rh",)):
-        raise ValueError(
-            f"relative_humidity must be a scalar or 1-D along 'rh'; got dims {rh.dims}. "
-            "Pass e.g. [0.3, 0.5, 0.7]."
-        )
-    return rh
-
-
-def _distance(distance):
-    if isinstance(distance, xr.DataArray):
-        distance = as_si(distance, "length", name="distance")
-        d = np.asarray(distance.values, dtype=float)  # a coordinate-like parameter (eager)
-    else:
-        d = np.asarray(distance, dtype=float)
-    d = np.atleast_1d(d)
-    if d.ndim != 1 or d.size < 1:
-        raise ValueError(f"distance must be a 1-D array of distances [m]; got shape {d.shape}.")
-    if not np.all(np.isfinite(d)):
-        raise ValueError("distance contains NaN or inf; pass finite distances in m.")
-    if np.unique(d).size != d.size:
-        raise ValueError("distance has repeated values; pass each distance once.")
-    return np.sort(d)
+    return grid_spacing(height, dim, min_pixels=3, purpose="a contact map")
 
 
 def _connectivity(connectivity):
@@ -220,7 +170,7 @@ def _prepare_auto(height, relative_humidity, n, material, material2, adsorbed_la
             "realization=0).compute(), relative_humidity=...)."
         )
     dx, dy = _spacing(height, "x"), _spacing(height, "y")
-    rh = _humidity(relative_humidity)
+    rh = relative_humidity_coordinate(relative_humidity)
     hw = np.atleast_1d(water_height(rh, adsorbed_layer=adsorbed_layer).values)
     dp = np.atleast_1d(laplace_pressure(rh).values)
     per = bool(height.attrs.get("periodic", 0)) if periodic is None else bool(periodic)
@@ -328,7 +278,7 @@ def modified_dmt_curves(
     height = require(height, "length", name="height")
     dx, dy = _spacing(height, "x"), _spacing(height, "y")
     check_core_not_chunked(height, ["y", "x"])
-    rh = _humidity(relative_humidity)
+    rh = relative_humidity_coordinate(relative_humidity)
     connectivity = _connectivity(connectivity)
     per = bool(height.attrs.get("periodic", 0)) if periodic is None else bool(periodic)
     K = hertz_modulus(material, material2)
@@ -343,7 +293,7 @@ def modified_dmt_curves(
         lead: tuple = ()
         data = [o for o in outs]
     else:
-        d = _distance(distance)
+        d = distance_array(distance)
         lead = tuple(dim for dim in height.dims if dim not in ("y", "x"))
 
     rh_vals = np.atleast_1d(rh.values)

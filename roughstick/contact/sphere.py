@@ -13,8 +13,6 @@ dims) or a DataArray with ``units``; DataArrays broadcast and dask-backed inputs
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 import xarray as xr
 
@@ -22,6 +20,7 @@ from .._core.conventions import ATTRS, dataset_attrs, set_attrs
 from .._core.materials import POLYSILICON, Material, hertz_modulus
 from .._core.references import PAPER, cite
 from .._core.units import require
+from .._core.validate import positive
 from . import _sphere_kernels as K_
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
@@ -56,43 +55,6 @@ def _check_model(model):
         )
 
 
-def _positive_block(a, name, fix):
-    a = np.asarray(a, dtype=float)
-    bad = a <= 0
-    if np.any(bad):
-        raise ValueError(f"{name} must be positive, got {a[bad].ravel()[0]!r}. {fix}")
-    return a
-
-
-def _positive(value, kind, name, fix, dim=None):
-    """SI float / DataArray, checked > 0 (lazily for dask). 1-D sequences get dimension ``dim``."""
-    if isinstance(value, xr.DataArray):
-        da = require(value, kind, name=name)
-        if da.chunks is None:
-            _positive_block(da.data, name, fix)
-            return da
-        out = xr.apply_ufunc(
-            _positive_block, da, kwargs={"name": name, "fix": fix}, dask="parallelized",
-            output_dtypes=[float],
-        )
-        out.attrs = dict(da.attrs)
-        return out
-    if isinstance(value, numbers.Number) and not isinstance(value, bool):
-        _positive_block(value, name, fix)
-        return float(value)
-    arr = np.asarray(value, dtype=float)
-    if arr.ndim == 1 and dim is not None:
-        _positive_block(arr, name, fix)
-        return xr.DataArray(arr, dims=(dim,), coords={dim: arr}, attrs={"units": ATTRS.get(dim, {}).get("units", "")})
-    if arr.ndim == 0:
-        _positive_block(arr, name, fix)
-        return float(arr)
-    raise ValueError(
-        f"{name} must be a scalar, a 1-D sequence or a DataArray with named dims; got shape "
-        f"{arr.shape}. Wrap it in xarray.DataArray(..., dims=...) with a 'units' attribute."
-    )
-
-
 def _interference(interference):
     if isinstance(interference, xr.DataArray):
         return require(interference, "length", name="interference")
@@ -111,7 +73,7 @@ def _interference(interference):
 def _modulus(material, material2, reduced_modulus):
     """The paper's K = 4/3 E* [Pa] (float or DataArray)."""
     if reduced_modulus is not None:
-        e = _positive(
+        e = positive(
             reduced_modulus, "pressure", "reduced_modulus",
             "Pass E* in Pa (two poly-silicon bodies: 86.6e9).",
         )
@@ -144,7 +106,7 @@ def _adhesion(model, relative_humidity, work_of_adhesion, adhesive_stress, adsor
             f"model {model!r} needs adhesion: pass relative_humidity (capillary) or "
             "work_of_adhesion [J m-2] (and adhesive_stress [Pa] for 'dmt', 'maugis', 'modified_dmt')."
         )
-    w = _positive(work_of_adhesion, "energy_per_area", "work_of_adhesion", "Pass w in J m-2, e.g. 0.1.")
+    w = positive(work_of_adhesion, "energy_per_area", "work_of_adhesion", "Pass w in J m-2, e.g. 0.1.")
     if adhesive_stress is None:
         if model == "jkr":
             return w, 1.0, "given"  # JKR uses only w = sigma0 * h0
@@ -152,14 +114,14 @@ def _adhesion(model, relative_humidity, work_of_adhesion, adhesive_stress, adsor
             f"model {model!r} needs the Dugdale adhesive stress besides work_of_adhesion: pass "
             "adhesive_stress [Pa] (the range is w / adhesive_stress), or use model='jkr'."
         )
-    s0 = _positive(adhesive_stress, "pressure", "adhesive_stress", "Pass sigma0 in Pa, e.g. 1e8.")
+    s0 = positive(adhesive_stress, "pressure", "adhesive_stress", "Pass sigma0 in Pa, e.g. 1e8.")
     return s0, w / s0, "given"
 
 
 def _prepare(model, radius, relative_humidity, work_of_adhesion, adhesive_stress, material,
              material2, reduced_modulus, adsorbed_layer, meniscus_kwargs):
     _check_model(model)
-    R = _positive(radius, "length", "radius", "Pass the sphere radius in m (e.g. 100e-9).", dim="radius")
+    R = positive(radius, "length", "radius", "Pass the sphere radius in m (e.g. 100e-9).", dim="radius")
     Kmod = _modulus(material, material2, reduced_modulus)
     s0, h0, kind = _adhesion(model, relative_humidity, work_of_adhesion, adhesive_stress,
                              adsorbed_layer, meniscus_kwargs)

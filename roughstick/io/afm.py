@@ -12,8 +12,9 @@ import pathlib
 import numpy as np
 import xarray as xr
 
-from roughstick._core import units as _units
-from roughstick._core.conventions import ATTRS, append_history, set_coord_attrs
+from .._core import units as _units
+from .._core.conventions import ATTRS, append_history, set_coord_attrs
+from .._core.validate import check_positive_block
 
 __all__ = ["read_afm"]
 
@@ -24,8 +25,7 @@ _NETCDF = {".nc", ".nc4", ".netcdf", ".cdf"}
 def _length(value, name: str) -> float:
     """A length as float m: a number (m) or a string such as ``"5 nm"``."""
     v = _units.parse_quantity(value, "length", name=name)
-    if not np.isfinite(v) or v <= 0:
-        raise ValueError(f"{name} must be a positive length, got {value!r}.")
+    check_positive_block(v, name, "Pass a positive length, e.g. '5 nm' or 5e-9 (m).", finite=True)
     return v
 
 

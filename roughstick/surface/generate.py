@@ -41,6 +41,7 @@ from .._core import units as _units
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import as_seed_sequence, is_lazy, realization_rng
 from .._core.references import PAPER, cite
+from .._core.validate import check_positive_block
 from .spectrum import interpolate_psd, isotropic_to_2d
 
 __all__ = ["generate_surfaces", "surface_filter"]
@@ -86,8 +87,7 @@ def _length(value, name: str) -> float:
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise ValueError(f"{name} must be a length in m, got {value!r}.")
     value = float(value)
-    if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"{name} must be a positive, finite length in m, got {value!r}.")
+    check_positive_block(value, name, "Pass a length in m.", finite=True)
     return value
 
 

@@ -30,10 +30,10 @@ from scipy.interpolate import CubicSpline
 
 from .._core import units as _units
 from .._core.conventions import append_history, dataset_attrs, set_attrs
-from .._core.dask import check_core_not_chunked
 from .._core.materials import POLYSILICON, Material
 from .._core.references import cite
-from .spectrum import _check_psd2d, _dq, _positive, _units_psd, _wavevector, power_spectrum
+from .._core.validate import check_core_not_chunked, check_positive_block
+from .spectrum import _check_psd2d, _dq, _units_psd, _wavevector, power_spectrum
 from .topography import _refuse_constant_or_nan, validate_height
 
 __all__ = [
@@ -368,10 +368,11 @@ def moments_from_asperities(*, roughness, radius, density) -> xr.Dataset:
     (3.54, 0.00349, 9.13)
     """
     r = np.atleast_1d(np.asarray(roughness, dtype=float))
-    if r.size == 0 or not np.all(np.isfinite(r)) or np.any(r <= 0):
-        raise ValueError(f"roughness must be positive lengths in m, got {roughness!r}.")
-    _positive(radius, "radius", "m")
-    _positive(density, "density", "m-2")
+    if r.size == 0:
+        raise ValueError("roughness is empty: give one RMS roughness [m] per surface, e.g. [2.6e-9, 2.4e-9].")
+    check_positive_block(r, "roughness", "Lengths in m.", finite=True)
+    check_positive_block(radius, "radius", "A length in m.", finite=True)
+    check_positive_block(density, "density", "Summits per m2.", finite=True)
     m0 = float(np.sum(r**2))
     m4 = (3 * np.sqrt(np.pi) / (8 * float(radius))) ** 2
     m2 = m4 / (6 * np.sqrt(3) * np.pi * float(density))

@@ -13,8 +13,9 @@ from .._core import units as _units
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.references import PAPER, cite
+from .._core.validate import check_positive_block
 from .moments import _J, _self_affine_moments_np
-from .spectrum import _positive, _wavevector
+from .spectrum import _wavevector
 
 __all__ = ["self_affine_psd", "fit_self_affine"]
 
@@ -71,7 +72,8 @@ def self_affine_psd(q, *, s0, s1, q0, qmax) -> xr.DataArray:
     qmax = _wavevector(qmax, name="qmax")
     for v, n, u in ((s0, "s0", "m4"), (s1, "s1", "m4"), (q0, "q0", "rad m-1"),
                     (qmax, "qmax", "rad m-1")):
-        _positive(v, n, u)
+        if not isinstance(v, xr.DataArray):  # labelled sweeps are checked where they are used
+            check_positive_block(v, n, f"Units: {u}.", finite=True)
     if not isinstance(q0, xr.DataArray) and not isinstance(qmax, xr.DataArray) and q0 >= qmax:
         raise ValueError(f"q0 must be smaller than qmax, got q0={q0!r}, qmax={qmax!r} (rad m-1).")
     if isinstance(q, xr.DataArray):
@@ -180,7 +182,8 @@ def fit_self_affine(*, m0, m2, m4, qmax, tolerance: float = 1e-6) -> xr.Dataset:
     }
     labelled = any(isinstance(v, xr.DataArray) for v in vals.values())
     for k, v in vals.items():
-        _positive(v, k, "SI")
+        if not isinstance(v, xr.DataArray):  # a sweep keeps NaN rows for impossible points
+            check_positive_block(v, k, "SI units.", finite=True)
     outs = xr.apply_ufunc(
         _fit_kernel, vals["m0"], vals["m2"], vals["m4"], vals["qmax"],
         vectorize=True, dask="parallelized", output_core_dims=[[]] * 6,

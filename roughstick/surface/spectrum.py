@@ -23,8 +23,9 @@ from scipy.signal import get_window
 
 from .._core import units as _units
 from .._core.conventions import append_history, dataset_attrs, set_attrs
-from .._core.dask import check_core_not_chunked, is_lazy
+from .._core.dask import is_lazy
 from .._core.references import PAPER, cite
+from .._core.validate import check_core_not_chunked
 from .topography import MIN_PIXELS, _refuse_constant_or_nan, validate_height
 
 __all__ = [
@@ -42,13 +43,6 @@ MIN_SIDE = MIN_PIXELS
 
 def _wavevector(value, *, name: str):
     return _units.as_si(value, "wavevector", name=name)
-
-def _positive(value, name: str, unit: str):
-    if isinstance(value, xr.DataArray):
-        return  # lazy or labelled inputs are checked where they are used
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)) or np.any(arr <= 0):
-        raise ValueError(f"{name} must be finite and positive ({unit}), got {value!r}.")
 
 def _keep(attrs, *keys):
     return {k: attrs[k] for k in keys if k in attrs}

@@ -14,50 +14,14 @@ from scipy.ndimage import distance_transform_edt
 
 from .._core import units as _units
 from .._core.conventions import append_history, set_attrs
-from .._core.dask import check_core_not_chunked, is_lazy
+from .._core.dask import is_lazy
+from .._core.validate import check_core_not_chunked, grid_spacing
 
 __all__ = ["validate_height", "level"]
 
+#: Smallest map side (pixels) for roughness statistics and spectra.
 MIN_PIXELS = 8
 
-
-def _check_axis(da: xr.DataArray, dim: str) -> float:
-    if dim not in da.dims:
-        raise ValueError(
-            f"height must have dims (..., 'y', 'x'); got {da.dims}. Rename with "
-            f".rename({{'<row dim>': 'y', '<column dim>': 'x'}})."
-        )
-    n = da.sizes[dim]
-    if n < MIN_PIXELS:
-        raise ValueError(
-            f"the map has {n} pixels along {dim!r}; roughness statistics and spectra need at least "
-            f"{MIN_PIXELS} x {MIN_PIXELS} pixels."
-        )
-    if dim not in da.coords:
-        raise ValueError(
-            f"height has no {dim!r} coordinate, so its pixel size is unknown. Assign pixel centres "
-            f"in m, e.g. height.assign_coords({dim}=(np.arange(n) + 0.5) * spacing), or build it "
-            "with roughstick.testing.make_topography(values, spacing=...)."
-        )
-    c = da[dim]
-    cu = c.attrs.get("units", "m")
-    cvals = np.asarray(c.values, dtype=float) * _units.factor(cu, "length", name=f"coordinate {dim}")
-    d = np.diff(cvals)
-    if np.any(d <= 0):
-        if np.all(d < 0):
-            raise ValueError(
-                f"coordinate {dim!r} is descending; roughstick expects ascending pixel centres. "
-                f"Use height.sortby({dim!r}) (or height.isel({dim}=slice(None, None, -1)))."
-            )
-        raise ValueError(f"coordinate {dim!r} is not monotonic: sort it with height.sortby({dim!r}).")
-    step = d.mean()
-    if np.max(np.abs(d - step)) > 1e-6 * step:
-        raise ValueError(
-            f"coordinate {dim!r} is not uniformly spaced (steps from {d.min():.6g} to {d.max():.6g} m); "
-            f"FFT spectra need a uniform grid. Interpolate first, e.g. "
-            f"height.interp({dim}=np.linspace(first, last, n))."
-        )
-    return float(step)
 
 def validate_height(height: xr.DataArray) -> xr.DataArray:
     """Check a height map and return it in SI with canonical attributes.
@@ -88,8 +52,8 @@ def validate_height(height: xr.DataArray) -> xr.DataArray:
             "roughstick.testing.make_topography(values, spacing=...) or read them with read_afm."
         )
     h = _units.require(height, "length", name=height.name or "height")
-    dx = _check_axis(h, "x")
-    dy = _check_axis(h, "y")
+    dx = grid_spacing(h, "x", min_pixels=MIN_PIXELS)
+    dy = grid_spacing(h, "y", min_pixels=MIN_PIXELS)
     check_core_not_chunked(h, ["x", "y"])
     h = h.transpose(..., "y", "x")
     for dim in ("x", "y"):

@@ -8,8 +8,7 @@ import xarray as xr
 from scipy import integrate
 
 import roughstick as rs
-from conftest import raise_if_dask_computes
-from roughstick.testing import sphere_topography
+from roughstick.testing import raise_if_dask_computes, sphere_topography
 
 
 def curves_from(p, d, wet=None):

@@ -15,7 +15,7 @@ from scipy import integrate, special
 
 import roughstick as rs
 from roughstick.contact._sphere_kernels import sphere_force_kernel
-from tests.conftest import raise_if_dask_computes
+from roughstick.testing import raise_if_dask_computes
 
 NM = 1e-9
 

@@ -5,9 +5,8 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
-from conftest import raise_if_dask_computes
 from roughstick._core import constants as C
-from roughstick.testing import assert_units
+from roughstick.testing import assert_units, raise_if_dask_computes
 
 RH = np.array([0.3, 0.5, 0.7, 0.9])
 

@@ -8,8 +8,8 @@ import xarray as xr
 from scipy import ndimage
 
 import roughstick as rs
-from conftest import DATA_SAMPLES, raise_if_dask_computes
-from roughstick.testing import make_topography, sphere_topography
+from conftest import DATA_SAMPLES
+from roughstick.testing import make_topography, raise_if_dask_computes, sphere_topography
 
 RH6 = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 

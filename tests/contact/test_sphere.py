@@ -6,9 +6,8 @@ import xarray as xr
 from scipy.integrate import trapezoid
 
 import roughstick as rs
-from conftest import raise_if_dask_computes
 from roughstick.contact import _sphere_kernels as k
-from roughstick.testing import assert_units
+from roughstick.testing import assert_units, raise_if_dask_computes
 
 KPS = rs.hertz_modulus()  # 115.4 GPa
 MODELS = ["hertz", "jkr", "dmt", "maugis", "modified_dmt"]

@@ -17,9 +17,9 @@ from hypothesis import strategies as st
 from scipy import stats
 
 import roughstick as rs
-from conftest import raise_if_dask_computes
 from roughstick._core.dask import is_lazy
 from roughstick.surface.generate import generate_surfaces, surface_filter
+from roughstick.testing import raise_if_dask_computes
 
 SPACING = 5e-9
 TABLE3 = {

@@ -4,8 +4,9 @@ import xarray as xr
 
 import roughstick as rs
 from roughstick._core.conventions import ATTRS, append_history, set_attrs
-from roughstick._core.dask import as_seed_sequence, check_core_not_chunked, is_lazy, realization_rng
+from roughstick._core.dask import as_seed_sequence, is_lazy, realization_rng
 from roughstick._core.units import UnitsError, as_si, require
+from roughstick._core.validate import check_core_not_chunked
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,293 @@
+"""ONE home for the input checks every stage shares, each declared once (cf. MetPy's helpers).
+
+- positivity: :func:`check_positive_block` (plain arrays) and :func:`positive` (floats, 1-D
+  sequences or DataArrays with ``units``; lazy data are checked lazily);
+- relative humidity: :func:`as_relative_humidity` (the public coercion, a DataArray of fractions),
+  :func:`relative_humidity_coordinate` (known in advance: it becomes the ``rh`` coordinate),
+  :func:`relative_humidity_array` (a 1-D list of distinct humidities, e.g. of an ensemble) and
+  :func:`relative_humidity_values` (best-effort values to look up, never computing dask data);
+- grids: :func:`grid_spacing` (uniform ascending pixel-centre coordinates of a map) and
+  :func:`distance_array` (a distance grid);
+- dask: :func:`check_core_not_chunked` (core dimensions must be single chunks).
+
+Every error names the problem and the fix (DESIGN.md §6).
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+import xarray as xr
+
+from .conventions import ATTRS
+from .dask import is_lazy
+from .units import as_si, factor, require
+
+__all__ = [
+    "check_positive_block",
+    "positive",
+    "as_relative_humidity",
+    "relative_humidity_coordinate",
+    "relative_humidity_array",
+    "relative_humidity_values",
+    "grid_spacing",
+    "distance_array",
+    "check_core_not_chunked",
+]
+
+
+# ------------------------------------------------------------------------------- positivity
+
+
+def check_positive_block(a, name: str, fix: str = "", *, allow_zero: bool = False,
+                         finite: bool = False):
+    """Raise ``ValueError`` if any element of ``a`` is <= 0 (< 0 with ``allow_zero``).
+
+    NaN passes unless ``finite``. Returns ``a`` as a float array (usable inside ``apply_ufunc``).
+    """
+    a = np.asarray(a, dtype=float)
+    bad = (a < 0) if allow_zero else (a <= 0)
+    if finite:
+        bad = bad | ~np.isfinite(a)
+    if np.any(bad):
+        what = ">= 0" if allow_zero else ("positive and finite" if finite else "positive")
+        raise ValueError(f"{name} must be {what}, got {float(a[bad].ravel()[0])!r}."
+                         + (f" {fix}" if fix else ""))
+    return a
+
+
+def positive(value, kind: str | None, name: str, fix: str = "", *, dim: str | None = None,
+             allow_zero: bool = False, finite: bool = False, arrays: bool = False):
+    """``value`` in SI (``kind`` of :mod:`roughstick._core.units`, None: already SI), checked > 0.
+
+    Floats come back as ``float``; a DataArray is converted with its ``units`` and checked (lazily,
+    at compute time, when dask-backed); a 1-D sequence becomes a DataArray along ``dim`` when
+    ``dim`` is given; other arrays are refused unless ``arrays`` (then returned as arrays).
+    """
+    kw = dict(allow_zero=allow_zero, finite=finite)
+    if isinstance(value, xr.DataArray):
+        da = require(value, kind, name=name) if kind is not None else value
+        if da.chunks is None:
+            check_positive_block(da.data, name, fix, **kw)
+            return da
+        out = xr.apply_ufunc(check_positive_block, da, kwargs={"name": name, "fix": fix, **kw},
+                             dask="parallelized", output_dtypes=[float])
+        out.attrs = dict(da.attrs)
+        return out
+    if isinstance(value, numbers.Number) and not isinstance(value, bool):
+        check_positive_block(value, name, fix, **kw)
+        return float(value)
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim == 0:
+        check_positive_block(arr, name, fix, **kw)
+        return float(arr)
+    if arrays:
+        return check_positive_block(arr, name, fix, **kw)
+    if arr.ndim == 1 and dim is not None:
+        check_positive_block(arr, name, fix, **kw)
+        return xr.DataArray(arr, dims=(dim,), coords={dim: arr},
+                            attrs={"units": ATTRS.get(dim, {}).get("units", "")})
+    raise ValueError(
+        f"{name} must be a scalar, a 1-D sequence or a DataArray with named dims; got shape "
+        f"{arr.shape}. Wrap it in xarray.DataArray(..., dims=...) with a 'units' attribute."
+    )
+
+
+# ------------------------------------------------------------------------- relative humidity
+
+_RH_ATTRS = {"units": "1", "long_name": "relative humidity", "standard_name": "relative_humidity"}
+
+
+def _check_rh_block(a):
+    a = np.asarray(a, dtype=float)
+    bad = ~((a > 0) & (a < 1))
+    if np.any(bad):
+        v = a[bad].ravel()[0]
+        raise ValueError(
+            f"relative_humidity must lie strictly between 0 and 1 (a fraction, not %), got {v!r}. "
+            "Pass e.g. 0.3 for 30 % RH."
+        )
+    return a
+
+
+def as_relative_humidity(relative_humidity) -> xr.DataArray:
+    """Validate a relative humidity and return it as a DataArray (fraction, units "1").
+
+    A float gives a 0-d DataArray; a sequence or 1-D array gives dimension ``rh`` with an ``rh``
+    coordinate; a DataArray must carry ``units`` ("1", "%" ...). Lazy inputs are validated at
+    compute time.
+
+    Examples
+    --------
+    >>> rs.as_relative_humidity([0.3, 0.7]).rh.values
+    array([0.3, 0.7])
+    """
+    if isinstance(relative_humidity, xr.DataArray):
+        da = require(relative_humidity, "dimensionless", name="relative_humidity")
+    else:
+        arr = np.asarray(relative_humidity, dtype=float)
+        if arr.ndim == 0:
+            da = xr.DataArray(arr)
+        elif arr.ndim == 1:
+            da = xr.DataArray(arr, dims=("rh",), coords={"rh": arr})
+        else:
+            raise ValueError(
+                "relative_humidity must be a scalar, a 1-D sequence or a DataArray; "
+                f"got an array of shape {arr.shape}. Wrap it in a DataArray with named dims."
+            )
+    if da.chunks is None:
+        _check_rh_block(da.data)
+        out = da
+    else:
+        out = xr.apply_ufunc(_check_rh_block, da, dask="parallelized", output_dtypes=[float])
+    out = out.copy(deep=False)
+    out.attrs = dict(_RH_ATTRS)
+    if "rh" in out.coords:
+        out["rh"].attrs = dict(_RH_ATTRS)
+    return out
+
+
+def relative_humidity_coordinate(relative_humidity) -> xr.DataArray:
+    """An RH known in advance (it becomes the ``rh`` coordinate): eager, scalar or 1-D along ``rh``."""
+    rh = as_relative_humidity(relative_humidity)
+    if is_lazy(rh):
+        raise ValueError(
+            "relative_humidity must be known in advance (it becomes the 'rh' coordinate); pass "
+            "floats or a computed DataArray, e.g. rh.compute()."
+        )
+    if rh.ndim > 1 or (rh.ndim == 1 and rh.dims != ("rh",)):
+        raise ValueError(
+            f"relative_humidity must be a scalar or 1-D along 'rh'; got dims {rh.dims}. "
+            "Pass e.g. [0.3, 0.5, 0.7]."
+        )
+    return rh
+
+
+def relative_humidity_array(relative_humidity) -> np.ndarray:
+    """A non-empty 1-D array of distinct humidities in (0, 1) (e.g. the ``rh`` of an ensemble)."""
+    if isinstance(relative_humidity, xr.DataArray):
+        arr = np.atleast_1d(np.asarray(relative_humidity_coordinate(relative_humidity).values, float))
+    else:
+        arr = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
+    if arr.ndim != 1 or arr.size == 0:
+        raise ValueError(
+            "relative_humidity is empty: give at least one humidity as a fraction in (0, 1), "
+            "e.g. relative_humidity=[0.3, 0.5, 0.7, 0.9]."
+        )
+    as_relative_humidity(arr)  # validates (0, 1)
+    if np.unique(arr).size != arr.size:
+        raise ValueError(f"relative_humidity has repeated values {arr.tolist()}; give each humidity once.")
+    return arr
+
+
+def relative_humidity_values(relative_humidity) -> np.ndarray:
+    """RH fractions to look up, without validating or computing: a lazy DataArray gives its ``rh``
+    coordinate (or nothing), an eager one its values converted by its ``units`` ("%" ...)."""
+    if isinstance(relative_humidity, xr.DataArray):
+        if relative_humidity.chunks is not None:
+            if "rh" in relative_humidity.coords:
+                return np.asarray(relative_humidity["rh"].values, dtype=float).ravel()
+            return np.array([], dtype=float)
+        if "units" in relative_humidity.attrs:
+            relative_humidity = require(relative_humidity, "dimensionless", name="relative_humidity")
+        return np.asarray(relative_humidity.values, dtype=float).ravel()
+    return np.asarray(relative_humidity, dtype=float).ravel()
+
+
+# ---------------------------------------------------------------------------------- grids
+
+
+def grid_spacing(da: xr.DataArray, dim: str, *, min_pixels: int = 8,
+                 purpose: str = "roughness statistics and spectra") -> float:
+    """Pixel size [m] along ``dim`` of a map with uniform ascending pixel-centre coordinates.
+
+    Raises ``ValueError`` naming the fix for a missing dimension or coordinate, fewer than
+    ``min_pixels`` pixels, descending, non-monotonic or non-uniform coordinates (relative spread of
+    the steps above 1e-6); coordinate ``units`` other than m are converted.
+    """
+    if dim not in da.dims:
+        raise ValueError(
+            f"height must have dims (..., 'y', 'x'); got {da.dims}. Rename with "
+            f".rename({{'<row dim>': 'y', '<column dim>': 'x'}})."
+        )
+    n = da.sizes[dim]
+    if n < min_pixels:
+        raise ValueError(
+            f"the map has {n} pixel(s) along {dim!r}; {purpose} need(s) at least "
+            f"{min_pixels} x {min_pixels} pixels."
+        )
+    if dim not in da.coords:
+        raise ValueError(
+            f"height has no {dim!r} coordinate, so its pixel size is unknown. Assign pixel centres "
+            f"in m, e.g. height.assign_coords({dim}=(np.arange(n) + 0.5) * spacing), or build it "
+            "with roughstick.testing.make_topography(values, spacing=...)."
+        )
+    c = da[dim]
+    f = factor(c.attrs.get("units", "m"), "length", name=f"coordinate {dim}")
+    d = np.diff(np.asarray(c.values, dtype=float) * f)
+    if np.any(d <= 0):
+        if np.all(d < 0):
+            raise ValueError(
+                f"coordinate {dim!r} is descending; roughstick expects ascending pixel centres. "
+                f"Use height.sortby({dim!r}) (or height.isel({dim}=slice(None, None, -1)))."
+            )
+        raise ValueError(f"coordinate {dim!r} is not monotonic: sort it with height.sortby({dim!r}).")
+    step = d.mean()
+    if np.max(np.abs(d - step)) > 1e-6 * step:
+        raise ValueError(
+            f"coordinate {dim!r} is not uniformly spaced (steps from {d.min():.6g} to {d.max():.6g} m); "
+            f"FFT spectra and asperity fits need a uniform grid. Interpolate first, e.g. "
+            f"height.interp({dim}=np.linspace(first, last, n))."
+        )
+    return float(step)
+
+
+def distance_array(distance, *, min_size: int = 1) -> np.ndarray:
+    """A distance grid [m] as a sorted 1-D float array: finite, distinct, at least ``min_size``.
+
+    A DataArray must be 1-D, carry length ``units`` and be eager (distances become a coordinate).
+    """
+    if distance is None:
+        raise ValueError(
+            "distance is required: the flat-to-mean-plane distances d [m] at which to evaluate, e.g. "
+            "np.linspace(-1, 6, 200) * sqrt(m0)."
+        )
+    if isinstance(distance, xr.DataArray):
+        if distance.ndim != 1:
+            raise ValueError(f"distance must be 1-D, got dims {distance.dims}.")
+        d = as_si(distance, "length", name="distance")
+        if is_lazy(d):
+            raise ValueError("distance must be eager (it becomes a coordinate): call .compute().")
+        d = np.asarray(d.values, dtype=float)
+    else:
+        d = np.atleast_1d(np.asarray(distance, dtype=float))
+    if d.ndim != 1 or d.size < min_size:
+        raise ValueError(
+            f"distance must be a 1-D array of at least {min_size} distance(s) [m]; got shape {d.shape}."
+        )
+    if not np.all(np.isfinite(d)):
+        raise ValueError("distance contains NaN or inf; pass finite distances in m.")
+    if np.unique(d).size != d.size:
+        raise ValueError("distance has repeated values; pass each distance once.")
+    return np.sort(d)
+
+
+# ------------------------------------------------------------------------------------ dask
+
+
+def check_core_not_chunked(da: xr.DataArray, dims) -> None:
+    """Raise ``ValueError`` if any of ``dims`` is split over several dask chunks.
+
+    The message names the fix, ``.chunk({dim: -1})``, in the xarray style.
+    """
+    if da.chunks is None:
+        return
+    bad = [d for d in dims if d in da.dims and len(da.chunksizes[d]) > 1]
+    if bad:
+        fix = ", ".join(f"{d!r}: -1" for d in bad)
+        raise ValueError(
+            f"dimension(s) {bad} of {da.name or 'the input'!r} are split over several dask chunks, "
+            f"but they are core dimensions of this computation. Rechunk first: "
+            f".chunk({{{fix}}})."
+        )
