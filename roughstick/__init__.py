@@ -9,9 +9,9 @@ All values are SI; see :mod:`roughstick._core.conventions`.
 
 from . import (  # noqa: E402
     accessor,  # noqa: E402  registers the .rough accessor
-    cantilever,
     contact,
     ensemble,
+    stiction,
     surface,
     testing,
 )
@@ -19,20 +19,20 @@ from ._core import constants, conventions, materials
 from ._core.materials import *  # noqa: F403
 from ._core.units import UnitsError
 from ._core.version import __version__
-from .cantilever import *  # noqa: F403
 from .contact import *  # noqa: F403
 from .ensemble import *  # noqa: F403
 from .io import afm as _afm  # noqa: E402
 from .io import netcdf as _netcdf
 from .io.afm import *  # noqa: F403
 from .io.netcdf import *  # noqa: F403
+from .stiction import *  # noqa: F403
 from .surface import *  # noqa: F403
 
 #: Every public function and class, gathered from the modules' own ``__all__``.
 __all__ = sorted(
     name
     for mod in (
-        materials, contact, _afm, _netcdf, surface, ensemble, cantilever,
+        materials, contact, _afm, _netcdf, surface, ensemble, stiction,
     )
     for name in mod.__all__
 )

@@ -131,7 +131,7 @@ def _gamma_samples(cfg, base, beam, out):
     layers = [layers] if isinstance(layers, str) else list(layers)
     if "adhesive_energy" in ens:
         path = _resolve(base, ens["adhesive_energy"])
-        ds = rs.open_dataset(path)
+        ds = rs.open_ensemble(path) if pathlib.Path(path).is_dir() else rs.open_dataset(path)
         if "adhesive_energy" not in ds:
             raise ValueError(f"{path}: no 'adhesive_energy' variable (has {sorted(ds.data_vars)}).")
         g = ds["adhesive_energy"]

@@ -34,11 +34,10 @@ def register(sub):
 def run_config(cfg, *, figures=True, log=print):
     """Run a parsed :class:`roughstick._config.RunConfig`; return the written paths."""
     import roughstick as rs
-    from roughstick.ensemble import _resolve_shape
 
     t0 = time.perf_counter()
     psd = cfg.psd_da if hasattr(cfg, "psd_da") else cfg.build_psd()
-    shape = _resolve_shape(cfg.shape, cfg.size, cfg.spacing)
+    shape = rs.surface_shape(shape=cfg.shape, size=cfg.size, spacing=cfg.spacing)
     n_grid = cfg.auto.get("n_max", 3000) if cfg.n == "auto" else cfg.n
     dist = rs.ensemble_distance_grid(psd, shape=shape, n=n_grid, relative_humidity=cfg.relative_humidity,
                                      adsorbed_layer=cfg.adsorbed_layer, num=cfg.distance_points,

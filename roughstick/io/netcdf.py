@@ -1,15 +1,10 @@
-"""CF NetCDF output: checked, zlib-compressed, atomic writes; ensemble folders written chunk by chunk.
+"""CF NetCDF output: checked, zlib-compressed, atomic writes.
 
 Every write goes to a temporary name in the destination folder and is renamed into place only
 after the file is closed and flushed, so a file under its final name is always complete: a killed
-run leaves at most a ``*.tmp-*`` file, which :func:`open_ensemble` ignores and a resumed run
-deletes. An ensemble folder (written by :func:`roughstick.run_ensemble` with ``output=``) holds
-
-``manifest.json``
-    the run's parameters, their hash, the block layout and the blocks completed so far;
-``block-r<i>-h<j>.nc``
-    one CF NetCDF file per (realization chunk ``i``, humidity chunk ``j``), each carrying the
-    parameters hash and its block index in its attributes.
+run leaves at most a ``*.tmp-*`` file, which :func:`open_dataset` refuses and
+:func:`remove_partial_files` deletes. The ensemble folders built on these files (one file per
+block plus a manifest, resumable) are :mod:`roughstick.ensemble.store`.
 """
 
 from __future__ import annotations
@@ -23,12 +18,8 @@ import threading
 import numpy as np
 import xarray as xr
 
-__all__ = ["write", "open_dataset", "open_ensemble", "check_cf"]
+__all__ = ["write", "open_dataset", "check_cf"]
 
-#: Name of the manifest of an ensemble folder.
-MANIFEST = "manifest.json"
-#: Format tag written into every manifest.
-MANIFEST_FORMAT = "roughstick-ensemble/1"
 _TMP_TAG = ".tmp-"
 _LOCK = threading.Lock()
 
@@ -174,12 +165,13 @@ def write(ds: xr.Dataset, path, *, compute: bool = False):
 
 
 def open_dataset(path, *, chunks=None) -> xr.Dataset:
-    """Open a NetCDF file written by roughstick (or a whole ensemble folder).
+    """Open a NetCDF file written by roughstick.
 
     Parameters
     ----------
     path : str or pathlib.Path
-        A ``.nc`` file, or an ensemble folder (then :func:`open_ensemble` is used).
+        A ``.nc`` file. An ensemble folder (``run_ensemble(output=...)``) is opened with
+        :func:`roughstick.open_ensemble`.
     chunks : dict, optional
         Passed to :func:`xarray.open_dataset` to get lazy dask arrays.
 
@@ -192,11 +184,14 @@ def open_dataset(path, *, chunks=None) -> xr.Dataset:
     FileNotFoundError
         If ``path`` does not exist.
     ValueError
-        If ``path`` is a temporary (partial) file left by an interrupted write.
+        If ``path`` is a folder, or a temporary (partial) file left by an interrupted write.
     """
     path = pathlib.Path(path)
     if path.is_dir():
-        return open_ensemble(path, chunks=chunks)
+        raise ValueError(
+            f"{str(path)!r} is a folder; an ensemble folder written by run_ensemble(output=...) "
+            "opens with roughstick.open_ensemble(path)."
+        )
     if not path.exists():
         raise FileNotFoundError(f"no such file: {str(path)!r}")
     if _TMP_TAG in path.name:
@@ -207,34 +202,14 @@ def open_dataset(path, *, chunks=None) -> xr.Dataset:
     return xr.open_dataset(path, engine="netcdf4", chunks=chunks)
 
 
-# ----------------------------------------------------------------------------- ensemble folders
-def block_name(i: int, j: int) -> str:
-    """File name of block (realization chunk ``i``, humidity chunk ``j``)."""
-    return f"block-r{i:05d}-h{j:03d}.nc"
-
-
-def read_manifest(folder) -> dict | None:
-    """The manifest of an ensemble folder, or None if there is none."""
-    p = pathlib.Path(folder) / MANIFEST
-    if not p.exists():
-        return None
-    try:
-        m = json.loads(p.read_text())
-    except json.JSONDecodeError as exc:  # pragma: no cover - atomic writes make this unlikely
-        raise ValueError(f"{str(p)!r} is not valid JSON ({exc}); delete the folder or pass overwrite=True.") from exc
-    if m.get("format") != MANIFEST_FORMAT:
-        raise ValueError(f"{str(p)!r} is not a roughstick ensemble manifest (format {m.get('format')!r}).")
-    return m
-
-
-def write_manifest(folder, manifest: dict) -> None:
-    """Write ``manifest.json`` atomically (temporary file + rename)."""
-    folder = pathlib.Path(folder)
-    p = folder / MANIFEST
-    tmp = _tmp_name(p)
+# ----------------------------------------------------------------------------- other files
+def write_text_atomic(path, text: str) -> None:
+    """Write ``text`` to ``path`` atomically (temporary file in the same folder, then rename)."""
+    path = pathlib.Path(path)
+    tmp = _tmp_name(path)
     with _LOCK:
-        tmp.write_text(json.dumps(manifest, indent=1, sort_keys=True))
-        _finish(None, tmp, p)
+        tmp.write_text(text)
+        _finish(None, tmp, path)
 
 
 def remove_partial_files(folder) -> list[pathlib.Path]:
@@ -246,91 +221,3 @@ def remove_partial_files(folder) -> list[pathlib.Path]:
                 p.unlink()
             removed.append(p)
     return removed
-
-
-def valid_block(path, *, params_hash: str, block: tuple[int, int]) -> bool:
-    """True if ``path`` is a complete block file of the run with ``params_hash``."""
-    path = pathlib.Path(path)
-    if not path.exists():
-        return False
-    try:
-        with xr.open_dataset(path, engine="netcdf4") as ds:
-            return (
-                ds.attrs.get("roughstick_params_hash") == params_hash
-                and int(ds.attrs.get("roughstick_block_realization", -1)) == block[0]
-                and int(ds.attrs.get("roughstick_block_rh", -1)) == block[1]
-                and int(ds.attrs.get("roughstick_block_complete", 0)) == 1
-            )
-    except (OSError, ValueError, KeyError, RuntimeError):
-        return False
-
-
-def open_ensemble(folder, *, chunks=None, allow_incomplete: bool = False) -> xr.Dataset:
-    """Open an ensemble folder as one Dataset over (realization, rh[, distance]).
-
-    Parameters
-    ----------
-    folder : str or pathlib.Path
-        Folder written by :func:`roughstick.run_ensemble` with ``output=folder``.
-    chunks : dict, optional
-        Passed to :func:`xarray.open_dataset` for each block (``{}`` gives one dask chunk per block).
-    allow_incomplete : bool, default False
-        Return the completed realization chunks only (those with every humidity chunk written)
-        instead of raising when the run is unfinished.
-
-    Returns
-    -------
-    xarray.Dataset
-        With the run's global attributes from the manifest.
-
-    Raises
-    ------
-    FileNotFoundError
-        If ``folder`` holds no manifest.
-    ValueError
-        If blocks are missing (an interrupted run: the message says how to resume).
-    """
-    folder = pathlib.Path(folder)
-    m = read_manifest(folder)
-    if m is None:
-        raise FileNotFoundError(
-            f"{str(folder)!r} holds no {MANIFEST}: it is not an ensemble folder written by "
-            "roughstick.run_ensemble(output=...) or `roughstick run`."
-        )
-    n_r = len(m["realization_chunks"])
-    n_h = len(m["rh_chunks"])
-    rows, missing = [], []
-    for i in range(n_r):
-        row = []
-        for j in range(n_h):
-            p = folder / block_name(i, j)
-            if valid_block(p, params_hash=m["params_hash"], block=(i, j)):
-                row.append(p)
-            else:  # missing, or not a complete block of this run: never used
-                missing.append(p.name)
-                row = None
-                break
-        if row is not None:
-            rows.append(row)
-    if missing and not allow_incomplete:
-        raise ValueError(
-            f"ensemble in {str(folder)!r} is incomplete: {len(missing)} block(s) missing "
-            f"(e.g. {missing[0]}). Resume it by running the same command or call again "
-            "(run_ensemble(..., output=folder) / `roughstick run CONFIG`), or pass allow_incomplete=True."
-        )
-    if not rows:
-        raise ValueError(f"ensemble in {str(folder)!r} has no completed realization chunk yet.")
-    grid = [[xr.open_dataset(p, engine="netcdf4", chunks=chunks) for p in row] for row in rows]
-    ds = xr.combine_nested(
-        grid,
-        concat_dim=["realization", "rh"],
-        data_vars="minimal",
-        coords="minimal",
-        compat="override",
-        join="exact",
-        combine_attrs="override",
-    )
-    ds.attrs = dict(m.get("attrs", {}))
-    if missing:
-        ds.attrs["incomplete"] = f"{len(rows)} of {n_r} realization chunks"
-    return ds

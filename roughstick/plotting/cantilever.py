@@ -10,6 +10,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ..stiction.risk import crossing_humidity
+
 __all__ = [
     "plot_stiction_probability",
     "plot_stiction_vs_length",
@@ -70,8 +72,6 @@ def plot_stiction_probability(risk: xr.Dataset, *, ax=None, level=None, layer=No
     -------
     matplotlib.axes.Axes
     """
-    from roughstick.cantilever import crossing_humidity
-
     ax = _axes(ax)
     ds = _one_layer(risk, layer)
     _need(ds, ["stiction_probability", "stiction_probability_lower", "stiction_probability_upper"],

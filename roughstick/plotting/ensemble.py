@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..ensemble.statistics import confidence_band, ensemble_ecdf, ensemble_histogram
+
 __all__ = ["plot_ensemble_curves", "plot_energy_band", "plot_energy_distribution"]
 
 
@@ -39,8 +41,6 @@ def plot_ensemble_curves(ds, *, rh=None, max_curves: int = 200, level: float = 0
     -------
     matplotlib.figure.Figure
     """
-    from roughstick.ensemble import confidence_band
-
     plt = _plt()
     rhs = list(ds.rh.values) if rh is None else list(np.atleast_1d(rh))
     p = ds["pressure"].sel(rh=rhs)
@@ -88,8 +88,6 @@ def plot_energy_band(ds, *, level: float = 0.95, ax=None, label: str | None = No
     -------
     matplotlib.axes.Axes
     """
-    from roughstick.ensemble import confidence_band
-
     plt = _plt()
     if ax is None:
         _, ax = plt.subplots(figsize=(5, 3.6), constrained_layout=True)
@@ -136,8 +134,6 @@ def plot_energy_distribution(ds, *, rh=None, kind: str = "ecdf", ax=None, bins: 
     -------
     matplotlib.axes.Axes
     """
-    from roughstick.ensemble import ensemble_ecdf, ensemble_histogram
-
     plt = _plt()
     if ax is None:
         _, ax = plt.subplots(figsize=(5.5, 3.8), constrained_layout=True)

@@ -8,6 +8,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ..surface.generate import surface_filter
+
 __all__ = ["plot_surfaces", "plot_generated_psd", "ensemble_psd"]
 
 _NM = 1e9
@@ -134,8 +136,6 @@ def plot_generated_psd(height: xr.DataArray, psd, *, ax=None, label: str = "gene
     matplotlib.axes.Axes
     """
     import matplotlib.pyplot as plt
-
-    from roughstick.surface.generate import surface_filter
 
     if ax is None:
         _, ax = plt.subplots(figsize=(5.5, 4), layout="constrained")

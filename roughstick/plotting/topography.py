@@ -7,6 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..surface.self_affine import self_affine_psd
+from ..surface.spectrum import psd_isotropic
+
 __all__ = ["plot_height", "plot_psd_schemes", "plot_self_affine_psd"]
 
 
@@ -32,8 +35,6 @@ def plot_height(height, *, ax=None, cmap="viridis"):
 
 
 def _iso(psd):
-    from roughstick.surface.spectrum import psd_isotropic
-
     return psd if "q" in psd.dims else psd_isotropic(psd)
 
 
@@ -86,8 +87,6 @@ def plot_self_affine_psd(fits: dict, *, measured: dict | None = None, ax=None, q
     -------
     matplotlib.axes.Axes
     """
-    from roughstick.surface.self_affine import self_affine_psd
-
     ax = _ax(ax)
     q = np.geomspace(1e6, 7e8, 600) if q is None else np.asarray(q, dtype=float)
     for label, fit in fits.items():

@@ -150,6 +150,7 @@ def _spline_moments_kernel(z, *, x, y, direction):
         res4.append(d2.var(axis=(-2, -1)))
     return m0, np.mean(res2, axis=0), np.mean(res4, axis=0)
 
+
 def roughness_moments(
     height: xr.DataArray,
     *,
@@ -274,6 +275,7 @@ def psd_moments(psd: xr.DataArray, *, qmax=None, direction: str = "mean") -> xr.
     append_history(ds, f"psd_moments: qmax={'none' if qmax is None else 'set'}, direction={direction!r}")
     return ds
 
+
 def _J(a, t):
     """(exp(a t) - 1) / a, smooth through a = 0 (t = ln(qmax/q0))."""
     x = a * t
@@ -282,6 +284,7 @@ def _J(a, t):
         big = np.expm1(x) / np.where(small, 1.0, a)
     return np.where(small, t * (1 + x / 2), big)
 
+
 def _self_affine_moments_np(s0, beta, q0, qmax):
     """Closed-form (m0, m2, m4) of Eq. 37 for exponent ``beta``."""
     t = np.log(qmax / q0)
@@ -289,6 +292,7 @@ def _self_affine_moments_np(s0, beta, q0, qmax):
     i3 = q0**4 * (0.25 + _J(4 + beta, t))
     i5 = q0**6 * (1 / 6 + _J(6 + beta, t))
     return 2 * np.pi * s0 * i1, np.pi * s0 * i3, 0.75 * np.pi * s0 * i5
+
 
 def self_affine_moments(*, s0, s1, q0, qmax) -> xr.Dataset:
     r"""Moments :math:`m_0, m_2, m_4` of the Eq. 37 PSD in closed form.
@@ -327,6 +331,7 @@ def self_affine_moments(*, s0, s1, q0, qmax) -> xr.Dataset:
     beta = np.log(s1 / s0) / np.log(qmax / q0)
     m0, m2, m4 = _self_affine_moments_np(s0, beta, q0, qmax)
     return _moments_dataset(m0, m2, m4, title="moments of the self-affine PSD (Eq. 37)")
+
 
 def moments_from_asperities(*, roughness, radius, density) -> xr.Dataset:
     r"""PSD moments from roughness, mean summit radius and summit density (Table 4, Nayak).
@@ -408,6 +413,7 @@ def _cumulative_moments(s2d, qx, qy, direction):
     last = np.r_[qs[1:] != qs[:-1], True]  # one entry per distinct |q|
     return qs[last], m0[last], m2[last], m4[last]
 
+
 def _cutoff_kernel(s2d, t0, t2, t4, *, qx, qy, direction, weights):
     qs, m0, m2, m4 = _cumulative_moments(s2d, qx, qy, direction)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -416,6 +422,7 @@ def _cutoff_kernel(s2d, t0, t2, t4, *, qx, qy, direction, weights):
     cost[~np.isfinite(cost)] = np.inf
     i = int(np.argmin(cost))
     return qs[i], m0[i], m2[i], m4[i], r[0, i], r[1, i], r[2, i]
+
 
 def choose_cutoff(
     psd: xr.DataArray, target: xr.Dataset, *, match=("m2", "m4"), direction: str = "mean"
@@ -513,6 +520,7 @@ def asperity_statistics(moments: xr.Dataset) -> xr.Dataset:
     })
     ds.attrs = dataset_attrs("Nayak summit statistics", references=NAYAK_REFERENCE)
     return ds
+
 
 def plasticity_index(
     moments: xr.Dataset,

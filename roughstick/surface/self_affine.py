@@ -19,8 +19,10 @@ from .spectrum import _wavevector
 
 __all__ = ["self_affine_psd", "fit_self_affine"]
 
+
 def _exponent(s0, s1, q0, qmax):
     return np.log(s1 / s0) / np.log(qmax / q0)
+
 
 def _self_affine_kernel(q, s0, s1, q0, qmax):
     q = np.abs(q)
@@ -28,6 +30,7 @@ def _self_affine_kernel(q, s0, s1, q0, qmax):
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         mid = s0 * (q / q0) ** beta
     return np.where(q < q0, s0, np.where(q <= qmax, mid, 0.0))
+
 
 def self_affine_psd(q, *, s0, s1, q0, qmax) -> xr.DataArray:
     r"""The isotropic self-affine PSD of Eq. 37.
@@ -90,6 +93,7 @@ def self_affine_psd(q, *, s0, s1, q0, qmax) -> xr.DataArray:
     out = set_attrs(out.rename("psd"), "psd_isotropic", references=cite((PAPER, "Eq. 37")))
     return out
 
+
 def _fit_kernel(m0, m2, m4, qmax):
     """Solve Eq. 37 for (q0, s0, s1) from (m0, m2, m4, qmax). Returns 6 floats."""
     nan6 = (np.nan,) * 6
@@ -124,6 +128,7 @@ def _fit_kernel(m0, m2, m4, qmax):
     s1 = s0 * np.exp(beta * t)
     f0, f2, f4 = _self_affine_moments_np(s0, beta, q0, qmax)
     return q0, s0, s1, f0 / m0 - 1, f2 / m2 - 1, f4 / m4 - 1
+
 
 def fit_self_affine(*, m0, m2, m4, qmax, tolerance: float = 1e-6) -> xr.Dataset:
     r"""Solve Eq. 37 for :math:`(q_0, s_0, s_1)` from the moments and the cutoff (paper §5.2).

@@ -41,14 +41,18 @@ __all__ = [
 #: Smallest map side (pixels) a spectrum is estimated or interpolated on.
 MIN_SIDE = MIN_PIXELS
 
+
 def _wavevector(value, *, name: str):
     return _units.as_si(value, "wavevector", name=name)
+
 
 def _keep(attrs, *keys):
     return {k: attrs[k] for k in keys if k in attrs}
 
+
 def _units_psd(psd):
     return _units.require(psd, "length4", name=psd.name or "psd")
+
 
 def _dq(c):
     return float(np.mean(np.diff(np.asarray(c, dtype=float))))
@@ -62,11 +66,13 @@ def _dq(c):
 def _fft_module(data):
     return dask.array.fft if is_lazy(data) else np.fft
 
+
 def _window_2d(name, ny, nx):
     wy = get_window(name, ny, fftbins=True)
     wx = get_window(name, nx, fftbins=True)
     w = np.outer(wy, wx)
     return w / np.sqrt(np.mean(w**2))
+
 
 def power_spectrum(height: xr.DataArray, *, window: str | None = None) -> xr.DataArray:
     r"""2D power spectral density of height maps by FFT (Eqs. 26-30).
@@ -132,6 +138,7 @@ def power_spectrum(height: xr.DataArray, *, window: str | None = None) -> xr.Dat
                     references=cite((PAPER, "Eqs. 26-30")))
     return out
 
+
 def _check_psd2d(psd):
     if not ({"qx", "qy"} <= set(psd.dims)):
         raise ValueError(f"expected a 2D PSD with dims (..., 'qy', 'qx'), got {psd.dims}.")
@@ -147,6 +154,7 @@ def _check_psd2d(psd):
         if np.any(np.diff(c) <= 0):
             raise ValueError(f"coordinate {d!r} must be ascending (fftshift order); use psd.sortby({d!r}).")
     return psd.transpose(..., "qy", "qx")
+
 
 def psd_isotropic(psd: xr.DataArray, *, full: bool = False) -> xr.DataArray:
     r"""Radial (isotropic) average of a 2D PSD.
@@ -193,6 +201,7 @@ def psd_isotropic(psd: xr.DataArray, *, full: bool = False) -> xr.DataArray:
     out["n_samples"].attrs = {"units": "1", "long_name": "number of 2D PSD samples in the ring"}
     return set_attrs(out.rename("psd"), "psd_isotropic", **_keep(psd.attrs, "spacing_x", "spacing_y"))
 
+
 def average_psd(psd: xr.DataArray, dim) -> xr.DataArray:
     r"""Average PSDs of several maps, Eq. 31: :math:`s = \frac{1}{n}\sum_j s^{(j)}`.
 
@@ -222,6 +231,7 @@ def average_psd(psd: xr.DataArray, dim) -> xr.DataArray:
                     **_keep(psd.attrs, "spacing_x", "spacing_y", "window"), n_averaged=n)
     return append_history(out, f"average_psd: Eq. 31 mean of {n} spectra over {dims}")
 
+
 def _split(height: xr.DataArray, n: int) -> xr.DataArray:
     k = int(round(np.sqrt(n)))
     if k * k != n or n < 1:
@@ -239,6 +249,7 @@ def _split(height: xr.DataArray, n: int) -> xr.DataArray:
             tiles.append(t.assign_coords(y=height["y"].values[:ny], x=height["x"].values[:nx]))
     out = xr.concat(tiles, dim="submap", combine_attrs="override")
     return out.assign_coords(submap=np.arange(n)).transpose(..., "submap", "y", "x")
+
 
 def submap_psd(
     height: xr.DataArray, *, n: int = 16, average_dims=None, window: str | None = None
@@ -277,6 +288,7 @@ def submap_psd(
     out = average_psd(s, ["submap", *lead])
     out.attrs["n_submaps"] = n
     return out
+
 
 def submap_variance_check(
     height: xr.DataArray, *, n: int = 16, reference=None, threshold: float = 0.03
@@ -349,6 +361,7 @@ def _interp_kernel(s, *, qx0, qy0, qx1, qy1):
         out[i] = f(pts).reshape(qy1.size, qx1.size)
     return out.reshape(s.shape[:-2] + (qy1.size, qx1.size))
 
+
 def interpolate_psd(psd: xr.DataArray, *, shape, spacing=None) -> xr.DataArray:
     r"""A PSD estimated on a small map, on the finer wave-number grid of a larger map (§4.2.1).
 
@@ -401,6 +414,7 @@ def interpolate_psd(psd: xr.DataArray, *, shape, spacing=None) -> xr.DataArray:
     out = set_attrs(out.rename("psd"), "psd", spacing_x=dx, spacing_y=dy,
                     **_keep(psd.attrs, "references"))
     return append_history(out, f"interpolate_psd: onto the {ny} x {nx} grid of spacing {dx:.4g} m (§4.2.1)")
+
 
 def isotropic_to_2d(psd, qx, qy) -> xr.DataArray:
     r"""Evaluate an isotropic PSD ``s(q)`` on a 2D ``(qy, qx)`` grid at :math:`|q|`.

@@ -20,6 +20,7 @@ from .topography import validate_height
 
 __all__ = ["roughness_statistics", "psd_summary"]
 
+
 def roughness_statistics(
     height: xr.DataArray,
     *,

@@ -77,6 +77,7 @@ def _nearest_fill(z, mask):
     idx = distance_transform_edt(mask, return_distances=False, return_indices=True)
     return z[tuple(idx)]
 
+
 def _level_kernel(z, *, method, nan, max_nan_fraction, x, y):
     """Level maps over the last two axes (y, x). Returns a float array of the same shape."""
     out = np.array(z, dtype=float, copy=True)
@@ -120,6 +121,7 @@ def _level_kernel(z, *, method, nan, max_nan_fraction, x, y):
             zz = _nearest_fill(zz, bad)
         flat[k] = zz
     return out
+
 
 def level(
     height: xr.DataArray,

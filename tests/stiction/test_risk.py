@@ -1,4 +1,4 @@
-"""Tests of roughstick.cantilever: Eq. 36, stiction probability, crossings, Table 4 -> Eq. 37 path.
+"""Tests of roughstick.stiction.risk: stiction probability, crossings, measured points, plots, `roughstick risk`.
 
 Stand-in Monte-Carlo samples of Gamma are lognormal, for which the stiction probability and the
 crack-length quantiles are known in closed form.
@@ -9,13 +9,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
-from scipy import integrate, optimize, stats
+from scipy import stats
 
 import roughstick as rs
 from roughstick._core.units import UnitsError
 from roughstick.testing import raise_if_dask_computes
 
-BEAM = rs.PAPER_CANTILEVER
 K = 1.5 * 164e9 * (1.9e-6) ** 2 * (2.62e-6) ** 3  # 3/2 E h^2 t^3 of the paper's beams [N m^2]
 
 
@@ -31,122 +30,6 @@ def lognormal_gamma(n=200, rh=(0.3, 0.5, 0.7, 0.9), *, seed=0, median=None, sigm
     ), mu
 
 
-# ----------------------------------------------------------------------------- Eq. 36
-def test_eq36_stiffness_term_and_value():
-    assert BEAM.stiffness_term == pytest.approx(K, rel=1e-14)
-    # Gamma_crit of the 1500 um beams: 3/2 E h^2 t^3 / l^4, by hand: 1.5971e-17 / 5.0625e-12
-    assert rs.critical_adhesive_energy() == pytest.approx(3.1549e-6, rel=1e-4)
-    assert rs.adhesive_energy_from_crack_length(1500e-6) == pytest.approx(rs.critical_adhesive_energy())
-
-
-def test_eq36_round_trip_numpy_and_units():
-    s = np.array([50e-6, 200e-6, 1500e-6, 4e-3])
-    g = rs.adhesive_energy_from_crack_length(s)
-    np.testing.assert_allclose(rs.crack_length_from_adhesive_energy(g), s, rtol=1e-14)
-    gamma = np.geomspace(1e-7, 1e-1, 13)
-    np.testing.assert_allclose(rs.adhesive_energy_from_crack_length(rs.crack_length_from_adhesive_energy(gamma)),
-                               gamma, rtol=1e-13)
-    # s^-4 scaling: a 15 % change of s changes Gamma by a factor 1.15^4 = 1.75 (paper §5.3)
-    assert rs.adhesive_energy_from_crack_length(400e-6) / rs.adhesive_energy_from_crack_length(460e-6) == pytest.approx(1.15**4)
-    # DataArray in micrometres
-    da = xr.DataArray([300.0, 600.0], dims="point", attrs={"units": "um"})
-    out = rs.adhesive_energy_from_crack_length(da)
-    assert out.attrs["units"] == "J m-2" and out.name == "adhesive_energy"
-    np.testing.assert_allclose(out.values, K / (np.array([300e-6, 600e-6]) ** 4))
-    back = rs.crack_length_from_adhesive_energy(out)
-    rs.testing.assert_units(back, "m")
-    np.testing.assert_allclose(back.values, [300e-6, 600e-6], rtol=1e-14)
-
-
-def test_eq36_from_energy_minimisation():
-    """Independent derivation: the S-shaped beam (cubic w(x) = h(3 xi^2 - 2 xi^3)) of length s
-    has bending energy (EI/2) int w''^2 dx; minimising U(s) = U_bend - Gamma w (l - s) gives s."""
-    E, t, h, w, beam_len = 164e9, 2.62e-6, 1.9e-6, 30e-6, 1500e-6
-    inertia = w * t**3 / 12
-
-    def bending(s):
-        curv = lambda x: h * (6 / s**2 - 12 * x / s**3)  # noqa: E731
-        val, _ = integrate.quad(lambda x: curv(x) ** 2, 0, s)
-        return 0.5 * E * inertia * val
-
-    for gamma in (2e-5, 1e-3, 3e-2):
-        def total(s, gamma=gamma):
-            return bending(s) - gamma * w * (beam_len - s)
-
-        res = optimize.minimize_scalar(total, bounds=(10e-6, beam_len), method="bounded",
-                                       options={"xatol": 1e-12})
-        assert rs.crack_length_from_adhesive_energy(gamma) == pytest.approx(res.x, rel=1e-5)
-
-
-def test_eq36_edge_cases():
-    assert rs.crack_length_from_adhesive_energy(0.0) == np.inf
-    assert rs.adhesive_energy_from_crack_length(0.0) == np.inf
-    assert np.isnan(rs.crack_length_from_adhesive_energy(np.nan))
-    with pytest.raises(ValueError, match="must be >= 0"):
-        rs.crack_length_from_adhesive_energy(-1e-3)
-    with pytest.raises(ValueError, match="must be >= 0"):
-        rs.adhesive_energy_from_crack_length([1e-4, -1e-4])
-    with pytest.raises(UnitsError, match="units"):
-        rs.crack_length_from_adhesive_energy(xr.DataArray([1e-3]))
-    with pytest.raises(UnitsError, match="not a energy_per_area unit"):
-        rs.crack_length_from_adhesive_energy(xr.DataArray([1e-3], attrs={"units": "m"}))
-    with pytest.raises(ValueError, match="has no 'adhesive_energy'"):
-        rs.crack_length_from_adhesive_energy(xr.Dataset({"x": 1.0}))
-
-
-def test_eq36_lazy(backend):
-    g, _ = lognormal_gamma(n=8)
-    gi = backend(g, chunks={"realization": 4})
-    with raise_if_dask_computes():
-        s = rs.crack_length_from_adhesive_energy(gi)
-    assert isinstance(s.data, type(gi.data))
-    xr.testing.assert_allclose(s, rs.crack_length_from_adhesive_energy(g))
-    if backend.kind == "dask":
-        bad = backend(-g, chunks={"realization": 4})
-        out = rs.crack_length_from_adhesive_energy(bad)  # lazy: the error comes at compute time
-        with pytest.raises(ValueError, match="must be >= 0"):
-            out.compute()
-
-
-def test_cantilever_validation():
-    assert rs.Cantilever().interaction_area == pytest.approx(2.62e-6 * 30e-6)
-    assert rs.Cantilever(interaction_length=5e-6).interaction_zone_length == 5e-6
-    for kw in ({"length": 0.0}, {"thickness": -1e-6}, {"youngs_modulus": np.nan}, {"gap": "2um"}):
-        with pytest.raises(ValueError, match="must be a positive finite number"):
-            rs.Cantilever(**kw)
-    with pytest.raises(ValueError, match="beam lengths must be positive"):
-        rs.critical_adhesive_energy(length=[100e-6, -1.0])
-
-
-# ----------------------------------------------------------------------------- binomial interval
-@pytest.mark.parametrize("method,scipy_method", [("wilson", "wilson"), ("clopper-pearson", "exact")])
-def test_binomial_interval_matches_scipy(method, scipy_method):
-    for k, n in [(0, 10), (3, 20), (10, 10), (1, 1), (37, 200), (199, 200)]:
-        for conf in (0.9, 0.95, 0.99):
-            lo, hi = rs.binomial_interval(k, n, confidence=conf, method=method)
-            ref = stats.binomtest(k, n).proportion_ci(confidence_level=conf, method=scipy_method)
-            assert float(lo) == pytest.approx(ref.low, abs=1e-12)
-            assert float(hi) == pytest.approx(ref.high, abs=1e-12)
-
-
-def test_binomial_interval_arrays_and_errors(backend):
-    k = xr.DataArray([0, 5, 20], dims="beam_length")
-    n = xr.DataArray([20, 20, 20], dims="beam_length")
-    ki, ni = backend(k), backend(n)
-    with raise_if_dask_computes():
-        lo, hi = rs.binomial_interval(ki, ni)
-    assert isinstance(lo.data, type(ki.data))
-    assert lo.dims == ("beam_length",)
-    assert np.all(lo.values <= k.values / 20) and np.all(hi.values >= k.values / 20)
-    lo0, hi0 = rs.binomial_interval(0, 0)
-    assert np.isnan(lo0) and np.isnan(hi0)
-    with pytest.raises(ValueError, match="confidence"):
-        rs.binomial_interval(1, 2, confidence=95)
-    with pytest.raises(ValueError, match="wilson"):
-        rs.binomial_interval(1, 2, method="agresti")
-
-
-# ----------------------------------------------------------------------------- stiction probability
 def test_probability_counts_and_ecdf_of_crack_length():
     g, _ = lognormal_gamma(n=101)
     lengths = np.array([150e-6, 250e-6, 400e-6, 700e-6, 1500e-6])
@@ -226,7 +109,6 @@ def test_probability_backends_lazy(backend):
     xr.testing.assert_allclose(p.compute(), rs.stiction_probability(g, length=[200e-6, 500e-6]))
 
 
-# ----------------------------------------------------------------------------- crossings
 def test_crossing_humidity_linear_and_edges():
     rh = [0.3, 0.4, 0.5, 0.6]
     p = xr.DataArray(
@@ -298,7 +180,6 @@ def test_crossing_length_lazy(backend):
     xr.testing.assert_allclose(cl.compute(), rs.crossing_length(g, level=0.3))
 
 
-# ----------------------------------------------------------------------------- risk and points
 def test_stiction_risk_dataset():
     g, mu = lognormal_gamma(n=41, rh=np.arange(0.3, 0.951, 0.05))
     r = rs.stiction_risk(g, length=[250e-6, 350e-6, 500e-6], levels=[0.1, 0.5])
@@ -334,78 +215,6 @@ def test_measured_adhesion_points():
         rs.measured_adhesion([50.0], crack_length=[1e-4])
 
 
-# ----------------------------------------------------------------------------- Table 4 -> Eq. 37
-def test_table4_moments_and_eq37_both_densities():
-    m = rs.cantilever_moments()
-    assert float(m.m0) ** 0.5 == pytest.approx(3.54e-9, rel=2e-3)
-    assert float(m.m4) == pytest.approx((3 * np.sqrt(np.pi) / (8 * 220e-9)) ** 2, rel=1e-12)
-    assert float(m.m4) == pytest.approx(9.1e12, rel=5e-3)  # Table 4: 9.1 um^-2
-    assert float(m.m2) == pytest.approx(0.0035, rel=5e-3)  # Table 4: 0.0035
-    p = rs.cantilever_psd()
-    assert float(p.q0) == pytest.approx(21.2e6, rel=5e-3)
-    assert float(p.s0) == pytest.approx(5.5e3 * 1e-36, rel=1e-2)
-    assert float(p.s1) == pytest.approx(5.5e-3 * 1e-36, rel=2e-2)
-    assert "88.1" in p.attrs["note"]
-    # the paper's printed solution comes from N = 88.1 um^-2 (within the 3 printed digits, ~1 %)
-    printed = rs.cantilever_psd(asperity_density=88.1e12)
-    assert float(printed.q0) == pytest.approx(19.4e6, rel=1e-2)
-    assert float(printed.s0) == pytest.approx(6.46e3 * 1e-36, rel=1.5e-2)
-    assert float(printed.s1) == pytest.approx(6.29e-3 * 1e-36, rel=1.5e-2)
-    # the fitted PSD has the Table 4 moments (closed-form moments, independent of the solver)
-    mom = rs.self_affine_moments(s0=p.s0, s1=p.s1, q0=p.q0, qmax=p.qmax)
-    for k in ("m0", "m2", "m4"):
-        assert float(mom[k]) == pytest.approx(float(m[k]), rel=1e-5)
-
-
-def _spectral_moments(z, dy, dx):
-    """Height, slope and curvature variances of periodic maps (..., y, x) from exact spectral
-    derivatives, in x and in y: an estimate independent of roughstick's PSD code."""
-    ny, nx = z.shape[-2:]
-    qx = 2 * np.pi * np.fft.fftfreq(nx, dx)
-    qy = 2 * np.pi * np.fft.fftfreq(ny, dy)
-    zf = np.fft.fft2(z - z.mean(axis=(-2, -1), keepdims=True))
-    power = np.abs(zf) ** 2 / (nx * ny) ** 2  # sum over modes = variance (Parseval)
-    QX, QY = np.meshgrid(qx, qy)
-    m0 = power.sum(axis=(-2, -1))
-    return m0, (power * QX**2).sum(axis=(-2, -1)), (power * QX**4).sum(axis=(-2, -1)), \
-        (power * QY**2).sum(axis=(-2, -1)), (power * QY**4).sum(axis=(-2, -1))
-
-
-def test_table4_eq37_generated_rectangle_reproduces_moments():
-    """Table 4 -> Eq. 37 -> surfaces on the interaction zone Delta s x w = 2.62 x 30 um at 5 nm
-    (524 x 6000 pixels, the full rectangle): the sample moments match mu0, mu2, mu4 within
-    the Monte-Carlo standard error plus the discretisation of the PSD on the wave-number grid."""
-    p = rs.cantilever_psd()
-    m = rs.cantilever_moments()
-
-    def iso(q):
-        return rs.self_affine_psd(np.asarray(q).ravel(), s0=p.s0, s1=p.s1, q0=p.q0, qmax=p.qmax).values.reshape(np.shape(q))
-
-    ny, nx, d = 524, 6000, 5e-9
-    n = 4
-    h = rs.generate_surfaces(iso, n=n, shape=(ny, nx), spacing=d, seed=7, chunks=1)
-    assert h.sizes == {"realization": n, "y": ny, "x": nx}
-    z = h.values
-    m0, m2x, m4x, m2y, m4y = _spectral_moments(z, d, d)
-    # expectation on the grid: the model PSD summed over the generated wave vectors (q = 0 excluded)
-    qx = 2 * np.pi * np.fft.fftfreq(nx, d)
-    qy = 2 * np.pi * np.fft.fftfreq(ny, d)
-    QX, QY = np.meshgrid(qx, qy)
-    S = iso(np.hypot(QX, QY)) * (2 * np.pi / (nx * d)) * (2 * np.pi / (ny * d))
-    S[0, 0] = 0.0
-    grid = {"m0": S.sum(), "m2x": (S * QX**2).sum(), "m4x": (S * QX**4).sum(),
-            "m2y": (S * QY**2).sum(), "m4y": (S * QY**4).sum()}
-    target = {"m0": float(m.m0), "m2x": float(m.m2), "m4x": float(m.m4), "m2y": float(m.m2), "m4y": float(m.m4)}
-    sample = {"m0": m0, "m2x": m2x, "m4x": m4x, "m2y": m2y, "m4y": m4y}
-    for k, v in sample.items():
-        se = v.std(ddof=1) / np.sqrt(n)
-        disc = abs(grid[k] - target[k])
-        assert disc / target[k] < 0.02, (k, disc / target[k])  # grid quadrature of Eq. 37
-        assert abs(v.mean() - grid[k]) < 4 * se + 1e-9 * grid[k], (k, v.mean(), grid[k], se)
-        assert abs(v.mean() - target[k]) < 4 * se + disc, (k, v.mean() / target[k])
-
-
-# ----------------------------------------------------------------------------- plots (Agg smoke)
 def test_plots_smoke():
     import matplotlib.pyplot as plt
 
@@ -430,7 +239,6 @@ def test_plots_smoke():
     plt.close("all")
 
 
-# ----------------------------------------------------------------------------- CLI
 def test_cli_risk_from_given_sample(tmp_path, capsys):
     from roughstick.cli import main
 
@@ -477,24 +285,3 @@ def test_cli_risk_bad_config(tmp_path):
     cfg.write_text("[beems]\n")
     assert main(["risk", str(cfg)]) == 1
     assert main(["risk", str(tmp_path / "missing.toml")]) == 1
-
-
-# ----------------------------------------------------------------------------- full §5.2 pipeline
-def test_predicted_gamma_layer_vs_no_layer():
-    """Fig. 20a vs 20b on a small interaction zone (64 x 512 px, 6 surfaces): the same surfaces
-    give the same Gamma without the layer below 65 % RH and a smaller one above it."""
-    rh = [0.55, 0.6, 0.7, 0.8, 0.9]
-    runs = {layer: rs.predict_adhesive_energy(n=6, shape=(64, 512), relative_humidity=rh,
-                                              adsorbed_layer=layer, seed=3)
-            for layer in ("none", "paper")}
-    g = {k: v.adhesive_energy.compute() for k, v in runs.items()}
-    assert g["none"].dims == ("realization", "rh") and g["none"].sizes["realization"] == 6
-    assert (g["none"] > 0).all()
-    below = [r for r in rh if r <= 0.65]
-    above = [r for r in rh if r > 0.65]
-    xr.testing.assert_allclose(g["none"].sel(rh=below), g["paper"].sel(rh=below), rtol=1e-12)
-    assert (g["none"].sel(rh=above) < g["paper"].sel(rh=above)).all()
-    assert runs["paper"].attrs["interaction_zone_shape"] == [64, 512]
-    # risk on the prediction: longer beams stick at least as often
-    risk = rs.stiction_risk(g["paper"], length=[150e-6, 250e-6, 400e-6, 800e-6])
-    assert (risk.stiction_probability.diff("beam_length") >= 0).all()

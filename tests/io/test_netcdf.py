@@ -1,8 +1,6 @@
-"""Tests of roughstick.io.netcdf: CF checks, atomic zlib writes, reading back, ensemble folders."""
+"""Tests of roughstick.io.netcdf: CF checks, atomic zlib writes, reading back."""
 
 from __future__ import annotations
-
-import json
 
 import numpy as np
 import pytest
@@ -60,24 +58,7 @@ def test_open_refuses_partial_and_missing(tmp_path):
         rs.open_dataset(partial)
     with pytest.raises(FileNotFoundError, match="manifest"):
         rs.open_ensemble(tmp_path)
+    with pytest.raises(ValueError, match="open_ensemble"):
+        rs.open_dataset(tmp_path)
     with pytest.raises(FileNotFoundError, match="does not exist"):
         nc.write(_ds(), tmp_path / "sub" / "a.nc", compute=True)
-
-
-def test_manifest_roundtrip_and_block_validation(tmp_path):
-    m = {"format": nc.MANIFEST_FORMAT, "params_hash": "abc", "realization_chunks": [[0, 3]],
-         "rh_chunks": [[0, 1]], "attrs": {"title": "x"}}
-    nc.write_manifest(tmp_path, m)
-    assert nc.read_manifest(tmp_path) == m
-    (tmp_path / "manifest.json").write_text(json.dumps({"format": "other"}))
-    with pytest.raises(ValueError, match="not a roughstick ensemble manifest"):
-        nc.read_manifest(tmp_path)
-    d = _ds()
-    d.attrs = {"roughstick_params_hash": "abc", "roughstick_block_realization": 0,
-               "roughstick_block_rh": 0, "roughstick_block_complete": 1}
-    nc.write(d, tmp_path / nc.block_name(0, 0), compute=True)
-    assert nc.valid_block(tmp_path / nc.block_name(0, 0), params_hash="abc", block=(0, 0))
-    assert not nc.valid_block(tmp_path / nc.block_name(0, 0), params_hash="xyz", block=(0, 0))
-    assert not nc.valid_block(tmp_path / nc.block_name(0, 0), params_hash="abc", block=(1, 0))
-    (tmp_path / "junk.nc").write_bytes(b"\x89HDF garbage")
-    assert not nc.valid_block(tmp_path / "junk.nc", params_hash="abc", block=(0, 0))

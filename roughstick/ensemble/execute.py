@@ -1,0 +1,245 @@
+"""How the blocks of an ensemble run: local threads or a dask.distributed cluster, a progress bar,
+streaming into a folder (:mod:`.store`), and ``n="auto"`` (batches until the band stops moving).
+
+Whatever runs them, blocks are the pure :func:`.pipeline.compute_block`, so the numbers do not
+depend on the scheduler or the number of workers.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import sys
+
+import dask
+import numpy as np
+import xarray as xr
+from dask.callbacks import Callback
+
+from .pipeline import compute_block
+from .statistics import confidence_band
+from .store import finish_manifest, open_ensemble, pending_blocks, prepare_folder, write_block
+
+__all__ = ["progress_bar"]
+
+
+def _interactive() -> bool:
+    if os.environ.get("CI", "").lower() not in ("", "0", "false", "no"):
+        return False
+    try:  # Jupyter kernels have no tty but do show widgets
+        from IPython import get_ipython
+
+        ip = get_ipython()
+        if ip is not None and "IPKernelApp" in getattr(ip, "config", {}):
+            return True
+    except ImportError:  # pragma: no cover
+        pass
+    return bool(getattr(sys.stderr, "isatty", lambda: False)())
+
+
+def _tqdm_class():
+    """tqdm.auto (a Jupyter widget) when ipywidgets is there, else the text bar."""
+    try:
+        import ipywidgets  # noqa: F401
+        from tqdm.auto import tqdm
+    except ImportError:
+        from tqdm import tqdm
+    return tqdm
+
+
+def progress_bar(progress: bool | None = None, **kwargs):
+    """A dask callback showing a tqdm progress bar (terminal or Jupyter), or a no-op.
+
+    ``progress=None`` shows it only when interactive: stderr is a terminal or the code runs in a
+    Jupyter kernel, and the ``CI`` environment variable is not set.
+
+    Examples
+    --------
+    >>> with rs.progress_bar(False):
+    ...     pass
+    """
+    if progress is None:
+        progress = _interactive()
+    if not progress:
+        return contextlib.nullcontext()
+    from tqdm.dask import TqdmCallback
+
+    return TqdmCallback(tqdm_class=_tqdm_class(), **kwargs)
+
+
+def _resolve_client(scheduler, connect_timeout: float):
+    """None/"threads"/"sync"/"processes" → (None, name); "tcp://..." or a Client → (client, None)."""
+    if scheduler is None:
+        return None, "threads"
+    if isinstance(scheduler, str) and scheduler in ("threads", "threading", "sync", "synchronous", "processes"):
+        return None, scheduler
+    try:
+        from distributed import Client
+    except ImportError as exc:  # pragma: no cover
+        raise ValueError("scheduler addresses need the 'distributed' package: pip install distributed") from exc
+    if isinstance(scheduler, Client):
+        return scheduler, None
+    if isinstance(scheduler, str) and "://" in scheduler:
+        try:
+            client = Client(scheduler, timeout=f"{connect_timeout}s", set_as_default=False)
+        except (OSError, TimeoutError) as exc:
+            raise ConnectionError(
+                f"could not connect to the dask scheduler at {scheduler!r} within {connect_timeout:g} s "
+                f"({type(exc).__name__}). Check the address and that the scheduler is running "
+                "(`dask scheduler` prints it), or run locally by omitting the scheduler."
+            ) from exc
+        return client, None
+    raise ValueError(
+        f"scheduler must be None, 'threads', 'sync', 'processes', a 'tcp://host:port' address or a "
+        f"distributed.Client; got {scheduler!r}."
+    )
+
+
+def compute_blocks(spec, todo, client, local, on_block, progress):
+    """Compute blocks ``todo`` = [(i, a, b, j, lo, hi)], calling ``on_block(i, j, ds)`` as each ends."""
+    if not todo:
+        return
+    bar = None
+    if progress if progress is not None else _interactive():
+        bar = _tqdm_class()(total=len(todo), desc="ensemble blocks", unit="block")
+    spec_d = dask.delayed(spec, pure=True, name=f"roughstick-ensemble-spec-{spec.token}")
+    delayed = {}
+    for i, a, b, j, lo, hi in todo:
+        key = f"roughstick-ensemble-block-{spec.token}-{i}-{j}"
+        delayed[key] = ((i, j), dask.delayed(compute_block, pure=True)(spec_d, a, b, lo, hi, dask_key_name=key))
+    try:
+        if client is not None:
+            from distributed import as_completed
+
+            futures = client.compute([d for _, d in delayed.values()])
+            ij_of = {f.key: ij for f, (ij, _) in zip(futures, delayed.values(), strict=True)}
+            for fut in as_completed(futures):
+                ds = fut.result()
+                on_block(*ij_of[fut.key], ds)
+                fut.release()
+                if bar is not None:
+                    bar.update(1)
+        else:
+            def posttask(key, result, dsk, state, worker_id):
+                name = key if isinstance(key, str) else None
+                if name in delayed:
+                    on_block(*delayed[name][0], result)
+                    if bar is not None:
+                        bar.update(1)
+
+            sinks = [dask.delayed(_discard, pure=True)(d) for _, d in delayed.values()]
+            with Callback(posttask=posttask):
+                dask.compute(*sinks, scheduler=local)
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def _discard(_):
+    return None
+
+
+def stream(spec, n, folder, *, overwrite, scheduler, connect_timeout, progress, attrs, start=0):
+    """Compute the missing blocks of realizations ``[start, n)`` into ``folder``; return how many."""
+    manifest = prepare_folder(folder, spec, n, attrs, overwrite)
+    todo = pending_blocks(folder, spec, manifest, start, n)
+    client, local = _resolve_client(scheduler, connect_timeout)
+
+    def on_block(i, j, ds):
+        write_block(folder, spec, manifest, attrs, i, j, ds)
+
+    try:
+        compute_blocks(spec, todo, client, local, on_block, progress)
+    finally:
+        if client is not None and not _is_client(scheduler):
+            client.close()
+    finish_manifest(folder, spec, manifest, n)
+    return len(todo)
+
+
+def _is_client(obj) -> bool:
+    try:
+        from distributed import Client
+    except ImportError:  # pragma: no cover
+        return False
+    return isinstance(obj, Client)
+
+
+def _band_change(old: xr.Dataset, new: xr.Dataset, variables) -> dict:
+    out = {}
+    for v in variables:
+        if v not in old:
+            continue
+        a, b = old[v], new[v]
+        if "distance" in a.dims:
+            scale = np.abs(b).max("distance")
+            change = (np.abs(b - a).max("distance") / scale.where(scale > 0)).max()
+        else:
+            change = (np.abs(b - a) / np.abs(b).where(np.abs(b) > 0)).max()
+        out[v] = float(change.fillna(0.0))
+    return out
+
+
+def auto_ensemble(spec, *, batch, tolerance, n_max, patience, level, folder, stream_kw, scheduler,
+          connect_timeout, progress, attrs):
+    variables = ("adhesive_energy", "pressure")
+    parts = []
+    n = 0
+    prev = None
+    history = []
+    stable = 0
+    results = {}
+
+    def keep(i, j, block):
+        results[i, j] = block
+
+    client, local = _resolve_client(scheduler, connect_timeout) if folder is None else (None, None)
+    try:
+        while n < n_max:
+            n_next = min(n + batch, n_max)
+            if folder is not None:
+                stream(spec, n_next, folder, attrs=attrs, start=n, scheduler=scheduler,
+                        connect_timeout=connect_timeout, progress=progress, **stream_kw)
+                stream_kw = {**stream_kw, "overwrite": False}
+                ds = open_ensemble(folder).load()
+            else:
+                results.clear()
+                todo = [(i, a, b, j, lo, hi) for i, a, b in spec.realization_blocks(n, n_next)
+                        for j, lo, hi in spec.rh_blocks()]
+                compute_blocks(spec, todo, client, local, keep, progress)
+                rows = [xr.concat([results[i, j] for j, _, _ in spec.rh_blocks()], "rh",
+                                  data_vars="minimal", coords="minimal", compat="override")
+                        for i, _, _ in spec.realization_blocks(n, n_next)]
+                parts.extend(rows)
+                ds = xr.concat(parts, "realization", data_vars="minimal", coords="minimal",
+                               compat="override")
+            n = n_next
+            band = confidence_band(ds[[v for v in variables if v in ds]], level=level, uncertainty=None)
+            if prev is not None:
+                ch = _band_change(prev, band, [v for v in variables if v in band])
+                worst = max(ch.values()) if ch else 0.0
+                history.append((n, worst))
+                stable = stable + 1 if worst < tolerance else 0
+                if stable >= patience:
+                    break
+            prev = band
+    finally:
+        if client is not None and not _is_client(scheduler):
+            client.close()
+    converged = stable >= patience
+    ds = ds.copy()
+    ds.attrs = {**attrs, "n_realizations": int(n)}
+    ds.attrs.update(
+        n_mode="auto",
+        n_final=int(n),
+        auto_converged=int(converged),
+        auto_stopping_rule=(
+            f"add batches of {batch} realizations until the {level:.0%} band (quantiles "
+            f"{(1 - level) / 2:g}, {(1 + level) / 2:g}) of {', '.join(variables)} moves by less than "
+            f"{tolerance:g} (relative; pressure relative to its largest magnitude per rh) for "
+            f"{patience} consecutive batch(es), at most {n_max} realizations"
+        ),
+        auto_band_changes=json.dumps([[int(k), float(c)] for k, c in history]),
+    )
+    return ds

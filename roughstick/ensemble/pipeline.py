@@ -1,0 +1,398 @@
+r"""The Monte Carlo pipeline of one ensemble (paper §4.3): surfaces → curves → summaries, per block.
+
+A run is described by a :class:`Spec` (the PSD, the surface grid, the humidities, the common
+distance grid, the root seed, the chunking and the three stage functions). One block, realizations
+``[a, b)`` at humidities ``rh[lo:hi]``, is the pure function :func:`compute_block`: realization
+``k`` always comes from the ``SeedSequence`` child ``k`` and is computed alone, so a block gives the
+same numbers whatever the chunking, the scheduler or the number of workers, and a recomputed
+block is bit-identical. :func:`lazy_ensemble` lays the blocks out as one dask-backed Dataset with
+``xarray.map_blocks``. Executing blocks (threads, a cluster, streaming, auto-n) is
+:mod:`.execute`; the entry point is :func:`roughstick.run_ensemble` (:mod:`.run`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import inspect
+import json
+import math
+from collections.abc import Callable
+
+import dask.array as dsa
+import numpy as np
+import xarray as xr
+from scipy.stats import norm
+
+from .._core.conventions import ATTRS, dataset_attrs
+from .._core.references import PAPER, cite
+from .._core.validate import relative_humidity_array
+from .._core.version import __version__
+from ..contact.meniscus import as_relative_humidity, water_height
+from ..surface.moments import psd_moments
+from ..testing import make_topography
+
+__all__ = ["ensemble_distance_grid", "surface_shape"]
+
+REFERENCES = cite((PAPER, "sections 4.2-4.3, Eqs. 13, 16-23, 33-34"))
+_CURVE_DIMS = ("realization", "rh", "distance")
+
+
+# ============================================================================ helpers
+def _psd_m0(psd: xr.DataArray) -> float:
+    """Height variance m0 [m2] of a 2-D ``(qy, qx)`` or isotropic ``(q)`` PSD, averaged over any
+    leading dims, by :func:`roughstick.psd_moments` (the PSD is small: read eagerly on purpose)."""
+    if ("qx" in psd.dims and "qy" in psd.dims) or "q" in psd.dims:
+        return float(psd_moments(psd).m0.mean())
+    raise ValueError(
+        f"psd must have dims ('qy', 'qx') or ('q',); got {psd.dims}. Build one with "
+        "roughstick.power_spectrum / average_psd or roughstick.fit_self_affine."
+    )
+
+
+def _water_heights(rh: np.ndarray, adsorbed_layer) -> np.ndarray:
+    return np.asarray(water_height(rh, adsorbed_layer=adsorbed_layer).values, float)
+
+
+def surface_shape(*, shape=None, size=None, spacing: float) -> tuple[int, int]:
+    """Pixels ``(ny, nx)`` of the surfaces from ``shape`` (pixels) or ``size`` (m) and ``spacing``.
+
+    Exactly one of ``shape`` and ``size`` (each a number or a ``(y, x)`` pair); a size must be a
+    whole number of pixels; both sides at least 4 pixels.
+
+    Examples
+    --------
+    >>> rs.surface_shape(size=(1.28e-6, 2.56e-6), spacing=5e-9)
+    (256, 512)
+    """
+    if (shape is None) == (size is None):
+        raise ValueError("give exactly one of shape=(ny, nx) (pixels) or size=(Ly, Lx) (m).")
+    if shape is not None:
+        shp = (int(shape), int(shape)) if np.ndim(shape) == 0 else tuple(int(s) for s in shape)
+        if np.ndim(shape) == 0 and int(shape) != shape or any(
+            s != o for s, o in zip(shp, np.atleast_1d(shape), strict=False)
+        ):
+            raise ValueError(f"shape must be integers, got {shape!r}.")
+    else:
+        sz = (float(size), float(size)) if np.ndim(size) == 0 else tuple(float(s) for s in size)
+        shp = tuple(int(round(s / spacing)) for s in sz)
+        for s, n in zip(sz, shp, strict=True):
+            if n < 1 or not math.isclose(n * spacing, s, rel_tol=1e-6):
+                raise ValueError(
+                    f"size {s!r} m is not a whole number of pixels of spacing {spacing!r} m; "
+                    f"use size={n * spacing!r} or give shape= instead."
+                )
+    if len(shp) != 2 or min(shp) < 4:
+        raise ValueError(f"surface shape must be two integers >= 4, got {shp}.")
+    return shp
+
+
+def ensemble_distance_grid(
+    psd=None,
+    *,
+    shape,
+    n: int,
+    relative_humidity,
+    adsorbed_layer="paper",
+    m0: float | None = None,
+    num: int | None = None,
+    lower: float = 1.5,
+    exceedance: float = 1e-6,
+    points_per_water_height: float = 10.0,
+) -> xr.DataArray:
+    r"""A distance grid common to every realization of an ensemble.
+
+    The top of the grid is first water contact of the highest surface one can expect in the whole
+    ensemble: a union (Bonferroni) bound over all ``n * ny * nx`` Gaussian heights gives a height
+    :math:`z_\max = \sqrt{m_0}\,\Phi^{-1}(1 - \epsilon / (n\,n_y n_x))` that any pixel exceeds with
+    probability below ``exceedance`` :math:`\epsilon`, and :math:`d_\max = z_\max + \max h_{water}`.
+    The bottom, ``lower`` :math:`\sqrt{m_0}`, lies below the equilibrium distances the paper reports
+    (2.6 to 6.2 :math:`\sqrt{m_0}`, §4.3.2). The grid is uniform; by default its step is the
+    smallest water height divided by ``points_per_water_height`` (the attractive part of a curve at
+    low RH is about one water height wide), with 100 to 2000 points. Γ (Eq. 13) converges as the
+    step shrinks (tested against a 4x finer grid). :func:`run_ensemble` checks both ends for every
+    realization and raises if a surface pokes above the top or a curve is still attractive at the
+    bottom.
+
+    Parameters
+    ----------
+    psd : xarray.DataArray, optional
+        PSD (2-D or isotropic) giving :math:`m_0`; or pass ``m0``.
+    shape : tuple of int
+        Surface shape (ny, nx).
+    n : int
+        Number of realizations.
+    relative_humidity : sequence of float
+        Humidities (fractions) of the run.
+    adsorbed_layer : {"paper", "none"} or callable
+        Adsorbed-layer model (:func:`roughstick.water_height`).
+    m0 : float, optional
+        Height variance [m2], instead of ``psd``.
+    num : int, optional
+        Number of grid points (overrides ``points_per_water_height``).
+    lower : float, default 1.5
+        Bottom of the grid in units of :math:`\sqrt{m_0}`.
+    exceedance : float, default 1e-6
+        Probability that some pixel of the ensemble exceeds the grid's top.
+    points_per_water_height : float, default 10
+        Grid points per smallest water height :math:`h_{water}` of the run (when ``num`` is None).
+
+    Returns
+    -------
+    xarray.DataArray
+        ``distance`` coordinate [m], ascending.
+
+    Examples
+    --------
+    >>> d = rs.ensemble_distance_grid(m0=16e-18, shape=(64, 64), n=10, relative_humidity=[0.5])
+    >>> d.sizes["distance"], round(float(d[0]) * 1e9, 2), round(float(d[-1]) * 1e9, 2)
+    (144, 6.0, 27.83)
+    """
+    if m0 is None:
+        if psd is None:
+            raise ValueError("give psd= or m0= to ensemble_distance_grid.")
+        m0 = _psd_m0(psd)
+    if not (m0 > 0 and np.isfinite(m0)):
+        raise ValueError(f"height variance m0 must be positive and finite, got {m0!r}.")
+    if num is not None and int(num) < 2:
+        raise ValueError(f"num must be >= 2, got {num!r}.")
+    rh = relative_humidity_array(relative_humidity)
+    sigma = math.sqrt(m0)
+    npix = int(np.prod(shape)) * max(int(n), 1)
+    z_top = sigma * float(norm.isf(exceedance / npix))
+    hw = _water_heights(rh, adsorbed_layer)
+    d_max = z_top + float(np.max(hw))
+    d_min = lower * sigma
+    if d_min >= d_max:
+        raise ValueError(f"lower={lower} sqrt(m0) is above the grid's top; use a smaller lower.")
+    if num is None:
+        step = float(np.min(hw)) / float(points_per_water_height)
+        num = int(np.clip(math.ceil((d_max - d_min) / step) + 1, 100, 2000))
+    d = np.linspace(d_min, d_max, int(num))
+    return xr.DataArray(
+        d, dims="distance", coords={"distance": d}, name="distance", attrs=dict(ATTRS["distance"])
+    ).pipe(lambda a: a.assign_coords(distance=a.distance.assign_attrs(ATTRS["distance"])))
+
+
+# ============================================================================ the spec
+@dataclasses.dataclass(frozen=True, eq=False)
+class Spec:
+    psd: xr.DataArray
+    shape: tuple[int, int]
+    spacing: float
+    rh: np.ndarray
+    distance: np.ndarray
+    seed: np.random.SeedSequence
+    chunk: int
+    rh_chunk: int
+    adsorbed_layer: object
+    material: object
+    generate: Callable
+    curves: Callable
+    summary: Callable
+    generate_kwargs: dict
+    curves_kwargs: dict
+    water_max: float
+    token: str
+
+    def rh_blocks(self):
+        r = self.rh.size
+        return [(j, lo, min(lo + self.rh_chunk, r)) for j, lo in enumerate(range(0, r, self.rh_chunk))]
+
+    def realization_blocks(self, start, stop):
+        """Blocks [a, b) aligned on multiples of ``chunk`` (index i = a // chunk)."""
+        out = []
+        a = start
+        while a < stop:
+            b = min((a // self.chunk + 1) * self.chunk, stop)
+            out.append((a // self.chunk, a, b))
+            a = b
+        return out
+
+
+def _callable_id(f) -> str:
+    return f"{getattr(f, '__module__', '?')}.{getattr(f, '__qualname__', repr(f))}"
+
+
+def _hash_params(spec_fields: dict) -> str:
+    h = hashlib.sha256()
+    psd = spec_fields["psd"]
+    h.update(np.ascontiguousarray(np.asarray(psd.data, dtype=float)).tobytes())
+    for c in sorted(psd.coords):
+        h.update(c.encode())
+        h.update(np.ascontiguousarray(np.asarray(psd[c].values, dtype=float)).tobytes())
+    h.update(np.ascontiguousarray(spec_fields["distance"]).tobytes())
+    h.update(np.ascontiguousarray(spec_fields["rh"]).tobytes())
+    rest = {
+        k: spec_fields[k]
+        for k in ("shape", "spacing", "chunk", "rh_chunk", "seed_entropy", "seed_spawn_key")
+    }
+    rest["version"] = __version__
+    rest["adsorbed_layer"] = (
+        spec_fields["adsorbed_layer"]
+        if isinstance(spec_fields["adsorbed_layer"], str)
+        else _callable_id(spec_fields["adsorbed_layer"])
+    )
+    rest["material"] = repr(spec_fields["material"])
+    rest["functions"] = [_callable_id(spec_fields[k]) for k in ("generate", "curves", "summary")]
+    rest["kwargs"] = repr(sorted(spec_fields["generate_kwargs"].items())) + repr(
+        sorted(spec_fields["curves_kwargs"].items())
+    )
+    h.update(json.dumps(rest, sort_keys=True, default=str).encode())
+    return h.hexdigest()[:24]
+
+
+# ============================================================================ one block
+def _surfaces(spec: Spec, start: int, stop: int) -> xr.DataArray:
+    gen = spec.generate
+    try:
+        params = inspect.signature(gen).parameters
+    except (TypeError, ValueError):  # pragma: no cover
+        params = {}
+    kw = dict(spec.generate_kwargs)
+    if "realizations" in params:
+        h = gen(spec.psd, realizations=np.arange(start, stop), shape=spec.shape,
+                spacing=spec.spacing, seed=spec.seed, **kw)
+    else:
+        # realizations [start, stop) form exactly the last chunk of an n=stop ensemble chunked by
+        # (stop - start) when start is a multiple of it; else generate [0, stop) and slice.
+        c = stop - start
+        chunks = c if start % c == 0 else stop
+        h = gen(spec.psd, n=stop, shape=spec.shape, spacing=spec.spacing, seed=spec.seed,
+                chunks=chunks, **kw)
+        h = h.isel(realization=slice(start, stop))
+    if h.chunks is not None:
+        h = h.compute(scheduler="sync")
+    return h
+
+
+def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> xr.Dataset:
+    """Compute realizations [start, stop) at humidities rh[rh_lo:rh_hi] (numpy in, numpy out)."""
+    h = _surfaces(spec, start, stop)
+    top = h.max(("y", "x")) - h.mean(("y", "x"))  # d is measured from the mean plane (Eq. 16)
+    hw = spec.water_max
+    if float(top.max()) + hw > spec.distance[-1] * (1 + 1e-12):
+        k = int(np.argmax(np.asarray(top.values)))
+        raise ValueError(
+            f"realization {int(h.realization[k])}: highest point {float(top[k]) * 1e9:.3f} nm plus the "
+            f"water height {hw * 1e9:.3f} nm lies above the top of the common distance grid "
+            f"({spec.distance[-1] * 1e9:.3f} nm). Pass distance= reaching higher, or a smaller "
+            "exceedance to ensemble_distance_grid."
+        )
+    rh = as_relative_humidity(spec.rh[rh_lo:rh_hi])
+    dist = xr.DataArray(spec.distance, dims="distance", coords={"distance": spec.distance},
+                        attrs=dict(ATTRS["distance"]))
+    parts = []
+    for k in range(h.sizes["realization"]):
+        # one realization at a time: its numbers cannot depend on which block it falls in
+        hk = h.isel(realization=[k])
+        curves = spec.curves(hk, relative_humidity=rh, distance=dist, material=spec.material,
+                             adsorbed_layer=spec.adsorbed_layer, **spec.curves_kwargs)
+        if isinstance(curves, xr.DataArray):
+            curves = curves.to_dataset(name=curves.name or "pressure")
+        summary = spec.summary(curves)
+        parts.append(xr.merge([curves, summary], compat="override", combine_attrs="drop_conflicts"))
+    ds = parts[0] if len(parts) == 1 else xr.concat(
+        parts, "realization", data_vars="minimal", coords="minimal", compat="override",
+        combine_attrs="drop_conflicts")
+    ds["max_height"] = top.assign_attrs(ATTRS["max_height"])
+    if "pressure" in ds:
+        p_low = ds["pressure"].isel(distance=0)
+        bad = p_low < 0
+        if bool(bad.any()):
+            idx = np.argwhere(np.asarray(bad.transpose("realization", "rh").values))[0]
+            raise ValueError(
+                f"realization {start + int(idx[0])} at RH {float(rh[idx[1]]):.3g}: the mean pressure is "
+                f"still attractive ({float(p_low.transpose('realization', 'rh')[tuple(idx)]):.4g} Pa) at "
+                f"the bottom of the distance grid ({spec.distance[0] * 1e9:.3f} nm), so Γ (Eq. 13) would "
+                "be cut short. Pass distance= reaching lower, or a smaller lower= to "
+                "ensemble_distance_grid."
+            )
+    out = {}
+    for name, var in ds.data_vars.items():
+        order = [d for d in _CURVE_DIMS if d in var.dims] + [d for d in var.dims if d not in _CURVE_DIMS]
+        out[name] = var.transpose(*order)
+    res = xr.Dataset(out).drop_vars([c for c in ds.coords if c not in ("realization", "rh", "distance")],
+                                    errors="ignore")
+    res = res.assign_coords(realization=np.arange(start, stop), rh=spec.rh[rh_lo:rh_hi],
+                            distance=spec.distance)
+    for c in ("realization", "rh", "distance"):
+        res[c].attrs = dict(ATTRS[c])
+    return res
+
+
+# ============================================================================ lazy assembly
+def _template(spec: Spec) -> xr.Dataset:
+    """One block of the pipeline run on a tiny synthetic egg-box surface: the variables, their dims
+    and dtypes that the stage functions return (they may be user-supplied, so they are probed)."""
+    n = 16
+    x = np.arange(n) * 2 * np.pi / 8
+    sigma = math.sqrt(max(_psd_m0(spec.psd), 1e-30))
+    z = 2 * sigma * np.sin(x)[None, :] * np.sin(x)[:, None]
+    h = make_topography(z, spacing=spec.spacing, periodic=True).expand_dims(realization=[0])
+    h.attrs["periodic"] = 1
+    probe = dataclasses.replace(spec, generate=lambda *a, **k: h)
+    try:
+        return compute_block(probe, 0, 1, 0, 1)
+    except ValueError:
+        return compute_block(dataclasses.replace(probe, distance=spec.distance + 10 * sigma), 0, 1, 0, 1)
+
+
+def _map_block(index: xr.Dataset, spec: Spec) -> xr.Dataset:
+    """``xarray.map_blocks`` kernel: the block of the realizations and humidities of ``index``."""
+    r = index["realization"].values
+    lo = int(np.flatnonzero(spec.rh == index["rh"].values[0])[0])
+    return compute_block(spec, int(r[0]), int(r[-1]) + 1, lo, lo + index.sizes["rh"])
+
+
+def lazy_ensemble(spec: Spec, start: int, stop: int) -> xr.Dataset:
+    """Realizations ``[start, stop)`` of ``spec`` as one lazy Dataset: ``xarray.map_blocks`` of
+    :func:`compute_block` over the (realization, rh) blocks, with a template whose variables come
+    from :func:`_template` and whose coordinates carry the attributes of
+    :data:`roughstick._core.conventions.ATTRS`."""
+    probe = _template(spec)
+    rchunks = tuple(b - a for _, a, b in spec.realization_blocks(start, stop))
+    hchunks = tuple(hi - lo for _, lo, hi in spec.rh_blocks())
+    chunks = {"realization": rchunks, "rh": hchunks}
+    sizes = {"realization": stop - start, "rh": spec.rh.size, "distance": spec.distance.size}
+    coords = {
+        "realization": ("realization", np.arange(start, stop), dict(ATTRS["realization"])),
+        "rh": ("rh", spec.rh, dict(ATTRS["rh"])),
+        "distance": ("distance", spec.distance, dict(ATTRS["distance"])),
+    }
+    template = xr.Dataset(
+        {name: xr.Variable(var.dims,
+                           dsa.zeros(tuple(sizes.get(d, var.sizes[d]) for d in var.dims),
+                                     chunks=tuple(chunks.get(d, -1) for d in var.dims), dtype=var.dtype),
+                           attrs=dict(var.attrs))
+         for name, var in probe.data_vars.items()},
+        coords=coords,
+    )
+    index = xr.Dataset(
+        {"block": (("realization", "rh"), dsa.zeros((stop - start, spec.rh.size), chunks=(rchunks, hchunks)))},
+        coords={k: v for k, v in coords.items() if k != "distance"},
+    )
+    return xr.map_blocks(_map_block, index, args=[spec], template=template)
+
+
+def _attrs(spec: Spec, n) -> dict:
+    layer = spec.adsorbed_layer if isinstance(spec.adsorbed_layer, str) else _callable_id(spec.adsorbed_layer)
+    return dataset_attrs(
+        "Monte Carlo ensemble of rough-surface humid adhesive contact (paper section 4.3)",
+        references=REFERENCES,
+        seed=str(spec.seed.entropy),
+        seed_spawn_key=json.dumps(list(spec.seed.spawn_key)),
+        n_realizations=int(n),
+        surface_shape=json.dumps(list(spec.shape)),
+        surface_size_m=json.dumps([s * spec.spacing for s in spec.shape]),
+        spacing_m=spec.spacing,
+        psd_m0_m2=_psd_m0(spec.psd),
+        adsorbed_layer=layer,
+        material=repr(spec.material),
+        contact_function=_callable_id(spec.curves),
+        surface_function=_callable_id(spec.generate),
+        summary_function=_callable_id(spec.summary),
+        realization_chunk=spec.chunk,
+        rh_chunk=spec.rh_chunk,
+        params_hash=spec.token,
+    )

@@ -1,0 +1,309 @@
+r"""The entry point of the Monte Carlo ensembles: :func:`run_ensemble` (paper §4.3, Figs. 14-17).
+
+:func:`run_ensemble` builds the pipeline ``generate_surfaces`` → ``rough_contact_curves`` →
+``adhesion_summary`` (:mod:`.pipeline`) as one Dataset over ``(realization, rh, distance)`` and
+``(realization, rh)``, chunked over realization and humidity; nothing is computed until asked.
+With ``output=folder`` it streams one CF NetCDF file per block into ``folder`` as blocks complete
+and resumes from what is there (:mod:`.store`, :mod:`.execute`); with ``n="auto"`` realizations
+are added in batches until the 95 % band of Γ and of the pressure curve stops moving.
+:func:`surface_size_study` repeats it at several surface sizes on one distance grid.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import pathlib
+import time
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import xarray as xr
+
+from .._core.conventions import ATTRS, append_history
+from .._core.dask import as_seed_sequence
+from .._core.materials import POLYSILICON
+from .._core.validate import distance_array, relative_humidity_array
+from ..contact.adhesion import adhesion_summary
+from ..contact.curves import rough_contact_curves
+from ..surface.generate import generate_surfaces
+from .execute import auto_ensemble, stream
+from .pipeline import (
+    Spec,
+    _attrs,
+    _hash_params,
+    _water_heights,
+    ensemble_distance_grid,
+    lazy_ensemble,
+    surface_shape,
+)
+from .store import open_ensemble
+
+__all__ = ["run_ensemble", "surface_size_study"]
+
+
+def run_ensemble(
+    psd: xr.DataArray,
+    *,
+    n,
+    relative_humidity,
+    spacing: float,
+    size=None,
+    shape=None,
+    seed=0,
+    chunks=None,
+    distance=None,
+    adsorbed_layer="paper",
+    material=None,
+    output=None,
+    overwrite: bool = False,
+    scheduler=None,
+    connect_timeout: float = 5.0,
+    progress: bool | None = None,
+    batch: int = 100,
+    tolerance: float = 0.02,
+    n_max: int = 3000,
+    patience: int = 2,
+    level: float = 0.95,
+    generate: Callable | None = None,
+    curves: Callable | None = None,
+    summary: Callable | None = None,
+    generate_kwargs: dict | None = None,
+    curves_kwargs: dict | None = None,
+) -> xr.Dataset:
+    r"""Monte Carlo ensemble of rough-surface humid adhesion from a PSD (paper §4.3).
+
+    For realization :math:`k = 0 … n-1`: a surface from ``psd`` (Eqs. 33-34,
+    :func:`roughstick.generate_surfaces`), its pressure–distance curves at every humidity (modified
+    DMT, Eqs. 16-23, :func:`roughstick.rough_contact_curves`) on a distance grid common to all
+    realizations, and their summaries (Γ of Eq. 13, pull-off pressure, equilibrium distance,
+    :func:`roughstick.adhesion_summary`).
+
+    Parameters
+    ----------
+    psd : xarray.DataArray
+        2-D ``(qy, qx)`` or isotropic ``(q)`` PSD [m4] (architecture.md normalisation).
+    n : int or "auto"
+        Number of realizations (>= 1), or ``"auto"``: add batches of ``batch`` realizations until the
+        ``level`` band of Γ and of the pressure curve moves by less than ``tolerance`` for
+        ``patience`` consecutive batches (at most ``n_max``). The stopping rule, the final n and the
+        band changes are recorded in ``attrs``. ``"auto"`` computes (it must look at the results).
+    relative_humidity : sequence of float
+        Humidities as fractions in (0, 1); becomes the ``rh`` dimension.
+    spacing : float
+        Pixel size [m].
+    size, shape : float or (float, float), int or (int, int)
+        Surface side(s) in metres, or in pixels; give exactly one.
+    seed : int or numpy.random.SeedSequence, default 0
+        Root seed; realization ``k`` uses its child ``k`` whatever the chunking.
+    chunks : int or dict, optional
+        Realizations per block (default: about 4 MiB of heights, at least 1), or
+        ``{"realization": c, "rh": r}`` to split humidities too (each humidity block regenerates
+        its surfaces, which costs one inverse FFT per surface).
+    distance : array-like or xarray.DataArray, optional
+        Common distance grid [m]; default :func:`ensemble_distance_grid`.
+    adsorbed_layer : {"paper", "none"} or callable, default "paper"
+        Adsorbed-layer model (§2.1).
+    material : roughstick.Material, optional
+        Both bodies' material (default poly-silicon).
+    output : str or pathlib.Path, optional
+        Stream results into this folder (one CF NetCDF file per block plus ``manifest.json``) as
+        blocks complete, resuming from any blocks already there, and return the Dataset opened from
+        it (lazily). A folder holding a run with other parameters is refused unless ``overwrite``.
+    overwrite : bool, default False
+        Replace a different run in ``output``.
+    scheduler : None, "threads", "sync", "processes", str or distributed.Client
+        Where blocks run when streaming or with ``n="auto"``: local threads by default, or an
+        existing dask.distributed cluster by its address (``"tcp://host:8786"``) or client. The lazy
+        result (no ``output``) computes with whatever dask scheduler is active.
+    connect_timeout : float, default 5
+        Seconds to wait for a scheduler address to answer before raising ``ConnectionError``.
+    progress : bool, optional
+        Progress bar when streaming/auto; default: only when interactive (see :func:`progress_bar`).
+    batch, tolerance, n_max, patience, level
+        Parameters of ``n="auto"``.
+    generate, curves, summary : callable, optional
+        Replace :func:`roughstick.generate_surfaces`, :func:`roughstick.rough_contact_curves` and
+        :func:`roughstick.adhesion_summary` (same signatures), e.g. to run another contact model.
+    generate_kwargs, curves_kwargs : dict, optional
+        Extra keyword arguments for ``generate`` and ``curves``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Curves over ``(realization, rh, distance)`` (``pressure`` … as returned by ``curves``),
+        summaries over ``(realization, rh)`` (``adhesive_energy`` …) and ``max_height`` over
+        ``(realization)``; dask-backed and chunked over realization and rh unless ``n="auto"``.
+
+    Raises
+    ------
+    ValueError
+        n < 1, empty or invalid humidities, bad shapes, a grid that does not cover a realization.
+    ConnectionError
+        A scheduler address that does not answer within ``connect_timeout``.
+    FileExistsError
+        ``output`` holds a different run (pass ``overwrite=True``) or unrelated files.
+
+    See Also
+    --------
+    confidence_band, ensemble_histogram, ensemble_ecdf, roughstick.open_ensemble
+
+    Notes
+    -----
+    Each block is a pure function of (parameters, realization range, humidity range), so a block
+    recomputed after an interruption is bit-identical, and the lazy Dataset, the streamed folder,
+    a threaded run and a run on a distributed cluster give the same numbers.
+
+    References
+    ----------
+    Hoang et al. (2015), doi:10.1016/j.cam.2015.02.022, §4.3.
+    """
+    if isinstance(n, str):
+        if n != "auto":
+            raise ValueError(f"n must be a positive integer or 'auto', got {n!r}.")
+        auto = True
+        n_total = int(n_max)
+    else:
+        if isinstance(n, bool) or int(n) != n:
+            raise ValueError(f"n must be a positive integer or 'auto', got {n!r}.")
+        auto = False
+        n_total = int(n)
+    if n_total < 1:
+        raise ValueError(f"n must be at least 1 realization, got {n_total}.")
+    if not isinstance(psd, xr.DataArray):
+        raise TypeError(f"psd must be an xarray.DataArray, got {type(psd).__name__}.")
+    spacing = float(spacing)
+    if not spacing > 0:
+        raise ValueError(f"spacing must be a positive length in m, got {spacing!r}.")
+    shp = surface_shape(shape=shape, size=size, spacing=spacing)
+    rh = relative_humidity_array(relative_humidity)
+    material = POLYSILICON if material is None else material
+    generate = generate_surfaces if generate is None else generate
+    curves = rough_contact_curves if curves is None else curves
+    summary = adhesion_summary if summary is None else summary
+    root = as_seed_sequence(seed)
+    if distance is None:
+        dist = np.asarray(
+            ensemble_distance_grid(psd, shape=shp, n=n_total, relative_humidity=rh,
+                                   adsorbed_layer=adsorbed_layer).values
+        )
+    else:
+        dist = distance_array(distance, min_size=2)
+    if isinstance(chunks, dict):
+        c_r = chunks.get("realization")
+        c_h = chunks.get("rh", -1)
+    else:
+        c_r, c_h = chunks, -1
+    if c_r is None:
+        c_r = max(1, int(4 * 2**20 // (8 * shp[0] * shp[1])))
+    c_r = int(c_r)
+    c_h = rh.size if c_h in (-1, None) else int(c_h)
+    if c_r < 1 or c_h < 1:
+        raise ValueError(f"chunks must be positive, got realization={c_r}, rh={c_h}.")
+    if auto:
+        batch = max(c_r, int(math.ceil(batch / c_r)) * c_r)
+    fields = dict(
+        psd=psd.load() if psd.chunks is not None else psd, shape=shp, spacing=spacing, rh=rh,
+        distance=dist, chunk=c_r, rh_chunk=min(c_h, rh.size), adsorbed_layer=adsorbed_layer,
+        material=material, generate=generate, curves=curves, summary=summary,
+        generate_kwargs=dict(generate_kwargs or {}), curves_kwargs=dict(curves_kwargs or {}),
+        seed_entropy=str(root.entropy), seed_spawn_key=list(root.spawn_key),
+    )
+    token = _hash_params(fields)
+    spec = Spec(
+        psd=fields["psd"], shape=shp, spacing=spacing, rh=rh, distance=dist, seed=root, chunk=c_r,
+        rh_chunk=fields["rh_chunk"], adsorbed_layer=adsorbed_layer, material=material,
+        generate=generate, curves=curves, summary=summary,
+        generate_kwargs=fields["generate_kwargs"], curves_kwargs=fields["curves_kwargs"],
+        water_max=float(np.max(_water_heights(rh, adsorbed_layer))), token=token,
+    )
+    attrs = _attrs(spec, n_total)
+    folder = pathlib.Path(output) if output is not None else None
+    if auto:
+        ds = auto_ensemble(spec, batch=batch, tolerance=tolerance, n_max=n_total, patience=patience,
+                   level=level, folder=folder, stream_kw={"overwrite": overwrite},
+                   scheduler=scheduler, connect_timeout=connect_timeout, progress=progress,
+                   attrs=attrs)
+        return append_history(ds, f"run_ensemble(n='auto') stopped at n={ds.attrs['n_final']}")
+    if folder is not None:
+        t0 = time.perf_counter()
+        stream(spec, n_total, folder, overwrite=overwrite, scheduler=scheduler,
+                connect_timeout=connect_timeout, progress=progress, attrs=attrs)
+        ds = open_ensemble(folder, chunks={})
+        return append_history(ds, f"run_ensemble streamed to {str(folder)!r} "
+                                  f"({time.perf_counter() - t0:.1f} s this session)")
+    ds = lazy_ensemble(spec, 0, n_total)
+    ds.attrs = attrs
+    return append_history(ds, f"run_ensemble(n={n_total}, shape={shp}, rh={rh.tolist()})")
+
+
+def surface_size_study(
+    psd: xr.DataArray,
+    *,
+    sizes: Sequence[float] | None = None,
+    shapes: Sequence | None = None,
+    spacing: float,
+    n: int,
+    relative_humidity,
+    seed=0,
+    **kwargs,
+) -> xr.Dataset:
+    """The same PSD at several surface sizes on one distance grid (paper Figs. 16-17).
+
+    Runs :func:`run_ensemble` once per size with a common distance grid (built for the largest
+    surface) and independent seeds (child ``i`` of ``seed`` for size ``i``) and concatenates along a
+    new ``surface_size`` dimension (side length along x, m).
+
+    Parameters
+    ----------
+    psd : xarray.DataArray
+        PSD [m4].
+    sizes : sequence of float, optional
+        Side lengths [m] of square surfaces (e.g. ``[5.12e-6, 10.24e-6]``); or give ``shapes``.
+    shapes : sequence of (int, int), optional
+        Surface shapes in pixels.
+    spacing : float
+        Pixel size [m].
+    n : int
+        Realizations per size.
+    relative_humidity : sequence of float
+        Humidities.
+    seed : int or numpy.random.SeedSequence
+        Root seed.
+    **kwargs
+        Passed to :func:`run_ensemble` (``output`` is not supported here).
+
+    Returns
+    -------
+    xarray.Dataset
+        As :func:`run_ensemble` plus a leading ``surface_size`` dimension; lazy.
+    """
+    if (sizes is None) == (shapes is None):
+        raise ValueError("give exactly one of sizes= (m) or shapes= (pixels).")
+    if "output" in kwargs:
+        raise ValueError("surface_size_study does not stream; call run_ensemble(output=...) per size.")
+    shp = [surface_shape(size=s, spacing=spacing) for s in sizes] if sizes is not None else [
+        surface_shape(shape=s, spacing=spacing) for s in shapes
+    ]
+    if not shp:
+        raise ValueError("sizes/shapes is empty; give at least one surface size.")
+    rh = relative_humidity_array(relative_humidity)
+    dist = kwargs.pop("distance", None)
+    if dist is None:
+        big = max(shp, key=lambda s: s[0] * s[1])
+        dist = ensemble_distance_grid(psd, shape=big, n=n, relative_humidity=rh,
+                                      adsorbed_layer=kwargs.get("adsorbed_layer", "paper"))
+    root = as_seed_sequence(seed)
+    parts = []
+    for i, s in enumerate(shp):
+        child = np.random.SeedSequence(root.entropy, spawn_key=tuple(root.spawn_key) + (i,))
+        parts.append(run_ensemble(psd, n=n, shape=s, spacing=spacing, relative_humidity=rh,
+                                  seed=child, distance=dist, **kwargs))
+    lengths = [s[1] * spacing for s in shp]
+    ds = xr.concat(parts, dim=xr.DataArray(lengths, dims="surface_size", name="surface_size"),
+                   combine_attrs="drop_conflicts", data_vars="all", coords="minimal", compat="override")
+    ds["surface_size"].attrs = dict(ATTRS["surface_size"])
+    ds.attrs = {**parts[0].attrs, "surface_sizes_m": json.dumps(lengths)}
+    for k in ("surface_shape", "surface_size_m", "params_hash", "seed_spawn_key"):
+        ds.attrs.pop(k, None)
+    return ds

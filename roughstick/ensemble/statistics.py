@@ -1,0 +1,487 @@
+r"""Reductions of a Monte Carlo sample with their own uncertainty (Figs. 14-17, §5).
+
+:func:`confidence_band` (mean and a quantile band over realizations, with each quantile's
+sampling interval from :func:`quantile_interval`), :func:`ensemble_histogram` and
+:func:`ensemble_ecdf` (Fig. 17), and :func:`binomial_interval` (the uncertainty of a probability
+estimated as a fraction of the sample, e.g. the stiction probability). The distribution-free
+interval of a quantile has ONE implementation, :func:`order_statistic_ranks` (the binomial
+quantiles of scipy.stats), used here and by :func:`roughstick.crossing_length`.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import xarray as xr
+from scipy import special, stats
+
+from .._core.conventions import ATTRS, append_history
+from .._core.dask import as_seed_sequence
+
+__all__ = [
+    "confidence_band",
+    "quantile_interval",
+    "order_statistic_ranks",
+    "binomial_interval",
+    "interval_method",
+    "ensemble_histogram",
+    "ensemble_ecdf",
+]
+
+
+def order_statistic_ranks(n: int, p: float, *, confidence: float) -> tuple[int, int]:
+    r"""1-based ranks :math:`(r, s)` of the order statistics that bracket the ``p``-quantile.
+
+    :math:`P(X_{(r)} \le \xi_p \le X_{(s)}) = F_B(s-1) - F_B(r-1) \ge` ``confidence`` with
+    :math:`F_B` the Binomial(n, p) CDF (Conover, *Practical Nonparametric Statistics*, §3.2),
+    the two tails split equally. ``r < 1`` or ``s > n`` means that ``n`` samples cannot bound
+    that side of the quantile.
+
+    Examples
+    --------
+    >>> rs.order_statistic_ranks(100, 0.5, confidence=0.95)
+    (40, 61)
+    """
+    a = (1.0 - confidence) / 2.0
+    r = int(stats.binom.ppf(a, n, p))  # P(B <= r - 1) <= a  -> rank r
+    s = int(stats.binom.ppf(1.0 - a, n, p)) + 1
+    return r, s
+
+
+def _order_statistic_kernel(a, probs, alpha):
+    """Distribution-free interval [X_(r), X_(s)] for each quantile p (last axis = samples).
+
+    Ranks from :func:`order_statistic_ranks`; r < 1 or s > n means the sample cannot bound the
+    quantile: -inf / +inf.
+    """
+    a = np.sort(np.asarray(a, dtype=float), axis=-1)  # NaN last
+    nvalid = np.sum(~np.isnan(a), axis=-1)
+    lo = np.full(a.shape[:-1] + (len(probs),), np.nan)
+    hi = np.full_like(lo, np.nan)
+    for nv in np.unique(nvalid):
+        if nv == 0:
+            continue
+        mask = nvalid == nv
+        sub = a[mask][..., :nv]
+        for k, p in enumerate(probs):
+            r, s = order_statistic_ranks(nv, p, confidence=1 - alpha)
+            lo[mask, k] = sub[..., r - 1] if r >= 1 else -np.inf
+            hi[mask, k] = sub[..., s - 1] if s <= nv else np.inf
+    return lo, hi
+
+
+def _bootstrap_kernel(a, probs, alpha, n_boot, entropy):
+    a = np.asarray(a, dtype=float)
+    n = a.shape[-1]
+    rng = np.random.default_rng(np.random.SeedSequence(entropy))
+    reps = np.empty((n_boot,) + a.shape[:-1] + (len(probs),))
+    for b in range(n_boot):
+        idx = rng.integers(0, n, size=n)
+        reps[b] = np.moveaxis(np.nanquantile(a[..., idx], probs, axis=-1), 0, -1)
+    lo = np.nanquantile(reps, alpha / 2, axis=0)
+    hi = np.nanquantile(reps, 1 - alpha / 2, axis=0)
+    return lo, hi
+
+
+def quantile_interval(
+    da: xr.DataArray,
+    quantiles,
+    *,
+    dim: str = "realization",
+    confidence: float = 0.95,
+    method: str = "order_statistic",
+    n_bootstrap: int = 500,
+    rng=0,
+) -> tuple[xr.DataArray, xr.DataArray]:
+    r"""Confidence interval of sample quantiles: how well ``n`` realizations pin a band down.
+
+    ``method="order_statistic"`` (default) gives the distribution-free interval
+    :math:`[X_{(r)}, X_{(s)}]` whose coverage :math:`F_B(s-1) - F_B(r-1) \ge` ``confidence`` with
+    :math:`F_B` the Binomial(n, p) CDF (Conover, *Practical Nonparametric Statistics*, §3.2);
+    ``-inf``/``inf`` where n is too small to bound the quantile at all. ``"bootstrap"`` gives the
+    percentile bootstrap interval from ``n_bootstrap`` resamples drawn with ``rng`` (the same
+    resamples for every element, so chunking does not change it).
+
+    Parameters
+    ----------
+    da : xarray.DataArray
+        Samples along ``dim`` (NaN ignored).
+    quantiles : sequence of float
+        Probabilities in [0, 1].
+    dim : str
+        Sample dimension, rechunked to one chunk.
+    confidence : float
+        Coverage of the interval.
+    method : {"order_statistic", "bootstrap"}
+    n_bootstrap : int
+    rng : int or numpy.random.SeedSequence
+        Seed of the bootstrap resamples.
+
+    Returns
+    -------
+    lower, upper : xarray.DataArray
+        Dims ``(quantile, ...)``.
+
+    Examples
+    --------
+    >>> x = xr.DataArray(np.arange(100.0), dims="realization")
+    >>> lo, hi = rs.quantile_interval(x, [0.5])
+    >>> float(lo[0]), float(hi[0])
+    (39.0, 60.0)
+    """
+    probs = np.atleast_1d(np.asarray(quantiles, dtype=float))
+    if np.any((probs < 0) | (probs > 1)):
+        raise ValueError(f"quantiles must lie in [0, 1], got {probs.tolist()}.")
+    if not 0 < confidence < 1:
+        raise ValueError(f"confidence must lie in (0, 1), got {confidence!r}.")
+    if dim not in da.dims:
+        raise ValueError(f"{da.name!r} has no dimension {dim!r} (dims {da.dims}).")
+    alpha = 1 - confidence
+    if da.chunks is not None:
+        da = da.chunk({dim: -1})
+    if method == "order_statistic":
+        func, kw = _order_statistic_kernel, {"probs": probs, "alpha": alpha}
+    elif method == "bootstrap":
+        func = _bootstrap_kernel
+        kw = {"probs": probs, "alpha": alpha, "n_boot": int(n_bootstrap),
+              "entropy": as_seed_sequence(rng).entropy}
+    else:
+        raise ValueError(f"method must be 'order_statistic' or 'bootstrap', got {method!r}.")
+    lo, hi = xr.apply_ufunc(
+        func, da, kwargs=kw,
+        input_core_dims=[[dim]],
+        output_core_dims=[["quantile"], ["quantile"]],
+        dask="parallelized",
+        output_dtypes=[float, float],
+        dask_gufunc_kwargs={"output_sizes": {"quantile": probs.size}},
+    )
+    out = []
+    for x, side in ((lo, "lower"), (hi, "upper")):
+        x = x.assign_coords(quantile=probs).transpose("quantile", ...)
+        x.attrs = {**{k: v for k, v in da.attrs.items() if k in ("units", "standard_name")},
+                   "long_name": f"{side} {confidence:.0%} confidence limit of the quantile of "
+                                f"{da.attrs.get('long_name', da.name)}",
+                   "method": method}
+        x["quantile"].attrs = dict(ATTRS["quantile"])
+        out.append(x.rename(f"{da.name}_ci_{side}" if da.name else None))
+    return out[0], out[1]
+
+
+def confidence_band(
+    ds,
+    dim: str = "realization",
+    level: float = 0.95,
+    *,
+    uncertainty: str | None = "order_statistic",
+    confidence: float = 0.95,
+    n_bootstrap: int = 500,
+    rng=0,
+):
+    r"""Mean and ``level`` band over realizations, with the band's sampling uncertainty (Figs. 14-16).
+
+    For every data variable with ``dim``: the quantiles :math:`(1-\ell)/2`, 0.5 and
+    :math:`(1+\ell)/2` along ``dim`` (variable ``v``, new leading dim ``quantile``), the mean
+    (``v_mean``) and its standard error (``v_mean_stderr``), and unless ``uncertainty=None`` a
+    ``confidence`` interval of each quantile (``v_ci_lower``, ``v_ci_upper``, see
+    :func:`quantile_interval`): if that interval is narrow compared with the band, n was enough.
+    ``dim`` is rechunked to a single chunk first, so the result does not depend on the chunking;
+    lazy inputs stay lazy.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or xarray.DataArray
+        Ensemble, e.g. from :func:`run_ensemble`.
+    dim : str, default "realization"
+    level : float, default 0.95
+        Central probability of the band.
+    uncertainty : {"order_statistic", "bootstrap", None}
+        How to compute the quantiles' sampling intervals.
+    confidence : float, default 0.95
+        Coverage of those intervals.
+    n_bootstrap, rng
+        For ``uncertainty="bootstrap"``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Attrs ``level``, ``confidence``, ``n_samples``.
+
+    Examples
+    --------
+    >>> x = xr.DataArray(np.arange(1000.0), dims="realization", name="g",
+    ...                  attrs={"units": "J m-2", "long_name": "energy"})
+    >>> b = rs.confidence_band(x)
+    >>> b["g"].values, float(b["g_mean"])
+    (array([ 24.975, 499.5  , 974.025]), 499.5)
+    """
+    if not 0 < level < 1:
+        raise ValueError(f"level must lie in (0, 1), got {level!r}.")
+    if isinstance(ds, xr.DataArray):
+        name = ds.name or "data"
+        ds = ds.to_dataset(name=name)
+    if dim not in ds.dims:
+        raise ValueError(f"the input has no dimension {dim!r} (dims {tuple(ds.dims)}).")
+    n = ds.sizes[dim]
+    if n < 1:
+        raise ValueError(f"dimension {dim!r} is empty: no realizations to reduce.")
+    probs = np.round([(1 - level) / 2, 0.5, (1 + level) / 2], 12)  # exact labels for .sel
+    out = {}
+    for v, da in ds.data_vars.items():
+        if dim not in da.dims or da.dtype.kind not in "fiub":
+            continue
+        da = da.astype(float) if da.dtype.kind != "f" else da
+        if da.chunks is not None:
+            da = da.chunk({dim: -1})
+        keep = {k: a for k, a in da.attrs.items() if k in ("units", "standard_name")}
+        long = da.attrs.get("long_name", v)
+        with warnings.catch_warnings():  # all-NaN rows (e.g. fit_error before contact) give NaN
+            warnings.filterwarnings("ignore", "All-NaN slice", RuntimeWarning)
+            q = da.quantile(probs, dim=dim).transpose("quantile", ...)
+        q.attrs = {**keep, "long_name": f"quantiles over {dim} of {long}"}
+        out[v] = q
+        mean = da.mean(dim)
+        mean.attrs = {**keep, "long_name": f"mean over {dim} of {long}"}
+        out[f"{v}_mean"] = mean
+        se = da.std(dim, ddof=1) / np.sqrt(da.count(dim)) if n > 1 else da.isel({dim: 0}) * np.nan
+        se.attrs = {**keep, "long_name": f"standard error of the mean of {long}"}
+        out[f"{v}_mean_stderr"] = se.drop_vars(dim, errors="ignore")
+        if uncertainty is not None:
+            lo, hi = quantile_interval(da.rename(v), probs, dim=dim, confidence=confidence,
+                                       method=uncertainty, n_bootstrap=n_bootstrap, rng=rng)
+            out[f"{v}_ci_lower"], out[f"{v}_ci_upper"] = lo, hi
+    res = xr.Dataset(out)
+    res["quantile"] = ("quantile", probs, dict(ATTRS["quantile"]))
+    for c in res.coords:
+        if c in ATTRS:
+            res[c].attrs = dict(ATTRS[c])
+    res.attrs = {k: v for k, v in ds.attrs.items() if k in ("Conventions", "source", "references", "history", "title")}
+    res.attrs.update(level=level, confidence=confidence, n_samples=int(n),
+                     uncertainty_method=str(uncertainty))
+    return append_history(res, f"confidence_band(level={level}, dim={dim!r}, n={n})")
+
+
+# ----------------------------------------------------------------------------- proportions
+
+
+def _interval_kernel(k, n, confidence, method):
+    k = np.asarray(k, dtype=float)
+    n = np.asarray(n, dtype=float)
+    k, n = np.broadcast_arrays(k, n)
+    alpha = 1.0 - confidence
+    with np.errstate(invalid="ignore", divide="ignore"):
+        if method == "wilson":
+            z = special.ndtri(1.0 - alpha / 2.0)
+            denom = n + z**2
+            centre = (k + z**2 / 2.0) / denom
+            half = z / denom * np.sqrt(k * (n - k) / n + z**2 / 4.0)
+            lo, hi = centre - half, centre + half
+            lo = np.where(k > 0, np.clip(lo, 0.0, 1.0), 0.0)
+            hi = np.where(k < n, np.clip(hi, 0.0, 1.0), 1.0)
+        else:  # clopper-pearson
+            lo = np.where(k > 0, stats.beta.ppf(alpha / 2.0, k, n - k + 1.0), 0.0)
+            hi = np.where(k < n, stats.beta.ppf(1.0 - alpha / 2.0, k + 1.0, n - k), 1.0)
+    bad = ~(n > 0)
+    lo = np.where(bad, np.nan, lo)
+    hi = np.where(bad, np.nan, hi)
+    return np.stack([lo, hi], axis=-1)
+
+_METHODS = {"wilson": "wilson", "clopper-pearson": "clopper-pearson", "exact": "clopper-pearson"}
+
+
+def interval_method(method: str, *, confidence: float) -> str:
+    """Check a binomial interval request: ``confidence`` in (0, 1) and ``method`` known; return the
+    canonical method name (``"exact"`` is ``"clopper-pearson"``)."""
+    if not (isinstance(confidence, float | int) and 0 < confidence < 1):
+        raise ValueError(f"confidence must lie strictly between 0 and 1 (e.g. 0.95), got {confidence!r}.")
+    if method not in _METHODS:
+        raise ValueError(f"interval must be 'wilson' or 'clopper-pearson' (alias 'exact'), got {method!r}.")
+    return _METHODS[method]
+
+
+def binomial_interval(successes, trials, *, confidence: float = 0.95, method: str = "wilson"):
+    r"""Confidence interval of a proportion estimated from ``successes`` out of ``trials``.
+
+    Used for the Monte-Carlo uncertainty of the stiction probability: with :math:`n`
+    realizations of which :math:`k` stay stuck, the probability is :math:`k/n` and this is the
+    interval that covers the true probability with the requested confidence.
+
+    Parameters
+    ----------
+    successes, trials : int, array or xarray.DataArray
+        :math:`k` and :math:`n` (broadcast); ``n = 0`` gives NaN bounds.
+    confidence : float, default 0.95
+        Confidence level in (0, 1).
+    method : {"wilson", "clopper-pearson"}
+        Wilson score interval (no continuity correction; near-nominal coverage, never outside
+        [0, 1]) or the exact, conservative Clopper-Pearson interval (beta quantiles; alias
+        ``"exact"``).
+
+    Returns
+    -------
+    tuple of (lower, upper)
+        numpy arrays, or DataArrays when an input is a DataArray (lazy inputs stay lazy).
+
+    Notes
+    -----
+    Wilson: :math:`\frac{k + z^2/2}{n + z^2} \pm \frac{z}{n + z^2}\sqrt{\frac{k(n-k)}{n} + \frac{z^2}{4}}`.
+    Clopper-Pearson: :math:`[B(\alpha/2; k, n-k+1),\ B(1-\alpha/2; k+1, n-k)]` with :math:`B` the
+    beta quantile function.
+
+    References
+    ----------
+    Wilson, E. B., J. Am. Stat. Assoc. 22 (1927) 209, doi:10.1080/01621459.1927.10502953.
+    Clopper, C. J., Pearson, E. S., Biometrika 26 (1934) 404, doi:10.1093/biomet/26.4.404.
+
+    Examples
+    --------
+    >>> lo, hi = rs.binomial_interval(3, 20)
+    >>> round(float(lo), 4), round(float(hi), 4)
+    (0.0524, 0.3604)
+    """
+    method = interval_method(method, confidence=confidence)
+    if isinstance(successes, xr.DataArray) or isinstance(trials, xr.DataArray):
+        k = successes if isinstance(successes, xr.DataArray) else xr.DataArray(successes)
+        n = trials if isinstance(trials, xr.DataArray) else xr.DataArray(trials)
+        both = xr.apply_ufunc(
+            _interval_kernel,
+            k,
+            n,
+            kwargs={"confidence": confidence, "method": method},
+            output_core_dims=[["bound"]],
+            dask="parallelized",
+            output_dtypes=[float],
+            dask_gufunc_kwargs={"output_sizes": {"bound": 2}},
+        )
+        return both.isel(bound=0, drop=True), both.isel(bound=1, drop=True)
+    both = _interval_kernel(successes, trials, confidence, method)
+    return both[..., 0], both[..., 1]
+
+
+# ----------------------------------------------------------------------------- distributions
+
+
+def _inverse_units(units: str) -> str:
+    if units in ("1", ""):
+        return "1"
+    out = []
+    for tok in units.split():
+        base = tok.rstrip("-0123456789")
+        exp = tok[len(base):] or "1"
+        e = -int(exp)
+        out.append(base if e == 1 else f"{base}{e}")
+    return " ".join(out)
+
+
+def _hist_kernel(a, edges, density):
+    a = np.asarray(a, float)
+    flat = a.reshape(-1, a.shape[-1])
+    res = np.empty((flat.shape[0], edges.size - 1))
+    for k, row in enumerate(flat):
+        res[k] = np.histogram(row[np.isfinite(row)], bins=edges, density=density)[0] if np.isfinite(row).any() else np.nan
+    return res.reshape(a.shape[:-1] + (edges.size - 1,))
+
+
+def ensemble_histogram(da: xr.DataArray, *, dim: str = "realization", bins=30, range=None,
+                       density: bool = True) -> xr.DataArray:
+    """Histogram along ``dim`` as a labelled DataArray (Fig. 17), one per remaining element.
+
+    The bin edges are common to every element (``range``, or the data's min/max for in-memory
+    data), so histograms at different humidities or sizes can be compared directly.
+
+    Parameters
+    ----------
+    da : xarray.DataArray
+        Samples, e.g. ``ds.adhesive_energy`` over ``(realization, rh)``.
+    dim : str
+    bins : int or sequence of float
+        Number of bins or edges (in the units of ``da``).
+    range : (float, float), optional
+        Required for lazy inputs when ``bins`` is an int (the library does not compute on its own).
+    density : bool, default True
+        Probability density (units inverse of ``da``'s) instead of counts.
+
+    Returns
+    -------
+    xarray.DataArray
+        Dim ``bin`` with coords ``bin`` (centres), ``bin_lower`` and ``bin_upper``.
+
+    Examples
+    --------
+    >>> x = xr.DataArray(np.array([0.1, 0.2, 0.2, 0.9]), dims="realization", name="g",
+    ...                  attrs={"units": "J m-2", "long_name": "energy"})
+    >>> h = rs.ensemble_histogram(x, bins=2, range=(0, 1), density=False)
+    >>> h.values, h.attrs["units"]
+    (array([3., 1.]), '1')
+    """
+    if dim not in da.dims:
+        raise ValueError(f"{da.name!r} has no dimension {dim!r}.")
+    if np.ndim(bins) == 0:
+        if range is None:
+            if da.chunks is not None:
+                raise ValueError("pass range=(lo, hi) for a lazy input (or .compute() it first).")
+            vals = np.asarray(da.values, float)
+            vals = vals[np.isfinite(vals)]
+            if vals.size == 0:
+                raise ValueError(f"{da.name!r} holds no finite value to histogram.")
+            range = (float(vals.min()), float(vals.max()))
+            if range[0] == range[1]:
+                range = (range[0] - 0.5 * abs(range[0] or 1), range[1] + 0.5 * abs(range[1] or 1))
+        edges = np.linspace(float(range[0]), float(range[1]), int(bins) + 1)
+    else:
+        edges = np.asarray(bins, float)
+    if da.chunks is not None:
+        da = da.chunk({dim: -1})
+    out = xr.apply_ufunc(
+        _hist_kernel, da, kwargs={"edges": edges, "density": density},
+        input_core_dims=[[dim]], output_core_dims=[["bin"]], dask="parallelized",
+        output_dtypes=[float], dask_gufunc_kwargs={"output_sizes": {"bin": edges.size - 1}},
+    )
+    units = da.attrs.get("units", "1")
+    cattrs = {"units": units}
+    out = out.assign_coords(
+        bin=("bin", 0.5 * (edges[1:] + edges[:-1]), {**cattrs, "long_name": f"bin centre of {da.attrs.get('long_name', da.name)}"}),
+        bin_lower=("bin", edges[:-1], {**cattrs, "long_name": "lower bin edge"}),
+        bin_upper=("bin", edges[1:], {**cattrs, "long_name": "upper bin edge"}),
+    )
+    out.name = f"{da.name}_{'density' if density else 'count'}"
+    out.attrs = {
+        "units": _inverse_units(units) if density else "1",
+        "long_name": f"{'probability density' if density else 'count'} over {dim} of "
+                     f"{da.attrs.get('long_name', da.name)}",
+    }
+    for c in out.coords:
+        if c in ATTRS and c not in ("bin",):
+            out[c].attrs = dict(ATTRS[c])
+    return out
+
+
+def ensemble_ecdf(da: xr.DataArray, *, dim: str = "realization") -> xr.DataArray:
+    r"""Empirical CDF along ``dim`` (Fig. 17): sorted values over ``cumulative_probability``.
+
+    Value ``k`` (0-based) of the result is the :math:`(k+1)`-th smallest sample, where the ECDF
+    reaches :math:`(k+1)/n`; plot ``x=values, y=cumulative_probability``. NaN samples sort last.
+
+    Examples
+    --------
+    >>> x = xr.DataArray([3.0, 1.0, 2.0], dims="realization", name="g",
+    ...                  attrs={"units": "J m-2", "long_name": "energy"})
+    >>> e = rs.ensemble_ecdf(x)
+    >>> e.values, e.cumulative_probability.values
+    (array([1., 2., 3.]), array([0.33333333, 0.66666667, 1.        ]))
+    """
+    if dim not in da.dims:
+        raise ValueError(f"{da.name!r} has no dimension {dim!r}.")
+    n = da.sizes[dim]
+    if da.chunks is not None:
+        da = da.chunk({dim: -1})
+    out = xr.apply_ufunc(
+        np.sort, da, kwargs={"axis": -1}, input_core_dims=[[dim]],
+        output_core_dims=[["cumulative_probability"]], dask="parallelized", output_dtypes=[da.dtype],
+        dask_gufunc_kwargs={"output_sizes": {"cumulative_probability": n}},
+    )
+    out = out.assign_coords(cumulative_probability=np.arange(1, n + 1) / n)
+    out["cumulative_probability"].attrs = dict(ATTRS["cumulative_probability"])
+    out.attrs = dict(da.attrs)
+    out.name = da.name
+    return out

@@ -1,0 +1,15 @@
+"""Stiction: from the adhesive energy of rough surfaces to the risk that a structure stays stuck.
+
+The last stage of the paper (§5): :mod:`.beam` (cantilevers, Eq. 36 both ways, the critical
+adhesive energy), :mod:`.risk` (stiction probability, crossing humidity and length, with their
+Monte-Carlo intervals) and :mod:`.interaction_zone` (the §5.2 model of the zone behind the crack
+front: Table 4 → Eq. 37 → an ensemble of zone surfaces). Room is left for the beam-scale
+stochastic model and rare-event probabilities (modules of their own beside these).
+"""
+
+from . import beam, interaction_zone, risk
+from .beam import *  # noqa: F403
+from .interaction_zone import *  # noqa: F403
+from .risk import *  # noqa: F403
+
+__all__ = [name for mod in (beam, risk, interaction_zone) for name in mod.__all__]

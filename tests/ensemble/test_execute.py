@@ -1,0 +1,68 @@
+"""Tests of roughstick.ensemble.execute: schedulers, progress, auto-n, a LocalCluster."""
+
+from __future__ import annotations
+
+import json
+import time
+
+import pytest
+from ensemble_toys import RH, assert_same_values, toy_run
+
+import roughstick as rs
+
+
+def test_unreachable_scheduler_fails_fast(tmp_path):
+    for kw in ({"n": "auto", "n_max": 2, "batch": 2}, {"n": 2, "output": tmp_path / "run"}):
+        t0 = time.perf_counter()
+        with pytest.raises(ConnectionError, match="could not connect to the dask scheduler"):
+            toy_run(scheduler="tcp://127.0.0.1:9", connect_timeout=1, **kw)
+        assert time.perf_counter() - t0 < 15
+
+
+def test_bad_scheduler_name():
+    with pytest.raises(ValueError, match="scheduler must be"):
+        toy_run(n="auto", n_max=2, batch=2, scheduler="gpu")
+
+
+def test_progress_quiet_when_not_interactive(monkeypatch, capsys):
+    from roughstick.ensemble.execute import _interactive
+
+    monkeypatch.setenv("CI", "true")
+    assert not _interactive()
+    toy_run(n="auto", n_max=4, batch=2)
+    assert capsys.readouterr().err == ""
+    monkeypatch.delenv("CI")
+    toy_run(n="auto", n_max=4, batch=2, progress=True)
+    assert "block" in capsys.readouterr().err
+
+
+def test_auto_n_stops_and_matches_fixed_n():
+    ds = toy_run(n="auto", batch=4, tolerance=0.05, n_max=24, chunks=4)
+    n = ds.attrs["n_final"]
+    assert ds.sizes["realization"] == n and 12 <= n <= 24
+    assert "moves by less than 0.05" in ds.attrs["auto_stopping_rule"]
+    changes = json.loads(ds.attrs["auto_band_changes"])
+    if ds.attrs["auto_converged"]:
+        assert all(c < 0.05 for _, c in changes[-2:])
+    fixed = toy_run(n=n, chunks=4, distance=ds.distance.values).compute()
+    assert_same_values(fixed, ds)
+
+
+def test_local_cluster_processes_bit_identical(tmp_path):
+    """The real pipeline on a LocalCluster of two worker processes = threads = other chunking."""
+    distributed = pytest.importorskip("distributed")
+    from roughstick.demos.s50_ensemble import sample_psd
+
+    run = dict(n=6, shape=64, spacing=5e-9, relative_humidity=RH, seed=11)
+    psd = sample_psd("S2")
+    threaded = rs.run_ensemble(psd, chunks=2, **run).compute(scheduler="threads")
+    other_chunks = rs.run_ensemble(psd, chunks=5, **run).compute(scheduler="sync")
+    with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        on_cluster = rs.run_ensemble(psd, chunks=3, **run).compute(scheduler=client)
+        streamed = rs.run_ensemble(psd, chunks=2, output=tmp_path / "c",
+                                   scheduler=cluster.scheduler_address, **run)
+        streamed = streamed.compute(scheduler="sync")
+    assert_same_values(threaded, on_cluster)
+    assert_same_values(threaded, other_chunks)
+    assert_same_values(threaded, streamed)

@@ -1,0 +1,197 @@
+"""Tests of roughstick.ensemble.pipeline and run: laziness, chunk invariance, distance grid, the real pipeline (the section 4.3 findings)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from ensemble_toys import (
+    RH,
+    SIGMA,
+    TOY,
+    assert_same_values,
+    toy_curves,
+    toy_generate,
+    toy_psd,
+    toy_run,
+)
+
+import roughstick as rs
+from roughstick._core.dask import is_lazy
+from roughstick.testing import raise_if_dask_computes
+
+RH6 = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
+
+
+@pytest.fixture(scope="module")
+def sample_psds():
+    from roughstick.demos.s50_ensemble import sample_psd
+
+    return {s: sample_psd(s) for s in ("S1", "S2")}
+
+
+def _findings(psd, n, seed):
+    ds = rs.surface_size_study(psd, shapes=[128, 256], spacing=5e-9, n=n, relative_humidity=[0.3, 0.9],
+                               seed=seed, chunks=8).compute()
+    g = ds.adhesive_energy
+    mean, sd = g.mean("realization"), g.std("realization", ddof=1)
+    cv = sd / mean
+    lo, hi = 0.3, 0.9
+    small, large = 128 * 5e-9, 256 * 5e-9
+    # scatter (relative) larger at low RH than at high RH, at both sizes
+    assert (cv.sel(rh=lo) > 1.5 * cv.sel(rh=hi)).all(), cv.values
+    # larger surfaces: lower mean Γ at low RH, by several standard errors
+    se = np.hypot(sd.sel(rh=lo, surface_size=small), sd.sel(rh=lo, surface_size=large)) / np.sqrt(n)
+    drop = mean.sel(rh=lo, surface_size=small) - mean.sel(rh=lo, surface_size=large)
+    assert drop > 3 * se, (float(drop), float(se))
+    # larger surfaces: narrower band (standard deviation) at high RH
+    assert sd.sel(rh=hi, surface_size=large) < 0.8 * sd.sel(rh=hi, surface_size=small), sd.values
+
+
+def test_lazy_nothing_computed_and_layout():
+    with raise_if_dask_computes():
+        ds = toy_run(n=7, chunks=3)
+    assert is_lazy(ds)
+    assert ds["pressure"].dims == ("realization", "rh", "distance")
+    assert ds["adhesive_energy"].dims == ("realization", "rh")
+    assert ds["max_height"].dims == ("realization",)
+    assert ds.chunksizes["realization"] == (3, 3, 1)
+    assert ds.chunksizes["rh"] == (4,)
+    assert ds.chunksizes["distance"] == (ds.sizes["distance"],) and ds.sizes["distance"] >= 100
+    for name in list(ds.variables):
+        assert "units" in ds[name].attrs and "long_name" in ds[name].attrs, name
+    assert ds.attrs["Conventions"] == "CF-1.10"
+    assert ds.attrs["seed"] == "3" and ds.attrs["n_realizations"] == 7
+    np.testing.assert_array_equal(ds.rh.values, RH)
+
+
+def test_results_independent_of_chunking_and_equal_to_single_realization():
+    a = toy_run(n=6, chunks=2).compute()
+    b = toy_run(n=6, chunks=4).compute(scheduler="sync")
+    assert_same_values(a, b)
+    # humidity blocks: the same numbers up to rounding (the curves function sees fewer humidities)
+    c = toy_run(n=6, chunks={"realization": 4, "rh": 1}).compute()
+    assert c.chunksizes == {} and toy_run(n=6, chunks={"realization": 4, "rh": 1}).chunksizes["rh"] == (1,) * 4
+    xr.testing.assert_allclose(a.reset_coords(drop=True), c.reset_coords(drop=True), rtol=1e-13)
+    # realization 4 on its own, directly from the stand-in functions
+    h = toy_generate(toy_psd(), n=5, shape=(16, 16), spacing=5e-9,
+                     seed=np.random.SeedSequence(3)).isel(realization=[4]).compute()
+    c = toy_curves(h, relative_humidity=RH, distance=a.distance)
+    np.testing.assert_array_equal(c.pressure.values[0], a.pressure.sel(realization=4).values)
+    np.testing.assert_allclose(a.max_height.values[4], float(h.max() - h.mean()), rtol=1e-15)
+
+
+def test_rh_chunk_blocks_and_seed_changes_results():
+    a = toy_run(n=3, chunks=1, seed=1).compute()
+    b = toy_run(n=3, chunks=1, seed=2).compute()
+    assert not np.array_equal(a.pressure.values, b.pressure.values)
+
+
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        ({"n": 0}, "at least 1"),
+        ({"n": -3}, "at least 1"),
+        ({"n": "many"}, "positive integer or 'auto'"),
+        ({"n": 2.5}, "positive integer"),
+        ({"rh": []}, "relative_humidity is empty"),
+        ({"rh": [0.3, 1.2]}, "between 0 and 1"),
+        ({"rh": [0.3, 0.3]}, "repeated"),
+        ({"chunks": 0}, "chunks must be positive"),
+    ],
+)
+def test_bad_input(kw, match):
+    with pytest.raises(ValueError, match=match):
+        toy_run(**{"n": 4, **kw})
+
+
+def test_bad_shapes():
+    with pytest.raises(ValueError, match="exactly one of shape"):
+        rs.run_ensemble(toy_psd(), n=2, shape=16, size=1e-6, spacing=5e-9, relative_humidity=RH, **TOY)
+    with pytest.raises(ValueError, match="whole number of pixels"):
+        rs.run_ensemble(toy_psd(), n=2, size=1.003e-7, spacing=5e-9, relative_humidity=RH, **TOY)
+    with pytest.raises(ValueError, match="shape"):
+        rs.run_ensemble(toy_psd(), n=2, shape=(2, 16), spacing=5e-9, relative_humidity=RH, **TOY)
+    with pytest.raises(TypeError, match="DataArray"):
+        rs.run_ensemble(np.ones((4, 4)), n=2, shape=16, spacing=5e-9, relative_humidity=RH, **TOY)
+
+
+def test_distance_grid_covers_highest_point_and_bottom_check():
+    ds = toy_run(n=6).compute()
+    top = float(ds.max_height.max()) + float(rs.water_height(max(RH)))
+    assert top < float(ds.distance.max())
+    # every curve crosses from attractive to repulsive on the grid
+    assert bool((ds.pressure.isel(distance=0) > 0).all())
+    # a grid too low at the top is detected, with the fix in the message
+    with pytest.raises(ValueError, match="above the top of the common distance grid"):
+        toy_run(n=2, distance=np.linspace(0, 2 * SIGMA, 50)).compute()
+    with pytest.raises(ValueError, match="still attractive"):
+        toy_run(n=2, distance=np.linspace(5 * SIGMA, 12 * SIGMA, 50)).compute()
+
+
+def test_gamma_converges_with_distance_grid_toy():
+    """Γ (Eq. 13) on ensemble_distance_grid: the error against a 3200-point grid shrinks with num.
+
+    The toy's wetted area is a step function of d (16 x 16 pixels), so convergence is O(step).
+    """
+    g = {}
+    for num in (100, 400, 1600, 3200):
+        d = rs.ensemble_distance_grid(toy_psd(), shape=(16, 16), n=4, relative_humidity=RH, num=num)
+        g[num] = toy_run(n=4, distance=d).adhesive_energy.values
+    err = {k: np.mean(np.abs(g[k] / g[3200] - 1)) for k in (100, 400, 1600)}
+    assert err[1600] < err[400] < err[100]
+    assert err[1600] < 0.01
+
+
+def test_surface_size_study_shares_grid():
+    ds = rs.surface_size_study(toy_psd(), shapes=[(16, 16), (32, 32)], spacing=5e-9, n=3,
+                               relative_humidity=RH, chunks=3, **TOY)
+    assert ds.adhesive_energy.dims == ("surface_size", "realization", "rh")
+    np.testing.assert_allclose(ds.surface_size.values, [80e-9, 160e-9])
+    assert ds.surface_size.attrs["units"] == "m"
+    ds = ds.compute()
+    assert np.isfinite(ds.adhesive_energy.values).all()
+
+
+def test_real_pipeline_layout_and_single_realization(sample_psds):
+    psd = sample_psds["S2"]
+    with raise_if_dask_computes():
+        ds = rs.run_ensemble(psd, n=3, shape=64, spacing=5e-9, relative_humidity=RH6, seed=9, chunks=2)
+    for v in ("pressure", "wet_fraction", "contact_fraction", "n_contacts", "fit_error"):
+        assert ds[v].dims == ("realization", "rh", "distance"), v
+    for v in ("adhesive_energy", "pull_off_pressure", "equilibrium_distance"):
+        assert ds[v].dims == ("realization", "rh"), v
+    ds = ds.compute()
+    # realization 2 regenerated alone and run through the public functions directly
+    h = rs.generate_surfaces(psd, realizations=[2], shape=64, spacing=5e-9, seed=9).compute()
+    c = rs.rough_contact_curves(h, relative_humidity=RH6, distance=ds.distance)
+    s = rs.adhesion_summary(c)
+    np.testing.assert_array_equal(c.pressure.isel(realization=0).transpose("rh", "distance").values,
+                                  ds.pressure.sel(realization=2).values)
+    np.testing.assert_array_equal(s.adhesive_energy.isel(realization=0).values,
+                                  ds.adhesive_energy.sel(realization=2).values)
+    assert (ds.adhesive_energy > 0).all() and np.isfinite(ds.equilibrium_distance).all()
+
+
+def test_real_gamma_converges_on_default_grid(sample_psds):
+    """Γ on the default grid (step = h_water(30 %)/10) against a 4x finer grid."""
+    for name, psd in sample_psds.items():
+        kw = dict(shape=(128, 128), n=4, relative_humidity=RH6)
+        coarse = rs.ensemble_distance_grid(psd, **kw)
+        fine = rs.ensemble_distance_grid(psd, points_per_water_height=40, **kw)
+        assert fine.size > 3.5 * coarse.size
+        run = dict(n=4, shape=128, spacing=5e-9, relative_humidity=RH6, seed=4, chunks=4)
+        g0 = rs.run_ensemble(psd, distance=coarse, **run).adhesive_energy.values
+        g1 = rs.run_ensemble(psd, distance=fine, **run).adhesive_energy.values
+        err = np.abs(g0 / g1 - 1)
+        assert np.median(err) < 0.01, (name, err)
+        assert err.max() < 0.06, (name, err)
+
+
+def test_section_4_3_findings_S2(sample_psds):
+    _findings(sample_psds["S2"], n=32, seed=3)
+
+
+@pytest.mark.slow
+def test_section_4_3_findings_S1(sample_psds):
+    _findings(sample_psds["S1"], n=48, seed=3)

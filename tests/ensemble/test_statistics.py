@@ -1,0 +1,95 @@
+"""Tests of roughstick.ensemble.statistics: bands and their uncertainty, order-statistic and binomial intervals, distributions."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import roughstick as rs
+from roughstick._core.conventions import ATTRS
+from roughstick.testing import raise_if_dask_computes
+
+
+def _sample(n=400, seed=0):
+    rng = np.random.default_rng(seed)
+    return xr.DataArray(rng.lognormal(size=(n, 3)), dims=("realization", "rh"),
+                        coords={"rh": [0.3, 0.5, 0.9]}, name="adhesive_energy",
+                        attrs=dict(ATTRS["surface_adhesive_energy"]))
+
+
+def test_confidence_band_values_and_metadata(backend):
+    x = backend(_sample(), chunks={"realization": 50})
+    with raise_if_dask_computes():
+        b = rs.confidence_band(x, level=0.9)
+    ref = np.quantile(_sample().values, [0.05, 0.5, 0.95], axis=0)
+    np.testing.assert_allclose(b.adhesive_energy.values, ref, rtol=1e-12)
+    np.testing.assert_allclose(b.adhesive_energy_mean.values, _sample().mean("realization").values)
+    np.testing.assert_allclose(b.adhesive_energy_mean_stderr.values,
+                               _sample().std("realization", ddof=1).values / np.sqrt(400))
+    assert b.adhesive_energy.dims == ("quantile", "rh")
+    assert b.adhesive_energy.attrs["units"] == "J m-2"
+    assert b["quantile"].attrs["units"] == "1"
+    assert b.attrs["n_samples"] == 400 and b.attrs["level"] == 0.9
+    assert (b.adhesive_energy_ci_lower <= b.adhesive_energy).all()
+    assert (b.adhesive_energy_ci_upper >= b.adhesive_energy).all()
+
+
+def test_band_independent_of_chunking():
+    a = rs.confidence_band(_sample().chunk({"realization": 7})).compute()
+    b = rs.confidence_band(_sample()).compute()
+    xr.testing.assert_allclose(a, b, rtol=1e-14)
+
+
+def test_order_statistic_interval_covers_true_quantile():
+    """Coverage of the distribution-free interval of the median and of the 90 % quantile."""
+    from scipy.stats import binom, norm
+
+    n, trials = 60, 3000
+    rng = np.random.default_rng(1)
+    x = xr.DataArray(rng.standard_normal((trials, n)), dims=("trial", "realization"))
+    lo, hi = rs.quantile_interval(x, [0.5, 0.9], confidence=0.95)
+    for k, p in enumerate([0.5, 0.9]):
+        truth = norm.ppf(p)
+        cover = float(((lo[k] <= truth) & (truth <= hi[k])).mean())
+        r = int(binom.ppf(0.025, n, p))
+        s = int(binom.ppf(0.975, n, p)) + 1
+        exact = binom.cdf(s - 1, n, p) - binom.cdf(r - 1, n, p)
+        assert exact >= 0.95
+        assert abs(cover - exact) < 3 * np.sqrt(exact * (1 - exact) / trials) + 1e-3
+
+
+def test_interval_unbounded_when_n_too_small():
+    x = xr.DataArray(np.arange(10.0), dims="realization")
+    lo, hi = rs.quantile_interval(x, [0.025, 0.975])
+    assert np.isneginf(lo[0]) and np.isposinf(hi[1])
+
+
+def test_bootstrap_seeded_and_comparable():
+    x = _sample(300)
+    a = rs.quantile_interval(x, [0.5], method="bootstrap", rng=4, n_bootstrap=200)
+    b = rs.quantile_interval(x.chunk({"rh": 1}), [0.5], method="bootstrap", rng=4, n_bootstrap=200)
+    xr.testing.assert_identical(a[0], b[0].compute())
+    o = rs.quantile_interval(x, [0.5])
+    w_boot = (a[1] - a[0]).values
+    w_os = (o[1] - o[0]).values
+    assert np.all(w_boot > 0.4 * w_os) and np.all(w_boot < 2.5 * w_os)
+    with pytest.raises(ValueError, match="method"):
+        rs.quantile_interval(x, [0.5], method="jackknife")
+
+
+def test_histogram_and_ecdf(backend):
+    raw = _sample()
+    x = backend(raw, chunks={"realization": 100})
+    h = rs.ensemble_histogram(x, bins=20, range=(0, 10))
+    ref = np.histogram(raw.values[:, 1], bins=20, range=(0, 10), density=True)[0]
+    np.testing.assert_allclose(h.sel(rh=0.5).values, ref)
+    assert h.dims == ("rh", "bin") and h.attrs["units"] == "J-1 m2"
+    assert h.bin_upper.values[-1] == 10
+    e = rs.ensemble_ecdf(x)
+    np.testing.assert_array_equal(e.values, np.sort(raw.values, axis=0).T)
+    assert e.cumulative_probability.values[-1] == 1.0
+    assert e.dims == ("rh", "cumulative_probability")
+    if backend.kind == "dask":
+        with pytest.raises(ValueError, match="range"):
+            rs.ensemble_histogram(x, bins=10)
