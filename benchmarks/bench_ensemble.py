@@ -29,7 +29,7 @@ import time
 import numpy as np
 
 import roughstick as rs
-from roughstick.demos.s50_ensemble import sample_psd
+from roughstick.datasets import sample_psd
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 

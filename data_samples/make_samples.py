@@ -2,7 +2,7 @@
 
 Run from the repository root::
 
-    python data_samples/make_samples.py            # writes data_samples/S*.nc, prints moments
+    python data_samples/make_samples.py            # writes roughstick/data/S*.nc, prints moments
     python data_samples/make_samples.py --check    # regenerate in memory, compare with the files
 
 Each set stands in for the three AFM measurements of samples S1 and S2 of the paper (§3.1,
@@ -32,6 +32,8 @@ import roughstick as rs
 from roughstick._core.conventions import ATTRS, append_history, dataset_attrs
 
 HERE = pathlib.Path(__file__).resolve().parent
+#: the maps are package data (roughstick.datasets); data_samples/S*.nc link to them
+PACKAGE_DATA = HERE.parent / "roughstick" / "data"
 
 #: Table 3 PSD moments (SI) and the cutoff of the paper
 TARGETS = {
@@ -132,7 +134,7 @@ def spline_moments(z: np.ndarray, spacing: float) -> tuple[float, float, float]:
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="compare with the stored files")
-    parser.add_argument("--out", type=pathlib.Path, default=HERE)
+    parser.add_argument("--out", type=pathlib.Path, default=PACKAGE_DATA)
     args = parser.parse_args(argv)
     print("map   m0 [nm2]  m2 [-]   m4 [nm-2]   (cubic-spline, stored int16 heights)  size")
     for name in ("S1", "S2"):

@@ -22,7 +22,6 @@ cells = [
         "import roughstick as rs\n"
         "from roughstick.plotting import plot_height, plot_psd_schemes, plot_self_affine_psd\n\n"
         "ROOT = pathlib.Path('..').resolve()\n"
-        "DATA = ROOT / 'data_samples'\n"
         "AFM = ROOT.parent / 'shared' / 'afm'  # real files live beside the project\n"
         "QMAX = 289e6  # rad/m: the paper's cutoff, 289 rad/µm"
     ),
@@ -32,7 +31,7 @@ cells = [
     ),
     nbf.v4.new_code_cell(
         "def sample(name):\n"
-        "    maps = [rs.level(rs.read_afm(DATA / f'{name}{c}.nc')) for c in 'ABC']\n"
+        "    maps = [rs.level(rs.datasets.load_sample(f'{name}{c}')) for c in 'ABC']\n"
         "    h = xr.concat(maps, dim='map', coords='minimal', compat='override', combine_attrs='drop')\n"
         "    h.attrs = maps[0].attrs\n"
         "    return h.assign_coords(map=[f'{name}{c}' for c in 'ABC'])\n\n"

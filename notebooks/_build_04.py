@@ -19,9 +19,8 @@ cells = [
         "import roughstick as rs\n"
         "from roughstick.plotting.rough_contact import (plot_rough_curves, plot_fit_error,\n"
         "    plot_adhesion_vs_rh, plot_mdmt_vs_gw)\n"
-        "DATA = pathlib.Path(rs.__file__).resolve().parents[1] / 'data_samples'\n"
         "RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]\n"
-        "maps = {n: rs.read_afm(DATA / f'{n}.nc').isel(x=slice(0, 512), y=slice(0, 512))\n"
+        "maps = {n: rs.datasets.load_sample(n).isel(x=slice(0, 512), y=slice(0, 512))\n"
         "        for n in ('S1A', 'S1B', 'S1C')}"
     ),
     nbf.v4.new_markdown_cell(

@@ -25,12 +25,11 @@ cells = [
         "import numpy as np\n"
         "import matplotlib.pyplot as plt\n"
         "import roughstick as rs\n"
-        "from roughstick.demos.s50_ensemble import sample_psd\n"
         "from roughstick.plotting.ensemble import (plot_ensemble_curves, plot_energy_band,\n"
         "                                          plot_energy_distribution)\n\n"
         "RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]\n"
         "N, SMALL, LARGE = 16, 128, 256\n"
-        "psd = {s: sample_psd(s) for s in ('S1', 'S2')}   # scheme 3 of section 4.1, cut at 289 rad/um\n"
+        "psd = {s: rs.datasets.sample_psd(s) for s in ('S1', 'S2')}  # scheme 3 of section 4.1, cut at 289 rad/um\n"
         "{s: f\"m0 = {float((p.sum() * (p.qx[1]-p.qx[0])**2)) * 1e18:.2f} nm^2\" for s, p in psd.items()}"
     ),
     new_markdown_cell(

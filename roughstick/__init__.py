@@ -10,6 +10,7 @@ All values are SI; see :mod:`roughstick._core.conventions`.
 from . import (  # noqa: E402
     accessor,  # noqa: E402  registers the .rough accessor
     contact,
+    datasets,
     ensemble,
     stiction,
     surface,

@@ -10,7 +10,7 @@ def register(sub):
     p = sub.add_parser(
         "demo",
         help="run the whole pipeline on the bundled samples; write NetCDF and PNG figures",
-        description="Run every demo step on data_samples/ and write NetCDF + PNG to --out.",
+        description="Run every demo step on the bundled samples and write NetCDF + PNG to --out.",
     )
     p.add_argument("--out", default="roughstick-demo", help="output folder (default ./roughstick-demo)")
     p.add_argument("--only", nargs="*", default=None, help="run only the steps whose name contains one of these words")

@@ -45,7 +45,6 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
     import xarray as xr
 
     import roughstick as rs
-    from roughstick.demos.s50_ensemble import sample_psd
     from roughstick.plotting.ensemble import (
         plot_energy_band,
         plot_energy_distribution,
@@ -61,7 +60,7 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
     files = []
     results = {}
     for k, sample in enumerate(("S1", "S2")):
-        psd = sample_psd(sample)
+        psd = rs.datasets.sample_psd(sample)
         # Fig. 13: three generated surfaces
         h = rs.generate_surfaces(psd, n=3, shape=shapes[0], spacing=5e-9, seed=13 + k)
         axes = plot_surfaces(h.compute(), title=sample)

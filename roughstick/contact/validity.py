@@ -18,11 +18,11 @@ import csv
 import functools
 import sys
 import warnings
-from importlib import resources
 
 import numpy as np
 
 from .._core.materials import POLYSILICON, Material, reduced_modulus
+from ..datasets import validity_map_path
 
 __all__ = [
     "ValidityWarning",
@@ -55,12 +55,13 @@ def validity_map() -> dict[str, np.ndarray]:
     ``error_equilibrium_distance`` [1] (absolute values), and the BEM values they refer to.
     Produced by ``benchmarks/speed_vs_error.py --validity`` (see docs/accuracy.md).
     """
-    path = resources.files("roughstick").joinpath("data", "validity_map.csv")
-    if not path.is_file():
+    try:
+        path = validity_map_path()
+    except FileNotFoundError as err:
         raise FileNotFoundError(
-            f"the measured validity map {path} is missing; regenerate it with "
-            "python benchmarks/speed_vs_error.py --validity (needs the 'bem' extra)."
-        )
+            f"{err} Regenerate it with python benchmarks/speed_vs_error.py --validity (needs the "
+            "'bem' extra)."
+        ) from None
     with path.open("r", encoding="utf-8") as fh:
         rows = [r for r in csv.DictReader(line for line in fh if not line.startswith("#"))]
     if not rows:

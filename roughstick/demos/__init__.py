@@ -2,7 +2,7 @@
 
 ``run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]``
 
-which computes on the bundled samples in ``data_samples/``, writes NetCDF and PNG files into
+which computes on the bundled samples (:mod:`roughstick.datasets`), writes NetCDF and PNG files into
 ``out`` and returns their paths. Steps run in the order of their names.
 """
 

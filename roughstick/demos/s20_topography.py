@@ -1,7 +1,7 @@
 """Demo step: AFM maps → roughness statistics and PSDs (paper §4.1, Tables 2-4, Figs. 12, 19).
 
-Runs on ``data_samples/S1?.nc`` and ``S2?.nc`` (synthetic stand-ins for the paper's measurements);
-without them, on small synthetic maps made here. Writes:
+Runs on the bundled maps S1A-S2C (:mod:`roughstick.datasets`, synthetic stand-ins for the paper's
+measurements). Writes:
 
 - ``topography_statistics.csv`` / ``.nc``: Table 2/3-style spatial variances and PSD moments
   (cutoff 289 rad/µm and the cutoff chosen to match the spatial variances), Eq. 32 for the
@@ -20,26 +20,12 @@ import xarray as xr
 
 import roughstick as rs
 
-DATA = pathlib.Path(__file__).resolve().parents[2] / "data_samples"
-QMAX_PAPER = 289e6  # rad/m
+QMAX_PAPER = rs.datasets.QMAX_PAPER  # rad/m, Table 3
 
 
 def _maps(sample: str, quick: bool) -> xr.DataArray:
-    files = sorted(DATA.glob(f"{sample}?.nc"))
-    if files:
-        maps = [rs.read_afm(f) for f in files]
-        labels = [f.stem for f in files]
-    else:  # no bundled samples: small synthetic maps with a Table-3-like spectrum
-        fit = rs.fit_self_affine(m0=15.7e-18 if sample == "S1" else 4.32e-18,
-                                 m2=0.040 if sample == "S1" else 0.021,
-                                 m4=5.08e14 if sample == "S1" else 3.99e14, qmax=QMAX_PAPER)
-        n = 256
-        psd = rs.interpolate_psd(
-            rs.self_affine_psd(np.linspace(0, 1e9, 4000), s0=fit.s0, s1=fit.s1, q0=fit.q0,
-                               qmax=fit.qmax), shape=(n, n), spacing=5e-9)
-        maps = [rs.generate_surfaces(psd, n=3, spacing=5e-9, seed=1 if sample == "S1" else 2)
-                .isel(realization=i).compute() for i in range(3)]
-        labels = [f"{sample}{c} (synthetic)" for c in "ABC"]
+    labels = [n for n in rs.datasets.SAMPLES if n.startswith(sample)]
+    maps = [rs.datasets.load_sample(n) for n in labels]
     if quick:
         maps = [m.isel(x=slice(0, 256), y=slice(0, 256)) for m in maps]
     maps = [rs.level(m, method="plane") for m in maps]

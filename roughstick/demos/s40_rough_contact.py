@@ -1,6 +1,6 @@
 """Demo step: rough-surface modified DMT on the samples (paper §3.4, Figs. 8, 10, 11).
 
-On ``data_samples/S1A.nc``, ``S1B.nc``, ``S1C.nc`` (synthetic stand-ins for the paper's AFM maps;
+On the bundled maps S1A, S1B, S1C (:mod:`roughstick.datasets`; synthetic stand-ins for the paper's AFM maps;
 512 x 512 crops with ``--quick``) at RH 30-90 %, writes:
 
 - ``fig08_rough_curves.png``: curves of S1A at six humidities and E^S vs delta_max with the
@@ -21,21 +21,11 @@ import xarray as xr
 
 import roughstick as rs
 
-DATA = pathlib.Path(__file__).resolve().parents[2] / "data_samples"
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 
 
 def _maps(quick: bool) -> dict:
-    files = sorted(DATA.glob("S1?.nc"))
-    if files:
-        maps = {f.stem: rs.read_afm(f) for f in files}
-    else:  # no bundled samples: small S1-like Gaussian surfaces
-        from scipy import ndimage
-
-        maps = {}
-        for i, c in enumerate("ABC"):
-            z = ndimage.gaussian_filter(np.random.default_rng(i).standard_normal((512, 512)), 4)
-            maps[f"S1{c} (synthetic)"] = rs.testing.make_topography(z / z.std() * 4e-9, spacing=5e-9)
+    maps = {n: rs.datasets.load_sample(n) for n in rs.datasets.SAMPLES if n.startswith("S1")}
     n = 512 if quick else None
     return {k: (v.isel(x=slice(0, n), y=slice(0, n)) if n else v) for k, v in maps.items()}
 

@@ -13,25 +13,7 @@ import pathlib
 
 import roughstick as rs
 
-DATA = pathlib.Path(__file__).resolve().parents[2] / "data_samples"
-QMAX_PAPER = 289e6  # rad/m, Table 3
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
-
-
-def sample_psd(sample: str = "S1", *, qmax: float = QMAX_PAPER, submaps: int = 16):
-    """PSD of the bundled maps ``data_samples/<sample>?.nc`` (scheme 3 of §4.1, cut at ``qmax``)."""
-    import xarray as xr
-
-    files = sorted(DATA.glob(f"{sample}?.nc"))
-    if not files:
-        raise FileNotFoundError(f"no bundled maps {sample}?.nc in {DATA}")
-    maps = [rs.level(rs.read_afm(f), method="plane") for f in files]
-    h = xr.concat(maps, dim="map", coords="minimal", compat="override", join="override",
-                  combine_attrs="drop_conflicts")
-    psd = rs.submap_psd(h, n=submaps)
-    out = psd.where(abs(psd.qx + 1j * psd.qy) <= qmax, 0.0)
-    out.attrs = {**psd.attrs, "qmax_cutoff": qmax, "sample": sample}
-    return out
 
 
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
@@ -45,7 +27,7 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
 
     out = pathlib.Path(out)
     n, shape = (16, 256) if quick else (48, 512)
-    psd = sample_psd("S1")
+    psd = rs.datasets.sample_psd("S1")
     ds = rs.run_ensemble(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
                          chunks=2, output=out / "ensemble_S1", progress=False).load()
     band = rs.confidence_band(ds)

@@ -13,6 +13,7 @@ import numpy as np
 import xarray as xr
 
 from .._core.conventions import append_history, dataset_attrs, set_attrs
+from ..datasets import TABLE4_VALUES
 from ..ensemble.pipeline import ensemble_distance_grid
 from ..ensemble.run import run_ensemble
 from ..surface.moments import moments_from_asperities
@@ -33,8 +34,7 @@ __all__ = [
 
 #: Table 4 of the paper: roughness of the two surfaces [m], mean asperity radius of the
 #: equivalent surface [m], asperity density [m-2]; and the Eq. 37 cutoff of §4.1 [rad m-1].
-TABLE4 = {"roughness": (2.6e-9, 2.4e-9), "asperity_radius": 220e-9, "asperity_density": 80.1e12,
-          "qmax": 289e6}
+TABLE4 = {k: TABLE4_VALUES[k] for k in ("roughness", "asperity_radius", "asperity_density", "qmax")}
 
 _PRINTED_NOTE = (
     "The paper prints q0 = 19.4 rad/um, s0 = 6.46e3 nm^4, s1 = 6.29e-3 nm^4 for Eq. 37; solving "

@@ -9,13 +9,12 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
-from conftest import DATA_SAMPLES
 
 
 @pytest.fixture(scope="module")
 def s1a_crop():
     """A 256² crop of the bundled S1A map (5 nm pixels), levelled."""
-    h = rs.read_afm(DATA_SAMPLES / "S1A.nc").isel(x=slice(0, 256), y=slice(0, 256))
+    h = rs.datasets.load_sample("S1A").isel(x=slice(0, 256), y=slice(0, 256))
     return rs.level(h, method="plane")
 
 

@@ -8,7 +8,6 @@ import xarray as xr
 from scipy import ndimage
 
 import roughstick as rs
-from conftest import DATA_SAMPLES
 from roughstick.testing import make_topography, raise_if_dask_computes, sphere_topography
 
 RH6 = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
@@ -81,10 +80,7 @@ def test_adhesive_energy_converges_with_grid():
 
 @pytest.mark.parametrize("sample", ["S1A", "S2A"])
 def test_fit_error_below_unit_cell_where_attractive(sample):
-    path = DATA_SAMPLES / f"{sample}.nc"
-    if not path.exists():
-        pytest.skip("data_samples not generated")
-    h = xr.open_dataset(path).height.isel(x=slice(0, 256), y=slice(0, 256)).load()
+    h = rs.datasets.load_sample(sample).isel(x=slice(0, 256), y=slice(0, 256))
     ds = rs.rough_contact_curves(h, relative_humidity=[0.3, 0.5, 0.7, 0.8], n_distance=120)
     att = ds.pressure < 0
     es = ds.fit_error.where(att & (ds.n_contacts > 0))

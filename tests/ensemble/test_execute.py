@@ -51,10 +51,9 @@ def test_auto_n_stops_and_matches_fixed_n():
 def test_local_cluster_processes_bit_identical(tmp_path):
     """The real pipeline on a LocalCluster of two worker processes = threads = other chunking."""
     distributed = pytest.importorskip("distributed")
-    from roughstick.demos.s50_ensemble import sample_psd
 
     run = dict(n=6, shape=64, spacing=5e-9, relative_humidity=RH, seed=11)
-    psd = sample_psd("S2")
+    psd = rs.datasets.sample_psd("S2")
     threaded = rs.run_ensemble(psd, chunks=2, **run).compute(scheduler="threads")
     other_chunks = rs.run_ensemble(psd, chunks=5, **run).compute(scheduler="sync")
     with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1,

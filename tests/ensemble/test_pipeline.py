@@ -25,9 +25,7 @@ RH6 = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 
 @pytest.fixture(scope="module")
 def sample_psds():
-    from roughstick.demos.s50_ensemble import sample_psd
-
-    return {s: sample_psd(s) for s in ("S1", "S2")}
+    return {s: rs.datasets.sample_psd(s) for s in ("S1", "S2")}
 
 
 def _findings(psd, n, seed):
