@@ -13,12 +13,14 @@ measurements). Writes:
 
 from __future__ import annotations
 
+import csv
 import pathlib
 
 import numpy as np
 import xarray as xr
 
 import roughstick as rs
+from roughstick.io import netcdf
 
 QMAX_PAPER = rs.datasets.QMAX_PAPER  # rad/m, Table 3
 
@@ -36,7 +38,6 @@ def _maps(sample: str, quick: bool) -> xr.DataArray:
 
 
 def _write(ds: xr.Dataset, path: pathlib.Path) -> None:
-    from roughstick.io import netcdf
 
     if hasattr(netcdf, "write"):
         netcdf.write(ds, path, compute=True)
@@ -47,7 +48,6 @@ def _write(ds: xr.Dataset, path: pathlib.Path) -> None:
 
 def _write_csv(path, rows):
     """Write a list of dicts as CSV, floats to 4 significant digits."""
-    import csv
 
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))

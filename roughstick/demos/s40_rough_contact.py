@@ -20,6 +20,7 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
+from roughstick.io import netcdf
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 
@@ -88,7 +89,6 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
         ds.attrs[f"map_{i}"] = k
     rs.conventions.append_history(ds, f"roughstick demo s40_rough_contact quick={quick}")
     written.append(out / "rough_contact_S1.nc")
-    from roughstick.io import netcdf
 
     netcdf.write(ds, written[-1], compute=True)
     for k, s in summaries.items():

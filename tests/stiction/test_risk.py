@@ -1,4 +1,4 @@
-"""Tests of roughstick.stiction.risk: stiction probability, crossings, measured points, plots, `roughstick risk`.
+"""Tests of roughstick.stiction.risk: stiction probability, crossings, measured points, plots.
 
 Stand-in Monte-Carlo samples of Gamma are lognormal, for which the stiction probability and the
 crack-length quantiles are known in closed form.
@@ -237,51 +237,3 @@ def test_plots_smoke():
     with pytest.raises(ValueError, match="stiction_risk"):
         plotting.plot_adhesive_energy_band(xr.Dataset({"a": 1.0}))
     plt.close("all")
-
-
-def test_cli_risk_from_given_sample(tmp_path, capsys):
-    from roughstick.cli import main
-
-    g, _ = lognormal_gamma(n=25, rh=np.arange(0.3, 0.951, 0.05))
-    g = rs.conventions.set_attrs(g, "surface_adhesive_energy")
-    sample = xr.concat([g, 2 * g], dim=xr.DataArray(["none", "paper"], dims="adsorbed_layer"))
-    sample["adsorbed_layer"].attrs = {"units": "1", "long_name": "adsorbed water layer model"}
-    ds = sample.to_dataset(name="adhesive_energy")
-    rs.io.netcdf.write(ds, tmp_path / "gamma.nc", compute=True)
-    (tmp_path / "points.csv").write_text("rh_percent,crack_length_um\n40,420\n70,380\n")
-    cfg = tmp_path / "risk.toml"
-    cfg.write_text(
-        '[output]\ndirectory = "out"\n'
-        "[beam]\nlengths_um = [250, 350, 500]\n"
-        '[ensemble]\nadhesive_energy = "gamma.nc"\n'
-        "[risk]\nlevels = [0.1, 0.5]\n"
-        '[[measured]]\nfile = "points.csv"\nlabel = "csv"\n'
-        "[[measured]]\nrh_percent = [50]\nadhesive_energy_mJ_per_m2 = [0.5]\n"
-    )
-    assert main(["risk", str(cfg)]) == 0
-    text = capsys.readouterr().out
-    assert "RH where P(stuck) reaches 0.5" in text
-    out = tmp_path / "out"
-    for f in ("risk.nc", "stiction_probability.png", "stiction_vs_length.png",
-              "adhesive_energy_bands.png", "crack_length.png"):
-        assert (out / f).stat().st_size > 1000, f
-    got = rs.open_dataset(out / "risk.nc").load()
-    ref = rs.stiction_risk(sample, length=[250e-6, 350e-6, 500e-6], levels=[0.1, 0.5])
-    np.testing.assert_allclose(got.stiction_probability.transpose(*ref.stiction_probability.dims),
-                               ref.stiction_probability)
-    np.testing.assert_allclose(got.crossing_humidity.transpose(*ref.crossing_humidity.dims),
-                               ref.crossing_humidity)
-    # the layer doubles Gamma here, so P(stuck) with the layer is never below the no-layer one
-    assert (got.stiction_probability.sel(adsorbed_layer="paper")
-            >= got.stiction_probability.sel(adsorbed_layer="none")).all()
-
-
-def test_cli_risk_bad_config(tmp_path):
-    from roughstick.cli import main
-
-    cfg = tmp_path / "bad.toml"
-    cfg.write_text("[beam]\nlength_um = 300\n")
-    assert main(["risk", str(cfg)]) == 1
-    cfg.write_text("[beems]\n")
-    assert main(["risk", str(cfg)]) == 1
-    assert main(["risk", str(tmp_path / "missing.toml")]) == 1

@@ -1,33 +1,34 @@
-"""The ``roughstick`` console script: thin argparse front end over the public API.
+"""The ``roughstick`` console script: a thin argparse front end over the public API.
 
-Sub-commands live in :mod:`roughstick._cli` (one module each, discovered at start-up):
-``demo`` runs every step of :mod:`roughstick.demos` on the bundled samples.
+One module per sub-command, each defining ``register(subparsers)`` that adds the sub-command and
+a handler calling the public API only (no physics here): ``curves``, ``demo`` (every step of
+:mod:`roughstick.demos` on the bundled samples), ``psd``, ``reproduce``, ``risk`` and ``run``
+(TOML configs read by :mod:`._config`). See docs/cli.md.
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib
-import pkgutil
 import sys
 
-from . import _cli
-from ._core.version import __version__
+from .._core.version import __version__
+from . import curves, demo, psd, reproduce, risk, run
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "COMMANDS"]
+
+#: The sub-command modules, in the order ``roughstick --help`` lists them.
+COMMANDS = (curves, demo, psd, reproduce, risk, run)
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``roughstick`` console script, every sub-command registered."""
     parser = argparse.ArgumentParser(
         prog="roughstick",
         description="Uncertainty of humid stiction between rough hard surfaces.",
     )
     parser.add_argument("--version", action="version", version=f"roughstick {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for info in sorted(pkgutil.iter_modules(_cli.__path__), key=lambda m: m.name):
-        if info.name.startswith("_"):
-            continue
-        mod = importlib.import_module(f"{_cli.__name__}.{info.name}")
+    for mod in COMMANDS:
         mod.register(sub)
     return parser
 
@@ -44,7 +45,3 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, FileNotFoundError, FileExistsError, TypeError) as exc:
         print(f"roughstick {args.command}: error: {exc}", file=sys.stderr)
         return 1
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

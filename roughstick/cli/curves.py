@@ -4,6 +4,12 @@ from __future__ import annotations
 
 import pathlib
 
+import numpy as np
+
+import roughstick as rs
+
+from ..io import netcdf
+
 
 def register(sub):
     p = sub.add_parser(
@@ -33,10 +39,7 @@ def register(sub):
 
 
 def _run(args):
-    import numpy as np
 
-    import roughstick as rs
-    from roughstick.io import netcdf
 
     h = rs.read_afm(args.map, spacing=args.spacing, units=args.units)
     distance = None

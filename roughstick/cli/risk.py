@@ -11,6 +11,13 @@ from __future__ import annotations
 
 import pathlib
 
+import numpy as np
+import xarray as xr
+
+import roughstick as rs
+
+from .._core.conventions import append_history, set_attrs
+
 _SCHEMA = {
     "output": {"directory"},
     "beam": {"width_um", "thickness_um", "gap_um", "youngs_modulus_GPa", "interaction_length_um",
@@ -70,7 +77,6 @@ def _resolve(base: pathlib.Path, p: str) -> pathlib.Path:
 
 
 def _beam(cfg):
-    import roughstick as rs
 
     b = cfg.get("beam", {})
     d = rs.PAPER_CANTILEVER
@@ -87,9 +93,7 @@ def _beam(cfg):
 
 
 def _measured(cfg, base, beam):
-    import numpy as np
 
-    import roughstick as rs
 
     sets = cfg.get("measured", [])
     sets = sets if isinstance(sets, list) else [sets]
@@ -121,9 +125,7 @@ def _measured(cfg, base, beam):
 
 def _gamma_samples(cfg, base, beam, out):
     """Γ(adsorbed_layer, realization, rh): read from a file, or simulated with the §5.2 model."""
-    import xarray as xr
 
-    import roughstick as rs
 
     ens = cfg.get("ensemble", {})
     hum = cfg.get("humidity", {})
@@ -179,11 +181,8 @@ def _run(args):
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    import numpy as np
 
-    import roughstick as rs
     from roughstick import plotting
-    from roughstick._core.conventions import append_history, set_attrs
 
     cfg_path = pathlib.Path(args.config)
     cfg = _load_toml(cfg_path)
@@ -256,7 +255,6 @@ def _run(args):
 
 
 def _pct(v) -> str:
-    import numpy as np
 
     v = float(v)
     if np.isnan(v):

@@ -4,6 +4,12 @@ from __future__ import annotations
 
 import pathlib
 
+import xarray as xr
+
+import roughstick as rs
+
+from ..io import netcdf
+
 
 def register(sub):
     p = sub.add_parser(
@@ -30,9 +36,7 @@ def register(sub):
 
 
 def _run(args):
-    import xarray as xr
 
-    import roughstick as rs
 
     channel = args.channel
     if channel is not None and channel.isdigit():
@@ -54,7 +58,6 @@ def _run(args):
     ds.attrs["input_files"] = " ".join(str(p) for p in args.maps)
     rs.conventions.append_history(ds, "roughstick psd " + " ".join(args.maps) + f" --out {args.out}")
     out = pathlib.Path(args.out)
-    from roughstick.io import netcdf
 
     if hasattr(netcdf, "write"):
         netcdf.write(ds, out, compute=True)

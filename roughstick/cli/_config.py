@@ -41,8 +41,11 @@ import dataclasses
 import pathlib
 
 import numpy as np
+import xarray as xr
 
-from ._core.units import parse_quantity
+import roughstick as rs
+
+from .._core.units import parse_quantity
 
 __all__ = ["RunConfig", "load_config", "parse_quantity"]
 
@@ -102,9 +105,7 @@ class RunConfig:
 
     def build_psd(self):
         """The PSD DataArray [m4] described by the ``[psd]`` table."""
-        import xarray as xr
 
-        import roughstick as rs
 
         p = self.psd
         src = p["source"]

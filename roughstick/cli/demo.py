@@ -5,6 +5,8 @@ from __future__ import annotations
 import pathlib
 import time
 
+from ..demos import steps
+
 
 def register(sub):
     p = sub.add_parser(
@@ -22,7 +24,6 @@ def _run(args):
     import matplotlib
 
     matplotlib.use("Agg")
-    from ..demos import steps
 
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

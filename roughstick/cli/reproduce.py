@@ -12,6 +12,11 @@ from __future__ import annotations
 import pathlib
 import time
 
+import numpy as np
+import xarray as xr
+
+import roughstick as rs
+
 RH = {"S1": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9], "S2": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]}
 SCALES = {
     # n, (small, large) shapes at 5 nm
@@ -41,10 +46,7 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    import numpy as np
-    import xarray as xr
 
-    import roughstick as rs
     from roughstick.plotting.ensemble import (
         plot_energy_band,
         plot_energy_distribution,

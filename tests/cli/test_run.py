@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 import roughstick as rs
-from roughstick._config import load_config, parse_quantity
 from roughstick.cli import main
+from roughstick.cli._config import load_config, parse_quantity
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 
 BASE = """

@@ -11,6 +11,10 @@ from __future__ import annotations
 import pathlib
 import time
 
+import roughstick as rs
+
+from ._config import load_config
+
 
 def register(sub):
     p = sub.add_parser(
@@ -33,7 +37,6 @@ def register(sub):
 
 def run_config(cfg, *, figures=True, log=print):
     """Run a parsed :class:`roughstick._config.RunConfig`; return the written paths."""
-    import roughstick as rs
 
     t0 = time.perf_counter()
     psd = cfg.psd_da if hasattr(cfg, "psd_da") else cfg.build_psd()
@@ -95,7 +98,6 @@ def _save(fig, path: pathlib.Path) -> pathlib.Path:
 
 
 def _run(args):
-    from roughstick._config import load_config
 
     overrides = {"scheduler": args.scheduler, "overwrite": args.overwrite}
     if args.n is not None:
