@@ -1,7 +1,7 @@
 """Literal, slow reference of the rough-surface modified DMT (Eqs. 16-23).
 
 It follows the paper step by step, one distance at a time, with generic library tools and no
-cleverness, so that the fast path in :mod:`roughstick._rough_kernels` can be tested against it:
+cleverness, so that the fast path in :mod:`roughstick.contact._rough_kernels` can be tested against it:
 
 1. flood the map at level ``d``: ``scipy.ndimage.label`` of ``{z >= d}``; on a periodic map the
    labels touching opposite edges are merged, and each asperity is unwrapped by a breadth-first
@@ -15,7 +15,7 @@ cleverness, so that the fast path in :mod:`roughstick._rough_kernels` can be tes
    the wetted area ``(z >= d - h_water).sum()`` counted directly.
 
 The conventions (mean plane, NaN pixels, connectivity, parametrisation by the cap height) are
-those listed in :mod:`roughstick._rough_kernels`.
+those listed in :mod:`roughstick.contact._rough_kernels`.
 """
 
 from __future__ import annotations
@@ -137,7 +137,7 @@ def fit_asperity(x, y, z, d, area, dx, dy):
     ``x, y`` are unwrapped pixel centres [m], ``z`` heights [m], ``d`` the level, ``area`` the
     footprint area A, ``dx, dy`` the pixel size. The unknowns are the centre (x0, y0), within the
     footprint's bounding box, and the cap height ``t = delta / a_f`` in [0, 1]
-    (a smooth parametrisation of R, see :mod:`roughstick._rough_kernels`).
+    (a smooth parametrisation of R, see :mod:`roughstick.contact._rough_kernels`).
     """
     af = math.sqrt(area / math.pi)
     x = x - x.mean()
@@ -226,7 +226,7 @@ def hertz(R, area, K):
 
 
 def reference_curves(z, distance, water_height, laplace_pressure, *, dx, dy, K, periodic, connectivity):
-    """Same contract as :func:`roughstick._rough_kernels.curves_kernel`, computed literally."""
+    """Same contract as :func:`roughstick.contact._rough_kernels.curves_kernel`, computed literally."""
     z, nvalid = prepare_heights(z)
     ny, nx = z.shape
     distance = np.asarray(distance, dtype=float)

@@ -21,6 +21,7 @@ from .._core.materials import POLYSILICON, Material, hertz_modulus
 from .._core.references import PAPER, cite
 from .._core.units import require
 from .._core.validate import positive
+from . import _sphere_energy
 from . import _sphere_kernels as K_
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
@@ -387,7 +388,7 @@ def sphere_force(
 
 
 def _energy_block(R, Kmod, s0, h0, *, model, dmt_outer):
-    return K_.adhesive_energy_kernel(model, R, Kmod, s0, h0, dmt_outer=dmt_outer)
+    return _sphere_energy.adhesive_energy_kernel(model, R, Kmod, s0, h0, dmt_outer=dmt_outer)
 
 
 def sphere_adhesive_energy(
