@@ -3,15 +3,23 @@
 Implements T.-V. Hoang, L. Wu, S. Paquay, A.C. Obreja, R.C. Voicu, R. Müller, J.-C. Golinval,
 L. Noels, "A probabilistic model for predicting the uncertainties of the humid stiction phenomenon
 on hard materials", J. Comput. Appl. Math. 289 (2015) 173-195, doi:10.1016/j.cam.2015.02.022
-(:data:`roughstick._core.references.BIBLIOGRAPHY`), as an xarray toolkit.
-All values are SI; see :mod:`roughstick._core.conventions`.
+(:data:`roughstick._core.references.BIBLIOGRAPHY`), as an xarray toolkit. All values are SI; see
+:mod:`roughstick.conventions`.
+
+The subpackages follow the data flow (docs/architecture.md): :mod:`.surface` (maps, spectra,
+moments, generation) and :mod:`.io` → :mod:`.contact` (meniscus, sphere and rough-surface models,
+Eq. 13) → :mod:`.ensemble` (Monte Carlo, bands) → :mod:`.stiction` (beams, risk). Their public
+functions are re-exported here (``__all__`` gathers the subpackages' own, as MetPy's
+``calc/__init__.py`` does); :mod:`.datasets`, :mod:`.testing`, :mod:`.plotting` and :mod:`.cli`
+are used as modules.
 """
 
-from . import (  # noqa: E402
-    accessor,  # noqa: E402  registers the .rough accessor
+from . import (
+    accessor,  # registers the .rough accessor on DataArray and Dataset
     contact,
     datasets,
     ensemble,
+    io,
     stiction,
     surface,
     testing,
@@ -22,18 +30,13 @@ from ._core.units import UnitsError
 from ._core.version import __version__
 from .contact import *  # noqa: F403
 from .ensemble import *  # noqa: F403
-from .io import afm as _afm  # noqa: E402
-from .io import netcdf as _netcdf
-from .io.afm import *  # noqa: F403
-from .io.netcdf import *  # noqa: F403
+from .io import *  # noqa: F403
 from .stiction import *  # noqa: F403
 from .surface import *  # noqa: F403
 
-#: Every public function and class, gathered from the modules' own ``__all__``.
+#: Every public function and class, gathered from the subpackages' own ``__all__``.
 __all__ = sorted(
     name
-    for mod in (
-        materials, contact, _afm, _netcdf, surface, ensemble, stiction,
-    )
+    for mod in (materials, io, surface, contact, ensemble, stiction)
     for name in mod.__all__
 )

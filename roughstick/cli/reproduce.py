@@ -17,6 +17,13 @@ import xarray as xr
 
 import roughstick as rs
 
+from ..plotting.ensemble import (
+    plot_energy_band,
+    plot_energy_distribution,
+    plot_ensemble_curves,
+)
+from ..plotting.generation import plot_surfaces
+
 RH = {"S1": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9], "S2": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]}
 SCALES = {
     # n, (small, large) shapes at 5 nm
@@ -47,12 +54,6 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from roughstick.plotting.ensemble import (
-        plot_energy_band,
-        plot_energy_distribution,
-        plot_ensemble_curves,
-    )
-    from roughstick.plotting.generation import plot_surfaces
 
     out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -16,6 +16,7 @@ import xarray as xr
 
 import roughstick as rs
 
+from .. import plotting
 from .._core.conventions import append_history, set_attrs
 
 _SCHEMA = {
@@ -182,7 +183,6 @@ def _run(args):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from roughstick import plotting
 
     cfg_path = pathlib.Path(args.config)
     cfg = _load_toml(cfg_path)

@@ -13,6 +13,11 @@ import time
 
 import roughstick as rs
 
+from ..plotting.ensemble import (
+    plot_energy_band,
+    plot_energy_distribution,
+    plot_ensemble_curves,
+)
 from ._config import load_config
 
 
@@ -68,11 +73,6 @@ def run_config(cfg, *, figures=True, log=print):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        from roughstick.plotting.ensemble import (
-            plot_energy_band,
-            plot_energy_distribution,
-            plot_ensemble_curves,
-        )
 
         fig = plot_ensemble_curves(ds)
         fig.suptitle(cfg.title)

@@ -17,9 +17,11 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
-from roughstick._core.conventions import append_history, dataset_attrs, set_coord_attrs
-from roughstick._core.references import cite
-from roughstick.io.netcdf import write
+
+from .._core.conventions import append_history, dataset_attrs, set_coord_attrs
+from .._core.references import cite
+from ..io.netcdf import write
+from ..plotting.sphere import plot_meniscus, plot_sphere_curves
 
 MODELS = ["maugis", "dmt", "modified_dmt"]
 RADII = [100e-9, 800e-9]
@@ -89,7 +91,6 @@ def run(out, *, quick: bool = False) -> list[pathlib.Path]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from roughstick.plotting.sphere import plot_meniscus, plot_sphere_curves
 
     out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -20,7 +20,9 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
-from roughstick.io import netcdf
+
+from ..io import netcdf
+from ..plotting import plot_psd_schemes, plot_self_affine_psd
 
 QMAX_PAPER = rs.datasets.QMAX_PAPER  # rad/m, Table 3
 
@@ -59,7 +61,6 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     """Compute the statistics and PSD figures; return the files written."""
     import matplotlib.pyplot as plt
 
-    from roughstick.plotting import plot_psd_schemes, plot_self_affine_psd
 
     out = pathlib.Path(out)
     written = []

@@ -20,7 +20,14 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
-from roughstick.io import netcdf
+
+from ..io import netcdf
+from ..plotting.rough_contact import (
+    plot_adhesion_vs_rh,
+    plot_fit_error,
+    plot_mdmt_vs_gw,
+    plot_rough_curves,
+)
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 
@@ -34,12 +41,6 @@ def _maps(quick: bool) -> dict:
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     import matplotlib.pyplot as plt
 
-    from roughstick.plotting.rough_contact import (
-        plot_adhesion_vs_rh,
-        plot_fit_error,
-        plot_mdmt_vs_gw,
-        plot_rough_curves,
-    )
 
     out = pathlib.Path(out)
     maps = _maps(quick)

@@ -13,17 +13,18 @@ import pathlib
 
 import roughstick as rs
 
+from ..plotting.ensemble import (
+    plot_energy_band,
+    plot_energy_distribution,
+    plot_ensemble_curves,
+)
+
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 
 
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     import matplotlib.pyplot as plt
 
-    from roughstick.plotting.ensemble import (
-        plot_energy_band,
-        plot_energy_distribution,
-        plot_ensemble_curves,
-    )
 
     out = pathlib.Path(out)
     n, shape = (16, 256) if quick else (48, 512)

@@ -25,6 +25,8 @@ import xarray as xr
 
 import roughstick as rs
 
+from .. import plotting
+
 LENGTHS = [250e-6, 300e-6, 350e-6, 400e-6, 500e-6, 1500e-6]
 PRINTED = {"q0": 19.4e6, "s0": 6.46e3 * 1e-36, "s1": 6.29e-3 * 1e-36}
 
@@ -48,7 +50,6 @@ def _table4(out: pathlib.Path) -> pathlib.Path:
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     import matplotlib.pyplot as plt
 
-    from roughstick import plotting
 
     out = pathlib.Path(out)
     files = [_table4(out)]

@@ -15,6 +15,7 @@ import os
 import pathlib
 import threading
 
+import dask
 import numpy as np
 import xarray as xr
 
@@ -149,7 +150,6 @@ def write(ds: xr.Dataset, path, *, compute: bool = False):
     >>> float(rs.open_dataset(p)["a"].sum())
     3.0
     """
-    import dask
 
     path = pathlib.Path(path)
     if not path.parent.exists():

@@ -96,13 +96,6 @@ def test_materials_moduli_match_paper():
         rs.Material(youngs_modulus=-1.0)
 
 
-def test_accessor_forwards_to_public_function():
-    rh = xr.DataArray([0.3, 0.5], dims="rh", coords={"rh": [0.3, 0.5]}, attrs={"units": "1"})
-    xr.testing.assert_identical(rh.rough.water_height(), rs.water_height(rh))
-    with pytest.raises(AttributeError, match="no public function"):
-        rh.rough.not_a_function()
-
-
 def test_make_topography_coords():
     h = rs.testing.make_topography(np.zeros((3, 5)), spacing=2e-9, periodic=True)
     assert h.dims == ("y", "x") and h.attrs["periodic"] == 1
