@@ -20,7 +20,6 @@ Prints, in one run on this machine:
 from __future__ import annotations
 
 import os
-import pathlib
 import subprocess
 import sys
 import tempfile
@@ -34,7 +33,6 @@ import roughstick as rs
 from roughstick.contact import _rough_kernels as k
 from roughstick.contact._rough_reference import reference_curves
 
-DATA = pathlib.Path(__file__).resolve().parents[1] / "data_samples"
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 
 
@@ -55,7 +53,7 @@ def main():
     # compile once
     rs.rough_contact_curves(rs.testing.make_topography(np.zeros((8, 8))), relative_humidity=0.5, distance=[0.0])
     for name in ("S1A", "S2A"):
-        h = xr.open_dataset(DATA / f"{name}.nc").height.load()
+        h = xr.open_dataset(rs.datasets.sample_path(name)).height.load()
         d = rs.contact_distance_grid(h, relative_humidity=RH, n=200).values
         t = best_of(lambda h=h, d=d: rs.rough_contact_curves(h, relative_humidity=RH, distance=d))
         t_auto = best_of(lambda h=h: rs.rough_contact_curves(h, relative_humidity=RH), n=1)
@@ -67,7 +65,7 @@ def main():
             f"max asperities at one distance: {int(ds.n_contacts.max())}"
         )
     # speed-up over the literal reference on 256^2
-    h = xr.open_dataset(DATA / "S1A.nc").height.isel(x=slice(0, 256), y=slice(0, 256)).load()
+    h = xr.open_dataset(rs.datasets.sample_path("S1A")).height.isel(x=slice(0, 256), y=slice(0, 256)).load()
     d = rs.contact_distance_grid(h, relative_humidity=RH, n=200).values
     hw = rs.water_height(RH).values
     dp = rs.laplace_pressure(RH).values
@@ -91,7 +89,7 @@ def main():
     # warm start: speed against error (same 200-point grids as above)
     kw = dict(dx=5e-9, dy=5e-9, K=rs.hertz_modulus(), periodic=False, connectivity=4)
     for name in ("S1A", "S2A"):
-        h = xr.open_dataset(DATA / f"{name}.nc").height.load()
+        h = xr.open_dataset(rs.datasets.sample_path(name)).height.load()
         d = rs.contact_distance_grid(h, relative_humidity=RH, n=200).values
         z = h.values
         cold = k.curves_kernel(z, d, hw, dp, **kw)

@@ -13,7 +13,6 @@ Two tables for the adhesive energy Gamma (Eq. 13) of data_samples/S1A.nc (a 512 
 
 from __future__ import annotations
 
-import pathlib
 import time
 
 import numpy as np
@@ -21,7 +20,6 @@ import xarray as xr
 
 import roughstick as rs
 
-DATA = pathlib.Path(__file__).resolve().parents[1] / "data_samples"
 RH = [0.3, 0.7, 0.9]
 
 
@@ -33,7 +31,7 @@ def gamma(h, **kw):
 
 
 def main():
-    h = xr.open_dataset(DATA / "S1A.nc").height.isel(x=slice(0, 512), y=slice(0, 512)).load()
+    h = xr.open_dataset(rs.datasets.sample_path("S1A")).height.isel(x=slice(0, 512), y=slice(0, 512)).load()
     rs.rough_contact_curves(h, relative_humidity=0.5, distance=[0.0])  # compile
     d = rs.contact_distance_grid(h, relative_humidity=RH, n=200).values
     lo, hi = d.min(), d.max()

@@ -38,12 +38,10 @@ SEED = 2026
 
 
 def sample_psd(name):
-    a = xr.open_dataset(ROOT / "data_samples" / f"{name}A.nc").attrs
+    p = rs.datasets.family_parameters(name)  # the Eq. 37 PSD the bundled samples were drawn from
 
     def psd(q):
-        return rs.self_affine_psd(
-            q.ravel(), s0=a["psd_s0"], s1=a["psd_s1"], q0=a["psd_q0"], qmax=a["psd_qmax"]
-        ).values.reshape(q.shape)
+        return rs.self_affine_psd(q.ravel(), **p).values.reshape(q.shape)
 
     return psd
 
