@@ -6,22 +6,7 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
-
-
-def filtered_noise(shape, spacing, filt, rng, sigma=1e-9):
-    """Periodic Gaussian map whose expected 2D PSD is sigma² Δ² |H(q)|² / (2π)²."""
-    ny, nx = shape[-2:]
-    w = rng.normal(size=shape) * sigma
-    qx = 2 * np.pi * np.fft.fftfreq(nx, spacing)
-    qy = 2 * np.pi * np.fft.fftfreq(ny, spacing)
-    H = filt(np.hypot(qx[None, :], qy[:, None]))
-    z = np.fft.ifft2(np.fft.fft2(w) * H).real
-    expected = lambda q: sigma**2 * spacing**2 * filt(q) ** 2 / (2 * np.pi) ** 2  # noqa: E731
-    return rs.testing.make_topography(z, spacing=spacing, periodic=True), expected
-
-
-def lorentz(q):
-    return 1.0 / (1.0 + (q / 5e7) ** 2)
+from conftest import filtered_noise, lorentz
 
 
 def test_cli_psd(tmp_path, capsys):

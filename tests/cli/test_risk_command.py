@@ -6,18 +6,7 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
-
-
-def lognormal_gamma(n=200, rh=(0.3, 0.5, 0.7, 0.9), *, seed=0, median=None, sigma=0.8):
-    """Stand-in ensemble Gamma(realization, rh): lognormal, median growing with RH."""
-    rng = np.random.default_rng(seed)
-    rh = np.asarray(rh, dtype=float)
-    mu = np.log(median if median is not None else 2e-4 * np.exp(3 * rh))
-    vals = np.exp(mu + sigma * rng.standard_normal((n, rh.size)))
-    return xr.DataArray(
-        vals, dims=("realization", "rh"), coords={"realization": np.arange(n), "rh": rh},
-        name="adhesive_energy", attrs={"units": "J m-2"},
-    ), mu
+from conftest import lognormal_gamma
 
 
 def test_cli_risk_from_given_sample(tmp_path, capsys):

@@ -8,6 +8,7 @@ import xarray as xr
 from scipy import integrate, optimize
 
 import roughstick as rs
+from conftest import lognormal_gamma
 from roughstick._core.units import UnitsError
 from roughstick.testing import raise_if_dask_computes
 
@@ -15,18 +16,6 @@ BEAM = rs.PAPER_CANTILEVER
 
 
 K = 1.5 * 164e9 * (1.9e-6) ** 2 * (2.62e-6) ** 3  # 3/2 E h^2 t^3 of the paper's beams [N m^2]
-
-
-def lognormal_gamma(n=200, rh=(0.3, 0.5, 0.7, 0.9), *, seed=0, median=None, sigma=0.8):
-    """Stand-in ensemble Gamma(realization, rh): lognormal, median growing with RH."""
-    rng = np.random.default_rng(seed)
-    rh = np.asarray(rh, dtype=float)
-    mu = np.log(median if median is not None else 2e-4 * np.exp(3 * rh))
-    vals = np.exp(mu + sigma * rng.standard_normal((n, rh.size)))
-    return xr.DataArray(
-        vals, dims=("realization", "rh"), coords={"realization": np.arange(n), "rh": rh},
-        name="adhesive_energy", attrs={"units": "J m-2"},
-    ), mu
 
 
 def test_eq36_stiffness_term_and_value():

@@ -8,6 +8,7 @@ import xarray as xr
 from scipy.integrate import quad
 
 import roughstick as rs
+from conftest import filtered_noise, lorentz
 from roughstick.testing import make_topography
 
 SP = 5e-9
@@ -23,22 +24,6 @@ def cosine_map(ny=64, nx=80, *, ax=2e-9, ay=1e-9, kx=3, ky=2, spacing=SP):
 
 
 TABLE4 = dict(roughness=[2.6e-9, 2.4e-9], radius=220e-9)
-
-
-def filtered_noise(shape, spacing, filt, rng, sigma=1e-9):
-    """Periodic Gaussian map whose expected 2D PSD is sigma² Δ² |H(q)|² / (2π)²."""
-    ny, nx = shape[-2:]
-    w = rng.normal(size=shape) * sigma
-    qx = 2 * np.pi * np.fft.fftfreq(nx, spacing)
-    qy = 2 * np.pi * np.fft.fftfreq(ny, spacing)
-    H = filt(np.hypot(qx[None, :], qy[:, None]))
-    z = np.fft.ifft2(np.fft.fft2(w) * H).real
-    expected = lambda q: sigma**2 * spacing**2 * filt(q) ** 2 / (2 * np.pi) ** 2  # noqa: E731
-    return rs.testing.make_topography(z, spacing=spacing, periodic=True), expected
-
-
-def lorentz(q):
-    return 1.0 / (1.0 + (q / 5e7) ** 2)
 
 
 def test_moments_cosines_analytic_both_methods():

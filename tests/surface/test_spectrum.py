@@ -7,25 +7,10 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
+from conftest import filtered_noise, lorentz
 from roughstick._core import units as _units
 
 QMAX = 289e6  # rad/m (paper: 289 rad/µm)
-
-
-def filtered_noise(shape, spacing, filt, rng, sigma=1e-9):
-    """Periodic Gaussian map whose expected 2D PSD is sigma² Δ² |H(q)|² / (2π)²."""
-    ny, nx = shape[-2:]
-    w = rng.normal(size=shape) * sigma
-    qx = 2 * np.pi * np.fft.fftfreq(nx, spacing)
-    qy = 2 * np.pi * np.fft.fftfreq(ny, spacing)
-    H = filt(np.hypot(qx[None, :], qy[:, None]))
-    z = np.fft.ifft2(np.fft.fft2(w) * H).real
-    expected = lambda q: sigma**2 * spacing**2 * filt(q) ** 2 / (2 * np.pi) ** 2  # noqa: E731
-    return rs.testing.make_topography(z, spacing=spacing, periodic=True), expected
-
-
-def lorentz(q):
-    return 1.0 / (1.0 + (q / 5e7) ** 2)
 
 
 @pytest.mark.parametrize("shape", [(32, 32), (33, 20), (15, 64)])
