@@ -170,7 +170,7 @@ def fit_self_affine(*, m0, m2, m4, qmax, tolerance: float = 1e-6) -> xr.Dataset:
     Table 4 of the paper (√m0 = 3.54 nm, R = 220 nm, N = 80.1 µm⁻², ξmax = 289 rad/µm; see
     :func:`moments_from_asperities`) gives q0 ≈ 21.2 rad/µm, s0 ≈ 5.5e3 nm⁴, s1 ≈ 5.5e-3 nm⁴.
     The printed 19.4 rad/µm, 6.46e3 nm⁴, 6.29e-3 nm⁴ are reproduced with N = 88.1 µm⁻²
-    (DESIGN.md §3; tests/test_psd.py holds both).
+    (DESIGN.md §3; tests/surface/test_self_affine.py holds both).
 
     Examples
     --------
