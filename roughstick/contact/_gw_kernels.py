@@ -15,6 +15,8 @@ from scipy import interpolate, special
 from .._core.conventions import CURVE_VARIABLES
 from . import _sphere_kernels
 
+__all__: list[str] = []
+
 #: Curvature measures of a summit used for its sphere radius.
 CURVATURE_MEASURES = ("geometric", "mean")
 

@@ -12,6 +12,8 @@ import scipy.fft
 
 from .._core.dask import realization_rng
 
+__all__: list[str] = []
+
 
 def _symmetrise(P: np.ndarray, nx: int) -> np.ndarray:
     """Make the self-conjugate columns (qx = 0 and, for even nx, qx = Nyquist) even in qy."""
