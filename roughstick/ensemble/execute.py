@@ -19,7 +19,14 @@ from dask.callbacks import Callback
 
 from .pipeline import compute_block
 from .statistics import confidence_band
-from .store import finish_manifest, open_ensemble, pending_blocks, prepare_folder, write_block
+from .store import (
+    finish_manifest,
+    open_ensemble,
+    pending_blocks,
+    prepare_folder,
+    record_attrs,
+    write_block,
+)
 
 __all__ = ["progress_bar"]
 
@@ -242,4 +249,7 @@ def auto_ensemble(spec, *, batch, tolerance, n_max, patience, level, folder, str
         ),
         auto_band_changes=json.dumps([[int(k), float(c)] for k, c in history]),
     )
+    if folder is not None:  # the convergence state is part of the run folder, not only in memory
+        record_attrs(folder, {k: v for k, v in ds.attrs.items()
+                              if k.startswith("auto_") or k in ("n_mode", "n_final")})
     return ds

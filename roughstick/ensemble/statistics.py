@@ -23,6 +23,8 @@ __all__ = [
     "confidence_band",
     "quantile_interval",
     "order_statistic_ranks",
+    "min_samples_to_bound",
+    "band_summary",
     "binomial_interval",
     "interval_method",
     "ensemble_histogram",
@@ -49,11 +51,36 @@ def order_statistic_ranks(n: int, p: float, *, confidence: float) -> tuple[int, 
     return r, s
 
 
+def min_samples_to_bound(p: float, *, confidence: float) -> int:
+    r"""Smallest n whose order statistics bound the ``p``-quantile on BOTH sides at ``confidence``.
+
+    With the two tails split equally (:math:`a = (1 - c)/2`) the lower side needs
+    :math:`(1-p)^n < a` and the upper side :math:`p^n \le a`. Below this n one edge of the
+    interval of :func:`quantile_interval` is NaN ("n too small to bound this edge").
+
+    Examples
+    --------
+    >>> rs.min_samples_to_bound(0.025, confidence=0.95), rs.min_samples_to_bound(0.5, confidence=0.95)
+    (146, 6)
+    """
+    if not 0 < p < 1:
+        raise ValueError(f"p must lie in (0, 1), got {p!r}.")
+    if not 0 < confidence < 1:
+        raise ValueError(f"confidence must lie in (0, 1), got {confidence!r}.")
+    a = (1.0 - confidence) / 2.0
+    n = max(1, int(np.floor(np.log(a) / np.log(max(p, 1 - p)))) - 1)
+    while True:  # the closed form gives a start; the ranks of order_statistic_ranks decide
+        r, s = order_statistic_ranks(n, p, confidence=confidence)
+        if r >= 1 and s <= n:
+            return n
+        n += 1
+
+
 def _order_statistic_kernel(a, probs, alpha):
     """Distribution-free interval [X_(r), X_(s)] for each quantile p (last axis = samples).
 
-    Ranks from :func:`order_statistic_ranks`; r < 1 or s > n means the sample cannot bound the
-    quantile: -inf / +inf.
+    Ranks from :func:`order_statistic_ranks`; r < 1 or s > n means the sample cannot bound that
+    side of the quantile: NaN there (never -inf/+inf, which read as numbers in a file).
     """
     a = np.sort(np.asarray(a, dtype=float), axis=-1)  # NaN last
     nvalid = np.sum(~np.isnan(a), axis=-1)
@@ -66,8 +93,8 @@ def _order_statistic_kernel(a, probs, alpha):
         sub = a[mask][..., :nv]
         for k, p in enumerate(probs):
             r, s = order_statistic_ranks(nv, p, confidence=1 - alpha)
-            lo[mask, k] = sub[..., r - 1] if r >= 1 else -np.inf
-            hi[mask, k] = sub[..., s - 1] if s <= nv else np.inf
+            lo[mask, k] = sub[..., r - 1] if r >= 1 else np.nan
+            hi[mask, k] = sub[..., s - 1] if s <= nv else np.nan
     return lo, hi
 
 
@@ -99,7 +126,8 @@ def quantile_interval(
     ``method="order_statistic"`` (default) gives the distribution-free interval
     :math:`[X_{(r)}, X_{(s)}]` whose coverage :math:`F_B(s-1) - F_B(r-1) \ge` ``confidence`` with
     :math:`F_B` the Binomial(n, p) CDF (Conover, *Practical Nonparametric Statistics*, §3.2);
-    ``-inf``/``inf`` where n is too small to bound the quantile at all. ``"bootstrap"`` gives the
+    NaN on a side that n samples cannot bound (below :func:`min_samples_to_bound`; the
+    attribute ``comment`` says so). ``"bootstrap"`` gives the
     percentile bootstrap interval from ``n_bootstrap`` resamples drawn with ``rng`` (the same
     resamples for every element, so chunking does not change it).
 
@@ -163,6 +191,13 @@ def quantile_interval(
                    "long_name": f"{side} {confidence:.0%} confidence limit of the quantile of "
                                 f"{da.attrs.get('long_name', da.name)}",
                    "method": method}
+        if method == "order_statistic":
+            need = {float(p): min_samples_to_bound(float(p), confidence=confidence)
+                    for p in probs if 0 < p < 1}
+            x.attrs["comment"] = (
+                "NaN: n too small to bound this edge (distribution-free order-statistic interval; "
+                "both edges bounded from n >= "
+                + ", ".join(f"{m} for quantile {p:g}" for p, m in need.items()) + ")")
         x["quantile"].attrs = dict(ATTRS["quantile"])
         out.append(x.rename(f"{da.name}_ci_{side}" if da.name else None))
     return out[0], out[1]
@@ -255,10 +290,69 @@ def confidence_band(
     for c in res.coords:
         if c in ATTRS:
             res[c].attrs = dict(ATTRS[c])
-    res.attrs = {k: v for k, v in ds.attrs.items() if k in ("Conventions", "source", "references", "history", "title")}
+    # the run's parameters (seed, shape, spacing, PSD source, auto-n state ...) travel with the band
+    res.attrs = {k: v for k, v in ds.attrs.items()
+                 if isinstance(v, (str, int, float, np.integer, np.floating)) and k != "incomplete"}
     res.attrs.update(level=level, confidence=confidence, n_samples=int(n),
                      uncertainty_method=str(uncertainty))
+    if "incomplete" in ds.attrs:
+        res.attrs["incomplete"] = str(ds.attrs["incomplete"])
+    if uncertainty == "order_statistic":
+        need = min_samples_to_bound(float(probs[0]), confidence=confidence)
+        res.attrs["n_samples_to_bound_band_edges"] = int(need)
+        res.attrs["band_edges_bounded"] = int(n >= need)
     return append_history(res, f"confidence_band(level={level}, dim={dim!r}, n={n})")
+
+
+def _fmt(v: float, fmt: str) -> str:
+    return format(v, fmt) if np.isfinite(v) else "nan"
+
+
+def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: float = 1e3,
+                 units: str = "mJ/m²", fmt: str = ".4g") -> list[str]:
+    """One line per humidity: median, band and each band edge's own confidence interval.
+
+    An edge that the sample cannot bound reads "n too small to bound this edge (needs n >= N)"
+    instead of a number, so a band from a few surfaces is never shown as if it were reliable.
+    ``band`` is a :func:`confidence_band` result over ``(quantile, rh)``; values are multiplied by
+    ``scale`` and labelled ``units``.
+
+    Examples
+    --------
+    >>> x = xr.DataArray(np.arange(20.0)[:, None] * [1.0], dims=("realization", "rh"),
+    ...                  coords={"rh": [0.5]}, name="g", attrs={"units": "J m-2", "long_name": "g"})
+    >>> print(rs.band_summary(rs.confidence_band(x), "g", scale=1, units="J/m²")[0])  # doctest: +NORMALIZE_WHITESPACE
+    RH 50%: median 9.5 J/m², 95% band [0.475, 18.52] from n = 20; 95% CI of the lower edge: n too small
+    to bound this edge (needs n >= 146), of the upper edge: n too small to bound this edge (needs n >= 146)
+    """
+    level, conf = float(band.attrs["level"]), float(band.attrs.get("confidence", 0.95))
+    n = int(band.attrs["n_samples"])
+    need = min_samples_to_bound(float(band["quantile"].values[0]), confidence=conf)
+    q = band[variable].transpose("quantile", ...).values * scale
+    has_ci = f"{variable}_ci_lower" in band
+    if has_ci:
+        lo = band[f"{variable}_ci_lower"].transpose("quantile", ...).values * scale
+        hi = band[f"{variable}_ci_upper"].transpose("quantile", ...).values * scale
+    rhs = band["rh"].values if "rh" in band[variable].dims else [None]
+    lines = []
+    for k, r in enumerate(rhs):
+        col = (slice(None), k) if r is not None else (slice(None),)
+        qq = q[col]
+        head = (f"RH {r:.0%}: " if r is not None else "") + (
+            f"median {_fmt(qq[1], fmt)} {units}, {level:.0%} band [{_fmt(qq[0], fmt)}, "
+            f"{_fmt(qq[2], fmt)}] from n = {n}")
+        if not has_ci:
+            lines.append(head + "; the band's own uncertainty was not computed")
+            continue
+        parts = []
+        for j, side in ((0, "lower"), (2, "upper")):
+            a, b = lo[col][j], hi[col][j]
+            if np.isfinite(a) and np.isfinite(b):
+                parts.append(f"of the {side} edge [{_fmt(a, fmt)}, {_fmt(b, fmt)}]")
+            else:
+                parts.append(f"of the {side} edge: n too small to bound this edge (needs n >= {need})")
+        lines.append(head + f"; {conf:.0%} CI " + ", ".join(parts))
+    return lines
 
 
 # ----------------------------------------------------------------------------- proportions

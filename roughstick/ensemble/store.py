@@ -225,6 +225,17 @@ def write_block(folder: pathlib.Path, spec: Spec, manifest: dict, attrs: dict, i
     write_manifest(folder, manifest)
 
 
+def record_attrs(folder, attrs: dict) -> None:
+    """Add ``attrs`` (str/int/float values) to the run's global attributes in the manifest, so that
+    :func:`open_ensemble` (and the band written from it) carries them, e.g. ``auto_converged``."""
+    m = read_manifest(folder)
+    if m is None:
+        raise FileNotFoundError(f"{str(folder)!r} holds no {MANIFEST}; nothing to record into.")
+    m["attrs"] = {**m.get("attrs", {}),
+                  **{k: v for k, v in attrs.items() if isinstance(v, (str, int, float))}}
+    write_manifest(folder, m)
+
+
 def finish_manifest(folder: pathlib.Path, spec: Spec, manifest: dict, n: int) -> None:
     """Record whether every block of ``n`` realizations is written."""
     manifest["completed"] = sorted(set(manifest["completed"]))

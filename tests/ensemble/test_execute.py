@@ -65,3 +65,13 @@ def test_local_cluster_processes_bit_identical(tmp_path):
     assert_same_values(threaded, on_cluster)
     assert_same_values(threaded, other_chunks)
     assert_same_values(threaded, streamed)
+
+
+def test_auto_converged_saved_in_the_run_folder(tmp_path):
+    """An auto run stopped at n_max unconverged must not look like a converged one on disk."""
+    ds = toy_run(n="auto", batch=2, tolerance=1e-9, n_max=4, chunks=2, output=tmp_path / "run")
+    assert ds.attrs["auto_converged"] == 0
+    reopened = rs.open_ensemble(tmp_path / "run")
+    assert reopened.attrs["auto_converged"] == 0 and reopened.attrs["n_final"] == 4
+    band = rs.confidence_band(reopened[["adhesive_energy"]])
+    assert band.attrs["auto_converged"] == 0

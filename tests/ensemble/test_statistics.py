@@ -62,7 +62,8 @@ def test_order_statistic_interval_covers_true_quantile():
 def test_interval_unbounded_when_n_too_small():
     x = xr.DataArray(np.arange(10.0), dims="realization")
     lo, hi = rs.quantile_interval(x, [0.025, 0.975])
-    assert np.isneginf(lo[0]) and np.isposinf(hi[1])
+    assert np.isnan(lo[0]) and np.isnan(hi[1]) and np.isfinite(hi[0]) and np.isfinite(lo[1])
+    assert "n too small to bound this edge" in lo.attrs["comment"]
 
 
 def test_bootstrap_seeded_and_comparable():
@@ -93,3 +94,40 @@ def test_histogram_and_ecdf(backend):
     if backend.kind == "dask":
         with pytest.raises(ValueError, match="range"):
             rs.ensemble_histogram(x, bins=10)
+
+
+def test_min_samples_to_bound_matches_the_ranks():
+    """The n below which one edge of a 95 % band cannot be bounded (issue 16: 8-48 surfaces)."""
+    for p in (0.025, 0.05, 0.5, 0.975):
+        need = rs.min_samples_to_bound(p, confidence=0.95)
+        r, s = rs.order_statistic_ranks(need, p, confidence=0.95)
+        assert r >= 1 and s <= need
+        r, s = rs.order_statistic_ranks(need - 1, p, confidence=0.95)
+        assert r < 1 or s > need - 1
+    # closed form for the 2.5 % quantile: (1 - p)^n < 0.025
+    assert rs.min_samples_to_bound(0.025, confidence=0.95) == int(np.ceil(np.log(0.025) / np.log(0.975)))
+
+
+def test_band_too_small_says_so_and_large_band_carries_intervals():
+    small = _sample(48).rename("adhesive_energy").assign_attrs(units="J m-2", long_name="g")
+    b = rs.confidence_band(small)
+    assert b.attrs["band_edges_bounded"] == 0 and b.attrs["n_samples_to_bound_band_edges"] == 146
+    assert not np.isinf(b["adhesive_energy_ci_lower"]).any()  # NaN, never -inf in a file
+    lines = rs.band_summary(b)
+    assert len(lines) == small.sizes["rh"]
+    assert all("n too small to bound this edge (needs n >= 146)" in s and "n = 48" in s for s in lines)
+    big = _sample(400).rename("adhesive_energy").assign_attrs(units="J m-2", long_name="g")
+    b = rs.confidence_band(big)
+    assert b.attrs["band_edges_bounded"] == 1
+    lines = rs.band_summary(b)
+    assert not any("too small" in s for s in lines)
+    lo = b["adhesive_energy_ci_lower"].sel(quantile=0.025).values[0] * 1e3
+    assert f"lower edge [{lo:.4g}," in lines[0]
+
+
+def test_band_keeps_run_parameters():
+    x = _sample(20).rename("g").assign_attrs(units="1", long_name="g").to_dataset()
+    x.attrs = {"seed": 3, "auto_converged": 0, "psd_source": "S1", "bad": [1, 2]}
+    b = rs.confidence_band(x)
+    assert b.attrs["seed"] == 3 and b.attrs["auto_converged"] == 0 and b.attrs["psd_source"] == "S1"
+    assert "bad" not in b.attrs
