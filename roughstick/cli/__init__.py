@@ -10,9 +10,11 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 
 from .._core.version import __version__
 from . import curves, demo, psd, reproduce, risk, run
+from ._common import add_common_options, setup_logging, user_message
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
@@ -30,18 +32,36 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for mod in COMMANDS:
         mod.register(sub)
+    for cmd in sub.choices.values():  # the same --quiet / --verbose on every command
+        add_common_options(cmd, overwrite=False)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``roughstick`` console script."""
+    """Entry point of the ``roughstick`` console script.
+
+    Exit status: 0 done, 1 an error the user can fix (one line naming the fix), 2 bad command-line
+    usage, 130 interrupted (Ctrl-C; re-running the same command resumes). Other exceptions are
+    bugs and keep their traceback.
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
+    setup_logging(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))
     try:
-        return int(args.func(args) or 0)
-    except (ValueError, FileNotFoundError, FileExistsError, TypeError) as exc:
-        print(f"roughstick {args.command}: error: {exc}", file=sys.stderr)
+        with warnings.catch_warnings():
+            warnings.simplefilter("default")
+            setup_logging(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))
+            return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        print(f"roughstick {args.command}: interrupted; completed results are kept: re-run the same "
+              "command to resume.", file=sys.stderr)
+        return 130
+    except Exception as exc:
+        msg = user_message(exc)
+        if msg is None:
+            raise
+        print(f"roughstick {args.command}: error: {msg}", file=sys.stderr)
         return 1

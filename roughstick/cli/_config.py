@@ -1,86 +1,414 @@
-"""TOML configuration of an ensemble run (``roughstick run CONFIG.toml``).
+"""THE configuration schema of every ``roughstick`` command that reads a TOML file.
 
-A config has four tables; lengths may be numbers (SI) or strings with units (``"5 nm"``,
-``"5.12 um"``, ``"15.7 nm2"``, ``"289 rad/um"``). Relative paths are relative to the config file.
+One dialect for ``roughstick run`` and ``roughstick risk`` (docs/configuration.md):
 
-.. code-block:: toml
+* a dimensional quantity is a string with its unit, ``spacing = "5 nm"``, ``qmax = "289 rad/um"``,
+  ``youngs_modulus = "164 GPa"``; a bare number is refused with the fix (``spacing = 5`` would
+  otherwise be 5 m), and so is a unit in the key name (``spacing_nm``);
+* relative humidity is a fraction, ``relative_humidity = [0.3, 0.5]`` (or ``"30 %"``); values
+  above 1 are refused as percent typed where a fraction is expected, naming the fraction;
+* integers are integers (``seed = 1.9``, ``shape = [64.7, 64]`` and ``n = 0`` are refused),
+  booleans are TOML booleans (``figures = "no"`` is refused);
+* unknown tables and keys are refused, with the closest known key;
+* every value is checked when the file is read, before any work starts; all problems of a file
+  are reported together.
 
-    title = "S1, 5.12 um surfaces"
-
-    [psd]
-    source = "samples"        # "samples" (height maps), "moments" (Eq. 37 fit) or "file" (NetCDF PSD)
-    files = ["../data_samples/S1A.nc", "../data_samples/S1B.nc", "../data_samples/S1C.nc"]
-    submaps = 16              # sub-maps per map (paper scheme 3)
-    qmax = "289 rad/um"       # optional cutoff (Table 3)
-    # source = "moments": m0 = "15.7 nm2", m2 = 0.040, m4 = "5.08e-4 nm-2", qmax = "289 rad/um"
-    # source = "file":    path = "psd.nc", variable = "psd"
-
-    [surface]
-    size = "5.12 um"          # or shape = [1024, 1024]
-    spacing = "5 nm"
-
-    [ensemble]
-    n = 300                   # or "auto" (then batch, tolerance, n_max, patience)
-    relative_humidity = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
-    seed = 0
-    chunks = 4                # realizations per block (one NetCDF file each)
-    adsorbed_layer = "paper"  # or "none"
-
-    [output]
-    folder = "ensemble-S1"
-    figures = true
-
-    [run]
-    scheduler = "threads"     # or "tcp://host:8786"
-    connect_timeout = 5
+The tables a command accepts are in :data:`SCHEMAS`; :func:`parse` turns a raw TOML dict into SI
+values (absolute paths) or raises :class:`ConfigError`.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import pathlib
+import re
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
 import roughstick as rs
 
-from .._core.units import parse_quantity
+from .._core.units import KINDS, UnitsError, parse_quantity
 
-__all__ = ["RunConfig", "load_config", "parse_quantity"]
+__all__ = ["ConfigError", "Field", "SCHEMAS", "parse", "read_toml", "RunConfig", "load_config",
+           "parse_quantity"]
 
-_KNOWN = {
-    "title": None,
-    "psd": {"source", "files", "submaps", "qmax", "m0", "m2", "m4", "path", "variable", "spacing", "num_q"},
-    "surface": {"size", "shape", "spacing"},
-    "ensemble": {"n", "relative_humidity", "seed", "chunks", "adsorbed_layer", "batch", "tolerance",
-                 "n_max", "patience", "distance_points", "distance_lower"},
-    "output": {"folder", "figures", "overwrite"},
-    "run": {"scheduler", "connect_timeout", "progress"},
+
+class ConfigError(ValueError):
+    """A configuration file (or a command-line override) holds a value roughstick refuses."""
+
+
+#: A typical unit to suggest for each kind of quantity, in the message that refuses a bare number.
+_EXAMPLE_UNIT = {"length": "nm", "area": "nm2", "length4": "nm4", "inverse_area": "um-2",
+                 "pressure": "GPa", "energy_per_area": "mJ m-2", "wavevector": "rad/um",
+                 "force": "uN", "temperature": "K", "angle": "deg"}
+
+
+@dataclasses.dataclass(frozen=True)
+class Field:
+    """One key of a table: its kind, whether required, its default and a one-line description.
+
+    ``kind`` is a kind of quantity of :data:`roughstick._core.units.KINDS` (a unit string is then
+    required) or one of ``int``, ``number``, ``fraction``, ``bool``, ``str``, ``choice``,
+    ``path``, ``n`` (an integer >= 1 or "auto"), ``shape`` (an integer or [ny, nx]),
+    ``relative_humidity``; ``many`` makes it a list of those.
+    """
+
+    kind: str
+    doc: str
+    default: Any = None
+    required: bool = False
+    many: bool = False
+    minimum: float | None = None
+    choices: tuple = ()
+    power: int = 1
+
+
+F = Field
+_COMMON = {
+    "surface": {
+        "spacing": F("length", "pixel size of the generated surfaces", required=True),
+        "size": F("length", "side of the generated surfaces (or [y, x]); or give shape", many=True),
+        "shape": F("shape", "pixels of the generated surfaces: n or [ny, nx]; or give size"),
+    },
+    "output": {
+        "folder": F("path", "output folder (relative to the config file)"),
+        "figures": F("bool", "write PNG figures", default=True),
+        "overwrite": F("bool", "replace a run with other parameters in the folder", default=False),
+    },
+    "run": {
+        "scheduler": F("str", "'threads', 'sync', 'processes' or tcp://host:port of a dask cluster"),
+        "connect_timeout": F("number", "seconds to wait for a distributed scheduler", default=5.0,
+                             minimum=0.0),
+        "progress": F("bool", "show a progress bar (default: when on a terminal)"),
+    },
 }
 
+#: Tables and keys of each command's configuration file.
+SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
+    "run": {
+        "": {"title": F("str", "title of the run (figures, NetCDF)")},
+        "psd": {
+            "source": F("choice", "where the PSD comes from", required=True,
+                        choices=("samples", "moments", "file")),
+            "files": F("path", "height maps (source = 'samples')", many=True),
+            "submaps": F("int", "sub-maps per map (paper scheme 3)", default=16, minimum=1),
+            "qmax": F("wavevector", "high-wavevector cutoff (Table 3)"),
+            "m0": F("area", "height variance (source = 'moments'), e.g. '15.7 nm2'"),
+            "m2": F("number", "slope variance (dimensionless, source = 'moments')", minimum=0.0),
+            "m4": F("inverse_area", "curvature variance (source = 'moments'), e.g. '5.08e-4 nm-2'"),
+            "path": F("path", "NetCDF PSD (source = 'file')"),
+            "variable": F("str", "variable of the PSD file", default="psd"),
+            "num_q": F("int", "wavevector points of the Eq. 37 PSD", default=4096, minimum=16),
+        },
+        "surface": _COMMON["surface"],
+        "ensemble": {
+            "n": F("n", "number of surfaces (>= 1) or 'auto'", required=True),
+            "relative_humidity": F("relative_humidity", "humidities as fractions", required=True,
+                                   many=True),
+            "seed": F("int", "root seed", default=0, minimum=0),
+            "chunks": F("int", "realizations per block (one NetCDF file each)", minimum=1),
+            "adsorbed_layer": F("choice", "adsorbed water layer model", default="paper",
+                                choices=("paper", "none")),
+            "batch": F("int", "n = 'auto': surfaces added per batch", minimum=1),
+            "tolerance": F("fraction", "n = 'auto': relative change of the band that stops it"),
+            "n_max": F("int", "n = 'auto': at most this many surfaces", minimum=1),
+            "patience": F("int", "n = 'auto': consecutive stable batches", minimum=1),
+            "distance_points": F("int", "points of the distance grid", default=200, minimum=8),
+            "distance_lower": F("number", "bottom of the distance grid in units of the rms height",
+                                default=1.5, minimum=0.0),
+        },
+        "output": _COMMON["output"],
+        "run": _COMMON["run"],
+    },
+    "risk": {
+        "beam": {
+            "width": F("length", "beam width", default=30e-6),
+            "thickness": F("length", "beam thickness", default=2.62e-6),
+            "gap": F("length", "beam underside to landing pad", default=1.9e-6),
+            "youngs_modulus": F("pressure", "Young's modulus of the beam", default=164e9),
+            "interaction_length": F("length", "Δs of the interaction zone (default: thickness)"),
+            "lengths": F("length", "the beam lengths to assess", many=True),
+        },
+        "surface": {
+            "roughness": F("length", "rms of the beam underside and of the landing pad", many=True),
+            "asperity_radius": F("length", "mean asperity radius of the equivalent surface"),
+            "asperity_density": F("inverse_area", "asperities per area, e.g. '80.1 um-2'"),
+            "qmax": F("wavevector", "high-wavevector cutoff"),
+            "spacing": F("length", "pixel size", default=5e-9),
+            "shape": F("shape", "pixels (along, across the beam); default the whole zone"),
+            "psd": F("path", "a NetCDF PSD measured on your films (variable 'psd')"),
+        },
+        "ensemble": {
+            "n": F("n", "surfaces per adsorbed-layer model (>= 1) or 'auto'", default=20),
+            "relative_humidity": F("relative_humidity", "humidities as fractions", many=True,
+                                   default=[round(0.30 + 0.05 * k, 2) for k in range(14)]),
+            "adsorbed_layer": F("choice", "adsorbed water layer model(s)", many=True,
+                                default=["none", "paper"], choices=("paper", "none")),
+            "seed": F("int", "root seed", default=0, minimum=0),
+            "chunks": F("int", "realizations per block", minimum=1),
+            "stream": F("bool", "stream blocks to disk (a re-run resumes)", default=True),
+            "adhesive_energy": F("path", "skip the simulation: a Γ sample (realization, rh)"),
+        },
+        "risk": {
+            "levels": F("fraction", "P(stuck) levels for the crossing humidity/length", many=True,
+                        default=[0.05, 0.5, 0.95]),
+            "confidence": F("fraction", "coverage of the interval on P(stuck)", default=0.95),
+            "interval": F("choice", "binomial interval", default="wilson",
+                          choices=("wilson", "clopper-pearson", "exact")),
+            "quantiles": F("fraction", "quantiles of Γ saved", many=True,
+                           default=[0.025, 0.5, 0.975]),
+        },
+        "measured": {  # an array of tables: [[measured]]
+            "label": F("str", "legend label", default="measured"),
+            "file": F("path", "CSV: header 'relative_humidity,crack_length [um]' "
+                              "(or 'adhesive_energy [mJ m-2]')"),
+            "relative_humidity": F("relative_humidity", "humidities as fractions", many=True),
+            "crack_length": F("length", "measured crack lengths", many=True),
+            "adhesive_energy": F("energy_per_area", "measured adhesive energies", many=True),
+        },
+        "output": _COMMON["output"],
+        "run": {"scheduler": _COMMON["run"]["scheduler"]},
+    },
+}
 
-def _toml_load(path: pathlib.Path) -> dict:
+#: Keys of the old dialects (units in key names, RH in percent) and what replaces them.
+_RENAMED = {
+    "rh_percent": "relative_humidity = [0.3, 0.5] (fractions; or \"30 %\")",
+    "directory": "folder",
+    "realizations": "n",
+    "lengths_um": 'lengths = ["250 um", "300 um"]',
+    "adhesive_energy_mJ_per_m2": 'adhesive_energy = ["0.5 mJ m-2"]',
+    "asperity_density_per_um2": 'asperity_density = "80.1 um-2"',
+    "qmax_rad_per_um": 'qmax = "289 rad/um"',
+    "youngs_modulus_GPa": 'youngs_modulus = "164 GPa"',
+}
+_UNIT_SUFFIX = re.compile(r"^(?P<key>.+?)_(?P<unit>nm|um|mm|m|GPa|MPa|Pa|percent|pct|nm2|nm4)$")
+
+
+def read_toml(path) -> dict:
+    """Read a TOML file, refusing what is not one (a folder, a missing file, broken TOML)."""
     try:
         import tomllib
     except ModuleNotFoundError:  # Python 3.10
         try:
             import tomli as tomllib
         except ModuleNotFoundError as exc:
-            raise ValueError(
-                "reading TOML configs on Python 3.10 needs the 'tomli' package: pip install tomli "
-                "(Python >= 3.11 has tomllib built in)."
-            ) from exc
+            raise ConfigError("reading TOML configs on Python 3.10 needs the 'tomli' package: "
+                              "pip install tomli (Python >= 3.11 has tomllib built in).") from exc
+
+    path = pathlib.Path(path)
+    if path.is_dir():
+        raise ConfigError(f"{str(path)!r} is a folder; give the configuration file (e.g. examples/risk.toml).")
+    if not path.is_file():
+        raise FileNotFoundError(f"configuration file {str(path)!r} not found.")
     try:
         with open(path, "rb") as fh:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{str(path)!r} is not valid TOML: {exc}") from exc
+        raise ConfigError(f"{path.name} is not valid TOML: {exc}") from exc
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{path.name} is not a text (TOML) file: {exc}") from exc
+
+
+def _unknown(key: str, known, where: str) -> str:
+    hint = ""
+    if key in _RENAMED:
+        hint = f" Write {_RENAMED[key]} instead."
+    elif (m := _UNIT_SUFFIX.match(key)) and m["key"] in known:
+        hint = (f" Units go in the value, not the key: {m['key']} = \"<number> {m['unit']}\".")
+    else:
+        close = difflib.get_close_matches(key, list(known), n=1)
+        if close:
+            hint = f" Did you mean {close[0]!r}?"
+    return f"{where}: unknown key {key!r}.{hint} Known: {sorted(known)}."
+
+
+def _one(value, f: Field, name: str, base: pathlib.Path):
+    """Validate one scalar value of field ``f``; return it in SI (or raise ConfigError)."""
+    k = f.kind
+    if k in KINDS:
+        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+            raise ConfigError(f"{name} = {value!r}: expected a string with a unit, e.g. "
+                              f"{name.rsplit('.', 1)[-1]} = \"5 {_EXAMPLE_UNIT.get(k, KINDS[k])}\".")
+        if isinstance(value, (int, float)):
+            u = _EXAMPLE_UNIT.get(k, KINDS[k])
+            raise ConfigError(
+                f"{name} = {value!r} has no unit (a bare number would be read as {KINDS[k]}); "
+                f"write it with its unit, e.g. {name.rsplit('.', 1)[-1]} = \"{value:g} {u}\".")
+        m = re.match(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*$", value)
+        if m:
+            u = _EXAMPLE_UNIT.get(k, KINDS[k])
+            raise ConfigError(f"{name} = {value!r} has no unit; write e.g. \"{value.strip()} {u}\".")
+        try:
+            if k in ("area", "length4", "inverse_area"):
+                power = {"area": 2, "length4": 4, "inverse_area": -2}[k]
+                v = parse_quantity(value, "length", name=name, power=power)
+            else:
+                v = parse_quantity(value, k, name=name)
+        except (UnitsError, ValueError) as exc:
+            raise ConfigError(str(exc)) from None
+        if not np.isfinite(v) or v <= 0:
+            raise ConfigError(f"{name} = {value!r}: must be positive and finite.")
+        return v
+    if k in ("int", "n"):
+        if k == "n" and value == "auto":
+            return "auto"
+        if isinstance(value, bool) or not isinstance(value, int):
+            also = " or 'auto'" if k == "n" else ""
+            raise ConfigError(f"{name} = {value!r}: expected an integer{also}"
+                              + (f" (write {int(value)} or {int(value) + 1} if you meant a whole number)"
+                                 if isinstance(value, float) and np.isfinite(value) else "") + ".")
+        lo = 1 if k == "n" else f.minimum
+        if lo is not None and value < lo:
+            also = " or 'auto'" if k == "n" else ""
+            raise ConfigError(f"{name} = {value!r}: must be an integer >= {lo:g}{also}.")
+        return int(value)
+    if k == "shape":
+        v = value if isinstance(value, list) else [value, value]
+        if len(v) != 2 or any(isinstance(e, bool) or not isinstance(e, int) or e < 8 for e in v):
+            raise ConfigError(f"{name} = {value!r}: expected an integer >= 8 or [ny, nx] of integers >= 8, "
+                              "e.g. shape = [256, 256].")
+        return (int(v[0]), int(v[1]))
+    if k == "number":
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+            raise ConfigError(f"{name} = {value!r}: expected a finite number.")
+        if f.minimum is not None and value < f.minimum:
+            raise ConfigError(f"{name} = {value!r}: must be >= {f.minimum:g}.")
+        return float(value)
+    if k in ("fraction", "relative_humidity"):
+        if isinstance(value, str) and value.strip().endswith("%"):
+            try:
+                value = float(value.strip()[:-1]) / 100.0
+            except ValueError:
+                raise ConfigError(f"{name} = {value!r}: expected a fraction like 0.3 or '30 %'.") from None
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+            raise ConfigError(f"{name} = {value!r}: expected a fraction like 0.3 (or the string '30 %').")
+        if not 0 < value < 1:
+            fix = (f" It looks like percent: write {value / 100:g} (fractions) or \"{value:g} %\"."
+                   if 1 <= value < 100 else "")
+            raise ConfigError(f"{name} = {value!r}: must be a fraction in (0, 1).{fix}")
+        return float(value)
+    if k == "bool":
+        if not isinstance(value, bool):
+            raise ConfigError(f"{name} = {value!r}: expected true or false (TOML booleans, no quotes).")
+        return value
+    if k == "str":
+        if not isinstance(value, str) or not value:
+            raise ConfigError(f"{name} = {value!r}: expected a non-empty string.")
+        return value
+    if k == "choice":
+        if value not in f.choices:
+            raise ConfigError(f"{name} = {value!r}: must be one of {list(f.choices)}.")
+        return value
+    if k == "path":
+        if not isinstance(value, str) or not value:
+            raise ConfigError(f"{name} = {value!r}: expected a path (a string).")
+        p = pathlib.Path(value).expanduser()
+        return p if p.is_absolute() else (base / p).resolve()
+    raise AssertionError(f"unknown field kind {k!r}")  # a bug in SCHEMAS, not a user error
+
+
+def _value(value, f: Field, name: str, base: pathlib.Path):
+    if f.many:
+        items = value if isinstance(value, list) else [value]
+        if not items:
+            raise ConfigError(f"{name} is empty; give at least one value, e.g. {_example(f)}.")
+        out = []
+        for i, v in enumerate(items):
+            out.append(_one(v, f, f"{name}[{i}]" if isinstance(value, list) else name, base))
+        if f.kind == "relative_humidity" and len(set(out)) != len(out):
+            raise ConfigError(f"{name} = {value!r}: repeated humidities; give each once.")
+        return out
+    if isinstance(value, list) and f.kind != "shape":
+        raise ConfigError(f"{name} = {value!r}: expected one value, not a list.")
+    return _one(value, f, name, base)
+
+
+def _example(f: Field) -> str:
+    if f.kind == "relative_humidity":
+        return "[0.3, 0.5, 0.7, 0.9]"
+    if f.kind in _EXAMPLE_UNIT:
+        return f'["5 {_EXAMPLE_UNIT[f.kind]}"]'
+    return "[...]"
+
+
+def parse(raw: dict, command: str, *, base, source: str = "config") -> dict:
+    """Validate a raw TOML dict against ``SCHEMAS[command]``; return ``{table: {key: SI value}}``.
+
+    Defaults are filled in; tables listed as arrays (``[[measured]]``) become lists of dicts.
+    Every problem of the file is collected and raised together as one :class:`ConfigError`.
+    """
+    schema = SCHEMAS[command]
+    base = pathlib.Path(base)
+    errors: list[str] = []
+    out: dict = {}
+    top = schema.get("", {})
+    for key, body in raw.items():
+        if key in schema and key != "":
+            continue
+        if key in top:
+            continue
+        tables = sorted(t for t in schema if t)
+        close = difflib.get_close_matches(key, tables + list(top), n=1)
+        hint = f" Did you mean [{close[0]}]?" if close else ""
+        if key in ("humidity",):
+            hint = " Humidities go in [ensemble] relative_humidity = [0.3, 0.5] (fractions)."
+        errors.append(f"{source}: unknown table or key {key!r}.{hint} Known tables: {tables}.")
+    for table, fields in schema.items():
+        if table == "":
+            body = {k: v for k, v in raw.items() if k in fields}
+            bodies = [body]
+        else:
+            body = raw.get(table, {})
+            array = table == "measured"
+            if array:
+                bodies = body if isinstance(body, list) else [body]
+            else:
+                bodies = [body]
+        parsed = []
+        for b in bodies:
+            if not isinstance(b, dict):
+                errors.append(f"{source}: [{table}] must be a table.")
+                continue
+            where = f"{source} [{table}]" if table else source
+            res = {}
+            for key, value in b.items():
+                if key not in fields:
+                    errors.append(_unknown(key, fields, where))
+                    continue
+                try:
+                    res[key] = _value(value, fields[key], f"{table}.{key}" if table else key, base)
+                except ConfigError as exc:
+                    errors.append(f"{source}: {exc}")
+            for key, f in fields.items():
+                if key in res or key in b:  # present (possibly refused above)
+                    continue
+                if f.required and not (table == "measured"):
+                    errors.append(f"{source}: [{table}] {key} is required ({f.doc}).")
+                elif f.default is not None:
+                    res[key] = list(f.default) if isinstance(f.default, list) else f.default
+            parsed.append(res)
+        if table == "":
+            out.update(parsed[0] if parsed else {})
+        elif table == "measured":
+            out[table] = parsed if raw.get(table) else []
+        else:
+            out[table] = parsed[0] if parsed else {}
+    if errors:
+        raise ConfigError("\n  ".join([f"{len(errors)} problem(s) in the configuration:"] + errors)
+                          if len(errors) > 1 else errors[0])
+    return out
+
+
+# ----------------------------------------------------------------------------- roughstick run
 
 
 @dataclasses.dataclass
 class RunConfig:
-    """A parsed run configuration (SI values, absolute paths)."""
+    """A parsed ``roughstick run`` configuration (SI values, absolute paths)."""
 
     path: pathlib.Path
     title: str
@@ -105,8 +433,6 @@ class RunConfig:
 
     def build_psd(self):
         """The PSD DataArray [m4] described by the ``[psd]`` table."""
-
-
         p = self.psd
         src = p["source"]
         if src == "samples":
@@ -123,146 +449,120 @@ class RunConfig:
             q = np.linspace(0, max(qn * np.sqrt(2), p["qmax"]) * 1.0001, int(p.get("num_q", 4096)))
             psd = rs.self_affine_psd(q, s0=float(fit["s0"]), s1=float(fit["s1"]), q0=float(fit["q0"]),
                                      qmax=float(fit["qmax"]))
-        elif src == "file":
-            with xr.open_dataset(p["path"], engine="netcdf4") as ds:
+        else:
+            with rs.open_dataset(p["path"]) as ds:
                 var = p.get("variable", "psd")
                 if var not in ds:
-                    raise ValueError(f"{p['path']!r} has no variable {var!r}; set psd.variable.")
+                    raise ValueError(f"{p['path']!r} has no variable {var!r} (it has "
+                                     f"{sorted(ds.data_vars)}); set [psd] variable.")
                 psd = ds[var].load()
-        else:  # checked in load_config
-            raise ValueError(src)
         if "qmax" in p and src != "moments":
             qmax = p["qmax"]
-            if "qx" in psd.dims:
-                qq = np.hypot(psd["qx"], psd["qy"])
-            else:
-                qq = psd["q"]
+            qq = np.hypot(psd["qx"], psd["qy"]) if "qx" in psd.dims else psd["q"]
             psd = psd.where(qq <= qmax, 0.0).assign_attrs(psd.attrs)
             psd.attrs["qmax_cutoff"] = qmax
         return psd
 
 
-def _check_keys(raw: dict, path) -> None:
-    for k, v in raw.items():
-        if k not in _KNOWN:
-            raise ValueError(f"{path}: unknown table or key {k!r}; known: {sorted(_KNOWN)}.")
-        if isinstance(_KNOWN[k], set):
-            if not isinstance(v, dict):
-                raise ValueError(f"{path}: [{k}] must be a table.")
-            bad = set(v) - _KNOWN[k]
-            if bad:
-                raise ValueError(f"{path}: unknown key(s) {sorted(bad)} in [{k}]; known: {sorted(_KNOWN[k])}.")
+def _override(cfg: dict, table: str, key: str, value, command: str, flag: str, base) -> None:
+    f = SCHEMAS[command][table][key]
+    try:
+        cfg[table][key] = _value(value, f, flag, base)
+    except ConfigError as exc:
+        raise ConfigError(f"{exc} (command-line option {flag})") from None
 
 
 def load_config(path, *, overrides: dict | None = None) -> RunConfig:
-    """Read and validate a TOML run configuration (see the module docstring).
+    """Read and validate a ``roughstick run`` TOML configuration (see the module docstring).
 
     Parameters
     ----------
     path : str or pathlib.Path
         The ``.toml`` file.
     overrides : dict, optional
-        ``{"n": ..., "scheduler": ..., "folder": ..., "overwrite": ...}`` from the command line.
+        ``{"n": ..., "scheduler": ..., "folder": ..., "overwrite": ...}`` from the command line,
+        validated like the file's values (``--n 0`` is refused, not ignored).
 
     Raises
     ------
     FileNotFoundError
-        Missing config or sample files.
-    ValueError
-        Unknown keys, bad values (empty humidity list, n = 0 ...), naming the key and the fix.
+        Missing config or input files.
+    ConfigError
+        Unknown keys, bad values, naming the key and the fix.
     """
     path = pathlib.Path(path).resolve()
-    if not path.exists():
-        raise FileNotFoundError(f"config file {str(path)!r} not found.")
-    raw = _toml_load(path)
-    _check_keys(raw, path.name)
+    raw = read_toml(path)
     base = path.parent
-    o = overrides or {}
+    c = parse(raw, "run", base=base, source=path.name)
+    o = {k: v for k, v in (overrides or {}).items() if v is not None}
+    cwd = pathlib.Path.cwd()
+    if "n" in o:
+        n = o["n"]
+        if isinstance(n, str) and n != "auto":
+            try:
+                n = int(n)
+            except ValueError:
+                raise ConfigError(f"--n {o['n']!r}: expected an integer >= 1 or 'auto'.") from None
+        _override(c, "ensemble", "n", n, "run", "--n", cwd)
+    if "folder" in o:
+        _override(c, "output", "folder", str(o["folder"]), "run", "--out", cwd)
+    if o.get("overwrite"):
+        c["output"]["overwrite"] = True
+    if "scheduler" in o:
+        c["run"]["scheduler"] = o["scheduler"]
 
-    psd = dict(raw.get("psd", {}))
-    src = psd.get("source")
-    if src not in ("samples", "moments", "file"):
-        raise ValueError(f"{path.name}: [psd] source must be 'samples', 'moments' or 'file', got {src!r}.")
-    if src == "samples":
-        files = psd.get("files")
-        if not files:
-            raise ValueError(f"{path.name}: [psd] files = [...] (height maps) is required for source='samples'.")
-        psd["files"] = [str((base / f).resolve()) for f in files]
-        for f in psd["files"]:
-            if not pathlib.Path(f).exists():
-                raise FileNotFoundError(f"{path.name}: sample map {f!r} not found.")
-    elif src == "moments":
-        for k in ("m0", "m2", "m4", "qmax"):
-            if k not in psd:
-                raise ValueError(f"{path.name}: [psd] needs {k} for source='moments'.")
-        psd["m0"] = parse_quantity(psd["m0"], "length", name="m0", power=2)
-        psd["m2"] = float(psd["m2"])
-        psd["m4"] = parse_quantity(psd["m4"], "length", name="m4", power=-2)
-    else:
-        if "path" not in psd:
-            raise ValueError(f"{path.name}: [psd] path = 'file.nc' is required for source='file'.")
-        psd["path"] = str((base / psd["path"]).resolve())
-        if not pathlib.Path(psd["path"]).exists():
-            raise FileNotFoundError(f"{path.name}: PSD file {psd['path']!r} not found.")
-    if "qmax" in psd:
-        psd["qmax"] = parse_quantity(psd["qmax"], "wavevector", name="qmax")
-
-    surf = raw.get("surface", {})
-    if "spacing" not in surf:
-        raise ValueError(f"{path.name}: [surface] spacing is required (e.g. spacing = '5 nm').")
-    spacing = parse_quantity(surf["spacing"], "length", name="spacing")
-    shape = size = None
+    psd, surf, ens = c["psd"], c["surface"], c["ensemble"]
+    problems = []
+    need = {"samples": ("files",), "moments": ("m0", "m2", "m4", "qmax"), "file": ("path",)}
+    for k in need[psd["source"]]:
+        if k not in psd:
+            problems.append(f"[psd] {k} is required for source = {psd['source']!r}")
+    for f in list(psd.get("files", [])) + ([psd["path"]] if "path" in psd else []):
+        if not pathlib.Path(f).is_file():
+            problems.append(f"[psd] input file {str(f)!r} not found")
     if ("shape" in surf) == ("size" in surf):
-        raise ValueError(f"{path.name}: [surface] needs exactly one of shape = [ny, nx] or size = '5.12 um'.")
-    if "shape" in surf:
-        s = surf["shape"]
-        shape = (int(s), int(s)) if isinstance(s, int) else tuple(int(v) for v in s)
+        problems.append("[surface] needs exactly one of shape = [ny, nx] or size = \"5.12 um\"")
+    if "folder" not in c["output"]:
+        problems.append("[output] folder is required (or pass --out)")
+    if ens["n"] == "auto":
+        if "tolerance" not in ens:
+            ens["tolerance"] = 0.02
     else:
-        s = surf["size"]
-        size = tuple(parse_quantity(v, "length", name="size") for v in (s if isinstance(s, list) else [s, s]))
-
-    ens = raw.get("ensemble", {})
-    n = o.get("n") or ens.get("n")
-    if n is None:
-        raise ValueError(f"{path.name}: [ensemble] n is required (an integer >= 1 or 'auto').")
-    if n != "auto":
-        if isinstance(n, str) and n.isdigit():
-            n = int(n)
-        if not isinstance(n, int) or isinstance(n, bool) or n < 1:
-            raise ValueError(f"{path.name}: [ensemble] n must be an integer >= 1 or 'auto', got {n!r}.")
-    rh = ens.get("relative_humidity")
-    if not rh:
-        raise ValueError(
-            f"{path.name}: [ensemble] relative_humidity is empty or missing; give fractions, "
-            "e.g. relative_humidity = [0.3, 0.5, 0.7, 0.9]."
-        )
-    rh = [float(v) for v in rh]
-    if any(not 0 < v < 1 for v in rh):
-        raise ValueError(f"{path.name}: relative_humidity values must be fractions in (0, 1), got {rh}.")
-    out = raw.get("output", {})
-    folder = o.get("folder") or out.get("folder")
-    if not folder:
-        raise ValueError(f"{path.name}: [output] folder is required.")
-    run = raw.get("run", {})
+        stray = [k for k in ("batch", "tolerance", "n_max", "patience") if k in ens]
+        if stray:
+            problems.append(f"[ensemble] {stray} only apply with n = 'auto' (n = {ens['n']}); remove them")
+    if ens["n"] == "auto" and "n_max" in ens and "batch" in ens and ens["batch"] > ens["n_max"]:
+        problems.append(f"[ensemble] batch = {ens['batch']} exceeds n_max = {ens['n_max']}")
+    if problems:
+        raise ConfigError(f"{path.name}: " + "; ".join(problems) + ".")
+    size = surf.get("size")
+    if size is not None:
+        if len(size) == 1:
+            size = size * 2
+        if len(size) != 2:
+            raise ConfigError(f"{path.name}: [surface] size takes one length or [y, x].")
+    psd_table = {k: (str(v) if isinstance(v, pathlib.Path) else v) for k, v in psd.items()}
+    if "files" in psd_table:
+        psd_table["files"] = [str(f) for f in psd["files"]]
     return RunConfig(
         path=path,
-        title=str(raw.get("title", path.stem)),
-        psd=psd,
-        shape=shape,
-        size=size,
-        spacing=spacing,
-        n=n,
-        relative_humidity=rh,
-        seed=int(ens.get("seed", 0)),
-        chunks=int(ens["chunks"]) if "chunks" in ens else None,
-        adsorbed_layer=str(ens.get("adsorbed_layer", "paper")),
+        title=str(c.get("title", path.stem)),
+        psd=psd_table,
+        shape=surf.get("shape"),
+        size=tuple(size) if size is not None else None,
+        spacing=surf["spacing"],
+        n=ens["n"],
+        relative_humidity=ens["relative_humidity"],
+        seed=ens["seed"],
+        chunks=ens.get("chunks"),
+        adsorbed_layer=ens["adsorbed_layer"],
         auto={k: ens[k] for k in ("batch", "tolerance", "n_max", "patience") if k in ens},
-        distance_points=int(ens.get("distance_points", 200)),
-        distance_lower=float(ens.get("distance_lower", 1.5)),
-        folder=(base / folder).resolve() if not pathlib.Path(folder).is_absolute() else pathlib.Path(folder),
-        figures=bool(out.get("figures", True)),
-        overwrite=bool(o.get("overwrite") or out.get("overwrite", False)),
-        scheduler=o.get("scheduler") or run.get("scheduler"),
-        connect_timeout=float(run.get("connect_timeout", 5.0)),
-        progress=run.get("progress"),
+        distance_points=ens["distance_points"],
+        distance_lower=ens["distance_lower"],
+        folder=pathlib.Path(c["output"]["folder"]),
+        figures=c["output"]["figures"],
+        overwrite=c["output"]["overwrite"],
+        scheduler=c["run"].get("scheduler"),
+        connect_timeout=c["run"]["connect_timeout"],
+        progress=c["run"].get("progress"),
     )

@@ -1,9 +1,10 @@
-"""``roughstick run CONFIG.toml``: a Monte Carlo ensemble from a TOML config (see roughstick._config).
+"""``roughstick run CONFIG.toml``: a Monte Carlo ensemble from a TOML config (docs/configuration.md).
 
 Writes, into the config's output folder: ``ensemble/`` (one CF NetCDF file per block plus
-``manifest.json``; an interrupted run resumes from it), ``band.nc`` (mean, 95 % band and its
-uncertainty), and unless ``figures = false`` ``curves.png``, ``energy_band.png``,
-``energy_ecdf.png``.
+``manifest.json``; an interrupted run resumes from it), ``band.nc`` (median, 95 % band, each band
+edge's own confidence interval, the run's parameters and, for ``n = "auto"``, whether it
+converged), and unless ``figures = false`` ``curves.png``, ``energy_band.png``,
+``energy_ecdf.png``. Every file appears under its final name only once complete.
 """
 
 from __future__ import annotations
@@ -13,11 +14,14 @@ import time
 
 import roughstick as rs
 
+from ..io.netcdf import remove_partial_files
 from ..plotting.ensemble import (
     plot_energy_band,
     plot_energy_distribution,
     plot_ensemble_curves,
 )
+from ..plotting.save import save_figure
+from ._common import LOG
 from ._config import load_config
 
 
@@ -26,13 +30,13 @@ def register(sub):
         "run",
         help="run a Monte Carlo ensemble from a TOML config; write NetCDF and figures (resumable)",
         description="Run the ensemble described by CONFIG.toml (PSD source, surface size, n, humidities, "
-                    "adsorbed layer, output folder, scheduler). Re-running the same command resumes an "
-                    "interrupted run.",
+                    "adsorbed layer, output folder, scheduler; see docs/configuration.md). Re-running "
+                    "the same command resumes an interrupted run.",
     )
-    p.add_argument("config", help="TOML file (see docs/ensembles.md and examples/*.toml)")
+    p.add_argument("config", help="TOML file (see docs/configuration.md and examples/*.toml)")
     p.add_argument("--scheduler", default=None,
                    help="dask scheduler: 'threads' (default), 'sync', or a distributed address tcp://host:port")
-    p.add_argument("--n", default=None, help="override [ensemble] n (an integer or 'auto')")
+    p.add_argument("--n", default=None, help="override [ensemble] n (an integer >= 1 or 'auto')")
     p.add_argument("--out", default=None, help="override [output] folder")
     p.add_argument("--overwrite", action="store_true",
                    help="replace a run with different parameters in the output folder")
@@ -40,9 +44,8 @@ def register(sub):
     p.set_defaults(func=_run)
 
 
-def run_config(cfg, *, figures=True, log=print):
-    """Run a parsed :class:`roughstick._config.RunConfig`; return the written paths."""
-
+def run_config(cfg, *, figures=True, log=LOG.info):
+    """Run a parsed :class:`roughstick.cli._config.RunConfig`; return the written paths."""
     t0 = time.perf_counter()
     psd = cfg.psd_da if hasattr(cfg, "psd_da") else cfg.build_psd()
     shape = rs.surface_shape(shape=cfg.shape, size=cfg.size, spacing=cfg.spacing)
@@ -51,6 +54,7 @@ def run_config(cfg, *, figures=True, log=print):
                                      adsorbed_layer=cfg.adsorbed_layer, num=cfg.distance_points,
                                      lower=cfg.distance_lower)
     cfg.folder.mkdir(parents=True, exist_ok=True)
+    remove_partial_files(cfg.folder)  # band.nc / PNG left half-written by a killed run
     ens_dir = cfg.folder / "ensemble"
     log(f"{cfg.title}: n={cfg.n}, shape={shape}, spacing={cfg.spacing * 1e9:g} nm, "
         f"RH={cfg.relative_humidity}, output {ens_dir}")
@@ -64,6 +68,7 @@ def run_config(cfg, *, figures=True, log=print):
     written = [ens_dir]
     band = rs.confidence_band(ds)
     band.attrs["title"] = f"{cfg.title}: ensemble band"
+    band.attrs["configuration"] = cfg.path.read_text()
     path = cfg.folder / "band.nc"
     rs.io.netcdf.write(band, path, compute=True)
     written.append(path)
@@ -71,44 +76,33 @@ def run_config(cfg, *, figures=True, log=print):
         import matplotlib
 
         matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
 
         fig = plot_ensemble_curves(ds)
         fig.suptitle(cfg.title)
-        written.append(_save(fig, cfg.folder / "curves.png"))
+        written.append(save_figure(fig, cfg.folder / "curves.png"))
         ax = plot_energy_band(ds)
         ax.set_title(cfg.title)
-        written.append(_save(ax.figure, cfg.folder / "energy_band.png"))
+        written.append(save_figure(ax.figure, cfg.folder / "energy_band.png"))
         ax = plot_energy_distribution(ds)
         ax.set_title(cfg.title)
-        written.append(_save(ax.figure, cfg.folder / "energy_ecdf.png"))
-        plt.close("all")
-    g = band["adhesive_energy"]
-    for k, r in enumerate(band.rh.values):
-        lo, med, hi = (g.values[:, k] * 1e3)
-        log(f"  RH {r:.0%}: Γ median {med:.4g} mJ/m², {band.attrs['level']:.0%} band [{lo:.4g}, {hi:.4g}]")
+        written.append(save_figure(ax.figure, cfg.folder / "energy_ecdf.png"))
+    log("apparent adhesive energy Γ:")
+    for line in rs.band_summary(band):
+        log("  " + line)
+    if cfg.n == "auto":
+        state = "converged" if band.attrs.get("auto_converged") else (
+            "NOT converged: stopped at n_max; raise [ensemble] n_max or tolerance")
+        log(f"n = 'auto': {state} (n = {ds.sizes['realization']})")
     log(f"done in {time.perf_counter() - t0:.1f} s; n = {ds.sizes['realization']}")
     return written
 
 
-def _save(fig, path: pathlib.Path) -> pathlib.Path:
-    fig.savefig(path, dpi=110)
-    return path
-
-
 def _run(args):
-
-    overrides = {"scheduler": args.scheduler, "overwrite": args.overwrite}
-    if args.n is not None:
-        overrides["n"] = args.n if args.n == "auto" else int(args.n)
+    overrides = {"scheduler": args.scheduler, "overwrite": args.overwrite, "n": args.n}
     if args.out is not None:
         overrides["folder"] = str(pathlib.Path(args.out).resolve())
     cfg = load_config(args.config, overrides=overrides)
-    try:
-        files = run_config(cfg, figures=not args.no_figures)
-    except ConnectionError as exc:
-        raise ValueError(str(exc)) from exc
+    files = run_config(cfg, figures=not args.no_figures)
     for f in files:
-        print(f"    {f}")
+        LOG.info(f"    {f}")
     return 0

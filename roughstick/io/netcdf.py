@@ -157,8 +157,13 @@ def write(ds: xr.Dataset, path, *, compute: bool = False):
     ds, encoding = _prepare(ds)
     tmp = _tmp_name(path)
     if compute:
-        ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
-        _finish(None, tmp, path)
+        try:
+            ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
+            _finish(None, tmp, path)
+        except BaseException:  # a failed or interrupted write leaves nothing behind
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+            raise
         return path
     delayed_write = ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding, compute=False)
     return dask.delayed(_finish, pure=False)(delayed_write, tmp, path)
@@ -199,7 +204,13 @@ def open_dataset(path, *, chunks=None) -> xr.Dataset:
             f"{str(path)!r} is a temporary file left by an interrupted write, not a complete result; "
             "delete it (a resumed run recomputes that block)."
         )
-    return xr.open_dataset(path, engine="netcdf4", chunks=chunks)
+    try:
+        return xr.open_dataset(path, engine="netcdf4", chunks=chunks)
+    except OSError as exc:  # netCDF4 says "NetCDF: HDF error" / "Unknown file format"
+        raise ValueError(
+            f"cannot read {str(path)!r} as NetCDF ({exc}): the file is damaged, truncated or not "
+            "a NetCDF file; re-create it (a roughstick run re-writes missing blocks) or give another file."
+        ) from exc
 
 
 # ----------------------------------------------------------------------------- other files

@@ -10,3 +10,4 @@ from .gw import *  # noqa: F403
 from .rough_contact import *  # noqa: F403
 from .sphere import *  # noqa: F403
 from .topography import *  # noqa: F403
+from .save import *  # noqa: F403
