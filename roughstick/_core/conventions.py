@@ -14,7 +14,7 @@ import xarray as xr
 from .references import PAPER, cite
 from .version import __version__
 
-__all__ = ["ATTRS", "DIMS", "CONVENTIONS", "PAPER_REFERENCE", "CURVE_VARIABLES", "set_attrs", "append_history", "dataset_attrs"]
+__all__ = ["ATTRS", "DIMS", "CONVENTIONS", "PAPER_REFERENCE", "CURVE_VARIABLES", "set_attrs", "coord_attrs", "append_history", "dataset_attrs"]
 
 CONVENTIONS = "CF-1.10"
 
@@ -56,7 +56,7 @@ ATTRS: dict[str, dict[str, str]] = {
     "qx": {"units": "rad m-1", "long_name": "angular wavevector, x component"},
     "qy": {"units": "rad m-1", "long_name": "angular wavevector, y component"},
     "q": {"units": "rad m-1", "long_name": "angular wavevector magnitude"},
-    "realization": {"units": "1", "long_name": "realization index"},
+    "realization": {"units": "1", "long_name": "realization index", "standard_name": "realization"},
     "rh": {"units": "1", "long_name": "relative humidity", "standard_name": "relative_humidity"},
     "distance": {"units": "m", "long_name": "distance from the flat to the mean plane of the rough surface"},
     "interference": {"units": "m", "long_name": "interference (approach of the sphere past first contact)"},
@@ -81,6 +81,7 @@ ATTRS: dict[str, dict[str, str]] = {
     "laplace_pressure": {"units": "Pa", "long_name": "Laplace pressure inside the meniscus (negative: tension)"},
     "meniscus_height": {"units": "m", "long_name": "meniscus height"},
     "adsorbed_layer": {"units": "m", "long_name": "adsorbed water layer thickness (sum over both surfaces)"},
+    "adsorbed_layer_model": {"long_name": "adsorbed water layer model"},  # a string label: no units (CF)
     "water_height": {"units": "m", "long_name": "height of condensed water"},
     # sphere contact
     "force": {"units": "N", "long_name": "normal force (positive repulsive)"},
@@ -123,6 +124,15 @@ ATTRS: dict[str, dict[str, str]] = {
 }
 
 
+def coord_attrs(name: str, var) -> dict:
+    """Canonical attributes of coordinate ``name``; a string-valued coordinate (e.g. the
+    ``adsorbed_layer`` model labels "none"/"paper") gets a ``long_name`` and no ``units`` (CF)."""
+    if getattr(var, "dtype", None) is not None and var.dtype.kind in "OSU":
+        attrs = ATTRS.get(f"{name}_model", ATTRS.get(name, {}))
+        return {k: v for k, v in attrs.items() if k == "long_name"} or {"long_name": name}
+    return dict(ATTRS[name])
+
+
 def set_attrs(obj: xr.DataArray, name: str, **extra) -> xr.DataArray:
     """Return ``obj`` with the canonical attributes of ``name`` (plus ``extra``).
 
@@ -132,7 +142,7 @@ def set_attrs(obj: xr.DataArray, name: str, **extra) -> xr.DataArray:
     out.attrs = {**ATTRS[name], **extra}
     for c in out.coords:
         if c in ATTRS:
-            out[c].attrs = dict(ATTRS[c])
+            out[c].attrs = coord_attrs(c, out[c])
     return out
 
 
@@ -140,7 +150,7 @@ def set_coord_attrs(obj):
     """Give every coordinate with a canonical name its canonical attributes (in place)."""
     for c in obj.coords:
         if c in ATTRS:
-            obj[c].attrs = dict(ATTRS[c])
+            obj[c].attrs = coord_attrs(c, obj[c])
     return obj
 
 

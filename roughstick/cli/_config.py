@@ -217,8 +217,10 @@ def _unknown(key: str, known, where: str) -> str:
     hint = ""
     if key in _RENAMED:
         hint = f" Write {_RENAMED[key]} instead."
-    elif (m := _UNIT_SUFFIX.match(key)) and m["key"] in known:
-        hint = (f" Units go in the value, not the key: {m['key']} = \"<number> {m['unit']}\".")
+    elif m := _UNIT_SUFFIX.match(key):
+        stem = m["key"] if m["key"] in known else (difflib.get_close_matches(m["key"], list(known), n=1)
+                                                   or [m["key"]])[0]
+        hint = f" Units go in the value, not the key: {stem} = \"<number> {m['unit']}\"."
     else:
         close = difflib.get_close_matches(key, list(known), n=1)
         if close:
@@ -335,13 +337,13 @@ def _example(f: Field) -> str:
     return "[...]"
 
 
-def parse(raw: dict, command: str, *, base, source: str = "config") -> dict:
+def parse(raw: dict, command: str, *, base, source: str = "config", schema=None) -> dict:
     """Validate a raw TOML dict against ``SCHEMAS[command]``; return ``{table: {key: SI value}}``.
 
     Defaults are filled in; tables listed as arrays (``[[measured]]``) become lists of dicts.
     Every problem of the file is collected and raised together as one :class:`ConfigError`.
     """
-    schema = SCHEMAS[command]
+    schema = SCHEMAS[command] if schema is None else schema
     base = pathlib.Path(base)
     errors: list[str] = []
     out: dict = {}

@@ -3,8 +3,9 @@
 Reads a TOML file (see ``examples/risk.toml``), predicts the interaction-zone adhesive energy Γ
 with the paper's §5.2 model (or reads a Γ sample you computed), and writes ``risk.nc`` plus PNG
 plots: P(stuck) versus RH for each beam length, P versus length, the Fig. 20a/b-style Γ bands
-with your measured points, and the predicted crack length. Lengths in the file carry their unit
-in the key (``_um``, ``_nm``); humidities are in percent (``rh_percent``).
+with your measured points, and the predicted crack length. The file follows the one schema of
+every command (docs/configuration.md): quantities with units in the value (``width = "30 um"``),
+humidities as fractions; every value is checked before the simulation starts.
 """
 
 from __future__ import annotations
@@ -17,20 +18,11 @@ import xarray as xr
 import roughstick as rs
 
 from .. import plotting
-from .._core.conventions import append_history, set_attrs
-
-_SCHEMA = {
-    "output": {"directory"},
-    "beam": {"width_um", "thickness_um", "gap_um", "youngs_modulus_GPa", "interaction_length_um",
-             "lengths_um"},
-    "surface": {"roughness_nm", "asperity_radius_nm", "asperity_density_per_um2", "qmax_rad_per_um",
-                "spacing_nm", "shape", "psd"},
-    "humidity": {"rh_percent", "adsorbed_layer"},
-    "ensemble": {"realizations", "seed", "chunks", "stream", "scheduler", "adhesive_energy"},
-    "risk": {"levels", "confidence", "interval", "quantiles"},
-    "measured": {"rh_percent", "crack_length_um", "adhesive_energy_mJ_per_m2", "label", "file"},
-}
-
+from .._core.conventions import ATTRS, append_history, set_attrs
+from ..plotting.save import save_figure
+from ..stiction.interaction_zone import TABLE4
+from ._common import LOG, claim_folder, finish_folder
+from ._config import ConfigError, Field, parse, read_toml
 
 def register(sub):
     p = sub.add_parser(
@@ -38,142 +30,156 @@ def register(sub):
         help="stiction probability of cantilevers vs RH and beam length (paper §5); NetCDF + plots",
         description=__doc__,
     )
-    p.add_argument("config", help="TOML configuration (see examples/risk.toml)")
-    p.add_argument("--out", default=None, help="output folder (default: [output] directory, else ./risk-output)")
+    p.add_argument("config", help="TOML configuration (see examples/risk.toml, docs/configuration.md)")
+    p.add_argument("--out", default=None, help="output folder (default: [output] folder, else ./risk-output)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace the results of a run with other parameters in the output folder")
     p.set_defaults(func=_run)
 
 
-def _load_toml(path: pathlib.Path) -> dict:
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10
+def load_risk_config(path) -> dict:
+    """Read and validate a ``roughstick risk`` TOML file (the one schema of
+    :mod:`roughstick.cli._config`); return SI values and absolute paths. Every value, the measured
+    points' files included, is checked here, before any simulation starts."""
+    path = pathlib.Path(path).resolve()
+    c = parse(read_toml(path), "risk", base=path.parent, source=path.name)
+    problems = []
+    for key in ("psd",):
+        if key in c["surface"] and not c["surface"][key].is_file():
+            problems.append(f"[surface] {key}: file {str(c['surface'][key])!r} not found")
+    if "adhesive_energy" in c["ensemble"] and not c["ensemble"]["adhesive_energy"].exists():
+        problems.append(f"[ensemble] adhesive_energy: {str(c['ensemble']['adhesive_energy'])!r} not found")
+    for k, m in enumerate(c["measured"]):
         try:
-            import tomli as tomllib
-        except ModuleNotFoundError as exc:  # pragma: no cover
-            raise ValueError("reading TOML on Python 3.10 needs the 'tomli' package: pip install tomli") from exc
+            m.update(_measured_file(m))
+        except (ValueError, FileNotFoundError) as exc:
+            problems.append(f"[[measured]] #{k + 1}: {exc}")
+            continue
+        if "relative_humidity" not in m:
+            problems.append(f"[[measured]] #{k + 1} needs relative_humidity = [...] (or file = 'points.csv')")
+        elif not {"crack_length", "adhesive_energy"} & set(m):
+            problems.append(f"[[measured]] #{k + 1} needs crack_length or adhesive_energy")
+        else:
+            for v in ("crack_length", "adhesive_energy"):
+                if v in m and len(m[v]) != len(m["relative_humidity"]):
+                    problems.append(f"[[measured]] #{k + 1}: {v} has {len(m[v])} values, "
+                                    f"relative_humidity {len(m['relative_humidity'])}")
+    if problems:
+        raise ConfigError(f"{path.name}: " + "; ".join(problems) + ".")
+    c["path"] = path
+    return c
+
+
+#: CSV columns of measured points: header name -> (config key, kind of quantity or None).
+_CSV = {"relative_humidity": ("relative_humidity", None), "crack_length": ("crack_length", "length"),
+        "adhesive_energy": ("adhesive_energy", "energy_per_area")}
+
+
+def _measured_file(m: dict) -> dict:
+    """Columns of a measured-points CSV: header ``relative_humidity,crack_length [um]`` (units in
+    brackets; relative humidity as fractions)."""
+    if "file" not in m:
+        return {}
+    path = m["file"]
     if not path.is_file():
-        raise FileNotFoundError(f"configuration file {str(path)!r} not found.")
-    with open(path, "rb") as f:
-        try:
-            cfg = tomllib.load(f)
-        except tomllib.TOMLDecodeError as exc:
-            raise ValueError(f"{path}: not valid TOML: {exc}") from exc
-    unknown = sorted(set(cfg) - set(_SCHEMA))
-    if unknown:
-        raise ValueError(f"{path}: unknown section(s) {unknown}; known: {sorted(_SCHEMA)}.")
-    for sec, body in cfg.items():
-        items = body if isinstance(body, list) else [body]
-        for it in items:
-            if not isinstance(it, dict):
-                raise ValueError(f"{path}: [{sec}] must be a table.")
-            bad = sorted(set(it) - _SCHEMA[sec])
-            if bad:
-                raise ValueError(f"{path}: unknown key(s) {bad} in [{sec}]; known: {sorted(_SCHEMA[sec])}.")
-    return cfg
-
-
-def _resolve(base: pathlib.Path, p: str) -> pathlib.Path:
-    q = pathlib.Path(p).expanduser()
-    return q if q.is_absolute() else base / q
-
-
-def _beam(cfg):
-
-    b = cfg.get("beam", {})
-    d = rs.PAPER_CANTILEVER
-    beam = rs.Cantilever(
-        length=d.length,
-        width=b.get("width_um", d.width * 1e6) * 1e-6,
-        thickness=b.get("thickness_um", d.thickness * 1e6) * 1e-6,
-        gap=b.get("gap_um", d.gap * 1e6) * 1e-6,
-        youngs_modulus=b.get("youngs_modulus_GPa", d.youngs_modulus / 1e9) * 1e9,
-        interaction_length=(b["interaction_length_um"] * 1e-6 if "interaction_length_um" in b else None),
-    )
-    lengths = [float(v) * 1e-6 for v in b.get("lengths_um", [d.length * 1e6])]
-    return beam, lengths
-
-
-def _measured(cfg, base, beam):
-
-
-    sets = cfg.get("measured", [])
-    sets = sets if isinstance(sets, list) else [sets]
-    out = []
-    for m in sets:
-        m = dict(m)
-        if "file" in m:
-            path = _resolve(base, m.pop("file"))
-            if not path.is_file():
-                raise FileNotFoundError(f"measured points file {str(path)!r} not found.")
-            table = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8")
-            cols = set(table.dtype.names or ())
-            for c in cols & {"rh_percent", "crack_length_um", "adhesive_energy_mJ_per_m2"}:
-                m[c] = np.atleast_1d(table[c]).tolist()
-            if "rh_percent" not in m:
-                raise ValueError(f"{path}: needs a header row with column 'rh_percent' and "
-                                 "'crack_length_um' or 'adhesive_energy_mJ_per_m2'.")
-        if "rh_percent" not in m:
-            raise ValueError("[measured] needs rh_percent = [...] (or file = 'points.csv').")
-        rh = np.asarray(m["rh_percent"], dtype=float) / 100.0
-        kw = {}
-        if "crack_length_um" in m:
-            kw["crack_length"] = np.asarray(m["crack_length_um"], dtype=float) * 1e-6
-        if "adhesive_energy_mJ_per_m2" in m:
-            kw["adhesive_energy"] = np.asarray(m["adhesive_energy_mJ_per_m2"], dtype=float) * 1e-3
-        out.append(rs.measured_adhesion(rh, beam=beam, label=m.get("label", "measured"), **kw))
+        raise FileNotFoundError(f"measured points file {str(path)!r} not found")
+    lines = [ln for ln in path.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
+    header = [h.strip() for h in lines[0].split(",")] if lines else []
+    out = {}
+    for col, name in enumerate(header):
+        key, unit = (name.split("[", 1) + [""])[:2]
+        key, unit = key.strip(), unit.rstrip("]").strip()
+        if key not in _CSV:
+            raise ValueError(f"{path.name}: unknown column {name!r}; use relative_humidity, "
+                             "'crack_length [um]' or 'adhesive_energy [mJ m-2]'")
+        conf_key, kind = _CSV[key]
+        vals = [ln.split(",")[col].strip() for ln in lines[1:]]
+        if kind is None:
+            if unit:
+                vals = [f"{v} {unit}" for v in vals]
+            f = Field("relative_humidity", "", many=True)
+            parsed = [float(v) if _isnum(v) else v for v in vals]
+        else:
+            if not unit:
+                raise ValueError(f"{path.name}: column {name!r} needs its unit in brackets, "
+                                 f"e.g. '{key} [{'um' if kind == 'length' else 'mJ m-2'}]'")
+            f = Field(kind, "", many=True)
+            parsed = [f"{v} {unit}" for v in vals]
+        out[conf_key] = parse({"x": {"v": parsed}}, "_csv", base=path.parent, source=path.name,
+                              schema={"x": {"v": f}})["x"]["v"]
     return out
 
 
-def _gamma_samples(cfg, base, beam, out):
+def _isnum(v: str) -> bool:
+    try:
+        float(v)
+    except ValueError:
+        return False
+    return True
+
+
+def _beam(c):
+    b = c["beam"]
+    d = rs.PAPER_CANTILEVER
+    beam = rs.Cantilever(
+        length=d.length, width=b["width"], thickness=b["thickness"], gap=b["gap"],
+        youngs_modulus=b["youngs_modulus"], interaction_length=b.get("interaction_length"),
+    )
+    return beam, list(b.get("lengths", [d.length]))
+
+
+def _measured(c, beam):
+    out = []
+    for m in c["measured"]:
+        kw = {k: np.asarray(m[k]) for k in ("crack_length", "adhesive_energy") if k in m}
+        out.append(rs.measured_adhesion(np.asarray(m["relative_humidity"]), beam=beam,
+                                        label=m.get("label", "measured"), **kw))
+    return out
+
+
+def _gamma_samples(c, beam, out, *, overwrite):
     """Γ(adsorbed_layer, realization, rh): read from a file, or simulated with the §5.2 model."""
-
-
-    ens = cfg.get("ensemble", {})
-    hum = cfg.get("humidity", {})
-    layers = hum.get("adsorbed_layer", ["none", "paper"])
-    layers = [layers] if isinstance(layers, str) else list(layers)
+    ens, s = c["ensemble"], c["surface"]
+    layers = list(ens["adsorbed_layer"])
     if "adhesive_energy" in ens:
-        path = _resolve(base, ens["adhesive_energy"])
-        ds = rs.open_ensemble(path) if pathlib.Path(path).is_dir() else rs.open_dataset(path)
+        path = ens["adhesive_energy"]
+        ds = rs.open_ensemble(path) if path.is_dir() else rs.open_dataset(path)
         if "adhesive_energy" not in ds:
             raise ValueError(f"{path}: no 'adhesive_energy' variable (has {sorted(ds.data_vars)}).")
         g = ds["adhesive_energy"]
         if "adsorbed_layer" not in g.dims:
             g = g.expand_dims(adsorbed_layer=[str(ds.attrs.get("adsorbed_layer_model", "given"))])
-        print(f"read the Γ sample {dict(g.sizes)} from {path}")
+        LOG.info(f"read the Γ sample {dict(g.sizes)} from {path}")
         return g.load()
-    s = cfg.get("surface", {})
-    spacing = float(s.get("spacing_nm", 5.0)) * 1e-9
+    spacing = s["spacing"]
     if "psd" in s:
-        psd_path = _resolve(base, s["psd"])
-        psd = rs.open_dataset(psd_path)["psd"]
+        psd = rs.open_dataset(s["psd"])["psd"]
     else:
+        d = TABLE4
         psd = rs.cantilever_psd(
-            roughness=[float(v) * 1e-9 for v in s.get("roughness_nm", [2.6, 2.4])],
-            asperity_radius=float(s.get("asperity_radius_nm", 220.0)) * 1e-9,
-            asperity_density=float(s.get("asperity_density_per_um2", 80.1)) * 1e12,
-            qmax=float(s.get("qmax_rad_per_um", 289.0)) * 1e6,
+            roughness=s.get("roughness", d["roughness"]),
+            asperity_radius=s.get("asperity_radius", d["asperity_radius"]),
+            asperity_density=s.get("asperity_density", d["asperity_density"]),
+            qmax=s.get("qmax", d["qmax"]),
         )
-    shape = tuple(int(v) for v in s["shape"]) if "shape" in s else None
-    rh = [float(v) / 100.0 for v in hum.get("rh_percent", list(range(30, 96, 5)))]
-    n = ens.get("realizations", 20)
-    chunks = ens.get("chunks")
+    shape = s.get("shape")
+    rh = ens["relative_humidity"]
     parts = []
     for layer in layers:
         kw = {}
-        if ens.get("stream", True):
+        if ens["stream"]:
             kw["output"] = out / f"ensemble-{layer}"
-        if "scheduler" in ens:
-            kw["scheduler"] = ens["scheduler"]
+            kw["overwrite"] = overwrite
+        if "scheduler" in c["run"]:
+            kw["scheduler"] = c["run"]["scheduler"]
         shp = shape or rs.interaction_zone_shape(beam, spacing=spacing)
-        print(f"[{layer}] {n} surfaces of {shp[0]} x {shp[1]} px at {spacing * 1e9:g} nm, "
-              f"{len(rh)} humidities ...", flush=True)
-        ds = rs.predict_adhesive_energy(psd, beam=beam, relative_humidity=rh, n=n, spacing=spacing,
-                                        shape=shape, adsorbed_layer=layer, seed=ens.get("seed", 0),
-                                        chunks=chunks, **kw)
+        LOG.info(f"[{layer}] {ens['n']} surfaces of {shp[0]} x {shp[1]} px at {spacing * 1e9:g} nm, "
+                 f"{len(rh)} humidities ...")
+        ds = rs.predict_adhesive_energy(psd, beam=beam, relative_humidity=rh, n=ens["n"],
+                                        spacing=spacing, shape=shape, adsorbed_layer=layer,
+                                        seed=ens["seed"], chunks=ens.get("chunks"), **kw)
         parts.append(ds["adhesive_energy"].load())
     g = xr.concat(parts, dim=xr.DataArray(layers, dims="adsorbed_layer", name="adsorbed_layer"))
-    g["adsorbed_layer"].attrs = {"long_name": "adsorbed water layer model", "units": "1"}
     return g
 
 
@@ -183,74 +189,74 @@ def _run(args):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    c = load_risk_config(args.config)
+    cfg_path = c["path"]
+    out = pathlib.Path(args.out).resolve() if args.out else c["output"].get(
+        "folder", cfg_path.parent / "risk-output")
+    claim_folder(out, command="risk", params={"config": cfg_path.read_text()},
+                 overwrite=args.overwrite or c["output"]["overwrite"])
+    beam, lengths = _beam(c)
+    measured = _measured(c, beam)
+    r = c["risk"]
+    levels = r["levels"]
 
-    cfg_path = pathlib.Path(args.config)
-    cfg = _load_toml(cfg_path)
-    base = cfg_path.resolve().parent
-    out = pathlib.Path(args.out) if args.out else _resolve(base, cfg.get("output", {}).get("directory", "risk-output"))
-    out.mkdir(parents=True, exist_ok=True)
-    beam, lengths = _beam(cfg)
-    measured = _measured(cfg, base, beam)
-    risk_cfg = cfg.get("risk", {})
-    levels = [float(v) for v in risk_cfg.get("levels", [0.05, 0.5, 0.95])]
-
-    g = _gamma_samples(cfg, base, beam, out)
+    g = _gamma_samples(c, beam, out, overwrite=args.overwrite or c["output"]["overwrite"])
     g = set_attrs(g, "surface_adhesive_energy")
-    if "adsorbed_layer" in g.coords:
-        g["adsorbed_layer"].attrs = {"long_name": "adsorbed water layer model", "units": "1"}
-    risk = rs.stiction_risk(
-        g, length=lengths, beam=beam, levels=levels,
-        confidence=float(risk_cfg.get("confidence", 0.95)),
-        interval=risk_cfg.get("interval", "wilson"),
-        quantiles=risk_cfg.get("quantiles", [0.025, 0.5, 0.975]),
-    )
+    risk = rs.stiction_risk(g, length=lengths, beam=beam, levels=levels, confidence=r["confidence"],
+                            interval=r["interval"], quantiles=r["quantiles"])
     risk["adhesive_energy"] = g
-    if "realization" in risk.coords:
-        risk["realization"].attrs = {"units": "1", "long_name": "realization index"}
+    for name in ("adsorbed_layer", "realization"):
+        if name in risk.coords:
+            risk[name].attrs = dict(ATTRS[name]) if name in ATTRS else risk[name].attrs
     risk.attrs["configuration"] = cfg_path.read_text()
     append_history(risk, f"roughstick risk {cfg_path.name}")
-    nc = rs.io.netcdf.write(risk, out / "risk.nc", compute=True)
-    files = [nc]
+    files = [rs.io.netcdf.write(risk, out / "risk.nc", compute=True)]
 
+    if c["output"]["figures"]:
+        layers = list(risk.adsorbed_layer.values) if "adsorbed_layer" in risk.dims else [None]
+        fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), layout="constrained",
+                                 squeeze=False)
+        for ax, layer in zip(axes[0], layers, strict=True):
+            plotting.plot_stiction_probability(risk, ax=ax, layer=layer, level=0.5 if 0.5 in levels else None)
+            if layer is not None:
+                ax.set_title(f"P(stuck), adsorbed layer: {layer}")
+        files.append(save_figure(fig, out / "stiction_probability.png", dpi=120))
+        fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), layout="constrained",
+                                 squeeze=False)
+        for ax, layer in zip(axes[0], layers, strict=True):
+            plotting.plot_stiction_vs_length(risk, ax=ax, layer=layer, rh=risk.rh.values[::3])
+            if layer is not None:
+                ax.set_title(f"adsorbed layer: {layer}")
+        files.append(save_figure(fig, out / "stiction_vs_length.png", dpi=120))
+        files.append(save_figure(plotting.plot_cantilever_comparison(risk, measured=measured),
+                                 out / "adhesive_energy_bands.png", dpi=120))
+        fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), layout="constrained",
+                                 squeeze=False, sharey=True)
+        for ax, layer in zip(axes[0], layers, strict=True):
+            plotting.plot_crack_length_band(risk, ax=ax, layer=layer, measured=measured)
+            if layer is not None:
+                ax.set_title(f"beams longer than s stay stuck (adsorbed layer: {layer})", fontsize="medium")
+        files.append(save_figure(fig, out / "crack_length.png", dpi=120))
+
+    # a short table on the terminal, each crossing with its interval
     layers = list(risk.adsorbed_layer.values) if "adsorbed_layer" in risk.dims else [None]
-    fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), layout="constrained",
-                             squeeze=False)
-    for ax, layer in zip(axes[0], layers, strict=True):
-        plotting.plot_stiction_probability(risk, ax=ax, layer=layer, level=0.5 if 0.5 in levels else None)
-        if layer is not None:
-            ax.set_title(f"P(stuck), adsorbed layer: {layer}")
-    files.append(_save(fig, out / "stiction_probability.png"))
-    fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), layout="constrained",
-                             squeeze=False)
-    for ax, layer in zip(axes[0], layers, strict=True):
-        plotting.plot_stiction_vs_length(risk, ax=ax, layer=layer, rh=risk.rh.values[::3])
-        if layer is not None:
-            ax.set_title(f"adsorbed layer: {layer}")
-    files.append(_save(fig, out / "stiction_vs_length.png"))
-    files.append(_save(plotting.plot_cantilever_comparison(risk, measured=measured),
-                       out / "adhesive_energy_bands.png"))
-    fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), layout="constrained",
-                             squeeze=False, sharey=True)
-    for ax, layer in zip(axes[0], layers, strict=True):
-        plotting.plot_crack_length_band(risk, ax=ax, layer=layer, measured=measured)
-        if layer is not None:
-            ax.set_title(f"beams longer than s stay stuck (adsorbed layer: {layer})", fontsize="medium")
-    files.append(_save(fig, out / "crack_length.png"))
-
-    # a short table on the terminal
+    n = risk.sizes.get("realization", g.sizes.get("realization"))
+    LOG.info(f"from n = {n} surfaces per layer; [..] = {r['confidence']:.0%} interval")
     for layer in layers:
         d = risk.sel(adsorbed_layer=layer) if layer is not None else risk
-        print(f"adsorbed layer: {layer}" if layer is not None else "")
+        if layer is not None:
+            LOG.info(f"adsorbed layer: {layer}")
         for lev in levels:
             row = []
             for bl in np.atleast_1d(d.beam_length.values):
-                c = d.crossing_humidity.sel(probability_level=lev, beam_length=bl)
+                cr = d.crossing_humidity.sel(probability_level=lev, beam_length=bl)
                 lo = d.crossing_humidity_lower.sel(probability_level=lev, beam_length=bl)
                 hi = d.crossing_humidity_upper.sel(probability_level=lev, beam_length=bl)
-                row.append(f"l={bl * 1e6:.0f}um: {_pct(c)} [{_pct(lo)}, {_pct(hi)}]")
-            print(f"  RH where P(stuck) reaches {lev:g}: " + "; ".join(row))
+                row.append(f"l={bl * 1e6:.0f}um: {_pct(cr)} [{_pct(lo)}, {_pct(hi)}]")
+            LOG.info(f"  RH where P(stuck) reaches {lev:g}: " + "; ".join(row))
     for f in files:
-        print(f"wrote {f}")
+        LOG.info(f"wrote {f}")
+    finish_folder(out)
     return 0
 
 
@@ -264,11 +270,3 @@ def _pct(v) -> str:
     if v == np.inf:
         return ">max RH"
     return f"{v * 100:.1f}%"
-
-
-def _save(fig, path):
-    import matplotlib.pyplot as plt
-
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path

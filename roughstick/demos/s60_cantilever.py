@@ -60,10 +60,10 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
                                          seed=2015).adhesive_energy.compute()
               for layer in layers]
     g = xr.concat(gammas, dim=xr.DataArray(layers, dims="adsorbed_layer", name="adsorbed_layer"))
-    g["adsorbed_layer"].attrs = {"units": "1", "long_name": "adsorbed water layer model"}
+    g["adsorbed_layer"].attrs = rs.conventions.coord_attrs("adsorbed_layer", g["adsorbed_layer"])
     risk = rs.stiction_risk(g, length=LENGTHS, levels=[0.05, 0.5, 0.95])
     risk["adhesive_energy"] = rs.conventions.set_attrs(g, "surface_adhesive_energy")
-    risk["realization"].attrs = {"units": "1", "long_name": "realization index"}
+    rs.conventions.set_coord_attrs(risk)
     risk.attrs.update(interaction_zone_shape=list(shape), interaction_zone_spacing=5e-9,
                       note="demo: interaction zone smaller than the paper's 524 x 6000 px")
     files.append(rs.io.netcdf.write(risk, out / "cantilever_risk.nc", compute=True))

@@ -27,7 +27,8 @@ _LOCK = threading.Lock()
 
 # ----------------------------------------------------------------------------- CF checks
 def check_cf(ds: xr.Dataset) -> None:
-    """Raise ``ValueError`` unless every variable and coordinate has ``units`` and ``long_name``.
+    """Raise ``ValueError`` unless every variable and coordinate has ``units`` and ``long_name``
+    (string labels: ``long_name`` only; :func:`write` drops their ``units``).
 
     Parameters
     ----------
@@ -51,7 +52,8 @@ def check_cf(ds: xr.Dataset) -> None:
         ds = ds.to_dataset(name=ds.name or "data")
     missing = []
     for name, var in list(ds.data_vars.items()) + list(ds.coords.items()):
-        lack = [k for k in ("units", "long_name") if k not in var.attrs and k not in var.encoding]
+        need = ("long_name",) if var.dtype.kind in "OSU" else ("units", "long_name")  # labels: no units
+        lack = [k for k in need if k not in var.attrs and k not in var.encoding]
         if lack:
             missing.append(f"{name!r} lacks {', '.join(lack)}")
     if missing:
@@ -83,7 +85,10 @@ def _prepare(ds: xr.Dataset) -> tuple[xr.Dataset, dict]:
     ds = ds.copy(deep=False)
     ds.attrs = _netcdf_attrs(ds.attrs, "the Dataset")
     for name in list(ds.variables):
-        ds[name].attrs = _netcdf_attrs(ds[name].attrs, repr(name))
+        attrs = _netcdf_attrs(ds[name].attrs, repr(name))
+        if ds[name].dtype.kind in "OSU":  # labels such as adsorbed_layer = "none"/"paper": no units
+            attrs.pop("units", None)
+        ds[name].attrs = attrs
     encoding = {}
     for name, var in ds.data_vars.items():
         enc = {}
@@ -95,6 +100,9 @@ def _prepare(ds: xr.Dataset) -> tuple[xr.Dataset, dict]:
             # one NetCDF chunk per dask block along each dim, capped to keep chunks modest
             enc["chunksizes"] = tuple(max(1, min(c[0], 4096)) for c in var.chunks)
         encoding[name] = enc
+    for name in ds.coords:  # CF: coordinate variables carry no _FillValue (they may not be missing)
+        if name not in encoding and ds[name].dtype.kind in "fiu":
+            encoding[name] = {"_FillValue": None}
     return ds, encoding
 
 

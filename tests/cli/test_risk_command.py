@@ -18,15 +18,15 @@ def test_cli_risk_from_given_sample(tmp_path, capsys):
     sample["adsorbed_layer"].attrs = {"units": "1", "long_name": "adsorbed water layer model"}
     ds = sample.to_dataset(name="adhesive_energy")
     rs.io.netcdf.write(ds, tmp_path / "gamma.nc", compute=True)
-    (tmp_path / "points.csv").write_text("rh_percent,crack_length_um\n40,420\n70,380\n")
+    (tmp_path / "points.csv").write_text("relative_humidity,crack_length [um]\n0.4,420\n0.7,380\n")
     cfg = tmp_path / "risk.toml"
     cfg.write_text(
-        '[output]\ndirectory = "out"\n'
-        "[beam]\nlengths_um = [250, 350, 500]\n"
+        '[output]\nfolder = "out"\n'
+        '[beam]\nlengths = ["250 um", "350 um", "500 um"]\n'
         '[ensemble]\nadhesive_energy = "gamma.nc"\n'
         "[risk]\nlevels = [0.1, 0.5]\n"
         '[[measured]]\nfile = "points.csv"\nlabel = "csv"\n'
-        "[[measured]]\nrh_percent = [50]\nadhesive_energy_mJ_per_m2 = [0.5]\n"
+        '[[measured]]\nrelative_humidity = [0.5]\nadhesive_energy = ["0.5 mJ m-2"]\n'
     )
     assert main(["risk", str(cfg)]) == 0
     text = capsys.readouterr().out
