@@ -20,7 +20,8 @@ import roughstick as rs
 
 from .._core.conventions import append_history, dataset_attrs, set_coord_attrs
 from .._core.references import cite
-from ..io.netcdf import write
+from ..io.netcdf import write, write_text_atomic
+from ..plotting.save import save_figure
 from ..plotting.sphere import plot_meniscus, plot_sphere_curves
 
 MODELS = ["maugis", "dmt", "modified_dmt"]
@@ -99,9 +100,7 @@ def run(out, *, quick: bool = False) -> list[pathlib.Path]:
     rh = np.linspace(0.05, 0.95, 46 if quick else 181)
     ax, _ = plot_meniscus(rs.laplace_pressure(rh), rs.water_height(rh))
     p = out / "fig1b_meniscus.png"
-    ax.figure.savefig(p, dpi=120, bbox_inches="tight")
-    plt.close(ax.figure)
-    files.append(p)
+    files.append(save_figure(ax.figure, p, dpi=120, bbox_inches="tight"))
 
     ds = curves(n=401 if quick else 1401)
     p = out / "sphere_curves.nc"
@@ -109,15 +108,13 @@ def run(out, *, quick: bool = False) -> list[pathlib.Path]:
     files.append(p)
     axes = plot_sphere_curves(ds)
     p = out / "fig3_sphere_models.png"
-    axes[0, 0].figure.savefig(p, dpi=120, bbox_inches="tight")
-    plt.close(axes[0, 0].figure)
-    files.append(p)
+    files.append(save_figure(axes[0, 0].figure, p, dpi=120, bbox_inches="tight"))
 
     t1 = table1()
     p = out / "table1.nc"
     write(t1, p, compute=True)
     files.append(p)
     p = out / "table1.csv"
-    t1[["adhesive_energy", "printed", "relative_error"]].to_dataframe().to_csv(p)
+    write_text_atomic(p, t1[["adhesive_energy", "printed", "relative_error"]].to_dataframe().to_csv())
     files.append(p)
     return files

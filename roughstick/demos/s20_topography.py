@@ -14,6 +14,7 @@ measurements). Writes:
 from __future__ import annotations
 
 import csv
+import io
 import pathlib
 
 import numpy as np
@@ -22,7 +23,9 @@ import xarray as xr
 import roughstick as rs
 
 from ..io import netcdf
+from ..io.netcdf import write_text_atomic
 from ..plotting import plot_psd_schemes, plot_self_affine_psd
+from ..plotting.save import save_figure
 
 QMAX_PAPER = rs.datasets.QMAX_PAPER  # rad/m, Table 3
 
@@ -51,11 +54,12 @@ def _write(ds: xr.Dataset, path: pathlib.Path) -> None:
 def _write_csv(path, rows):
     """Write a list of dicts as CSV, floats to 4 significant digits."""
 
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in r.items()})
+    f = io.StringIO(newline="")
+    w = csv.DictWriter(f, fieldnames=list(rows[0]))
+    w.writeheader()
+    for r in rows:
+        w.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in r.items()})
+    write_text_atomic(path, f.getvalue())
 
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     """Compute the statistics and PSD figures; return the files written."""
@@ -103,9 +107,7 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     plot_psd_schemes({names[16]: schemes["S2"][16]}, ax=axes[1], qmax=QMAX_PAPER, title="S2")
     fig.tight_layout()
     p = out / "fig12_psd_schemes.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    written.append(p)
+    written.append(save_figure(fig, p))
 
     # Table 4 -> Eq. 37 (both densities), Fig. 19
     fits, trows = {}, []
@@ -127,7 +129,5 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     ax.set_title("Fig. 19: Eq. 37 PSD from Table 4 vs samples")
     fig.tight_layout()
     p = out / "fig19_self_affine_psd.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    written.append(p)
+    written.append(save_figure(fig, p))
     return written

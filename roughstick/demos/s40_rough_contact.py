@@ -21,7 +21,10 @@ import xarray as xr
 
 import roughstick as rs
 
+import logging
+
 from ..io import netcdf
+from ..plotting.save import save_figure
 from ..plotting.rough_contact import (
     plot_adhesion_vs_rh,
     plot_fit_error,
@@ -30,6 +33,7 @@ from ..plotting.rough_contact import (
 )
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
+LOG = logging.getLogger("roughstick")
 
 
 def _maps(quick: bool) -> dict:
@@ -55,9 +59,7 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     plot_fit_error(curves[first], rh=0.3, ax=axes[1, 0])
     plot_fit_error(curves[first], rh=0.9, ax=axes[1, 1])
     fig.suptitle(f"Fig. 8: modified DMT on {first}")
-    written.append(out / "fig08_rough_curves.png")
-    fig.savefig(written[-1], dpi=110)
-    plt.close(fig)
+    written.append(save_figure(fig, out / "fig08_rough_curves.png"))
 
     gw = None
     if hasattr(rs, "gw_contact_curves"):
@@ -68,26 +70,25 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
         gw = rs.gw_contact_curves(moments, relative_humidity=RH, distance=np.linspace(lo, hi, 300))
     fig = plot_mdmt_vs_gw(curves, gw, rh=(0.3, 0.5, 0.7, 0.9))
     fig.suptitle("Fig. 10: modified DMT per map vs GW on the sample moments")
-    written.append(out / "fig10_mdmt_vs_gw.png")
-    fig.savefig(written[-1], dpi=110)
-    plt.close(fig)
+    written.append(save_figure(fig, out / "fig10_mdmt_vs_gw.png"))
 
     fig = plot_adhesion_vs_rh(summaries)
     fig.suptitle("Fig. 11: adhesive energy and wetted fraction at equilibrium")
-    written.append(out / "fig11_adhesion_vs_rh.png")
-    fig.savefig(written[-1], dpi=110)
-    plt.close(fig)
+    written.append(save_figure(fig, out / "fig11_adhesion_vs_rh.png"))
 
-    # one NetCDF: curves on their own grids, kept as separate groups of variables per map
-    ds = xr.Dataset(attrs=rs.conventions.dataset_attrs(
-        "modified-DMT curves and adhesion summary of the S1 samples", references=rs.contact.rough.REFERENCES))
-    for i, (k, c) in enumerate(curves.items()):
-        c = c.rename({"distance": f"distance_{i}"})
-        for v in c.data_vars:
-            ds[f"{v}_{i}"] = c[v]
-        for v in summaries[k].data_vars:
-            ds[f"{v}_{i}"] = summaries[k][v]
-        ds.attrs[f"map_{i}"] = k
+    # one NetCDF over a `map` dimension; each map keeps its own distance grid as the auxiliary
+    # coordinate distance(map, point) (CF §5), not as numbered variables
+    parts = []
+    for k, c in curves.items():
+        c = xr.merge([c, summaries[k]], compat="override", combine_attrs="drop_conflicts")
+        d = c["distance"]
+        c = c.rename({"distance": "point"}).drop_vars("point")
+        parts.append(c.assign_coords(distance=("point", d.values, dict(d.attrs))))
+    ds = xr.concat(parts, dim=xr.DataArray(list(curves), dims="map", name="map",
+                                           attrs={"long_name": "measured height map (sample name)"}),
+                   coords="different", compat="equals", join="exact", combine_attrs="drop_conflicts")
+    ds.attrs = rs.conventions.dataset_attrs(
+        "modified-DMT curves and adhesion summary of the S1 samples", references=rs.contact.rough.REFERENCES)
     rs.conventions.append_history(ds, f"roughstick demo s40_rough_contact quick={quick}")
     written.append(out / "rough_contact_S1.nc")
 
@@ -95,5 +96,5 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     for k, s in summaries.items():
         g = ", ".join(f"{100 * r:.0f}%: {v * 1e3:.3g}" for r, v in zip(s.rh.values, s.adhesive_energy.values,
                                                                       strict=True))
-        print(f"    {k}: adhesive energy [mJ/m2] {g}")
+        LOG.info(f"    {k}: adhesive energy [mJ/m2] {g}")
     return written

@@ -9,9 +9,12 @@ otherwise 48 surfaces of 512² (5 nm pixels).
 
 from __future__ import annotations
 
+import logging
 import pathlib
 
 import roughstick as rs
+
+from ..plotting.save import save_figure
 
 from ..plotting.ensemble import (
     plot_energy_band,
@@ -20,6 +23,7 @@ from ..plotting.ensemble import (
 )
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
+LOG = logging.getLogger("roughstick")
 
 
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
@@ -32,7 +36,11 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     ds = rs.run_ensemble(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
                          chunks=2, output=out / "ensemble_S1", progress=False).load()
     band = rs.confidence_band(ds)
+    band.attrs["title"] = f"S1 PSD, {n} surfaces of {shape}²: 95 % band of the ensemble"
     files = [out / "ensemble_S1", rs.io.netcdf.write(band, out / "ensemble_S1_band.nc", compute=True)]
+    LOG.info("    apparent adhesive energy Γ of the S1 ensemble:")
+    for line in rs.band_summary(band):
+        LOG.info("      " + line)
     fig = plot_ensemble_curves(ds)
     fig.suptitle(f"S1 PSD, {n} surfaces of {shape * 5e-3:.2f} µm (Fig. 14 at demo scale)")
     files.append(_save(fig, out / "fig14_ensemble_curves.png"))
@@ -47,5 +55,4 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
 
 
 def _save(fig, path):
-    fig.savefig(path, dpi=110)
-    return path
+    return save_figure(fig, path)

@@ -18,6 +18,7 @@ holds fewer tall asperities, so its Γ is biased upwards at low RH (paper Fig. 1
 from __future__ import annotations
 
 import csv
+import io
 import pathlib
 
 import numpy as np
@@ -25,7 +26,11 @@ import xarray as xr
 
 import roughstick as rs
 
+import logging
+
 from .. import plotting
+from ..io.netcdf import write_text_atomic
+from ..plotting.save import save_figure
 
 LENGTHS = [250e-6, 300e-6, 350e-6, 400e-6, 500e-6, 1500e-6]
 PRINTED = {"q0": 19.4e6, "s0": 6.46e3 * 1e-36, "s1": 6.29e-3 * 1e-36}
@@ -33,7 +38,8 @@ PRINTED = {"q0": 19.4e6, "s0": 6.46e3 * 1e-36, "s1": 6.29e-3 * 1e-36}
 
 def _table4(out: pathlib.Path) -> pathlib.Path:
     path = out / "table4_eq37.csv"
-    with open(path, "w", newline="") as f:
+    f = io.StringIO(newline="")
+    if True:  # the table is written whole (atomically) below
         w = csv.writer(f)
         w.writerow(["case", "N_per_um2", "sqrt_m0_nm", "m2", "m4_per_um2", "q0_rad_per_um",
                     "s0_nm4", "s1_nm4"])
@@ -44,6 +50,7 @@ def _table4(out: pathlib.Path) -> pathlib.Path:
                         f"{float(p.s0) * 1e36:.4g}", f"{float(p.s1) * 1e36:.4g}"])
         w.writerow(["printed in the paper", 80.1, 3.54, 0.0035, 9.1, PRINTED["q0"] / 1e6,
                     PRINTED["s0"] * 1e36, PRINTED["s1"] * 1e36])
+    write_text_atomic(path, f.getvalue())
     return path
 
 
@@ -82,11 +89,18 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
         plotting.plot_crack_length_band(risk, ax=ax, layer=layer)
         ax.set_title(f"crack length, adsorbed layer: {layer}", fontsize="medium")
     files.append(_save(fig, out / "crack_length.png"))
-    crossing = risk.crossing_humidity.sel(probability_level=0.5, adsorbed_layer="paper")
-    print("    RH at which half of the beams stay stuck (with layer): "
-          + ", ".join(f"{bl * 1e6:.0f} µm: {_pct(v)}" for bl, v in
-                      zip(crossing.beam_length.values, crossing.values, strict=True)))
+    sel = {"probability_level": 0.5, "adsorbed_layer": "paper"}
+    crossing = risk.crossing_humidity.sel(sel)
+    lower, upper = risk.crossing_humidity_lower.sel(sel), risk.crossing_humidity_upper.sel(sel)
+    LOG.info(f"    RH at which half of the beams stay stuck (with layer; n = {n} surfaces, "
+             "[95 % interval]): "
+             + ", ".join(f"{bl * 1e6:.0f} µm: {_pct(v)} [{_pct(a)}, {_pct(b)}]" for bl, v, a, b in
+                         zip(crossing.beam_length.values, crossing.values, lower.values, upper.values,
+                             strict=True)))
     return files
+
+
+LOG = logging.getLogger("roughstick")
 
 
 def _pct(v):
@@ -95,8 +109,4 @@ def _pct(v):
 
 
 def _save(fig, path):
-    import matplotlib.pyplot as plt
-
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)

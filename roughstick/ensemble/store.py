@@ -22,6 +22,7 @@ import shutil
 
 import xarray as xr
 
+from .._core.conventions import append_history
 from ..io.netcdf import remove_partial_files, write, write_text_atomic
 from .pipeline import Spec
 
@@ -219,6 +220,8 @@ def write_block(folder: pathlib.Path, spec: Spec, manifest: dict, attrs: dict, i
     ds = ds.copy()
     ds.attrs = {**attrs, "roughstick_params_hash": spec.token, "roughstick_block_realization": i,
                 "roughstick_block_rh": j, "roughstick_block_complete": 1}
+    append_history(ds, f"run_ensemble block {i} (realizations), {j} (humidities) of run "
+                       f"{spec.token}")
     name = block_name(i, j)
     write(ds, folder / name, compute=True)
     manifest["completed"].append(name)

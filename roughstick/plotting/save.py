@@ -9,7 +9,7 @@ import pathlib
 __all__ = ["save_figure"]
 
 
-def save_figure(fig, path, *, dpi: int = 110, close: bool = True) -> pathlib.Path:
+def save_figure(fig, path, *, dpi: int = 110, close: bool = True, **savefig_kwargs) -> pathlib.Path:
     """Save ``fig`` to ``path`` through a temporary file renamed into place once written.
 
     A run killed during the write leaves a hidden ``.<name>.tmp-<pid><suffix>`` (removed by the
@@ -24,7 +24,7 @@ def save_figure(fig, path, *, dpi: int = 110, close: bool = True) -> pathlib.Pat
     path = pathlib.Path(path)
     tmp = path.with_name(f".{path.stem}.tmp-{os.getpid()}{path.suffix}")
     try:
-        fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".") or "png")
+        fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".") or "png", **savefig_kwargs)
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(OSError):
