@@ -14,7 +14,7 @@ import warnings
 
 from .._core.version import __version__
 from . import curves, demo, psd, reproduce, risk, run
-from ._common import add_common_options, setup_logging, user_message
+from ._common import add_common_options, setup_logging, teardown_logging, user_message
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
@@ -49,10 +49,8 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
-    setup_logging(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("default")
+        with warnings.catch_warnings():  # restores warnings.showwarning afterwards
             setup_logging(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))
             return int(args.func(args) or 0)
     except KeyboardInterrupt:
@@ -65,3 +63,5 @@ def main(argv: list[str] | None = None) -> int:
             raise
         print(f"roughstick {args.command}: error: {msg}", file=sys.stderr)
         return 1
+    finally:
+        teardown_logging()

@@ -25,13 +25,26 @@ import warnings
 
 from ..io.netcdf import remove_partial_files
 
-__all__ = ["LOG", "add_common_options", "setup_logging", "claim_folder", "finish_folder",
+__all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder",
            "user_message", "MARKER"]
 
 LOG = logging.getLogger("roughstick")
 
 #: File recording which command wrote an output folder, and whether it finished.
 MARKER = ".roughstick-run.json"
+
+
+def positive_int(text: str) -> int:
+    """argparse type: an integer >= 1 (``--n 0`` is refused, not silently replaced)."""
+    import argparse
+
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {v}")
+    return v
 
 
 def add_common_options(p, *, overwrite: bool = True) -> None:
@@ -72,6 +85,14 @@ def setup_logging(*, quiet: bool = False, verbose: bool = False) -> None:
         LOG.warning("warning: %s: %s", category.__name__, message)
 
     warnings.showwarning = show
+
+
+def teardown_logging() -> None:
+    """Remove the handlers :func:`setup_logging` installed (a library user's logging is theirs)."""
+    for h in list(LOG.handlers):
+        LOG.removeHandler(h)
+    LOG.setLevel(logging.NOTSET)
+    LOG.propagate = True
 
 
 def claim_folder(folder, *, command: str, params: dict, overwrite: bool) -> pathlib.Path:

@@ -6,17 +6,27 @@ import pathlib
 import time
 
 from ..demos import steps
+from ._common import LOG, claim_folder, finish_folder
+
+
+def _names() -> list[str]:
+    return [m.__name__.rsplit(".", 1)[-1] for m in steps()]
 
 
 def register(sub):
     p = sub.add_parser(
         "demo",
         help="run the whole pipeline on the bundled samples; write NetCDF and PNG figures",
-        description="Run every demo step on the bundled samples and write NetCDF + PNG to --out.",
+        description="Run every demo step on the bundled samples and write NetCDF + PNG to --out. "
+                    "Re-running the same command rewrites the same files (the ensemble resumes).",
     )
     p.add_argument("--out", default="roughstick-demo", help="output folder (default ./roughstick-demo)")
-    p.add_argument("--only", nargs="*", default=None, help="run only the steps whose name contains one of these words")
+    p.add_argument("--only", nargs="+", default=None, metavar="STEP",
+                   help="run only the steps whose name contains one of these words "
+                        "(steps: sphere, topography, rough_contact, ensemble, cantilever)")
     p.add_argument("--quick", action="store_true", help="smaller sizes (used by the tests)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace the results of another command or other options in --out")
     p.set_defaults(func=_run)
 
 
@@ -25,18 +35,28 @@ def _run(args):
 
     matplotlib.use("Agg")
 
-    out = pathlib.Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    mods = steps()
+    if args.only:
+        names = _names()
+        unknown = [w for w in args.only if not any(w in n for n in names)]
+        if unknown:
+            raise ValueError(f"--only {' '.join(unknown)}: no such step; the steps are "
+                             f"{', '.join(n.split('_', 1)[1] for n in names)}.")
+        mods = [m for m, n in zip(mods, names, strict=True) if any(w in n for w in args.only)]
+    out = claim_folder(args.out, command="demo",
+                       params={"quick": args.quick, "only": sorted(args.only or [])},
+                       overwrite=args.overwrite)
     written = []
-    for mod in steps():
+    t_all = time.perf_counter()
+    for mod in mods:
         name = mod.__name__.rsplit(".", 1)[-1]
-        if args.only and not any(w in name for w in args.only):
-            continue
+        LOG.info(f"[{name}] ...")
         t0 = time.perf_counter()
         files = mod.run(out, quick=args.quick)
         written += files
-        print(f"[{name}] {len(files)} files in {time.perf_counter() - t0:.1f} s")
+        LOG.info(f"[{name}] {len(files)} files in {time.perf_counter() - t0:.1f} s")
         for f in files:
-            print(f"    {f}")
-    print(f"wrote {len(written)} files to {out.resolve()}")
+            LOG.debug(f"    {f}")
+    finish_folder(out)
+    LOG.info(f"wrote {len(written)} files to {out.resolve()} in {time.perf_counter() - t_all:.1f} s")
     return 0

@@ -9,6 +9,8 @@ import xarray as xr
 import roughstick as rs
 
 from ..io import netcdf
+from . import _config
+from ._common import LOG, positive_int
 
 
 def register(sub):
@@ -28,16 +30,26 @@ def register(sub):
     p.add_argument("--channel", default=None, help="channel name or index (vendor files)")
     p.add_argument("--level", default="plane", choices=["plane", "mean", "line", "none"])
     p.add_argument("--nan", default="raise", choices=["raise", "fill"], help="NaN pixels")
-    p.add_argument("--submaps", type=int, default=16, help="sub-maps per map: 1, 4, 16 (default 16)")
-    p.add_argument("--qmax", type=float, default=None,
-                   help="cutoff [rad/m]; default: chosen to match the spatial variances")
+    p.add_argument("--submaps", type=positive_int, default=16,
+                   help="sub-maps per map: 1, 4, 16 (default 16)")
+    p.add_argument("--qmax", default=None,
+                   help="cutoff with its unit, e.g. '289 rad/um'; default: chosen to match the "
+                        "spatial variances")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --out file")
     p.add_argument("--window", default=None, help="FFT window, e.g. hann")
     p.set_defaults(func=_run)
 
 
 def _run(args):
-
-
+    out = pathlib.Path(args.out)
+    if out.exists() and not args.overwrite:
+        raise FileExistsError(f"{str(out)!r} exists; pass --overwrite to replace it or choose another --out.")
+    if out.is_dir():
+        raise FileExistsError(f"--out {str(out)!r} is a folder; give a file name, e.g. {str(out / 'psd.nc')!r}.")
+    qmax = None
+    if args.qmax is not None:
+        qmax = _config.parse({"x": {"qmax": args.qmax}}, "psd", base=".", source="--qmax",
+                             schema={"x": {"qmax": _config.Field("wavevector", "cutoff")}})["x"]["qmax"]
     channel = args.channel
     if channel is not None and channel.isdigit():
         channel = int(channel)
@@ -54,16 +66,12 @@ def _run(args):
     stack = xr.concat(maps, dim="map", coords="minimal", compat="override", combine_attrs="drop")
     stack = stack.assign_coords(map=[pathlib.Path(p).name for p in args.maps])
     stack.attrs = dict(maps[0].attrs)
-    ds = rs.psd_summary(stack, n=args.submaps, qmax=args.qmax, window=args.window)
+    ds = rs.psd_summary(stack, n=args.submaps, qmax=qmax, window=args.window)
     ds.attrs["input_files"] = " ".join(str(p) for p in args.maps)
     rs.conventions.append_history(ds, "roughstick psd " + " ".join(args.maps) + f" --out {args.out}")
-    out = pathlib.Path(args.out)
-
-    if hasattr(netcdf, "write"):
-        netcdf.write(ds, out, compute=True)
-    else:  # pragma: no cover - until io/netcdf.py provides its writer
-        ds.to_netcdf(out, engine="netcdf4")
-    print(
+    out.parent.mkdir(parents=True, exist_ok=True)
+    netcdf.write(ds, out, compute=True)
+    LOG.info(
         f"{len(maps)} maps, {args.submaps} sub-maps each: sqrt(m0) = {float(ds.spatial_m0) ** 0.5 * 1e9:.3g} nm, "
         f"m2 = {float(ds.spatial_m2):.3g}, m4 = {float(ds.spatial_m4) * 1e-18:.3g} nm^-2 (spatial); "
         f"qmax = {float(ds.qmax) * 1e-6:.4g} rad/um, Eq. 32 = {float(ds.relative_std):.3g}; wrote {out}"

@@ -23,6 +23,8 @@ from ..plotting.ensemble import (
     plot_ensemble_curves,
 )
 from ..plotting.generation import plot_surfaces
+from ..plotting.save import save_figure
+from ._common import LOG, claim_folder, finish_folder, positive_int
 
 RH = {"S1": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9], "S2": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]}
 SCALES = {
@@ -41,13 +43,13 @@ def register(sub):
     )
     p.add_argument("--quick", action="store_true", help="24 surfaces of 128² and 256² instead of 3000 of 1024² and 2048²")
     p.add_argument("--out", default="roughstick-reproduce", help="output folder")
-    p.add_argument("--n", type=int, default=None, help="override the number of realizations")
+    p.add_argument("--n", type=positive_int, default=None, help="override the number of realizations (>= 1)")
     p.add_argument("--scheduler", default=None, help="'threads' (default) or tcp://host:port")
     p.add_argument("--overwrite", action="store_true", help="replace runs with other parameters in --out")
     p.set_defaults(func=_run)
 
 
-def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwrite=False, log=print):
+def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwrite=False, log=LOG.info):
     """Compute and plot Figs. 13-17; return the written paths."""
     import matplotlib
 
@@ -91,6 +93,10 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
         files.append(_save(fig, out / f"fig{14 + k}_curves_{sample}.png"))
         band = rs.confidence_band(both)
         files.append(rs.io.netcdf.write(band, out / f"band_{sample}.nc", compute=True))
+        for size in band.surface_size.values:
+            log(f"[{sample}, {size * 1e6:.2f} µm] apparent adhesive energy Γ:")
+            for line in rs.band_summary(band.sel(surface_size=size)):
+                log("  " + line)
     # Fig. 16: Γ bands vs RH for both sizes, S1 (a) and S2 (b)
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), constrained_layout=True)
     for ax, sample in zip(axes, ("S1", "S2"), strict=True):
@@ -108,18 +114,17 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
 
 
 def _save(fig, path):
-    fig.savefig(path, dpi=110)
-    return path
+    return save_figure(fig, path, close=False)
 
 
 def _run(args):
     t0 = time.perf_counter()
-    try:
-        files = reproduce(args.out, quick=args.quick, n=args.n, scheduler=args.scheduler,
-                          overwrite=args.overwrite)
-    except ConnectionError as exc:
-        raise ValueError(str(exc)) from exc
+    claim_folder(args.out, command="reproduce", params={"quick": args.quick, "n": args.n},
+                 overwrite=args.overwrite)
+    files = reproduce(args.out, quick=args.quick, n=args.n, scheduler=args.scheduler,
+                      overwrite=args.overwrite)
+    finish_folder(args.out)
     for f in files:
-        print(f"    {f}")
-    print(f"wrote {len(files)} outputs to {pathlib.Path(args.out).resolve()} in {time.perf_counter() - t0:.0f} s")
+        LOG.info(f"    {f}")
+    LOG.info(f"wrote {len(files)} outputs to {pathlib.Path(args.out).resolve()} in {time.perf_counter() - t0:.0f} s")
     return 0

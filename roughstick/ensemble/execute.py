@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import contextlib
 import json
+import logging
 import os
 import sys
+import time
 
 import dask
 import numpy as np
@@ -28,7 +30,9 @@ from .store import (
     write_block,
 )
 
-__all__ = ["progress_bar"]
+__all__ = ["progress_bar", "LogProgress"]
+
+_LOG = logging.getLogger("roughstick")
 
 
 def _interactive() -> bool:
@@ -75,6 +79,32 @@ def progress_bar(progress: bool | None = None, **kwargs):
     return TqdmCallback(tqdm_class=_tqdm_class(), **kwargs)
 
 
+class LogProgress:
+    """Progress as INFO lines of the ``roughstick`` logger (no terminal needed): one at the start,
+    then at most one per ``every`` seconds (and at each tenth of the work), with an estimate of
+    the time left; the ``roughstick`` command routes them to stdout line by line."""
+
+    def __init__(self, total: int, *, what: str, every: float = 30.0):
+        self.total, self.what, self.every = int(total), what, float(every)
+        self.done = 0
+        self.t0 = self.last = time.monotonic()
+        self.step = max(1, self.total // 10)
+        _LOG.info(f"{what}: {self.total} to compute")
+
+    def update(self, k: int = 1) -> None:
+        self.done += k
+        now = time.monotonic()
+        if self.done >= self.total or self.done % self.step == 0 or now - self.last >= self.every:
+            self.last = now
+            el = now - self.t0
+            eta = el / self.done * (self.total - self.done) if self.done else float("nan")
+            _LOG.info(f"{self.what}: {self.done}/{self.total} done ({100 * self.done / self.total:.0f} %), "
+                      f"{el:.0f} s elapsed, about {eta:.0f} s left")
+
+    def close(self) -> None:
+        pass
+
+
 def _resolve_client(scheduler, connect_timeout: float):
     """None/"threads"/"sync"/"processes" → (None, name); "tcp://..." or a Client → (client, None)."""
     if scheduler is None:
@@ -107,9 +137,10 @@ def compute_blocks(spec, todo, client, local, on_block, progress):
     """Compute blocks ``todo`` = [(i, a, b, j, lo, hi)], calling ``on_block(i, j, ds)`` as each ends."""
     if not todo:
         return
-    bar = None
     if progress if progress is not None else _interactive():
         bar = _tqdm_class()(total=len(todo), desc="ensemble blocks", unit="block")
+    else:  # batch jobs (SLURM, CI, nohup): a log line now and then, not silence until the end
+        bar = LogProgress(len(todo), what="ensemble blocks")
     spec_d = dask.delayed(spec, pure=True, name=f"roughstick-ensemble-spec-{spec.token}")
     delayed = {}
     for i, a, b, j, lo, hi in todo:

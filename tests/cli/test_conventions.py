@@ -1,0 +1,157 @@
+"""CLI conventions (issue 16 items 4, 7 and 12): flags, folders, logging, interrupts, OS errors."""
+
+from __future__ import annotations
+
+import errno
+import json
+
+import numpy as np
+import pytest
+
+import roughstick as rs
+from roughstick.cli import build_parser, main
+from roughstick.cli._common import MARKER, user_message
+from roughstick.plotting.save import save_figure
+
+WRITERS = ("demo", "psd", "reproduce", "risk", "run")  # curves: issue 13's file
+
+
+def _sub(name):
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    return sub.choices[name]
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["--version"])
+    assert e.value.code == 0 and capsys.readouterr().out.strip() == f"roughstick {rs.__version__}"
+
+
+def test_every_command_has_quiet_verbose_and_writers_overwrite():
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    for name, p in sub.choices.items():
+        flags = {o for a in p._actions for o in a.option_strings}
+        assert {"--quiet", "--verbose"} <= flags, name
+        if name in WRITERS:
+            assert "--overwrite" in flags, name
+
+
+def test_demo_unknown_only_step_is_an_error(tmp_path, capsys):
+    assert main(["demo", "--only", "sphere", "bogus", "--out", str(tmp_path / "d")]) == 1
+    err = capsys.readouterr().err
+    assert "--only bogus: no such step" in err and "cantilever" in err
+    assert not (tmp_path / "d").exists()
+
+
+def test_demo_quiet_and_folder_claims(tmp_path, capsys):
+    out = tmp_path / "d"
+    assert main(["demo", "--quick", "--only", "sphere", "--quiet", "--out", str(out)]) == 0
+    assert capsys.readouterr().out == ""
+    assert json.loads((out / MARKER).read_text())["status"] == "complete"
+    # the same command again rewrites; other options over complete results need --overwrite
+    assert main(["demo", "--quick", "--only", "sphere", "-q", "--out", str(out)]) == 0
+    assert main(["demo", "--only", "sphere", "-q", "--out", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert "--overwrite" in err and "--out" in err and "quick: True -> False" in err
+    # a failed (unfinished) run never blocks the next one
+    rec = json.loads((out / MARKER).read_text())
+    (out / MARKER).write_text(json.dumps({**rec, "status": "running", "params": {"x": 1}}))
+    (out / ".fig3_sphere_models.tmp-99.png").write_bytes(b"")  # left by a kill
+    assert main(["demo", "--quick", "--only", "sphere", "-q", "--out", str(out)]) == 0
+    assert not list(out.glob("*.tmp-*"))
+
+
+def test_ctrl_c_is_one_line_and_says_resume(monkeypatch, tmp_path, capsys):
+    from roughstick.cli import demo
+
+    def interrupted(out, *, quick):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(demo, "steps", lambda: [type("M", (), {"__name__": "x.s10_sphere",
+                                                                   "run": staticmethod(interrupted)})])
+    assert main(["demo", "--out", str(tmp_path / "d")]) == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "re-run the same command to resume" in err
+
+
+def test_bugs_keep_their_traceback(monkeypatch, tmp_path):
+    from roughstick.cli import demo
+
+    def bug(out, *, quick):
+        raise AttributeError("'NoneType' object has no attribute 'x'")
+
+    monkeypatch.setattr(demo, "steps", lambda: [type("M", (), {"__name__": "x.s10_sphere",
+                                                                   "run": staticmethod(bug)})])
+    with pytest.raises(AttributeError):
+        main(["demo", "--out", str(tmp_path / "d")])
+
+
+def test_os_errors_are_one_line_naming_the_flag(tmp_path, capsys):
+    (tmp_path / "file").write_text("x")
+    assert main(["demo", "--only", "sphere", "--out", str(tmp_path / "file" / "sub")]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--out" in err
+    for exc in (PermissionError(errno.EACCES, "Permission denied", "/ro/band.nc"),
+                OSError(errno.EROFS, "Read-only file system", "/ro/band.nc"),
+                OSError(errno.ENOSPC, "No space left on device", "/x/band.nc")):
+        msg = user_message(exc)
+        assert "/ro/band.nc" in msg or "/x/band.nc" in msg
+        assert "--out" in msg
+
+
+def test_damaged_netcdf_is_a_clear_error(tmp_path, capsys):
+    bad = tmp_path / "gamma.nc"
+    bad.write_bytes(b"\x89HDF\r\n\x1a\n" + b"\x00" * 100)  # an HDF5 signature, then nothing
+    with pytest.raises(ValueError, match="damaged, truncated or not a NetCDF file"):
+        rs.open_dataset(bad)
+    cfg = tmp_path / "risk.toml"
+    cfg.write_text('[ensemble]\nadhesive_energy = "gamma.nc"\n[output]\nfolder = "o"\n')
+    assert main(["risk", str(cfg)]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "damaged" in err
+
+
+def test_psd_refuses_to_replace_a_file_silently(tmp_path, capsys):
+    np.save(tmp_path / "m.npy", np.random.default_rng(0).normal(size=(64, 64)))
+    out = tmp_path / "psd.nc"
+    out.write_text("precious")
+    args = ["psd", str(tmp_path / "m.npy"), "--spacing", "5 nm", "--units", "nm", "--out", str(out)]
+    assert main(args) == 1
+    assert "--overwrite" in capsys.readouterr().err and out.read_text() == "precious"
+    assert main(args + ["--overwrite", "--qmax", "289 rad/um"]) == 0
+    assert main(["psd", str(tmp_path / "m.npy"), "--spacing", "5 nm", "--units", "nm", "--qmax", "289e6",
+                 "--out", str(tmp_path / "new" / "p.nc")]) == 1
+    assert 'has no unit' in capsys.readouterr().err
+
+
+def test_figure_write_is_atomic(tmp_path, monkeypatch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1])
+
+    def killed(path, **kw):
+        open(path, "wb").close()  # the 0-byte file a kill used to leave
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(fig, "savefig", killed)
+    with pytest.raises(KeyboardInterrupt):
+        save_figure(fig, tmp_path / "a.png")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_run_progress_lines_without_terminal_and_tmp_cleanup(tmp_path, capsys):
+    from test_run import _cfg
+
+    cfg = _cfg(tmp_path, n="4", rh="[0.3, 0.9]")
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / ".band.nc.tmp-1234-5678").write_bytes(b"half")
+    assert main(["run", str(cfg)]) == 0
+    out = capsys.readouterr().out
+    assert "ensemble blocks: 2/2 done (100 %)" in out  # capsys is no terminal: log lines
+    assert not list((tmp_path / "out").glob(".*tmp-*"))
