@@ -57,6 +57,10 @@ def _run(args):
     for path in args.maps:
         h = rs.read_afm(path, spacing=args.spacing, channel=channel, units=args.units)
         maps.append(rs.level(h, method=args.level, nan=args.nan))
+        used = h.attrs.get("channel")
+        LOG.info(f"{path}: {h.sizes['y']} x {h.sizes['x']} px of {float(h.x[1] - h.x[0]) * 1e9:.4g} nm"
+                 + (f", channel {used}" + (f" (of {h.attrs['channels_in_file']})"
+                                            if "channels_in_file" in h.attrs else "") if used else ""))
     shapes = {m.shape for m in maps}
     if len(shapes) > 1:
         raise ValueError(f"all maps must have the same size to be averaged; got {sorted(shapes)}.")

@@ -57,28 +57,99 @@ def _spacing_pair(spacing):
     return v, v
 
 
-def _read_netcdf(path: pathlib.Path, channel):
-    with xr.open_dataset(path, engine="netcdf4") as ds:
-        ds.load()
+def _metadata(info: dict) -> dict:
+    """Instrument metadata of SurfaceTopography's ``info`` (or contact.engineering's ``json``)
+    as flat NetCDF-storable attributes: ``instrument_name``, ``acquisition_time`` ..."""
+    out = {}
+
+    def walk(prefix, v):
+        if isinstance(v, dict):
+            for k, x in v.items():
+                if k != "raw_metadata":
+                    walk(f"{prefix}_{k}" if prefix else str(k), x)
+        elif isinstance(v, (str, int, float, np.integer, np.floating)) and not isinstance(v, bool):
+            out[prefix] = v.item() if hasattr(v, "item") else v
+        elif v is not None and not isinstance(v, (list, tuple)):
+            out[prefix] = str(v)
+
+    walk("", info or {})
+    return out
+
+
+def _is_height_name(name: str) -> bool:
+    return "height" in str(name).lower().replace("_", " ")
+
+
+def _read_netcdf(path: pathlib.Path, channel, units, spacing):
+    import json
+
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            ds.load()
+    except OSError as exc:  # "NetCDF: HDF error", "Unknown file format"
+        raise ValueError(f"cannot read {path.name} as NetCDF ({exc}): the file is damaged, truncated "
+                         "or not NetCDF despite its extension.") from exc
+    names = list(ds.data_vars)
     if isinstance(channel, str):
         name = channel
     elif "height" in ds.data_vars:
         name = "height"
-    elif len(ds.data_vars) == 1:
-        name = next(iter(ds.data_vars))
+    elif "heights" in ds.data_vars:  # SurfaceTopography / contact.engineering
+        name = "heights"
+    elif len(names) == 1:
+        name = names[0]
+    elif [n for n in names if _is_height_name(n)]:
+        name = [n for n in names if _is_height_name(n)][0]
     else:
-        raise ValueError(
-            f"{path} has variables {list(ds.data_vars)} and none is 'height'; pass channel='<name>'."
-        )
+        raise ValueError(f"{path} has variables {names} and none is a height; pass channel='<name>' "
+                         "(roughstick psd/curves: --channel NAME).")
     if name not in ds.data_vars:
-        raise ValueError(f"{path} has no variable {name!r}; it has {list(ds.data_vars)}.")
+        raise ValueError(f"{path} has no variable {name!r}; it has {names}.")
     da = ds[name]
-    # written by roughstick: returned exactly as stored; other NetCDF files get the defaults
-    if "periodic" not in da.attrs:
-        da.attrs["periodic"] = 0
-    if "source" not in da.attrs:
-        da.attrs["source"] = str(path)
-    return _units.require(da, "length", name=name) if "units" in da.attrs else da
+    foreign = "units" not in da.attrs or da.dims != ("y", "x") or units is not None or spacing is not None
+    if not foreign:  # written by roughstick: returned exactly as stored
+        if "periodic" not in da.attrs:
+            da.attrs["periodic"] = 0
+        if "source" not in da.attrs:
+            da.attrs["source"] = str(path)
+        return _units.require(da, "length", name=name)
+    # another writer (SurfaceTopography, contact.engineering, Gwyddion export ...): 'unit' (not CF's
+    # 'units') and dims (x, y) are common; the caller's units= / spacing= win over the file
+    zunit = units or da.attrs.get("units") or da.attrs.get("unit")
+    if zunit is None:
+        raise ValueError(f"{path.name}: variable {name!r} has no 'units' (or 'unit') attribute; pass "
+                         "units= (e.g. 'nm'; roughstick psd/curves: --units nm).")
+    if da.ndim == 1:
+        raise ValueError(f"{path.name}: {name!r} is a line scan (1-D profile of {da.size} points); "
+                         "roughstick's contact and ensemble analyses need a 2-D height map.")
+    if da.ndim != 2:
+        raise ValueError(f"{path.name}: {name!r} has dims {da.dims}; a height map is 2-D.")
+    if set(da.dims) == {"x", "y"}:
+        da = da.transpose("y", "x")
+    ydim, xdim = da.dims
+    if spacing is None:
+        dxy = []
+        for dim in (ydim, xdim):
+            c = ds[dim] if dim in ds.coords else None
+            if c is None or c.size < 2:
+                raise ValueError(f"{path.name}: no {dim} coordinate to tell the pixel size; pass "
+                                 "spacing= (e.g. '5 nm'; roughstick psd/curves: --spacing '5 nm').")
+            cu = c.attrs.get("units") or c.attrs.get("unit")
+            if cu is None:
+                raise ValueError(f"{path.name}: coordinate {dim!r} has no units; pass spacing= "
+                                 "(e.g. '5 nm'; --spacing '5 nm').")
+            dxy.append(float(c[1] - c[0]) * _units.factor(cu, "length", name=dim))
+        spacing = tuple(dxy)
+    out = _grid(da.values, spacing[1], spacing[0], units=zunit, source=str(path))
+    out.attrs["channel"] = name
+    meta = {}
+    if "json" in ds.attrs:
+        try:
+            meta = json.loads(ds.attrs["json"])
+        except ValueError:
+            meta = {}
+    out.attrs.update(_metadata(meta))
+    return out
 
 
 def _read_vendor(path: pathlib.Path, channel, spacing):
@@ -90,27 +161,37 @@ def _read_vendor(path: pathlib.Path, channel, spacing):
             "pip install roughstick[afm] (or pip install SurfaceTopography). Built-in formats: "
             ".nc (NetCDF), .npy, plain-text grids."
         ) from exc
-    reader = open_topography(str(path))
+    try:
+        reader = open_topography(str(path))
+    except Exception as exc:  # SurfaceTopography raises many types for a file it cannot parse
+        raise ValueError(f"cannot read {path.name}: SurfaceTopography recognises no AFM format in it "
+                         f"({type(exc).__name__}: {exc}). Is it what its extension says?") from exc
     channels = reader.channels
-    if channel is None:
-        idx = reader.default_channel.index
+    listing = [(c.index, c.name) for c in channels]
+
+    def is_height(c):  # a height channel has a (string) length unit for its data
+        return isinstance(c.unit, str)
+
+    if channel is None:  # the channel named height, not the file's first (e.g. ZSensor)
+        named = [c for c in channels if is_height(c) and _is_height_name(c.name)]
+        idx = named[0].index if named else reader.default_channel.index
     elif isinstance(channel, (int, np.integer)):
         idx = int(channel)
         if not 0 <= idx < len(channels):
-            raise ValueError(f"{path.name} has channels 0..{len(channels) - 1}, not {idx}.")
+            raise ValueError(f"{path.name} has channels {listing}, not {idx}.")
     else:
         names = [c.name for c in channels]
         if channel not in names:
-            raise ValueError(f"{path.name} has no channel {channel!r}; channels: {names}.")
+            raise ValueError(f"{path.name} has no channel {channel!r}; channels: {listing}.")
         idx = names.index(channel)
     info = channels[idx]
-    unit = info.unit
-    if isinstance(unit, tuple):
-        unit = unit[1] if len(unit) > 1 else unit[0]
-    if unit is None:
+    if info.dim == 1:
+        raise ValueError(f"channel {idx} ({info.name!r}) of {path.name} is a line scan (1-D profile); "
+                         "roughstick's contact and ensemble analyses need a 2-D height map.")
+    if not is_height(info):
         raise ValueError(
             f"channel {idx} ({info.name!r}) of {path.name} is not a height channel (no length unit); "
-            f"choose a height channel: {[(c.index, c.name) for c in channels]}."
+            f"choose a height channel: {listing}."
         )
     t = reader.topography(channel_index=idx)
     unit = t.unit
@@ -125,6 +206,8 @@ def _read_vendor(path: pathlib.Path, channel, spacing):
     dx, dy = (sx * f / nx, sy * f / ny) if spacing is None else (spacing[1], spacing[0])
     da = _grid(z, dx, dy, units=unit, source=str(path))
     da.attrs["channel"] = f"{idx}: {info.name}"
+    da.attrs["channels_in_file"] = ", ".join(f"{i}: {n}" for i, n in listing)
+    da.attrs.update(_metadata(dict(info.info)))
     return da
 
 
@@ -143,17 +226,23 @@ def read_afm(path, *, spacing=None, channel=None, units=None) -> xr.DataArray:
         Pixel size: a number in m or a string such as ``"5 nm"``. Required for ``.npy`` and
         text; overrides the file's scan size for vendor formats.
     channel : int or str, optional
-        Channel index or name (vendor formats; e.g. ``"Z Height"``, ``3``) or variable name
-        (NetCDF). Default: the file's default channel / ``height``.
+        Channel index or name (vendor formats; e.g. ``"Height"``, ``3``) or variable name
+        (NetCDF). Default: the channel named height (not the file's first channel, which is
+        often ZSensor), else the file's default; NetCDF: ``height``, SurfaceTopography's
+        ``heights``, or the only variable. The channel used is in ``attrs['channel']`` (and the
+        others in ``attrs['channels_in_file']``).
     units : str, optional
         Units of the height values of ``.npy`` and text files (``"m"``, ``"nm"``, ``"um"``, ...);
-        required for them, since nothing in the file says.
+        required for them, since nothing in the file says. For NetCDF from other writers
+        (SurfaceTopography, contact.engineering: attribute ``unit``, dims ``(x, y)``) it
+        overrides the file's unit.
 
     Returns
     -------
     xarray.DataArray
         ``height`` [m] over ``(y, x)``, pixel-centre coords in m, attrs ``periodic`` (0: measured),
-        ``source`` (the file) and ``history``. Not levelled: use :func:`roughstick.level`.
+        ``source`` (the file), ``channel``, the instrument metadata SurfaceTopography reports
+        (``instrument_name``, ``instrument_vendor``, ``acquisition_time`` ...) and ``history``. Not levelled: use :func:`roughstick.level`.
 
     Raises
     ------
@@ -179,7 +268,10 @@ def read_afm(path, *, spacing=None, channel=None, units=None) -> xr.DataArray:
     suffix = path.suffix.lower()
     sp = _spacing_pair(spacing)
     if suffix in _NETCDF:
-        return _read_netcdf(path, channel)
+        da = _read_netcdf(path, channel, units, sp)
+        if "channel" in da.attrs:  # another writer's file (a roughstick file reads back exactly)
+            append_history(da, f"read_afm: {path.name} variable {da.attrs['channel']!r}")
+        return da
     if suffix == ".npy" or suffix in _TEXT:
         if sp is None or units is None:
             raise ValueError(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import pathlib
 import sys
 
@@ -13,7 +14,9 @@ import roughstick as rs
 from roughstick.testing import make_topography
 
 # same location as tests/conftest.py's SHARED_AFM: ../shared/afm beside the project
-SHARED_AFM = pathlib.Path(__file__).resolve().parents[2].parent / "shared" / "afm"
+# (or $ROUGHSTICK_AFM_DIR, e.g. from a git worktree elsewhere)
+SHARED_AFM = pathlib.Path(os.environ.get("ROUGHSTICK_AFM_DIR", "")
+                          or pathlib.Path(__file__).resolve().parents[2].parent / "shared" / "afm")
 
 needs_afm = pytest.mark.skipif(
     not SHARED_AFM.is_dir(), reason=f"real AFM files not found at {SHARED_AFM}"
@@ -79,6 +82,8 @@ def test_vendor_without_surfacetopography(tmp_path, monkeypatch):
         ("ST_di-6.di", None, 14.3, (512, 512)),
         ("ST_example_ps.tiff", "Z Height", 3.9, (512, 512)),
         ("ST_di-3.di", 3, 45.5, (256, 256)),
+        ("ST_di-3.di", None, 45.5, (256, 256)),  # the Height channel by name, not ZSensor (35.2)
+        ("ST_di-3.di", 0, 35.2, (256, 256)),
     ],
 )
 def test_real_files_sq_after_plane_removal(name, channel, sq_nm, shape):
@@ -106,3 +111,68 @@ def test_real_file_scan_line_alignment_and_channels():
     # a real map goes through the whole statistics chain
     st = rs.roughness_statistics(rs.level(h))
     assert float(st.summit_density) > 0 and np.isfinite(float(st.bandwidth))
+
+
+@needs_afm
+def test_channel_reported_and_metadata_kept():
+    pytest.importorskip("SurfaceTopography")
+    h = rs.read_afm(SHARED_AFM / "ST_di-3.di")
+    assert h.attrs["channel"] == "3: Height"
+    assert "0: ZSensor" in h.attrs["channels_in_file"]
+    assert h.attrs["instrument_name"] == "Dimension Icon" and h.attrs["instrument_vendor"] == "Bruker"
+    assert h.attrs["acquisition_time"].startswith("2014-12-15")
+
+
+@needs_afm
+def test_surfacetopography_netcdf_accepted(tmp_path):
+    """NetCDF written by SurfaceTopography / contact.engineering: attribute 'unit', dims (x, y)."""
+    st = pytest.importorskip("SurfaceTopography")
+    t = st.open_topography(str(SHARED_AFM / "ST_di-3.di")).topography(channel_index=3)
+    t.to_netcdf(str(tmp_path / "ce.nc"))
+    h = rs.read_afm(tmp_path / "ce.nc")
+    vendor = rs.read_afm(SHARED_AFM / "ST_di-3.di", channel=3)
+    np.testing.assert_allclose(h.values, vendor.values, rtol=1e-12)
+    np.testing.assert_allclose(h.x.values, vendor.x.values, rtol=1e-12)
+    assert h.attrs["units"] == "m" and h.attrs["instrument_vendor"] == "Bruker"
+    # --units overrides the file's unit
+    h_um = rs.read_afm(tmp_path / "ce.nc", units="um")
+    np.testing.assert_allclose(h_um.values, 1e3 * h.values, rtol=1e-12)
+
+
+def test_foreign_netcdf_without_units_is_refused(tmp_path):
+    xr.Dataset({"z": (("x", "y"), np.zeros((16, 16)))},
+               coords={"x": np.arange(16.0), "y": np.arange(16.0)}).to_netcdf(tmp_path / "z.nc")
+    with pytest.raises(ValueError, match="no 'units'.*--units nm"):
+        rs.read_afm(tmp_path / "z.nc")
+    with pytest.raises(ValueError, match="coordinate 'y' has no units"):
+        rs.read_afm(tmp_path / "z.nc", units="nm")
+    h = rs.read_afm(tmp_path / "z.nc", units="nm", spacing="5 nm")
+    assert h.dims == ("y", "x") and float(h.x[1] - h.x[0]) == pytest.approx(5e-9)
+
+
+def test_files_that_are_not_what_their_extension_says(tmp_path):
+    (tmp_path / "a.nc").write_text("this is text, not NetCDF")
+    with pytest.raises(ValueError, match="not NetCDF despite its extension"):
+        rs.read_afm(tmp_path / "a.nc")
+    (tmp_path / "b.di").write_bytes(b"\x00" * 64)
+    pytest.importorskip("SurfaceTopography")
+    with pytest.raises(ValueError, match="Is it what its extension says"):
+        rs.read_afm(tmp_path / "b.di")
+
+
+def test_line_scan_netcdf_refused_clearly(tmp_path):
+    xr.Dataset({"heights": (("x",), np.zeros(64), {"unit": "nm"})},
+               coords={"x": ("x", np.arange(64.0), {"unit": "nm"})}).to_netcdf(tmp_path / "l.nc")
+    with pytest.raises(ValueError, match="line scan"):
+        rs.read_afm(tmp_path / "l.nc")
+
+
+@needs_afm
+def test_cli_psd_names_the_channel(tmp_path, capsys):
+    pytest.importorskip("SurfaceTopography")
+    from roughstick.cli import main
+
+    assert main(["psd", str(SHARED_AFM / "ST_di-3.di"), "--submaps", "1",
+                 "--out", str(tmp_path / "p.nc")]) == 0
+    out = capsys.readouterr().out
+    assert "channel 3: Height (of 0: ZSensor, 1: AmplitudeError, 2: Phase, 3: Height)" in out
