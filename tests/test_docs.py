@@ -44,3 +44,14 @@ def test_architecture_page_shows_every_subpackage():
             assert f"{p.name}/" in text, f"docs/architecture.md does not show {p.name}/"
         elif p.suffix == ".py" and p.name != "__init__.py":
             assert p.name in text, f"docs/architecture.md does not show {p.name}"
+
+
+def test_configuration_page_lists_every_key_of_the_schema():
+    from roughstick.cli._config import SCHEMAS
+
+    text = (DOCS / "configuration.md").read_text()
+    for command, tables in SCHEMAS.items():
+        assert f"### `roughstick {command}`" in text, command
+        for table, fields in tables.items():
+            for key in fields:
+                assert f"| `{key}` |" in text, (command, table, key)

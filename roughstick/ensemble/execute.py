@@ -30,7 +30,7 @@ from .store import (
     write_block,
 )
 
-__all__ = ["progress_bar", "LogProgress"]
+__all__ = ["progress_bar"]
 
 _LOG = logging.getLogger("roughstick")
 
