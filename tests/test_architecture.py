@@ -38,10 +38,10 @@ RANK = {
     "stiction": 5,
     "plotting": 6,
     "accessor": 6,     # forwarding methods over every stage
-    "demos": 7,
-    "paper": 8,
-    "cli": 8,
-    "roughstick": 9,   # the package's __init__: the facade that re-exports everything
+    "paper": 7,        # the figures of the paper, once: (Dataset, Figure) per figure group
+    "demos": 8,        # call paper/
+    "cli": 9,          # calls demos/ and paper/
+    "roughstick": 10,  # the package's __init__: the facade that re-exports everything
 }
 #: Layers allowed to import the facade ``import roughstick as rs`` (applications of the package).
 FACADE_USERS = {"demos", "paper", "cli"}

@@ -348,7 +348,7 @@ def parse(raw: dict, command: str, *, base, source: str = "config", schema=None)
     errors: list[str] = []
     out: dict = {}
     top = schema.get("", {})
-    for key, body in raw.items():
+    for key in raw:
         if key in schema and key != "":
             continue
         if key in top:

@@ -17,12 +17,7 @@ import xarray as xr
 
 import roughstick as rs
 
-from ..plotting.ensemble import (
-    plot_energy_band,
-    plot_energy_distribution,
-    plot_ensemble_curves,
-)
-from ..plotting.generation import plot_surfaces
+from ..paper import ensemble as figures
 from ..plotting.save import save_figure
 from ._common import LOG, claim_folder, finish_folder, positive_int
 
@@ -54,7 +49,6 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
 
     out = pathlib.Path(out)
@@ -67,9 +61,8 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
     for k, sample in enumerate(("S1", "S2")):
         psd = rs.datasets.sample_psd(sample)
         # Fig. 13: three generated surfaces
-        h = rs.generate_surfaces(psd, n=3, shape=shapes[0], spacing=5e-9, seed=13 + k)
-        axes = plot_surfaces(h.compute(), title=sample)
-        files.append(_save(axes[0].figure, out / f"fig13_surfaces_{sample}.png"))
+        _, fig = figures.fig13_surfaces(psd, shape=shapes[0], seed=13 + k, title=sample)
+        files.append(_save(fig, out / f"fig13_surfaces_{sample}.png"))
         dist = rs.ensemble_distance_grid(psd, shape=(shapes[1], shapes[1]), n=n,
                                          relative_humidity=RH[sample])
         per_size = []
@@ -88,8 +81,8 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
                                                 dict(rs.conventions.ATTRS["surface_size"])))
         results[sample] = both
         # Figs. 14 (S1) and 15 (S2): curve sets at the smaller size
-        fig = plot_ensemble_curves(per_size[0])
-        fig.suptitle(f"Fig. {14 + k}: {sample}, {n} surfaces of {shapes[0] * 5e-3:.2f} µm ({scale} scale)")
+        _, fig = figures.fig14_ensemble_curves(
+            per_size[0], title=f"Fig. {14 + k}: {sample}, surfaces of {shapes[0] * 5e-3:.2f} µm ({scale} scale)")
         files.append(_save(fig, out / f"fig{14 + k}_curves_{sample}.png"))
         band = rs.confidence_band(both)
         files.append(rs.io.netcdf.write(band, out / f"band_{sample}.nc", compute=True))
@@ -98,23 +91,18 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
             for line in rs.band_summary(band.sel(surface_size=size)):
                 log("  " + line)
     # Fig. 16: Γ bands vs RH for both sizes, S1 (a) and S2 (b)
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), constrained_layout=True)
-    for ax, sample in zip(axes, ("S1", "S2"), strict=True):
-        plot_energy_band(results[sample], ax=ax)
-        ax.set_title(f"Fig. 16: {sample}, n = {n} per size ({scale} scale)")
+    _, fig = figures.fig16_energy_bands(results, title=f"Fig. 16 ({scale} scale)")
     files.append(_save(fig, out / "fig16_energy_bands.png"))
     # Fig. 17: distributions of Γ for S1, both sizes
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), constrained_layout=True)
-    plot_energy_distribution(results["S1"], rh=[0.3, 0.5, 0.6], ax=axes[0])
-    plot_energy_distribution(results["S1"], rh=[0.7, 0.8, 0.9], ax=axes[1])
-    fig.suptitle(f"Fig. 17: distribution of Γ, S1, two surface sizes ({scale} scale)")
+    _, fig = figures.fig17_energy_distributions(
+        results["S1"], rh_panels=[(0.3, 0.5, 0.6), (0.7, 0.8, 0.9)],
+        title=f"Fig. 17: distribution of Γ, S1, two surface sizes ({scale} scale)")
     files.append(_save(fig, out / "fig17_energy_distributions_S1.png"))
-    plt.close("all")
     return files
 
 
 def _save(fig, path):
-    return save_figure(fig, path, close=False)
+    return save_figure(fig, path)
 
 
 def _run(args):

@@ -24,6 +24,7 @@ from ..stiction.interaction_zone import TABLE4
 from ._common import LOG, claim_folder, finish_folder
 from ._config import ConfigError, Field, parse, read_toml
 
+
 def register(sub):
     p = sub.add_parser(
         "risk",

@@ -90,7 +90,6 @@ def run(out, *, quick: bool = False) -> list[pathlib.Path]:
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
 
     out = pathlib.Path(out)

@@ -14,6 +14,7 @@ On the bundled maps S1A, S1B, S1C (:mod:`roughstick.datasets`; synthetic stand-i
 
 from __future__ import annotations
 
+import logging
 import pathlib
 
 import numpy as np
@@ -21,16 +22,14 @@ import xarray as xr
 
 import roughstick as rs
 
-import logging
-
 from ..io import netcdf
-from ..plotting.save import save_figure
 from ..plotting.rough_contact import (
     plot_adhesion_vs_rh,
     plot_fit_error,
     plot_mdmt_vs_gw,
     plot_rough_curves,
 )
+from ..plotting.save import save_figure
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 LOG = logging.getLogger("roughstick")

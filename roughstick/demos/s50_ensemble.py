@@ -14,22 +14,14 @@ import pathlib
 
 import roughstick as rs
 
+from ..paper import ensemble as figures
 from ..plotting.save import save_figure
-
-from ..plotting.ensemble import (
-    plot_energy_band,
-    plot_energy_distribution,
-    plot_ensemble_curves,
-)
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 LOG = logging.getLogger("roughstick")
 
 
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
-    import matplotlib.pyplot as plt
-
-
     out = pathlib.Path(out)
     n, shape = (16, 256) if quick else (48, 512)
     psd = rs.datasets.sample_psd("S1")
@@ -41,18 +33,13 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     LOG.info("    apparent adhesive energy Γ of the S1 ensemble:")
     for line in rs.band_summary(band):
         LOG.info("      " + line)
-    fig = plot_ensemble_curves(ds)
-    fig.suptitle(f"S1 PSD, {n} surfaces of {shape * 5e-3:.2f} µm (Fig. 14 at demo scale)")
-    files.append(_save(fig, out / "fig14_ensemble_curves.png"))
-    ax = plot_energy_band(ds, label=f"{shape * 5e-3:.2f} µm")
-    ax.set_title(f"Γ vs RH, n = {n} (Fig. 16)")
-    files.append(_save(ax.figure, out / "fig16_energy_band.png"))
-    ax = plot_energy_distribution(ds, rh=[0.3, 0.7, 0.9])
-    ax.set_title("distribution of Γ (Fig. 17)")
-    files.append(_save(ax.figure, out / "fig17_energy_ecdf.png"))
-    plt.close("all")
+    _, fig = figures.fig14_ensemble_curves(
+        ds, title=f"S1 PSD, {n} surfaces of {shape * 5e-3:.2f} µm (Fig. 14 at demo scale)")
+    files.append(save_figure(fig, out / "fig14_ensemble_curves.png"))
+    _, fig = figures.fig16_energy_bands({"S1": ds}, title="Γ vs RH (Fig. 16)",
+                                        labels={"S1": f"{shape * 5e-3:.2f} µm"})
+    files.append(save_figure(fig, out / "fig16_energy_band.png"))
+    _, fig = figures.fig17_energy_distributions(ds, rh_panels=[(0.3, 0.7, 0.9)],
+                                                title="distribution of Γ (Fig. 17)")
+    files.append(save_figure(fig, out / "fig17_energy_ecdf.png"))
     return files
-
-
-def _save(fig, path):
-    return save_figure(fig, path)

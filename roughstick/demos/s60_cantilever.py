@@ -19,14 +19,13 @@ from __future__ import annotations
 
 import csv
 import io
+import logging
 import pathlib
 
 import numpy as np
 import xarray as xr
 
 import roughstick as rs
-
-import logging
 
 from .. import plotting
 from ..io.netcdf import write_text_atomic

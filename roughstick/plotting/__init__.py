@@ -8,6 +8,6 @@ from .ensemble import *  # noqa: F403
 from .generation import *  # noqa: F403
 from .gw import *  # noqa: F403
 from .rough_contact import *  # noqa: F403
+from .save import *  # noqa: F403
 from .sphere import *  # noqa: F403
 from .topography import *  # noqa: F403
-from .save import *  # noqa: F403
