@@ -25,8 +25,7 @@ cells = [
         "import numpy as np\n"
         "import matplotlib.pyplot as plt\n"
         "import roughstick as rs\n"
-        "from roughstick.plotting.ensemble import (plot_ensemble_curves, plot_energy_band,\n"
-        "                                          plot_energy_distribution)\n\n"
+        "from roughstick.paper import ensemble as figures  # the paper's figures, one copy\n\n"
         "RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]\n"
         "N, SMALL, LARGE = 16, 128, 256\n"
         "psd = {s: rs.datasets.sample_psd(s) for s in ('S1', 'S2')}  # scheme 3 of section 4.1, cut at 289 rad/um\n"
@@ -56,22 +55,22 @@ cells = [
     ),
     new_code_cell(
         "ens = {s: ds.compute() for s, ds in ens.items()}\n"
-        "fig = plot_ensemble_curves(ens['S1'])\n"
-        "fig.suptitle(f'Fig. 14 (S1): {N} surfaces of {SMALL * 5e-3:.2f} µm');"
+        "_, fig = figures.fig14_ensemble_curves(ens['S1'], title=f'Fig. 14 (S1): surfaces of {SMALL * 5e-3:.2f} µm')"
     ),
     new_code_cell(
-        "fig = plot_ensemble_curves(ens['S2'])\n"
-        "fig.suptitle(f'Fig. 15 (S2): {N} surfaces of {SMALL * 5e-3:.2f} µm');"
+        "_, fig = figures.fig14_ensemble_curves(ens['S2'], title=f'Fig. 15 (S2): surfaces of {SMALL * 5e-3:.2f} µm')"
     ),
     new_markdown_cell(
         "## The band and its own uncertainty\n\n`*_ci_lower` / `*_ci_upper` are distribution-free "
         "95 % intervals of each quantile (order statistics, Binomial(n, p) ranks). With n = 16 the "
-        "2.5 % and 97.5 % quantiles cannot be bounded at all (±inf): the band edges are not yet "
+        "2.5 % and 97.5 % quantiles cannot be bounded at all (NaN, and `band_summary` says so; "
+        "146 surfaces are needed): the band edges are not yet "
         "known, which is why the paper used thousands of surfaces (`n='auto'` adds batches until "
         "the band stops moving)."
     ),
     new_code_cell(
         "band = rs.confidence_band(ens['S1'][['adhesive_energy']])\n"
+        "print('\\n'.join(rs.band_summary(band)))\n"
         "(band[['adhesive_energy', 'adhesive_energy_ci_lower', 'adhesive_energy_ci_upper']] * 1e3)"
         ".to_dataframe().unstack('quantile').round(4)"
     ),
@@ -82,14 +81,11 @@ cells = [
     new_code_cell(
         "sizes = rs.surface_size_study(psd['S1'], shapes=[SMALL, LARGE], spacing=5e-9, n=N,\n"
         "                              relative_humidity=RH, seed=16, chunks=2).compute()\n"
-        "ax = plot_energy_band(sizes)\n"
-        "ax.set_title('Fig. 16 (S1): Γ vs RH, two surface sizes');"
+        "_, fig = figures.fig16_energy_bands({'S1, two surface sizes': sizes}, title='Fig. 16')"
     ),
     new_code_cell(
-        "fig, axes = plt.subplots(1, 2, figsize=(11, 4), layout='constrained')\n"
-        "plot_energy_distribution(sizes, rh=[0.3, 0.5], ax=axes[0])\n"
-        "plot_energy_distribution(sizes, rh=[0.8, 0.9], ax=axes[1])\n"
-        "fig.suptitle('Fig. 17 (S1): distribution of Γ');"
+        "_, fig = figures.fig17_energy_distributions(sizes, rh_panels=[(0.3, 0.5), (0.8, 0.9)],\n"
+        "                                            title='Fig. 17 (S1): distribution of Γ')"
     ),
     new_markdown_cell(
         "## Streaming to NetCDF, resumable\n\nWith `output=folder` each block is written (CF NetCDF, "
