@@ -17,18 +17,10 @@ from __future__ import annotations
 import logging
 import pathlib
 
-import numpy as np
-import xarray as xr
-
 import roughstick as rs
 
 from ..io import netcdf
-from ..plotting.rough_contact import (
-    plot_adhesion_vs_rh,
-    plot_fit_error,
-    plot_mdmt_vs_gw,
-    plot_rough_curves,
-)
+from ..paper import rough_contact as figures
 from ..plotting.save import save_figure
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
@@ -42,50 +34,20 @@ def _maps(quick: bool) -> dict:
 
 
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
-    import matplotlib.pyplot as plt
-
-
     out = pathlib.Path(out)
     maps = _maps(quick)
     curves = {k: rs.rough_contact_curves(h, relative_humidity=RH) for k, h in maps.items()}
     summaries = {k: rs.adhesion_summary(c) for k, c in curves.items()}
     written = []
-
     first = next(iter(curves))
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7.5), constrained_layout=True)
-    plot_rough_curves(curves[first], rh=RH[:3], ax=axes[0, 0])
-    plot_rough_curves(curves[first], rh=RH[3:], ax=axes[0, 1])
-    plot_fit_error(curves[first], rh=0.3, ax=axes[1, 0])
-    plot_fit_error(curves[first], rh=0.9, ax=axes[1, 1])
-    fig.suptitle(f"Fig. 8: modified DMT on {first}")
+    _, fig = figures.fig08_rough_curves(curves[first], name=first, relative_humidity=RH)
     written.append(save_figure(fig, out / "fig08_rough_curves.png"))
-
-    gw = None
-    if hasattr(rs, "gw_contact_curves"):
-        mom = [rs.roughness_moments(rs.level(h, method="mean", nan="fill")) for h in maps.values()]
-        moments = xr.concat(mom, "map").mean("map", keep_attrs=True)
-        lo = min(float(c.distance.min()) for c in curves.values())
-        hi = max(float(c.distance.max()) for c in curves.values())
-        gw = rs.gw_contact_curves(moments, relative_humidity=RH, distance=np.linspace(lo, hi, 300))
-    fig = plot_mdmt_vs_gw(curves, gw, rh=(0.3, 0.5, 0.7, 0.9))
-    fig.suptitle("Fig. 10: modified DMT per map vs GW on the sample moments")
+    _, fig = figures.fig10_mdmt_vs_gw(maps, curves, relative_humidity=RH)
     written.append(save_figure(fig, out / "fig10_mdmt_vs_gw.png"))
-
-    fig = plot_adhesion_vs_rh(summaries)
-    fig.suptitle("Fig. 11: adhesive energy and wetted fraction at equilibrium")
+    _, fig = figures.fig11_adhesion_vs_rh(summaries)
     written.append(save_figure(fig, out / "fig11_adhesion_vs_rh.png"))
 
-    # one NetCDF over a `map` dimension; each map keeps its own distance grid as the auxiliary
-    # coordinate distance(map, point) (CF §5), not as numbered variables
-    parts = []
-    for k, c in curves.items():
-        c = xr.merge([c, summaries[k]], compat="override", combine_attrs="drop_conflicts")
-        d = c["distance"]
-        c = c.rename({"distance": "point"}).drop_vars("point")
-        parts.append(c.assign_coords(distance=("point", d.values, dict(d.attrs))))
-    ds = xr.concat(parts, dim=xr.DataArray(list(curves), dims="map", name="map",
-                                           attrs={"long_name": "measured height map (sample name)"}),
-                   coords="different", compat="equals", join="exact", combine_attrs="drop_conflicts")
+    ds = figures.curves_by_map(curves, summaries)
     ds.attrs = rs.conventions.dataset_attrs(
         "modified-DMT curves and adhesion summary of the S1 samples", references=rs.contact.rough.REFERENCES)
     rs.conventions.append_history(ds, f"roughstick demo s40_rough_contact quick={quick}")

@@ -1,0 +1,57 @@
+"""roughstick.paper: each figure function returns (Dataset, Figure); the data are the figure's."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+import xarray as xr  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+import roughstick as rs  # noqa: E402
+from roughstick.paper import ensemble, rough_contact  # noqa: E402
+
+RH = [0.3, 0.7, 0.9]
+
+
+@pytest.fixture(scope="module")
+def ens():
+    psd = rs.datasets.sample_psd("S2")
+    return rs.run_ensemble(psd, n=6, shape=64, spacing=5e-9, relative_humidity=RH, seed=3,
+                           chunks=3).compute()
+
+
+def test_ensemble_figures(ens):
+    band, fig = ensemble.fig14_ensemble_curves(ens, title="t")
+    assert isinstance(fig, Figure) and "n = 6" in fig._suptitle.get_text()
+    xr.testing.assert_allclose(band["pressure"], rs.confidence_band(ens[["pressure"]])["pressure"])
+    band, fig = ensemble.fig16_energy_bands({"a": ens, "b": ens})
+    assert band.sizes["sample"] == 2 and band.attrs["band_edges_bounded"] == 0
+    assert all("unbounded below n = 146" in ax.get_title() for ax in fig.axes if ax.get_title())
+    np.testing.assert_allclose(band["adhesive_energy"].sel(sample="a"),
+                               ens.adhesive_energy.quantile([0.025, 0.5, 0.975], "realization"))
+    ecdf, fig = ensemble.fig17_energy_distributions(ens, rh_panels=[(0.3,), (0.7, 0.9)])
+    assert len(fig.axes) == 2 and ecdf["adhesive_energy"].sizes["rh"] == 3
+    h, fig = ensemble.fig13_surfaces(rs.datasets.sample_psd("S2"), shape=32, n=2, seed=1)
+    assert h["height"].sizes["realization"] == 2
+    plt.close("all")
+
+
+def test_rough_contact_figures_and_map_dataset():
+    maps = {k: rs.datasets.load_sample(k).isel(x=slice(0, 128), y=slice(0, 128)) for k in ("S1A", "S1B")}
+    curves = {k: rs.rough_contact_curves(h, relative_humidity=RH) for k, h in maps.items()}
+    summaries = {k: rs.adhesion_summary(c) for k, c in curves.items()}
+    ds, fig = rough_contact.fig08_rough_curves(curves["S1A"], name="S1A", relative_humidity=RH)
+    assert ds is curves["S1A"] and isinstance(fig, Figure)
+    gw, fig = rough_contact.fig10_mdmt_vs_gw(maps, curves, relative_humidity=RH, rh_shown=(0.3, 0.9))
+    assert "pressure" in gw and gw.sizes["distance"] == 300
+    s, fig = rough_contact.fig11_adhesion_vs_rh(summaries)
+    np.testing.assert_array_equal(s.adhesive_energy.sel(map="S1B"), summaries["S1B"].adhesive_energy)
+    both = rough_contact.curves_by_map(curves, summaries)
+    assert both["pressure"].dims[0] == "map" and both["distance"].dims == ("map", "point")
+    np.testing.assert_array_equal(both.pressure.sel(map="S1A").values, curves["S1A"].pressure.values)
+    plt.close("all")
