@@ -51,6 +51,16 @@ def order_statistic_ranks(n: int, p: float, *, confidence: float) -> tuple[int, 
     return r, s
 
 
+def _labelled(obj, func: str, *, dataset: bool = True) -> None:
+    ok = (xr.DataArray, xr.Dataset) if dataset else (xr.DataArray,)
+    if not isinstance(obj, ok):
+        raise TypeError(
+            f"{func} takes a labelled xarray {'Dataset or ' if dataset else ''}DataArray with a "
+            f"'realization' dimension, not {type(obj).__name__}; wrap a plain array first, e.g. "
+            "xr.DataArray(a, dims=('realization', 'rh'), coords={'rh': rh}, name='adhesive_energy', "
+            "attrs={'units': 'J m-2', 'long_name': '...'}).")
+
+
 def min_samples_to_bound(p: float, *, confidence: float) -> int:
     r"""Smallest n whose order statistics bound the ``p``-quantile on BOTH sides at ``confidence``.
 
@@ -158,6 +168,7 @@ def quantile_interval(
     >>> float(lo[0]), float(hi[0])
     (39.0, 60.0)
     """
+    _labelled(da, "quantile_interval", dataset=False)
     probs = np.atleast_1d(np.asarray(quantiles, dtype=float))
     if np.any((probs < 0) | (probs > 1)):
         raise ValueError(f"quantiles must lie in [0, 1], got {probs.tolist()}.")
@@ -252,6 +263,7 @@ def confidence_band(
     """
     if not 0 < level < 1:
         raise ValueError(f"level must lie in (0, 1), got {level!r}.")
+    _labelled(ds, "confidence_band")
     if isinstance(ds, xr.DataArray):
         name = ds.name or "data"
         ds = ds.to_dataset(name=name)

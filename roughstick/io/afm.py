@@ -8,6 +8,7 @@ an optional extra: ``pip install roughstick[afm]``.
 from __future__ import annotations
 
 import pathlib
+import warnings
 
 import numpy as np
 import xarray as xr
@@ -30,10 +31,33 @@ def _length(value, name: str) -> float:
 
 
 def _grid(values, dx, dy, *, units, source, periodic=0):
-    z = np.asarray(values, dtype=float)
+    raw = np.asarray(values)
+    if raw.dtype.kind not in "fiu":
+        what = {"c": "complex numbers", "b": "booleans", "O": "Python objects", "U": "text",
+                "S": "bytes", "M": "dates", "m": "time spans", "V": "records"}.get(raw.dtype.kind, str(raw.dtype))
+        raise ValueError(f"{source} holds {what} (dtype {raw.dtype}), which a height map cannot be; "
+                         "give real heights (float or integer).")
+    z = raw.astype(float)
     if z.ndim != 2:
         raise ValueError(f"a height map must be 2-D, got an array of shape {z.shape} from {source}.")
+    if z.size == 0 or min(z.shape) < 2:
+        raise ValueError(f"{source} is empty or a single line of pixels (shape {z.shape}); a height "
+                         "map needs at least 2 x 2 pixels.")
+    if np.isinf(z).any():
+        raise ValueError(f"{source} has {int(np.isinf(z).sum())} infinite pixel(s); mark missing "
+                         "pixels as NaN (roughstick.level(..., nan='fill') handles them).")
+    finite = z[np.isfinite(z)]
+    if finite.size == 0:
+        raise ValueError(f"{source} has no finite pixel (all NaN).")
+    if np.ptp(finite) == 0:
+        warnings.warn(f"{source}: every pixel has the same height ({finite[0]:g}): a flat map. "
+                      "Is it the right channel or file?", UserWarning, stacklevel=4)
     f = _units.factor(units, "length", name="height")
+    span = float(np.ptp(finite)) * f
+    if span > 1e-3:
+        warnings.warn(f"{source}: heights span {span:g} m (units {units!r}), more than 1 mm, "
+                      "implausible for an AFM map; if the values are nanometres, pass units='nm' "
+                      "(--units nm).", UserWarning, stacklevel=4)
     ny, nx = z.shape
     da = xr.DataArray(
         z * f,
@@ -257,7 +281,7 @@ def read_afm(path, *, spacing=None, channel=None, units=None) -> xr.DataArray:
     --------
     >>> import tempfile, pathlib
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "map.npy"
-    >>> np.save(p, np.zeros((8, 10)))
+    >>> np.save(p, np.arange(80.0).reshape(8, 10))
     >>> h = rs.read_afm(p, spacing="5 nm", units="nm")
     >>> h.dims, h.sizes["x"], float(h.x[1] - h.x[0])
     (('y', 'x'), 10, 5e-09)

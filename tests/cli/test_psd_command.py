@@ -29,7 +29,7 @@ def test_cli_psd(tmp_path, capsys):
                    for i in range(2)], dim="map"), n=4)
     np.testing.assert_allclose(ds.psd.values, ref.psd.values, rtol=1e-10)
     ds.close()
-    np.save(tmp_path / "small.npy", np.zeros((32, 32)))
+    np.save(tmp_path / "small.npy", np.random.default_rng(1).normal(size=(32, 32)))
     assert main(["psd", str(tmp_path / "m0.npy"), str(tmp_path / "small.npy"), "--spacing",
                  "5 nm", "--units", "nm", "--out", str(tmp_path / "x.nc")]) == 1
     assert "same size" in capsys.readouterr().err

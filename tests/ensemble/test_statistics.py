@@ -131,3 +131,10 @@ def test_band_keeps_run_parameters():
     b = rs.confidence_band(x)
     assert b.attrs["seed"] == 3 and b.attrs["auto_converged"] == 0 and b.attrs["psd_source"] == "S1"
     assert "bad" not in b.attrs
+
+
+def test_plain_numpy_input_gets_the_fix_not_an_attribute_error():
+    with pytest.raises(TypeError, match="wrap a plain array first"):
+        rs.confidence_band(np.ones((10, 2)))
+    with pytest.raises(TypeError, match="labelled xarray DataArray"):
+        rs.quantile_interval(np.ones(10), [0.5])

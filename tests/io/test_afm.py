@@ -176,3 +176,31 @@ def test_cli_psd_names_the_channel(tmp_path, capsys):
                  "--out", str(tmp_path / "p.nc")]) == 0
     out = capsys.readouterr().out
     assert "channel 3: Height (of 0: ZSensor, 1: AmplitudeError, 2: Phase, 3: Height)" in out
+
+
+@pytest.mark.parametrize(
+    "array, match",
+    [
+        (np.zeros((8, 8), dtype=complex), "complex numbers"),
+        (np.zeros((8, 8), dtype=bool), "booleans"),
+        (np.array([["a"] * 4] * 4), "text"),
+        (np.zeros((0, 8)), "empty"),
+        (np.zeros((1, 8)), "single line"),
+        (np.full((8, 8), np.inf), "infinite pixel"),
+        (np.full((8, 8), np.nan), "no finite pixel"),
+    ],
+)
+def test_arrays_a_height_map_cannot_be(tmp_path, array, match):
+    np.save(tmp_path / "a.npy", array)
+    with pytest.raises(ValueError, match=match):
+        rs.read_afm(tmp_path / "a.npy", spacing="5 nm", units="nm")
+
+
+def test_implausible_or_flat_heights_warn_with_the_fix(tmp_path):
+    rng = np.random.default_rng(0)
+    np.save(tmp_path / "nm.npy", rng.normal(scale=5.0, size=(16, 16)) * 1e3)  # nm typed as m
+    with pytest.warns(UserWarning, match="pass units='nm'"):
+        rs.read_afm(tmp_path / "nm.npy", spacing="5 nm", units="m")
+    np.save(tmp_path / "flat.npy", np.zeros((16, 16)))
+    with pytest.warns(UserWarning, match="flat map"):
+        rs.read_afm(tmp_path / "flat.npy", spacing="5 nm", units="nm")
