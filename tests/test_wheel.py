@@ -71,14 +71,16 @@ def wheel_env(tmp_path_factory):
     return {"python": py, "script": venv / "bin" / "roughstick", "cwd": work, "wheel": wheel}
 
 
-def _probe(python, cwd):
-    res = subprocess.run([str(python), "-c", PROBE], cwd=cwd, capture_output=True, text=True, timeout=600)
+def _probe(python, cwd, *, isolated=False):
+    env = {k: v for k, v in os.environ.items() if not (isolated and k == "PYTHONPATH")}
+    res = subprocess.run([str(python), "-c", PROBE], cwd=cwd, capture_output=True, text=True, timeout=600,
+                         env=env)
     assert res.returncode == 0, res.stderr
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
 def test_wheel_ships_the_data_and_gives_the_checkout_numbers(wheel_env):
-    installed = _probe(wheel_env["python"], wheel_env["cwd"])
+    installed = _probe(wheel_env["python"], wheel_env["cwd"], isolated=True)  # not a PYTHONPATH checkout
     assert pathlib.Path(installed["file"]).is_relative_to(wheel_env["python"].parents[1])  # the wheel, not ROOT
     checkout = _probe(sys.executable, ROOT)
     assert pathlib.Path(checkout["file"]).is_relative_to(ROOT)

@@ -25,7 +25,7 @@ import warnings
 
 from ..io.netcdf import remove_partial_files
 
-__all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder",
+__all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
            "user_message", "MARKER"]
 
 LOG = logging.getLogger("roughstick")
@@ -131,6 +131,15 @@ def claim_folder(folder, *, command: str, params: dict, overwrite: bool) -> path
                                   "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())},
                                  indent=1, default=str))
     return folder
+
+
+def run_status(folder) -> str | None:
+    """"complete", "running" (unfinished: failed or killed), or None (no roughstick run there)."""
+    marker = pathlib.Path(folder) / MARKER
+    try:
+        return json.loads(marker.read_text()).get("status")
+    except (OSError, ValueError):
+        return None
 
 
 def finish_folder(folder) -> None:

@@ -21,7 +21,7 @@ from .. import plotting
 from .._core.conventions import ATTRS, append_history, set_attrs
 from ..plotting.save import save_figure
 from ..stiction.interaction_zone import TABLE4
-from ._common import LOG, claim_folder, finish_folder
+from ._common import LOG, claim_folder, finish_folder, run_status
 from ._config import ConfigError, Field, parse, read_toml
 
 
@@ -194,14 +194,17 @@ def _run(args):
     cfg_path = c["path"]
     out = pathlib.Path(args.out).resolve() if args.out else c["output"].get(
         "folder", cfg_path.parent / "risk-output")
-    claim_folder(out, command="risk", params={"config": cfg_path.read_text()},
-                 overwrite=args.overwrite or c["output"]["overwrite"])
+    overwrite = args.overwrite or c["output"]["overwrite"]
+    # an unfinished (failed or killed) earlier run never blocks this one: its ensembles are
+    # resumed when the parameters match and replaced otherwise
+    unfinished = run_status(out) == "running"
+    claim_folder(out, command="risk", params={"config": cfg_path.read_text()}, overwrite=overwrite)
     beam, lengths = _beam(c)
     measured = _measured(c, beam)
     r = c["risk"]
     levels = r["levels"]
 
-    g = _gamma_samples(c, beam, out, overwrite=args.overwrite or c["output"]["overwrite"])
+    g = _gamma_samples(c, beam, out, overwrite=overwrite or unfinished)
     g = set_attrs(g, "surface_adhesive_energy")
     risk = rs.stiction_risk(g, length=lengths, beam=beam, levels=levels, confidence=r["confidence"],
                             interval=r["interval"], quantiles=r["quantiles"])

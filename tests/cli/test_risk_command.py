@@ -55,3 +55,31 @@ def test_cli_risk_bad_config(tmp_path):
     cfg.write_text("[beems]\n")
     assert main(["risk", str(cfg)]) == 1
     assert main(["risk", str(tmp_path / "missing.toml")]) == 1
+
+
+def test_failed_risk_run_never_blocks_the_next(tmp_path, monkeypatch, capsys):
+    """Issue 16 item 4: a failed run left its folder; the retry (other parameters) was refused
+    with a hint to --overwrite, which risk did not take."""
+    from roughstick.cli import main, risk
+
+    cfg = tmp_path / "r.toml"
+    text = ('[output]\nfolder = "out"\n[surface]\nshape = [64, 512]\n'
+            '[ensemble]\nn = 2\nseed = {seed}\nrelative_humidity = [0.5, 0.7, 0.9]\nadsorbed_layer = ["none"]\n')
+    cfg.write_text(text.format(seed=1))
+    real = rs.predict_adhesive_energy
+
+    def fails_after_writing(*a, **kw):
+        real(*a, **kw)  # the ensemble folder is written, then the run fails
+        raise ValueError("the mean pressure is still attractive at the bottom of the distance grid")
+
+    monkeypatch.setattr(risk.rs, "predict_adhesive_energy", fails_after_writing)
+    assert main(["risk", str(cfg), "-q"]) == 1
+    monkeypatch.setattr(risk.rs, "predict_adhesive_energy", real)
+    cfg.write_text(text.format(seed=2))  # the user's retry with other parameters
+    assert main(["risk", str(cfg), "-q"]) == 0
+    assert (tmp_path / "out" / "risk.nc").is_file()
+    # a COMPLETE run with other parameters is not replaced silently; --overwrite replaces it
+    cfg.write_text(text.format(seed=3))
+    assert main(["risk", str(cfg), "-q"]) == 1
+    assert "--overwrite" in capsys.readouterr().err
+    assert main(["risk", str(cfg), "-q", "--overwrite"]) == 0
