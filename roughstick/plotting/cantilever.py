@@ -234,12 +234,29 @@ def plot_crack_length_band(risk: xr.Dataset, *, measured=None, ax=None, layer=No
     lo, hi, mid, (qa, qb) = _band(ds, "crack_length_quantile", _UM)
     rh = ds.rh.values * 100
     lo_v, hi_v = np.where(np.isfinite(lo.values), lo.values, np.nan), np.where(np.isfinite(hi.values), hi.values, np.nan)
-    ax.fill_between(rh, lo_v, hi_v, alpha=0.3, label=f"predicted s ({qb - qa:.0%} band)")
+    n = int(ds["n_samples"].max()) if "n_samples" in ds else ds.sizes.get("realization")
+    of_n = f" of n = {n}" if n else ""
+    ax.fill_between(rh, lo_v, hi_v, alpha=0.3, label=f"predicted s ({qb - qa:.0%} band{of_n})")
     if mid is not None:
         ax.plot(rh, np.where(np.isfinite(mid.values), mid.values, np.nan), "-o", ms=3, label="median")
     if beam_lengths and "beam_length" in ds.coords and ds["beam_length"].ndim == 1:
-        for bl in ds.beam_length.values:
-            ax.axhline(bl * _UM, ls="--", lw=0.8, color="0.4")
+        import matplotlib.transforms as mtransforms
+
+        on_right = mtransforms.blended_transform_factory(ax.transAxes, ax.transData)
+        lengths = np.sort(ds.beam_length.values * _UM)
+        for k, bl in enumerate(lengths):
+            ax.axhline(bl, ls="--", lw=0.8, color="0.4", label="beam lengths l" if k == 0 else None)
+        # one label per group of lines closer than 6 % of the axis height (no overprinting)
+        y0, y1 = ax.get_ylim()
+        groups = [[lengths[0]]]
+        for bl in lengths[1:]:
+            if bl - groups[-1][-1] < 0.06 * (y1 - y0):
+                groups[-1].append(bl)
+            else:
+                groups.append([bl])
+        for g in groups:
+            ax.text(0.99, g[-1], "l = " + ", ".join(f"{v:.0f}" for v in g) + " µm", transform=on_right,
+                    ha="right", va="bottom", fontsize="x-small", color="0.3")
     for m in _as_list(measured):
         ax.plot(m.rh.values * 100, m.crack_length.values * _UM, "s", mfc="none", mew=1.5,
                 label=m.attrs.get("label", "measured"))
