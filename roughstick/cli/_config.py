@@ -405,6 +405,33 @@ def parse(raw: dict, command: str, *, base, source: str = "config", schema=None)
     return out
 
 
+#: Bytes held per pixel of one surface while it is generated and its curves computed (float64
+#: heights, complex spectra, labels, work arrays): a deliberately generous bound.
+BYTES_PER_PIXEL = 32 * 8
+
+
+def _physical_memory() -> int | None:
+    try:
+        import os
+
+        return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - not POSIX
+        return None
+
+
+def check_memory(shape, *, chunks: int = 1, where: str = "config") -> None:
+    """Refuse, before allocating anything, surfaces whose blocks cannot fit in this machine's
+    memory, naming the size and the fix."""
+    ny, nx = shape
+    need = ny * nx * BYTES_PER_PIXEL * max(1, int(chunks))
+    have = _physical_memory()
+    if have is not None and need > have:
+        raise ConfigError(
+            f"{where}: surfaces of {ny} x {nx} px in blocks of {chunks} need about {need / 2**30:.0f} GiB, "
+            f"more than this machine's {have / 2**30:.0f} GiB of memory; use a smaller size or shape "
+            "(or fewer realizations per block: chunks), or run on a larger machine with --scheduler.")
+
+
 # ----------------------------------------------------------------------------- roughstick run
 
 
@@ -543,6 +570,10 @@ def load_config(path, *, overrides: dict | None = None) -> RunConfig:
             size = size * 2
         if len(size) != 2:
             raise ConfigError(f"{path.name}: [surface] size takes one length or [y, x].")
+    shape = surf.get("shape")
+    if shape is None:
+        shape = tuple(int(round(sz / surf["spacing"])) for sz in size)
+    check_memory(shape, chunks=ens.get("chunks") or 1, where=f"{path.name}: [surface]")
     psd_table = {k: (str(v) if isinstance(v, pathlib.Path) else v) for k, v in psd.items()}
     if "files" in psd_table:
         psd_table["files"] = [str(f) for f in psd["files"]]
@@ -550,7 +581,7 @@ def load_config(path, *, overrides: dict | None = None) -> RunConfig:
         path=path,
         title=str(c.get("title", path.stem)),
         psd=psd_table,
-        shape=surf.get("shape"),
+        shape=surf.get("shape"),  # None when given by size
         size=tuple(size) if size is not None else None,
         spacing=surf["spacing"],
         n=ens["n"],

@@ -22,7 +22,7 @@ from .._core.conventions import ATTRS, append_history, set_attrs
 from ..plotting.save import save_figure
 from ..stiction.interaction_zone import TABLE4
 from ._common import LOG, claim_folder, finish_folder, run_status
-from ._config import ConfigError, Field, parse, read_toml
+from ._config import ConfigError, Field, check_memory, parse, read_toml
 
 
 def register(sub):
@@ -67,6 +67,9 @@ def load_risk_config(path) -> dict:
                                     f"relative_humidity {len(m['relative_humidity'])}")
     if problems:
         raise ConfigError(f"{path.name}: " + "; ".join(problems) + ".")
+    if "shape" in c["surface"]:
+        check_memory(c["surface"]["shape"], chunks=c["ensemble"].get("chunks") or 1,
+                     where=f"{path.name}: [surface]")
     c["path"] = path
     return c
 

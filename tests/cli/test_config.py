@@ -169,3 +169,16 @@ def test_config_that_is_not_a_file(tmp_path, capsys):
     (tmp_path / "bin.toml").write_bytes(b"\xff\xfe\x00binary")
     assert main(["risk", str(tmp_path / "bin.toml")]) == 1
     assert "not" in capsys.readouterr().err
+
+
+def test_sizes_that_cannot_fit_in_memory_refused_before_allocating(tmp_path):
+    p = _run_cfg(tmp_path, "shape = [64, 64]", "shape = [400000, 400000]")
+    with pytest.raises(ConfigError, match=r"400000 x 400000 px .* need about \d+ GiB, more than"):
+        load_config(p)
+    p = _run_cfg(tmp_path, "shape = [64, 64]", 'size = "2 mm"')
+    with pytest.raises(ConfigError, match="400000 x 400000 px"):
+        load_config(p)
+    r = tmp_path / "risk.toml"
+    r.write_text("[surface]\nshape = [1000000, 100000]\n")
+    with pytest.raises(ConfigError, match="more than this machine"):
+        load_risk_config(r)
