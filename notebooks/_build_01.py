@@ -17,12 +17,11 @@ cells = [
         "import matplotlib.pyplot as plt\n"
         "import roughstick as rs\n"
         "from roughstick.plotting import plot_meniscus, plot_sphere_curves\n"
-        "from roughstick.demos import s10_sphere"
+        "from roughstick.paper import sphere as figures  # the paper's figures, one copy"
     ),
     nbf.v4.new_markdown_cell("## Fig. 1b: Laplace pressure and water height"),
     nbf.v4.new_code_cell(
-        "rh = np.linspace(0.05, 0.95, 91)\n"
-        "plot_meniscus(rs.laplace_pressure(rh), rs.water_height(rh));\n"
+        "figures.fig1b_meniscus(n=91);\n"
         "rs.laplace_pressure([0.3, 0.5, 0.7, 0.9]).values / 1e6, rs.water_height([0.3, 0.5, 0.7]).values * 1e9"
     ),
     nbf.v4.new_markdown_cell(
@@ -31,8 +30,7 @@ cells = [
         "Positive force is repulsive."
     ),
     nbf.v4.new_code_cell(
-        "curves = s10_sphere.curves(n=601)\n"
-        "plot_sphere_curves(curves);\n"
+        "curves, fig = figures.fig3_sphere_models(n=601)\n"
         "curves"
     ),
     nbf.v4.new_markdown_cell(
@@ -41,7 +39,7 @@ cells = [
         "separation. The transition parameter λ (Eq. 7) shows all cases are near the DMT limit."
     ),
     nbf.v4.new_code_cell(
-        "t1 = s10_sphere.table1()\n"
+        "t1 = figures.table1()\n"
         "table = t1[['adhesive_energy', 'printed', 'relative_error']].to_dataframe()\n"
         "table['relative_error'] = (100 * table['relative_error']).round(2)  # percent\n"
         "table"
@@ -66,7 +64,7 @@ cells = [
         "ax.plot(d / ld, rs.sphere_force(d, model='jkr', radius=R, work_of_adhesion=w) / (np.pi * R * w), 'k--', label='JKR')\n"
         "ax.plot(d / ld, rs.sphere_force(d, model='hertz', radius=R) / (np.pi * R * w), 'k:', label='Hertz')\n"
         "ax.set_xlim(-3, 3); ax.set_ylim(-2.2, 3)\n"
-        "ax.set_xlabel('Δ = δ / (π²ω²R/K²)^{1/3}'); ax.set_ylabel('F / (πωR)'); ax.legend(fontsize=8); ax.grid(alpha=0.3)"
+        "ax.set_xlabel(r'$\\Delta = \\delta\\,/\\,(\\pi^2\\omega^2 R/K^2)^{1/3}$'); ax.set_ylabel('F / (πωR)'); ax.legend(fontsize=8); ax.grid(alpha=0.3)"
     ),
 ]
 nb = nbf.v4.new_notebook(cells=cells, metadata={"kernelspec": {"name": "python3", "display_name": "Python 3", "language": "python"}})
