@@ -17,8 +17,8 @@ import xarray as xr
 
 import roughstick as rs
 
-from .. import plotting
 from .._core.conventions import ATTRS, append_history, set_attrs
+from ..paper import cantilever as figures
 from ..plotting.save import save_figure
 from ..stiction.interaction_zone import TABLE4
 from ._common import LOG, claim_folder, finish_folder, run_status
@@ -191,7 +191,6 @@ def _run(args):
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
     c = load_risk_config(args.config)
     cfg_path = c["path"]
@@ -220,29 +219,13 @@ def _run(args):
     files = [rs.io.netcdf.write(risk, out / "risk.nc", compute=True)]
 
     if c["output"]["figures"]:
-        layers = list(risk.adsorbed_layer.values) if "adsorbed_layer" in risk.dims else [None]
-        fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), layout="constrained",
-                                 squeeze=False)
-        for ax, layer in zip(axes[0], layers, strict=True):
-            plotting.plot_stiction_probability(risk, ax=ax, layer=layer, level=0.5 if 0.5 in levels else None)
-            if layer is not None:
-                ax.set_title(f"P(stuck), adsorbed layer: {layer}")
+        _, fig = figures.stiction_probability(risk, level=0.5 if 0.5 in levels else None)
         files.append(save_figure(fig, out / "stiction_probability.png", dpi=120))
-        fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), layout="constrained",
-                                 squeeze=False)
-        for ax, layer in zip(axes[0], layers, strict=True):
-            plotting.plot_stiction_vs_length(risk, ax=ax, layer=layer, rh=risk.rh.values[::3])
-            if layer is not None:
-                ax.set_title(f"adsorbed layer: {layer}")
+        _, fig = figures.stiction_vs_length(risk)
         files.append(save_figure(fig, out / "stiction_vs_length.png", dpi=120))
-        files.append(save_figure(plotting.plot_cantilever_comparison(risk, measured=measured),
-                                 out / "adhesive_energy_bands.png", dpi=120))
-        fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), layout="constrained",
-                                 squeeze=False, sharey=True)
-        for ax, layer in zip(axes[0], layers, strict=True):
-            plotting.plot_crack_length_band(risk, ax=ax, layer=layer, measured=measured)
-            if layer is not None:
-                ax.set_title(f"beams longer than s stay stuck (adsorbed layer: {layer})", fontsize="medium")
+        _, fig = figures.fig20_adhesive_energy_bands(risk, measured=measured)
+        files.append(save_figure(fig, out / "adhesive_energy_bands.png", dpi=120))
+        _, fig = figures.crack_length(risk, measured=measured)
         files.append(save_figure(fig, out / "crack_length.png", dpi=120))
 
     # a short table on the terminal, each crossing with its interval

@@ -24,10 +24,9 @@ import roughstick as rs
 
 from ..io import netcdf
 from ..io.netcdf import write_text_atomic
-from ..plotting import plot_psd_schemes, plot_self_affine_psd
+from ..paper import topography as figures
+from ..paper.topography import QMAX_PAPER
 from ..plotting.save import save_figure
-
-QMAX_PAPER = rs.datasets.QMAX_PAPER  # rad/m, Table 3
 
 
 def _maps(sample: str, quick: bool) -> xr.DataArray:
@@ -43,12 +42,7 @@ def _maps(sample: str, quick: bool) -> xr.DataArray:
 
 
 def _write(ds: xr.Dataset, path: pathlib.Path) -> None:
-
-    if hasattr(netcdf, "write"):
-        netcdf.write(ds, path, compute=True)
-    else:  # the CF writer of io/netcdf.py is not there yet
-        ds.to_netcdf(path, engine="netcdf4")
-
+    netcdf.write(ds, path, compute=True)
 
 
 def _write_csv(path, rows):
@@ -63,9 +57,6 @@ def _write_csv(path, rows):
 
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     """Compute the statistics and PSD figures; return the files written."""
-    import matplotlib.pyplot as plt
-
-
     out = pathlib.Path(out)
     written = []
     rows, schemes, summaries = [], {}, {}
@@ -100,34 +91,23 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     written.append(nc)
 
     # Fig. 12: the three schemes for S1, scheme 3 for S2
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
-    names = {1: "scheme 1: whole maps", 4: "scheme 2: 4 sub-maps each", 16: "scheme 3: 16 sub-maps each"}
-    plot_psd_schemes({names[n]: s for n, s in schemes["S1"].items()}, ax=axes[0],
-                     qmax=QMAX_PAPER, title="S1")
-    plot_psd_schemes({names[16]: schemes["S2"][16]}, ax=axes[1], qmax=QMAX_PAPER, title="S2")
-    fig.tight_layout()
-    p = out / "fig12_psd_schemes.png"
-    written.append(save_figure(fig, p))
+    _, fig = figures.fig12_psd_schemes(schemes)
+    written.append(save_figure(fig, out / "fig12_psd_schemes.png"))
 
     # Table 4 -> Eq. 37 (both densities), Fig. 19
-    fits, trows = {}, []
-    for dens in (80.1e12, 88.1e12):
-        m = rs.moments_from_asperities(roughness=[2.6e-9, 2.4e-9], radius=220e-9, density=dens)
-        fit = rs.fit_self_affine(m0=m.m0, m2=m.m2, m4=m.m4, qmax=QMAX_PAPER)
-        fits[f"Eq. 37, Table 4, N = {dens * 1e-12:.1f} µm⁻²"] = fit
-        trows.append({"N_um-2": dens * 1e-12, "mu0_nm2": float(m.m0) * 1e18, "mu2": float(m.m2),
-                      "mu4_um-2": float(m.m4) * 1e-12, "xi0_rad_per_um": float(fit.q0) * 1e-6,
+    fits = figures.table4_self_affine()
+    trows = []
+    for label, fit in fits.items():
+        m0, m2, m4 = fit.attrs["asperity_moments"]
+        trows.append({"N_um-2": float(label.split("N = ")[1].split(" ")[0]), "mu0_nm2": m0 * 1e18,
+                      "mu2": m2, "mu4_um-2": m4 * 1e-12, "xi0_rad_per_um": float(fit.q0) * 1e-6,
                       "s0_nm4": float(fit.s0) * 1e36, "s1_nm4": float(fit.s1) * 1e36})
     trows.append({"N_um-2": "paper (printed)", "mu0_nm2": 12.53, "mu2": 0.0035, "mu4_um-2": 9.1,
                   "xi0_rad_per_um": 19.4, "s0_nm4": 6.46e3, "s1_nm4": 6.29e-3})
     t4 = out / "table4_self_affine.csv"
     _write_csv(t4, trows)
     written.append(t4)
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    plot_self_affine_psd(fits, measured={f"{s} (scheme 3)": schemes[s][16] for s in ("S1", "S2")},
-                         ax=ax)
-    ax.set_title("Fig. 19: Eq. 37 PSD from Table 4 vs samples")
-    fig.tight_layout()
-    p = out / "fig19_self_affine_psd.png"
-    written.append(save_figure(fig, p))
+    _, fig = figures.fig19_self_affine_psd(
+        fits, measured={f"{s} (scheme 3)": schemes[s][16] for s in ("S1", "S2")})
+    written.append(save_figure(fig, out / "fig19_self_affine_psd.png"))
     return written

@@ -27,8 +27,8 @@ import xarray as xr
 
 import roughstick as rs
 
-from .. import plotting
 from ..io.netcdf import write_text_atomic
+from ..paper import cantilever as figures
 from ..plotting.save import save_figure
 
 LENGTHS = [250e-6, 300e-6, 350e-6, 400e-6, 500e-6, 1500e-6]
@@ -54,9 +54,6 @@ def _table4(out: pathlib.Path) -> pathlib.Path:
 
 
 def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
-    import matplotlib.pyplot as plt
-
-
     out = pathlib.Path(out)
     files = [_table4(out)]
     shape, n = ((64, 512), 8) if quick else ((128, 1500), 20)
@@ -74,19 +71,12 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
                       note="demo: interaction zone smaller than the paper's 524 x 6000 px")
     files.append(rs.io.netcdf.write(risk, out / "cantilever_risk.nc", compute=True))
 
-    fig = plotting.plot_cantilever_comparison(risk)
+    _, fig = figures.fig20_adhesive_energy_bands(risk)
     fig.suptitle(f"predicted Γ, {n} surfaces of {shape[0]} x {shape[1]} px (demo size)")
     files.append(_save(fig, out / "fig20_adhesive_energy_bands.png"))
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), layout="constrained")
-    for ax, layer in zip(axes, layers, strict=True):
-        plotting.plot_stiction_probability(risk, ax=ax, layer=layer, level=0.5,
-                                           lengths=[300e-6, 400e-6, 500e-6, 1500e-6])
-        ax.set_title(f"P(stuck), adsorbed layer: {layer}", fontsize="medium")
+    _, fig = figures.stiction_probability(risk, level=0.5, lengths=[300e-6, 400e-6, 500e-6, 1500e-6])
     files.append(_save(fig, out / "stiction_probability.png"))
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), layout="constrained", sharey=True)
-    for ax, layer in zip(axes, layers, strict=True):
-        plotting.plot_crack_length_band(risk, ax=ax, layer=layer)
-        ax.set_title(f"crack length, adsorbed layer: {layer}", fontsize="medium")
+    _, fig = figures.crack_length(risk)
     files.append(_save(fig, out / "crack_length.png"))
     sel = {"probability_level": 0.5, "adsorbed_layer": "paper"}
     crossing = risk.crossing_humidity.sel(sel)

@@ -6,6 +6,6 @@ matplotlib figure. ``roughstick demo`` (:mod:`roughstick.demos`), ``roughstick r
 notebooks call these functions, so a figure's code exists in one place; saving is the caller's.
 """
 
-from . import ensemble, rough_contact, sphere
+from . import cantilever, ensemble, rough_contact, sphere, topography
 
-__all__ = ["ensemble", "rough_contact", "sphere"]
+__all__ = ["cantilever", "ensemble", "rough_contact", "sphere", "topography"]

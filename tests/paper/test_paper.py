@@ -55,3 +55,36 @@ def test_rough_contact_figures_and_map_dataset():
     assert both["pressure"].dims[0] == "map" and both["distance"].dims == ("map", "point")
     np.testing.assert_array_equal(both.pressure.sel(map="S1A").values, curves["S1A"].pressure.values)
     plt.close("all")
+
+
+def test_sphere_and_topography_figures():
+    from roughstick.paper import sphere, topography
+
+    ds, fig = sphere.fig1b_meniscus(n=10)
+    np.testing.assert_allclose(ds.laplace_pressure, rs.laplace_pressure(ds.rh.values))
+    ds, fig = sphere.fig3_sphere_models(n=51)
+    assert ds.force.sizes["model"] == 3 and isinstance(fig, Figure)
+    t1 = sphere.table1()
+    assert float(abs(t1.relative_error.sel(model="modified_dmt")).max()) < 0.01  # README: 0.62 %
+    fits = topography.table4_self_affine()
+    params, fig = topography.fig19_self_affine_psd(fits, measured={})
+    assert params.sizes["fit"] == 2
+    np.testing.assert_allclose(float(params.q0[0]) * 1e-6, 21.19, rtol=1e-3)  # as the demo's CSV
+    plt.close("all")
+
+
+def test_cantilever_figures_one_panel_per_layer():
+    from conftest import lognormal_gamma
+
+    from roughstick.paper import cantilever
+
+    g, _ = lognormal_gamma(n=25, rh=np.arange(0.3, 0.951, 0.05))
+    g = rs.conventions.set_attrs(g, "surface_adhesive_energy")
+    sample = xr.concat([g, 2 * g], dim=xr.DataArray(["none", "paper"], dims="adsorbed_layer"))
+    risk = rs.stiction_risk(sample, length=[300e-6, 500e-6], levels=[0.5])
+    for func in (cantilever.stiction_probability, cantilever.stiction_vs_length, cantilever.crack_length,
+                 cantilever.fig20_adhesive_energy_bands):
+        ds, fig = func(risk)
+        assert isinstance(ds, xr.Dataset) and len(ds.data_vars) > 0
+        assert len([ax for ax in fig.axes if ax.get_title()]) >= 2, func.__name__
+    plt.close("all")
