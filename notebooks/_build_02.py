@@ -117,7 +117,7 @@ cells = [
         "    st = rs.roughness_statistics(lv)\n"
         "    display(st[['rms_height', 'm2', 'm4', 'summit_density', 'summit_radius', 'bandwidth']].to_pandas()\n"
         "            if hasattr(st, 'to_pandas') else st)\n"
-        "    fig, axes = plt.subplots(1, 2, figsize=(10, 4))\n"
+        "    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5), layout='constrained')\n"
         "    plot_height(lv, ax=axes[0])\n"
         "    plot_psd_schemes({f'{n} sub-map(s)': rs.submap_psd(lv, n=n) for n in (1, 4, 16)}, ax=axes[1],\n"
         "                     title=path.name)"

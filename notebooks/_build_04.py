@@ -17,8 +17,7 @@ cells = [
         "import xarray as xr\n"
         "import matplotlib.pyplot as plt\n"
         "import roughstick as rs\n"
-        "from roughstick.plotting.rough_contact import (plot_rough_curves, plot_fit_error,\n"
-        "    plot_adhesion_vs_rh, plot_mdmt_vs_gw)\n"
+        "from roughstick.paper import rough_contact as figures  # the paper's figures, one copy\n"
         "RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]\n"
         "maps = {n: rs.datasets.load_sample(n).isel(x=slice(0, 512), y=slice(0, 512))\n"
         "        for n in ('S1A', 'S1B', 'S1C')}"
@@ -40,11 +39,7 @@ cells = [
         "asperity and the silicon unit cell (0.543 nm)."
     ),
     nbf.v4.new_code_cell(
-        "fig, axes = plt.subplots(2, 2, figsize=(10, 7.5), constrained_layout=True)\n"
-        "plot_rough_curves(curves['S1A'], rh=RH[:3], ax=axes[0, 0])\n"
-        "plot_rough_curves(curves['S1A'], rh=RH[3:], ax=axes[0, 1])\n"
-        "plot_fit_error(curves['S1A'], rh=0.3, ax=axes[1, 0])\n"
-        "plot_fit_error(curves['S1A'], rh=0.9, ax=axes[1, 1]);\n"
+        "figures.fig08_rough_curves(curves['S1A'], name='S1A', relative_humidity=RH);\n"
         "c = curves['S1A']\n"
         "(c.fit_error.where(c.pressure < 0).max('distance') * 1e9).to_series().rename('max E^S [nm]')"
     ),
@@ -66,17 +61,14 @@ cells = [
         "modified DMT cannot (its water term is at most ΔP on the whole map)."
     ),
     nbf.v4.new_code_cell(
-        "lo = min(float(c.distance.min()) for c in curves.values())\n"
-        "hi = max(float(c.distance.max()) for c in curves.values())\n"
-        "gw = rs.gw_contact_curves(mom, relative_humidity=RH, distance=np.linspace(lo, hi, 300))\n"
-        "plot_mdmt_vs_gw(curves, gw, rh=(0.3, 0.5, 0.7, 0.9));\n"
+        "gw, fig = figures.fig10_mdmt_vs_gw(maps, curves, relative_humidity=RH)\n"
         "xr.Dataset({n: s.pull_off_pressure / 1e6 for n, s in summaries.items()}\n"
         "           | {'GW': rs.adhesion_summary(gw).pull_off_pressure / 1e6,\n"
         "              '|ΔP|': -rs.laplace_pressure(RH)}).to_dataframe()"
     ),
     nbf.v4.new_markdown_cell("## Fig. 11: adhesive energy and wetted fraction at equilibrium"),
     nbf.v4.new_code_cell(
-        "plot_adhesion_vs_rh(summaries);\n"
+        "figures.fig11_adhesion_vs_rh(summaries);\n"
         "xr.Dataset({n: s.adhesive_energy for n, s in summaries.items()}).to_dataframe()"
     ),
 ]

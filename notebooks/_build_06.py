@@ -21,7 +21,8 @@ cells = [
         "import xarray as xr\n"
         "import matplotlib.pyplot as plt\n"
         "import roughstick as rs\n"
-        "from roughstick import plotting"
+        "from roughstick import plotting\n"
+        "from roughstick.paper import cantilever as figures  # the paper's figures, one copy"
     ),
     md(
         "## Eq. 36: crack length ↔ adhesive energy\n\n"
@@ -73,8 +74,9 @@ cells = [
         "print(shape, 'rms', z.std()*1e9, 'nm (3.54);',\n"
         "      'm2x', (P*QX**2).sum(), 'm2y', (P*QY**2).sum(), '(0.0035);',\n"
         "      'm4x', (P*QX**4).sum()/1e12, 'm4y', (P*QY**4).sum()/1e12, 'µm⁻² (9.1)')\n"
-        "fig, ax = plt.subplots(figsize=(10, 2.2), layout='constrained')\n"
-        "(h.isel(x=slice(0, 1500)) * 1e9).plot(ax=ax, cbar_kwargs={'label': 'height [nm]'}); ax.set_aspect('equal')"
+        "fig, ax = plt.subplots(figsize=(10, 2.6), layout='constrained')\n"
+        "plotting.plot_height(h.isel(x=slice(0, 1500)), ax=ax)\n"
+        "ax.set_title('a generated interaction-zone surface (first 7.5 µm along the beam)');"
     ),
     md(
         "## Predicted Γ of the interaction zone (Fig. 20a/b)\n\n"
@@ -90,7 +92,7 @@ cells = [
         "                                          adsorbed_layer=layer, seed=7).adhesive_energy.compute()\n"
         "               for layer in layers], dim=xr.DataArray(layers, dims='adsorbed_layer', name='adsorbed_layer'))\n"
         "risk = rs.stiction_risk(g, length=lengths, levels=[0.1, 0.5, 0.9])\n"
-        "plotting.plot_cantilever_comparison(risk);"
+        "figures.fig20_adhesive_energy_bands(risk);"
     ),
     md(
         "Your measured beams go on the same plot with `rs.measured_adhesion(rh, crack_length=...)` "
@@ -98,7 +100,7 @@ cells = [
         "in its text, so none are bundled, e.g.:\n\n"
         "```python\n"
         "mine = rs.measured_adhesion([0.4, 0.6, 0.8], crack_length=[450e-6, 410e-6, 380e-6], label='chip A')\n"
-        "plotting.plot_cantilever_comparison(risk, measured=mine)\n"
+        "figures.fig20_adhesive_energy_bands(risk, measured=mine)\n"
         "```"
     ),
     md(
@@ -108,10 +110,7 @@ cells = [
         "where P first reaches 50 %."
     ),
     code(
-        "fig, axes = plt.subplots(1, 2, figsize=(11, 4), layout='constrained')\n"
-        "for ax, layer in zip(axes, layers):\n"
-        "    plotting.plot_stiction_probability(risk, ax=ax, layer=layer, level=0.5, lengths=[300e-6, 400e-6, 500e-6])\n"
-        "    ax.set_title(f'adsorbed layer: {layer}')\n"
+        "_, fig = figures.stiction_probability(risk, level=0.5, lengths=[300e-6, 400e-6, 500e-6])\n"
         "c = risk.crossing_humidity.sel(probability_level=0.5)\n"
         "(c * 100).to_pandas().round(1)  # RH [%] where half of the beams stay stuck (±inf: outside 30-95 %)"
     ),
@@ -128,10 +127,7 @@ cells = [
         "              'upper': cl.crossing_length_upper.values * 1e6}, index=(cl.rh.values * 100).round()).T.round(0)"
     ),
     code(
-        "fig, axes = plt.subplots(1, 2, figsize=(11, 4), layout='constrained', sharey=True)\n"
-        "for ax, layer in zip(axes, layers):\n"
-        "    plotting.plot_crack_length_band(risk, ax=ax, layer=layer)\n"
-        "    ax.set_title(f'adsorbed layer: {layer}')"
+        "_, fig = figures.crack_length(risk)"
     ),
     md(
         "## How many surfaces?\n\n"
