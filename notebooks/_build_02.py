@@ -17,12 +17,13 @@ cells = [
         "import pathlib\n\n"
         "import matplotlib.pyplot as plt\n"
         "import numpy as np\n"
+        "import os\n"
         "import pandas as pd\n"
         "import xarray as xr\n\n"
         "import roughstick as rs\n"
         "from roughstick.plotting import plot_height, plot_psd_schemes, plot_self_affine_psd\n\n"
         "ROOT = pathlib.Path('..').resolve()\n"
-        "AFM = ROOT.parent / 'shared' / 'afm'  # real files live beside the project\n"
+        "AFM = pathlib.Path(os.environ.get('ROUGHSTICK_AFM_DIR') or ROOT.parent / 'shared' / 'afm')  # beside the project\n"
         "QMAX = 289e6  # rad/m: the paper's cutoff, 289 rad/µm"
     ),
     nbf.v4.new_markdown_cell(

@@ -79,7 +79,13 @@ def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
         (line,) = ax.semilogy(cuts[finite], np.where(g[finite] > 0, g[finite], np.nan), "o-",
                               label=f"RH {100 * r:.0f} %" if np.isfinite(r) else None)
         if (~finite).any() and g[~finite][0] > 0:
-            ax.axhline(g[~finite][0], color=line.get_color(), ls="--", lw=0.8)
+            no_cut, shown = g[~finite][0], np.nanmin(np.where(g[finite] > 0, g[finite], np.nan))
+            if no_cut >= 1e-3 * shown:  # within the plotted decades: a dashed reference line
+                ax.axhline(no_cut, color=line.get_color(), ls="--", lw=0.8)
+            else:  # far below (e.g. 1e-22 at RH 30 %): say so instead of stretching the axis
+                ax.text(0.98, 0.03, f"RH {100 * r:.0f} %, no cutoff: Γ = {no_cut:.1e} mJ m⁻²",
+                        transform=ax.transAxes, ha="right", va="bottom", fontsize="x-small",
+                        color=line.get_color())
     ax.set_xlabel("height cutoff h_max / √m0")
     ax.set_ylabel("Γ [mJ m⁻²]")
     ax.legend(fontsize="small")
