@@ -75,7 +75,6 @@ def test_sphere_and_topography_figures():
 
 def test_cantilever_figures_one_panel_per_layer():
     from conftest import lognormal_gamma
-
     from roughstick.paper import cantilever
 
     g, _ = lognormal_gamma(n=25, rh=np.arange(0.3, 0.951, 0.05))
