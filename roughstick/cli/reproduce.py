@@ -19,7 +19,7 @@ import roughstick as rs
 
 from ..paper import ensemble as figures
 from ..plotting.save import save_figure
-from ._common import LOG, claim_folder, finish_folder, positive_int
+from ._common import LOG, claim_folder, finish_folder, positive_int, run_status
 
 RH = {"S1": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9], "S2": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]}
 SCALES = {
@@ -107,10 +107,11 @@ def _save(fig, path):
 
 def _run(args):
     t0 = time.perf_counter()
+    unfinished = run_status(args.out) == "running"  # a failed earlier run never blocks this one
     claim_folder(args.out, command="reproduce", params={"quick": args.quick, "n": args.n},
                  overwrite=args.overwrite)
     files = reproduce(args.out, quick=args.quick, n=args.n, scheduler=args.scheduler,
-                      overwrite=args.overwrite)
+                      overwrite=args.overwrite or unfinished)
     finish_folder(args.out)
     for f in files:
         LOG.info(f"    {f}")

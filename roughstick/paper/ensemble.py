@@ -83,7 +83,7 @@ def fig16_energy_bands(ensembles: dict, *, title: str = "Fig. 16", labels: dict 
         n = ens.sizes["realization"]
         band = rs.confidence_band(ens[["adhesive_energy"]]).compute()
         edges = "" if band.attrs.get("band_edges_bounded") else \
-            f"; band edges unbounded below n = {band.attrs['n_samples_to_bound_band_edges']}"
+            f"\n(band edges unbounded below n = {band.attrs['n_samples_to_bound_band_edges']})"
         ax.set_title(f"{title}: {name}, n = {n}{edges}", fontsize="medium")
         bands.append(band)
     if len(bands) == 1:
