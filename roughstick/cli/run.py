@@ -12,6 +12,8 @@ from __future__ import annotations
 import pathlib
 import time
 
+import numpy as np
+
 import roughstick as rs
 
 from ..io.netcdf import remove_partial_files
@@ -49,6 +51,7 @@ def run_config(cfg, *, figures=True, log=LOG.info):
     t0 = time.perf_counter()
     psd = cfg.psd_da if hasattr(cfg, "psd_da") else cfg.build_psd()
     shape = rs.surface_shape(shape=cfg.shape, size=cfg.size, spacing=cfg.spacing)
+    _warn_if_extrapolated(psd, shape, cfg.spacing, source=cfg.psd["source"])
     n_grid = cfg.auto.get("n_max", 3000) if cfg.n == "auto" else cfg.n
     dist = rs.ensemble_distance_grid(psd, shape=shape, n=n_grid, relative_humidity=cfg.relative_humidity,
                                      adsorbed_layer=cfg.adsorbed_layer, num=cfg.distance_points,
@@ -95,6 +98,21 @@ def run_config(cfg, *, figures=True, log=LOG.info):
         log(f"n = 'auto': {state} (n = {ds.sizes['realization']})")
     log(f"done in {time.perf_counter() - t0:.1f} s; n = {ds.sizes['realization']}")
     return written
+
+
+def _warn_if_extrapolated(psd, shape, spacing: float, *, source: str) -> None:
+    """A measured PSD is known down to q = 2π/L of the scan it came from: generated surfaces larger
+    than that scan rest on an extrapolated low-q PSD (issue 16 item 5). Say so."""
+    if source == "moments" or "qx" not in psd.dims:
+        return
+    measured = [2 * np.pi / float(abs(psd[d][1] - psd[d][0])) for d in ("qy", "qx")]
+    generated = [n * spacing for n in shape]
+    if any(g > m * (1 + 1e-6) for g, m in zip(generated, measured, strict=True)):
+        LOG.warning(
+            f"warning: the generated surfaces ({generated[0] * 1e6:.3g} x {generated[1] * 1e6:.3g} µm) "
+            f"are larger than the scans the PSD was measured on ({measured[0] * 1e6:.3g} x "
+            f"{measured[1] * 1e6:.3g} µm): their low-q PSD is extrapolated. Use a smaller [surface] "
+            "size, or fewer sub-maps ([psd] submaps) so the PSD reaches lower q.")
 
 
 def _run(args):

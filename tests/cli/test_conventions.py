@@ -155,3 +155,17 @@ def test_run_progress_lines_without_terminal_and_tmp_cleanup(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "ensemble blocks: 2/2 done (100 %)" in out  # capsys is no terminal: log lines
     assert not list((tmp_path / "out").glob(".*tmp-*"))
+
+
+def test_warns_when_generated_surfaces_exceed_the_measured_scan(caplog):
+    import logging
+
+    from roughstick.cli.run import _warn_if_extrapolated
+
+    psd = rs.submap_psd(rs.datasets.load_sample("S1A").isel(x=slice(0, 256), y=slice(0, 256)), n=4)
+    # 4 sub-maps of a 256² map at 5 nm: the PSD is measured on 0.64 µm scans
+    with caplog.at_level(logging.WARNING, logger="roughstick"):
+        _warn_if_extrapolated(psd, (128, 128), 5e-9, source="samples")
+        assert not caplog.records
+        _warn_if_extrapolated(psd, (256, 256), 5e-9, source="samples")
+    assert "larger than the scans the PSD was measured on (0.64 x 0.64 µm)" in caplog.text
