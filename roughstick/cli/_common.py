@@ -23,7 +23,7 @@ import sys
 import time
 import warnings
 
-from ..io.netcdf import remove_partial_files
+from ..io.netcdf import remove_partial_files, write_text_atomic
 
 __all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
            "user_message", "MARKER"]
@@ -127,9 +127,9 @@ def claim_folder(folder, *, command: str, params: dict, overwrite: bool) -> path
     removed = remove_partial_files(folder)
     if removed:
         LOG.debug("removed %d partial file(s) of an interrupted run", len(removed))
-    marker.write_text(json.dumps({**record, "status": "running",
-                                  "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())},
-                                 indent=1, default=str))
+    write_text_atomic(marker, json.dumps({**record, "status": "running",
+                                          "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())},
+                                         indent=1, default=str))
     return folder
 
 
@@ -147,7 +147,7 @@ def finish_folder(folder) -> None:
     marker = pathlib.Path(folder) / MARKER
     rec = json.loads(marker.read_text())
     rec.update(status="complete", finished=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()))
-    marker.write_text(json.dumps(rec, indent=1, default=str))
+    write_text_atomic(marker, json.dumps(rec, indent=1, default=str))
 
 
 def _diff(a: dict, b: dict) -> str:
