@@ -157,7 +157,8 @@ def _diff(a: dict, b: dict) -> str:
 
 
 #: Python argument names that a message may mention, and the CLI flag to name instead.
-_FLAGS = {"overwrite=True": "--overwrite", "output=": "--out "}
+_FLAGS = {"overwrite=True": "--overwrite", "output=": "--out ",
+          "a smaller lower= to ensemble_distance_grid": "a smaller [ensemble] distance_lower (roughstick run)"}
 
 
 def user_message(exc: BaseException) -> str | None:
