@@ -24,17 +24,20 @@ CACHE = pathlib.Path(__file__).resolve().parents[2] / "benchmarks" / "bem_cache"
 def _cases():
     if not CACHE.is_dir():
         return []
-    out = []
+    latest = {}
     for path in sorted(CACHE.glob("*.json")):
         rec = json.loads(path.read_text())
-        out.append(pytest.param(rec, id=f"{rec['family']}-{rec['reduced_modulus'] / 1e9:.3g}GPa-"
-                                f"rh{rec['rh']}-{path.stem[:6]}"))
-    return out
+        if rec.get("block") == "resolution":  # coarsened maps of the pixel study, not a family map
+            continue
+        # a grid that missed the equilibrium was extended downwards: the last extension counts
+        job = (rec["family"], rec["seed"], rec["pixels"], rec["rh"], rec["reduced_modulus"])
+        if job not in latest or rec["grid_extend"] > latest[job]["grid_extend"]:
+            latest[job] = rec
+    return [pytest.param(rec, id=f"{rec['family']}-{rec['reduced_modulus'] / 1e9:.3g}GPa-"
+                         f"rh{rec['rh']}-{rec['cache_key'][:6]}") for rec in latest.values()]
 
 
 CASES = _cases()
-# the default run: one humidity per family and modulus (both moduli: 10 GPa is the soft material)
-QUICK = [c for c in CASES if c.values[0]["rh"] == 0.7]
 
 
 def _material(e_star):
@@ -55,7 +58,9 @@ def _check(rec):
     h = rs.datasets.surface_family(rec["family"], shape=(rec["pixels"], rec["pixels"]),
                                    spacing=rec["spacing"], seed=rec["seed"])
     d = np.asarray(rec["distance"])
-    reference = _gamma(rec["pressure"], d)
+    # states where Tamaas stalled (residual > 10x its tolerance 1e-6) are not solutions
+    ok = ~(np.asarray(rec["solver_residual"], dtype=float) > 1e-5)
+    reference = _gamma(np.asarray(rec["pressure"])[ok], d[ok])
     with warnings.catch_warnings():
         warnings.simplefilter("error", rs.ValidityWarning)  # auto never warns about its choice
         ds = rs.rough_contact_curves(h, relative_humidity=rec["rh"], distance=d, model="auto",
@@ -74,15 +79,10 @@ def test_the_cache_covers_four_families_and_a_soft_material():
     recs = [c.values[0] for c in CASES]
     assert len({r["family"] for r in recs}) >= 4
     assert any(r["reduced_modulus"] <= 20e9 for r in recs)
-    assert {r["family"] for r in (c.values[0] for c in QUICK)} >= {"S1", "S2", "table4", "smooth"}
+    assert {r["family"] for r in recs} >= {"S1", "S2", "table4", "smooth"}
 
 
-@pytest.mark.parametrize("rec", QUICK)
+@pytest.mark.parametrize("rec", CASES)
 def test_auto_within_ten_percent_of_tamaas_on_gamma(rec):
-    _check(rec)
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("rec", [c for c in CASES if c not in QUICK])
-def test_auto_within_ten_percent_of_tamaas_on_gamma_every_cached_case(rec):
+    # every cached case: 39 maps x humidities x moduli, ~0.2 s each (no BEM solve here)
     _check(rec)
