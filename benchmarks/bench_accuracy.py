@@ -751,10 +751,7 @@ def paper_default_warnings():
 
     out = []
     for name in ("S1A", "S1B", "S1C", "S2A", "S2B", "S2C"):
-        try:
-            h = rs.datasets.sample(name)
-        except Exception:  # noqa: BLE001 - phase-1 layout
-            h = rs.read_afm(ROOT / "data_samples" / f"{name}.nc")
+        h = rs.datasets.load_sample(name)
         with warnings.catch_warnings(record=True) as rec:
             warnings.simplefilter("always")
             v.warn_if_outside_validity(h, relative_humidity=[0.3, 0.5, 0.6, 0.7, 0.8, 0.9])

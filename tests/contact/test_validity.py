@@ -148,3 +148,44 @@ def test_the_remedy_flags_exist_on_the_command_line():
         ["curves", "map.nc", "--rh", "0.7", "--out", "x.nc", "--model", "auto", "--tolerance",
          "0.1"])
     assert args.model == "auto" and args.tolerance == 0.1
+
+
+@pytest.mark.parametrize("name", ["S1A", "S2A"])
+def test_paper_samples_warn_exactly_where_the_measured_bound_exceeds_the_tolerance(name):
+    h = rs.datasets.load_sample(name).isel(y=slice(0, 256), x=slice(0, 256))
+    for rh in (0.3, 0.7, 0.9):
+        g = rs.surface_groups(h, relative_humidity=rh)
+        bound = validity.model_error("modified_dmt",
+                                     {f: float(g[f]) for f in validity.GROUP_FEATURES})
+        with warnings.catch_warnings(record=True) as rec:
+            warnings.simplefilter("always")
+            ds = rs.rough_contact_curves(h, relative_humidity=rh, n_distance=16)
+        hits = [w for w in rec if issubclass(w.category, rs.ValidityWarning)]
+        assert bool(hits) == (bound.upper > 0.1), (rh, bound)
+        assert ds.attrs["validity_check"].startswith(
+            "measured error bound " + ("above" if hits else "within"))
+
+
+def test_bad_tolerance_quantity_and_nan_maps():
+    h = sinusoid()
+    with pytest.raises(ValueError, match="tolerance must be a positive relative error"):
+        rs.rough_contact_curves(h, relative_humidity=0.7, model="auto", tolerance=0)
+    with pytest.raises(ValueError, match="tolerance"):
+        rs.select_model(h, relative_humidity=0.7, tolerance=-1)
+    with pytest.raises(ValueError, match="quantity must be one of"):
+        validity.model_error("modified_dmt", {f: 1.0 for f in validity.GROUP_FEATURES},
+                             quantity="energy")
+    with pytest.raises(ValueError, match="method must be one of"):
+        validity.model_error("jkr", {f: 1.0 for f in validity.GROUP_FEATURES})
+    z = family_map("smooth", n=64).values.copy()
+    z[3, 5] = np.nan
+    nan_map = make_topography(z, spacing=5e-9)
+    # the boundary-element models need a complete map: auto either finds a cheaper model
+    # within the tolerance or says why it cannot
+    try:
+        ds = rs.rough_contact_curves(nan_map, relative_humidity=0.7, model="auto",
+                                     tolerance=0.1)
+    except ValueError as err:
+        assert "NaN pixels" in str(err) and "crop or fill" in str(err)
+    else:
+        assert ds.attrs["contact_model"] in ("gw", "modified_dmt")
