@@ -820,10 +820,18 @@ def write_accuracy_md(vs_bem, vs_fine, timing, table, started, machine):
             A(f"- {name}: median difference {_pct(med)} [{_pct(lo)}, {_pct(hi)}], largest "
               f"{_pct(float(f[q].max()))} over {len(f)} cases (all families, both moduli, all RH).")
         A("")
-        A("Differences above a per cent appear only at low humidity on soft maps, where a few "
-          "pixels of water decide Γ and the Dugdale zone has several equilibria a pixel apart "
-          "(both solvers return equilibria; they follow slightly different branches). "
-          "Closed-form checks (tests/contact/test_fft_bem.py): Hertz force within 1 %, "
+        f = vs_bem[(vs_bem.method == "fft_bem") & (vs_bem.pixels == 256)]
+        big = f[(f.error_adhesive_energy > 0.01) | (f.error_pull_off_pressure > 0.01)]
+        A("Cases with a difference above 1 % (Γ / pull-off; `dropped`: states Tamaas left above "
+          "10× its tolerance after a retry, left out of the reference curve, so a pull-off or Γ "
+          "there is compared with a neighbouring state): "
+          + "; ".join(f"{r.family} {r.reduced_modulus / 1e9:.3g} GPa RH {r.rh}: "
+                      f"{_pct(r.error_adhesive_energy)} / {_pct(r.error_pull_off_pressure)}"
+                      + (f" ({int(r.bem_dropped)} dropped)" if r.bem_dropped > 0 else "")
+                      for _, r in big.iterrows())
+          + ". At low humidity on soft maps a few pixels of water decide Γ and the Dugdale zone "
+          "has several equilibria a pixel apart (both solvers return equilibria on slightly "
+          "different branches). Closed-form checks (tests/contact/test_fft_bem.py): Hertz force within 1 %, "
           "Maugis-Dugdale pull-off within 3 % at λ = 0.5.")
         A("")
     if timing is not None:
