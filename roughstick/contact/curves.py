@@ -23,11 +23,11 @@ import xarray as xr
 from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
 from .._core.units import require
-from .._core.validate import distance_array, relative_humidity_values
+from .._core.validate import distance_array, grid_spacing, relative_humidity_values
 from .bem import bem_contact_curves
 from .fft_bem import fft_bem_contact_curves
 from .gw import gw_contact_curves
-from .rough import _spacing, contact_distance_grid, modified_dmt_curves
+from .rough import contact_distance_grid, modified_dmt_curves
 from .validity import (
     MODEL_COST_ORDER,
     VALIDITY_BOUND,
@@ -203,7 +203,8 @@ def rough_contact_curves(
             distance = contact_distance_grid(height, n=n_distance, connectivity=connectivity,
                                              periodic=periodic, **common)
         kwargs.setdefault("apparent_area", height.sizes["x"] * height.sizes["y"]
-                          * _spacing(height, "x") * _spacing(height, "y"))
+                          * grid_spacing(height, "x", min_pixels=3, purpose="a contact map")
+                          * grid_spacing(height, "y", min_pixels=3, purpose="a contact map"))
         ds = gw_contact_curves(height, distance=distance_array(distance), **common, **kwargs)
     elif model == "fft_bem":
         ds = fft_bem_contact_curves(height, distance=distance, **common, **kwargs)
