@@ -29,7 +29,6 @@ import json
 import os
 import pathlib
 import platform
-import sys
 import time
 import warnings
 
@@ -367,9 +366,9 @@ def cmd_auto(args):
                     map_index=m["map_index"], pixels=m["pixels"], reduced_modulus=E, rh=rh,
                     bem_dropped=int((~ok).sum()), **groups(h, rh, E))
         c0 = time.process_time()
-        s, sec, c = _run(lambda: rs.rough_contact_curves(h, relative_humidity=rh, distance=d,
-                                                         model="auto", tolerance=0.1,
-                                                         material=material_for(E)))
+        s, sec, c = _run(lambda h=h, rh=rh, d=d, E=E: rs.rough_contact_curves(
+            h, relative_humidity=rh, distance=d, model="auto", tolerance=0.1,
+            material=material_for(E)))
         row = dict(base, method="auto", reference="bem", seconds=sec,
                    cpu_seconds=time.process_time() - c0, chosen=c.attrs["contact_model"], **s)
         row["converged"] = int(np.isfinite(s["equilibrium_distance"])
@@ -458,13 +457,15 @@ def cmd_timing(args):
         mat = material_for(E)
         kw = dict(relative_humidity=rh, material=mat)
         calls = [
-            ("modified_dmt", lambda: rs.rough_contact_curves(h, model="modified_dmt", **kw)),
-            ("fft_bem", lambda: rs.fft_bem_contact_curves(h, **kw)),
-            ("auto", lambda: rs.rough_contact_curves(h, model="auto", tolerance=0.1, **kw)),
+            ("modified_dmt", lambda h=h, kw=kw: rs.rough_contact_curves(h, model="modified_dmt",
+                                                                        **kw)),
+            ("fft_bem", lambda h=h, kw=kw: rs.fft_bem_contact_curves(h, **kw)),
+            ("auto", lambda h=h, kw=kw: rs.rough_contact_curves(h, model="auto", tolerance=0.1,
+                                                                **kw)),
         ]
         fft = fft_reference_seconds()
         best = {}
-        for rep in range(3):  # fast models interleaved, min of 3
+        for _rep in range(3):  # fast models interleaved, min of 3
             for name, fn in calls:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")

@@ -184,7 +184,7 @@ def pk_solve(grid, base, p0=None, *, wet=None, sigma0=0.0, h0=0.0, tolerance=1e-
     delta = 0.0
     err = np.inf
     it = 0
-    for it in range(1, int(max_iterations) + 1):
+    for it in range(1, int(max_iterations) + 1):  # noqa: B007 - the count is returned
         _direction(p, g, t, (delta * s1 / gold) if gold > 0 else 0.0)
         gold = s1
         r = grid.displacement(t)

@@ -8,7 +8,7 @@ It sits above the models and chooses between them; the models never import it:
 - ``model="gw"``: :func:`roughstick.contact.gw.gw_contact_curves` (Eq. 14) on the map's own
   moments, by the same estimator as ``gw_contact_curves(height)`` (so both entry points agree);
 - ``model="fft_bem"``: :func:`roughstick.contact.fft_bem.fft_bem_contact_curves`, the fast FFT
-  boundary-element model (the reference's physics at 1/114-1/229 of its cost, 256², docs/accuracy.md);
+  boundary-element model (the reference's physics at 1/114-1/320 of its cost, 256²-512², docs/accuracy.md);
 - ``model="bem"``: :func:`roughstick.contact.bem.bem_contact_curves` (Tamaas extra);
 - ``model="auto"``: the cheapest model whose measured error bound at *this surface's* groups meets
   ``tolerance`` (:func:`roughstick.contact.validity.select_model`), recorded in
