@@ -72,7 +72,10 @@ def wheel_env(tmp_path_factory):
 
 
 def _probe(python, cwd):
-    res = subprocess.run([str(python), "-c", PROBE], cwd=cwd, capture_output=True, text=True, timeout=600)
+    # without PYTHONPATH: a checkout on it (PYTHONPATH=/work/wt/...) would shadow the wheel
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    res = subprocess.run([str(python), "-c", PROBE], cwd=cwd, capture_output=True, text=True, timeout=600,
+                         env=env)
     assert res.returncode == 0, res.stderr
     return json.loads(res.stdout.strip().splitlines()[-1])
 
@@ -88,7 +91,8 @@ def test_wheel_ships_the_data_and_gives_the_checkout_numbers(wheel_env):
 
 def _run(cmd, cwd):
     res = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=1800,
-                         env={**os.environ, "CI": "true", "MPLBACKEND": "Agg"})
+                         env={**{k: v for k, v in os.environ.items() if k != "PYTHONPATH"},
+                              "CI": "true", "MPLBACKEND": "Agg"})
     assert res.returncode == 0, res.stderr[-2000:]
 
 
