@@ -1,10 +1,12 @@
 """Speed against error: GW (Eq. 14) and modified DMT (Eq. 16) against the boundary-element reference.
 
 Regenerates the tables of docs/accuracy.md (docs/accuracy_tables.md), the figure
-docs/accuracy_speed_vs_error.png and, with ``--validity``, roughstick/data/validity_map.csv.
+docs/accuracy_speed_vs_error.png and, with ``--validity``, a modulus sweep in
+benchmarks/validity_results/speed_vs_error_sweep.csv (the shipped validity map is written by
+``benchmarks/bench_accuracy.py report``).
 
     python benchmarks/speed_vs_error.py                 # S1/S2-like 256² comparison + figure
-    python benchmarks/speed_vs_error.py --validity      # + modulus sweep -> validity_map.csv
+    python benchmarks/speed_vs_error.py --validity      # + modulus sweep -> validity_results/
     python benchmarks/speed_vs_error.py --reuse-bem     # reuse cached BEM curves (timings too)
 
 Surfaces: one periodic Gaussian surface per sample, drawn with ``roughstick.generate_surfaces``
@@ -437,7 +439,7 @@ def main(argv=None):
             "equilibrium_distance",
             "seconds",
         ]
-        out = ROOT / "roughstick" / "data" / "validity_map.csv"
+        out = ROOT / "benchmarks" / "validity_results" / "speed_vs_error_sweep.csv"
         out.parent.mkdir(exist_ok=True)
         base = [
             r

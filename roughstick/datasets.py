@@ -284,5 +284,5 @@ def surface_family(name: str, *, shape=(256, 256), spacing: float = 5e-9, seed=0
 
 
 def validity_map_path() -> pathlib.Path:
-    """Path of the measured validity map (``benchmarks/speed_vs_error.py --validity`` writes it)."""
+    """Path of the measured validity map (``benchmarks/bench_accuracy.py report`` writes it)."""
     return _data("validity_map.csv")

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import pathlib
+import sys
+import warnings
 
 import numpy as np
 
@@ -10,15 +12,21 @@ import roughstick as rs
 
 from ..io import netcdf
 
+MODELS = ("modified_dmt", "gw", "fft_bem", "bem", "auto")
+
 
 def register(sub):
     p = sub.add_parser(
         "curves",
-        help="modified-DMT force-distance curves (Eq. 16) and adhesion summary of one height map",
+        help="force-distance curves (modified DMT, Eq. 16, or another model) and adhesion summary "
+        "of one height map",
         description=(
-            "Read a height map, compute the rough-surface modified-DMT pressure versus distance at "
-            "the given humidities (Eqs. 16-23) and its adhesive energy (Eq. 13), and write both "
-            "to a CF NetCDF file."
+            "Read a height map, compute the pressure versus distance at the given humidities "
+            "(modified DMT, Eqs. 16-23, by default; --model picks another: gw, fft_bem, bem, or "
+            "auto = the cheapest model measured within --tolerance of the boundary-element "
+            "reference for this surface) and its adhesive energy (Eq. 13), and write both to a "
+            "CF NetCDF file. --resolution also reports how the summaries change with the pixel "
+            "size."
         ),
     )
     p.add_argument("map", help="height map (.nc, .npy, text, or vendor formats)")
@@ -34,35 +42,77 @@ def register(sub):
     p.add_argument("--connectivity", type=int, default=4, choices=[4, 8])
     p.add_argument("--periodic", default=None, choices=["yes", "no"],
                    help="override the map's 'periodic' attribute")
-    p.add_argument("--model", default="modified_dmt", choices=["modified_dmt", "gw"])
+    p.add_argument("--model", default="modified_dmt", choices=MODELS,
+                   help="contact model (default modified_dmt); auto: the cheapest model whose "
+                   "measured error bound for this surface meets --tolerance (docs/accuracy.md)")
+    p.add_argument("--tolerance", type=float, default=0.1,
+                   help="accepted relative error against the boundary-element reference "
+                   "(default 0.1): --model auto meets it; modified_dmt warns where it may not")
+    p.add_argument("--resolution", action="store_true",
+                   help="also report how the adhesive energy, pull-off pressure and equilibrium "
+                   "distance change with the pixel size (resampled map, same model)")
+    p.add_argument("--resolution-factors", type=float, nargs="+", default=[0.5, 1, 2],
+                   metavar="F",
+                   help="pixel sizes relative to the map's (integers or their inverses; "
+                   "default 0.5 1 2)")
     p.set_defaults(func=_run)
 
 
 def _run(args):
-
-
     h = rs.read_afm(args.map, spacing=args.spacing, units=args.units)
     distance = None
     if args.distance is not None:
         lo, hi, n = args.distance
         distance = np.linspace(lo, hi, int(n))
     periodic = None if args.periodic is None else args.periodic == "yes"
-    ds = rs.rough_contact_curves(
-        h,
-        relative_humidity=list(args.rh),
-        distance=distance,
-        n_distance=args.n_distance,
-        adsorbed_layer=args.adsorbed_layer,
-        connectivity=args.connectivity,
-        periodic=periodic,
-        model=args.model,
-    )
+    kw = {}
+    if args.model in ("modified_dmt", "gw", "auto"):
+        kw.update(connectivity=args.connectivity, periodic=periodic)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", rs.ValidityWarning)
+        ds = rs.rough_contact_curves(
+            h,
+            relative_humidity=list(args.rh),
+            distance=distance,
+            n_distance=args.n_distance,
+            adsorbed_layer=args.adsorbed_layer,
+            model=args.model,
+            tolerance=args.tolerance,
+            **kw,
+        )
+    for w in caught:
+        if issubclass(w.category, rs.ValidityWarning):
+            # on the command line the remedy is a flag: say it as a message, not a traceback line
+            print(f"roughstick curves: warning: {w.message}", file=sys.stderr)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if "model_selection" in ds.attrs:
+        print(f"model: {ds.attrs['model_selection']}")
     summary = rs.adhesion_summary(ds)
     for name in summary.data_vars:
         ds[name] = summary[name]
+    if args.resolution:
+        res = rs.resolution_study(h, relative_humidity=list(args.rh),
+                                  factors=args.resolution_factors,
+                                  model=ds.attrs.get("contact_model", args.model),
+                                  adsorbed_layer=args.adsorbed_layer)
+        print(f"pixel-size sensitivity ({res.attrs['resampling']}):")
+        r = res.transpose("pixel_size", ...)
+        for i, px in enumerate(r.pixel_size.values):
+            for j, rh in enumerate(np.atleast_1d(r.rh.values) if "rh" in r.dims else [args.rh[0]]):
+                sel = r.isel(pixel_size=i, **({"rh": j} if "rh" in r.dims else {}))
+                print(f"  pixel {px * 1e9:6.3g} nm  RH {rh:.3g}: Γ {float(sel.adhesive_energy):.4g} "
+                      f"J/m2 ({float(sel.relative_change_adhesive_energy):+.1%}), pull-off "
+                      f"{float(sel.pull_off_pressure) / 1e6:.4g} MPa "
+                      f"({float(sel.relative_change_pull_off_pressure):+.1%}), d_eq "
+                      f"{float(sel.equilibrium_distance) * 1e9:.4g} nm "
+                      f"({float(sel.relative_change_equilibrium_distance):+.1%})")
+        for name in res.data_vars:
+            ds[f"resolution_{name}"] = res[name].rename(pixel_size="resolution_pixel_size")
     ds.attrs["input_file"] = str(args.map)
     rs.conventions.append_history(
-        ds, f"roughstick curves {args.map} --rh {' '.join(map(str, args.rh))} --out {args.out}"
+        ds, f"roughstick curves {args.map} --rh {' '.join(map(str, args.rh))} --model "
+            f"{args.model} --tolerance {args.tolerance} --out {args.out}"
     )
     out = pathlib.Path(args.out)
     netcdf.write(ds, out, compute=True)

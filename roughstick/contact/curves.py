@@ -3,13 +3,16 @@
 It sits above the models and chooses between them; the models never import it:
 
 - ``model="modified_dmt"``: :func:`roughstick.contact.rough.modified_dmt_curves` (Eqs. 16-23),
-  with a once-per-process :class:`~roughstick.ValidityWarning` where the measured error of the
-  modified DMT against the boundary-element reference exceeds 10 % (docs/accuracy.md);
+  with a :class:`~roughstick.ValidityWarning` where the measured error bound of the modified DMT
+  at this surface's dimensionless groups exceeds ``tolerance`` (docs/accuracy.md);
 - ``model="gw"``: :func:`roughstick.contact.gw.gw_contact_curves` (Eq. 14) on the map's own
   moments, by the same estimator as ``gw_contact_curves(height)`` (so both entry points agree);
+- ``model="fft_bem"``: :func:`roughstick.contact.fft_bem.fft_bem_contact_curves`, the fast FFT
+  boundary-element model (the reference's physics at 1/114-1/320 of its cost, 256²-512², docs/accuracy.md);
 - ``model="bem"``: :func:`roughstick.contact.bem.bem_contact_curves` (Tamaas extra);
-- ``model="auto"``: the cheapest of the three whose measured error meets ``error_tolerance``
-  (:func:`roughstick.contact.validity.select_model`), recorded in ``attrs["model_selection"]``.
+- ``model="auto"``: the cheapest model whose measured error bound at *this surface's* groups meets
+  ``tolerance`` (:func:`roughstick.contact.validity.select_model`), recorded in
+  ``attrs["model_selection"]``.
 """
 
 from __future__ import annotations
@@ -20,38 +23,39 @@ import xarray as xr
 from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
 from .._core.units import require
-from .._core.validate import distance_array, relative_humidity_values
+from .._core.validate import distance_array, grid_spacing, relative_humidity_values
 from .bem import bem_contact_curves
+from .fft_bem import fft_bem_contact_curves
 from .gw import gw_contact_curves
-from .rough import _spacing, contact_distance_grid, modified_dmt_curves
-from .validity import VALIDITY_BOUND, select_model, warn_if_outside_validity
+from .rough import contact_distance_grid, modified_dmt_curves
+from .validity import (
+    MODEL_COST_ORDER,
+    VALIDITY_BOUND,
+    select_model,
+    warn_if_outside_validity,
+)
 
 __all__ = ["rough_contact_curves", "CONTACT_MODELS"]
 
 #: Names accepted by ``rough_contact_curves(model=...)``.
-CONTACT_MODELS = ("modified_dmt", "gw", "bem", "auto")
+CONTACT_MODELS = ("modified_dmt", "gw", "fft_bem", "bem", "auto")
 
 # keyword arguments of bem_contact_curves that rough_contact_curves passes through
-_BEM_KWARGS = ("tolerance", "max_iterations", "path", "retries", "adhesion")
+# (``solver_tolerance`` is the solver's own tolerance: ``tolerance`` is the accepted error)
+_BEM_KWARGS = ("solver_tolerance", "max_iterations", "path", "retries", "adhesion", "progress")
+_FFT_BEM_KWARGS = ("solver_tolerance", "max_iterations", "path", "adhesion", "precision",
+                   "n_contact", "n_free", "refine")
 # keyword arguments of gw_contact_curves that rough_contact_curves passes through
 _GW_KWARGS = ("sphere_model", "curvature_limits", "height_cutoff", "curvature_measure",
               "apparent_area", "n_height", "n_curvature", "force_table", "moment_method", "qmax")
 
 
-def _auto_model(relative_humidity, *, error_tolerance, quantity, material, material2):
-    """(model, reason): the costliest of the per-humidity choices of :func:`select_model`."""
-    rhs = relative_humidity_values(relative_humidity)
-    order = {"gw": 0, "modified_dmt": 1, "bem": 2}
-    model, reason = "gw", None
-    for r in rhs if rhs.size else [np.nan]:
-        if not np.isfinite(r):
-            m, why = "bem", "humidity not known before computing; BEM chosen to be safe"
-        else:
-            m, why = select_model(tolerance=error_tolerance, relative_humidity=float(r),
-                                  material=material, material2=material2, quantity=quantity)
-        if reason is None or order[m] > order[model]:
-            model, reason = m, why
-    return model, reason
+def _check_tolerance(tolerance):
+    if not (isinstance(tolerance, (int, float)) and tolerance > 0):
+        raise ValueError(
+            f"tolerance must be a positive relative error (e.g. 0.1 for 10 %), got {tolerance!r}; "
+            "the solver tolerance of fft_bem/bem is solver_tolerance=."
+        )
 
 
 def rough_contact_curves(
@@ -66,8 +70,9 @@ def rough_contact_curves(
     connectivity: int = 4,
     periodic: bool | None = None,
     n_distance: int = 200,
-    error_tolerance: float = VALIDITY_BOUND,
+    tolerance: float = VALIDITY_BOUND,
     quantity: str = "adhesive_energy",
+    check_validity: bool = True,
     **model_kwargs,
 ) -> xr.Dataset:
     r"""Force-distance curves of a rough surface against a flat in humid air, by any model.
@@ -83,14 +88,16 @@ def rough_contact_curves(
         Distances ``d`` [m] from the flat to the mean plane of the heights. Default: the automatic
         grid of :func:`roughstick.contact_distance_grid` (``n_distance`` points; eager 2-D maps
         only), for every model (the BEM takes ``n_distance`` as its own default count).
-    model : {"modified_dmt", "gw", "bem", "auto"}, default "modified_dmt"
+    model : {"modified_dmt", "gw", "fft_bem", "bem", "auto"}, default "modified_dmt"
         ``"modified_dmt"``: :func:`roughstick.modified_dmt_curves` (Eq. 16). ``"gw"``:
         :func:`roughstick.gw_contact_curves` (Eq. 14) on the moments of the map, estimated as
         ``gw_contact_curves(height)`` does (``moment_method``, default the paper's cubic-spline
-        moments of Table 2), on the same distances. ``"bem"``: the boundary-element reference
+        moments of Table 2), on the same distances. ``"fft_bem"``: the FFT boundary-element model
+        :func:`roughstick.fft_bem_contact_curves` (valid where Eq. 16 is not; its own automatic
+        grid when ``distance`` is None). ``"bem"``: the boundary-element reference
         :func:`roughstick.bem_contact_curves` (Tamaas extra). ``"auto"``: the cheapest model whose
-        measured error against the BEM meets ``error_tolerance`` (:func:`roughstick.select_model`
-        at the worst requested humidity), recorded in ``attrs["model_selection"]``.
+        measured error bound at this surface's groups meets ``tolerance`` at every requested
+        humidity (:func:`roughstick.select_model`), recorded in ``attrs["model_selection"]``.
     material, material2 : roughstick.Material
         The two bodies (``material2=None``: same as ``material``); poly-silicon by default.
     adsorbed_layer : {"paper", "none"} or callable
@@ -99,14 +106,20 @@ def rough_contact_curves(
         Asperity connectivity and periodicity of the modified DMT (also used for its grid).
     n_distance : int, default 200
         Size of the automatic distance grid.
-    error_tolerance : float, default 0.10
-        ``model="auto"`` only: accepted relative error of ``quantity`` against the BEM.
-    quantity : {"adhesive_energy", "pull_off_pressure", "equilibrium_distance"}
-        ``model="auto"`` only: the summary the tolerance applies to.
+    tolerance : float, default 0.10
+        Accepted relative error of ``quantity`` against the boundary-element reference:
+        ``model="auto"`` picks a model that meets it; ``model="modified_dmt"`` warns
+        (:class:`roughstick.ValidityWarning`) where its measured bound exceeds it.
+    quantity : {"adhesive_energy", "pull_off_pressure", "equilibrium_distance", "all"}
+        The summary the tolerance applies to.
+    check_validity : bool, default True
+        ``False`` skips the surface-groups check of ``model="modified_dmt"`` (used by
+        :func:`roughstick.run_ensemble`, which checks once before it starts).
     **model_kwargs
         Passed to the model: ``sphere_model``, ``curvature_limits``, ``height_cutoff``,
-        ``moment_method``, ``qmax`` ... for GW; ``tolerance``, ``max_iterations``, ``path``,
-        ``retries``, ``adhesion`` for the BEM. The modified DMT takes none.
+        ``moment_method``, ``qmax`` ... for GW; ``solver_tolerance``, ``max_iterations``,
+        ``path``, ``adhesion`` (and ``retries``, ``progress`` for the BEM; ``precision``,
+        ``n_contact``, ``n_free``, ``refine`` for fft_bem). The modified DMT takes none.
 
     Returns
     -------
@@ -125,41 +138,79 @@ def rough_contact_curves(
     Examples
     --------
     >>> h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
-    >>> ds = rs.rough_contact_curves(h, relative_humidity=[0.3, 0.7], distance=[-1e-9, 1e-9])
+    >>> ds = rs.rough_contact_curves(h, relative_humidity=[0.3, 0.7], model="fft_bem")
     >>> ds.pressure.dims, ds.attrs["contact_model"]
-    (('rh', 'distance'), 'modified_dmt')
+    (('rh', 'distance'), 'fft_bem')
     """
     if model not in CONTACT_MODELS:
         raise ValueError(f"model must be one of {CONTACT_MODELS}, got {model!r}.")
+    _check_tolerance(tolerance)
+    common = dict(relative_humidity=relative_humidity, material=material, material2=material2,
+                  adsorbed_layer=adsorbed_layer)
     reason = None
     if model == "auto":
-        model, reason = _auto_model(relative_humidity, error_tolerance=error_tolerance,
-                                    quantity=quantity, material=material, material2=material2)
-    allowed = {"modified_dmt": (), "gw": _GW_KWARGS, "bem": _BEM_KWARGS}[model]
+        allowed_auto = set(_GW_KWARGS) | set(_BEM_KWARGS) | set(_FFT_BEM_KWARGS)
+        unexpected = sorted(set(model_kwargs) - allowed_auto)
+        if unexpected:
+            raise TypeError(f"unexpected keyword argument(s) {unexpected} for model='auto'.")
+        candidates = MODEL_COST_ORDER
+        if getattr(height, "chunks", None) is None and bool(np.isnan(np.asarray(height)).any()):
+            # the boundary-element models need a complete map
+            candidates = ("gw", "modified_dmt")
+        try:
+            model, reason = select_model(height, tolerance=tolerance, quantity=quantity,
+                                         candidates=candidates, **common)
+        except ValueError as err:
+            raise ValueError(
+                f"{err} The map has NaN pixels, which the boundary-element models (fft_bem, "
+                "bem) cannot take: crop or fill them, or pass model='modified_dmt' knowingly."
+            ) from None
+        allowed = {"modified_dmt": (), "gw": _GW_KWARGS, "fft_bem": _FFT_BEM_KWARGS,
+                   "bem": _BEM_KWARGS}[model]
+        model_kwargs = {k: v for k, v in model_kwargs.items() if k in allowed}
+    allowed = {"modified_dmt": (), "gw": _GW_KWARGS, "fft_bem": _FFT_BEM_KWARGS,
+               "bem": _BEM_KWARGS}[model]
     unexpected = sorted(set(model_kwargs) - set(allowed))
     if unexpected:
         raise TypeError(f"unexpected keyword argument(s) {unexpected} for model={model!r}.")
-    common = dict(relative_humidity=relative_humidity, material=material, material2=material2,
-                  adsorbed_layer=adsorbed_layer)
+    kwargs = dict(model_kwargs)
+    if "solver_tolerance" in kwargs:
+        kwargs["tolerance"] = kwargs.pop("solver_tolerance")
     if model == "modified_dmt":
-        rhs = relative_humidity_values(relative_humidity)
-        rhs = rhs[(rhs > 0) & (rhs < 1)]
-        if rhs.size:  # once-per-process ValidityWarning outside the measured regime
-            warn_if_outside_validity(relative_humidity=rhs, material=material, material2=material2)
         ds = modified_dmt_curves(height, distance=distance, connectivity=connectivity,
                                  periodic=periodic, n_distance=n_distance, **common)
+        # checked after the model validated the input (its errors name the fix first)
+        validity_note = None
+        if check_validity and reason is None:
+            rhs = relative_humidity_values(relative_humidity)
+            if getattr(height, "chunks", None) is not None:
+                # a lazy stack stays lazy: its groups would need a computation
+                validity_note = (
+                    "not checked (lazy input); check one map with "
+                    "roughstick.warn_if_outside_validity(height.isel(...).compute(), ...)"
+                )
+            elif rhs.size and np.all((rhs > 0) & (rhs < 1)):
+                warned = warn_if_outside_validity(height, tolerance=tolerance,
+                                                  quantity=quantity, **common)
+                validity_note = (f"measured error bound above the tolerance {tolerance:g}"
+                                 if warned else
+                                 f"measured error bound within the tolerance {tolerance:g}")
+        if validity_note is not None:
+            ds.attrs["validity_check"] = validity_note
     elif model == "gw":
         height = require(height, "length", name="height")
         if distance is None:
             distance = contact_distance_grid(height, n=n_distance, connectivity=connectivity,
                                              periodic=periodic, **common)
-        kwargs = dict(model_kwargs)
         kwargs.setdefault("apparent_area", height.sizes["x"] * height.sizes["y"]
-                          * _spacing(height, "x") * _spacing(height, "y"))
+                          * grid_spacing(height, "x", min_pixels=3, purpose="a contact map")
+                          * grid_spacing(height, "y", min_pixels=3, purpose="a contact map"))
         ds = gw_contact_curves(height, distance=distance_array(distance), **common, **kwargs)
+    elif model == "fft_bem":
+        ds = fft_bem_contact_curves(height, distance=distance, **common, **kwargs)
     else:
         ds = bem_contact_curves(height, distance=distance, n_distances=n_distance, **common,
-                                **model_kwargs)
+                                **kwargs)
     if reason is not None:
         ds.attrs["model_selection"] = f"auto -> {model}: {reason}"
     return append_history(ds, f"rough_contact_curves(model={model!r})"

@@ -1,15 +1,29 @@
-"""Measured validity of the rough-surface models against the boundary-element reference.
+"""Measured validity of the rough-surface models, per surface, from dimensionless groups.
 
-The paper validates the modified DMT (Eq. 16) on a single sphere only (Table 1) and states that it
-holds for stiff materials. ``benchmarks/speed_vs_error.py`` measures the relative error of the
-modified DMT and of Greenwood-Williamson (Eq. 14) against the full boundary-element solution
-(:func:`roughstick.bem_contact_curves`) on S1- and S2-like surfaces, as the contact modulus drops
-from poly-silicon to 1 GPa and as the humidity rises, and writes the table
-``roughstick/data/validity_map.csv`` that this module reads (docs/accuracy.md gives the command,
-date and machine). :func:`select_model` picks the cheapest model that meets a tolerance from that
-table; :func:`warn_if_outside_validity` warns once per process when a modified-DMT call falls
-where its measured error exceeds the bound. The dispatcher :func:`roughstick.rough_contact_curves`
-(:mod:`roughstick.contact.curves`) uses both; the models themselves do not import this module.
+The paper validates the modified DMT (Eq. 16) on a single sphere only (Table 1). The validity
+study of ``benchmarks/bench_accuracy.py`` measures the relative error of every model
+(Greenwood-Williamson, Eq. 14; modified DMT, Eq. 16; the FFT boundary-element model
+:func:`roughstick.fft_bem_contact_curves`) against the boundary-element reference (Tamaas,
+:func:`roughstick.bem_contact_curves`) on independent seeded maps of five surface families
+(S1, S2, Table 4, smooth and rough self-affine), two contact moduli and four humidities, and
+writes the table ``roughstick/data/validity_map.csv`` (docs/accuracy.md: command, date, machine).
+
+A surface is placed in that table by its dimensionless groups (:func:`surface_groups`). The
+study found (docs/accuracy.md) that the modified DMT's error is decided by
+
+- the capillary pressure over the elastic stiffness of the roughness, :math:`|\\Delta P| /
+  (E^* \\sqrt{\\langle|\\nabla z|^2\\rangle})` (how far the tension pulls the surfaces into
+  contact: the contact fraction at equilibrium scales with it);
+- the Maugis parameter of the mean summit, :math:`\\lambda = 2\\sigma_0 (R/(\\pi\\omega K^2))^{1/3}`
+  with :math:`\\sigma_0 = |\\Delta P|`, :math:`\\omega = |\\Delta P| h_{water}`, :math:`R` from
+  :math:`m_4` (Table 4): how much the tension deforms the asperities (assumption i of Eq. 16);
+- the water height over the rms roughness, :math:`h_{water}/\\sigma`.
+
+:func:`model_error` bounds a model's error at a surface by its measured errors at the nearest
+measured cases in those groups; :func:`select_model` picks the cheapest model whose bound meets a
+tolerance; :func:`warn_if_outside_validity` warns where the modified DMT's bound exceeds it. The
+dispatcher :func:`roughstick.rough_contact_curves` uses all three; the models do not import this
+module.
 """
 
 from __future__ import annotations
@@ -18,54 +32,198 @@ import csv
 import functools
 import sys
 import warnings
+from typing import NamedTuple
 
 import numpy as np
+import xarray as xr
 
 from .._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.units import require
 from ..datasets import validity_map_path
+from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = [
     "ValidityWarning",
+    "ErrorBound",
+    "surface_groups",
     "validity_map",
     "model_error",
     "select_model",
     "warn_if_outside_validity",
     "VALIDITY_BOUND",
+    "MODEL_COST_ORDER",
+    "GROUP_FEATURES",
 ]
 
-#: Relative error (on the apparent adhesive energy, Eq. 13) under which the modified DMT is
-#: called valid (the issue's 10 %).
+#: Default accepted relative error (the issue's 10 %).
 VALIDITY_BOUND = 0.10
-
+#: Models from the cheapest to the costliest (median time per 256² curve, docs/accuracy.md).
+MODEL_COST_ORDER = ("gw", "modified_dmt", "fft_bem", "bem")
+#: Groups that locate a surface in the validity table (log10, scaled by their spread there).
+GROUP_FEATURES = ("pressure_ratio", "maugis_lambda", "hw_over_sigma")
+#: Nearest measured cases whose largest error bounds a new case: for exchangeable cases the
+#: largest of 19 exceeds a 20th with probability 19/20 (a one-sided 95 % prediction bound).
+N_NEIGHBOURS = 19
 _QUANTITIES = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
-_COST_ORDER = ("gw", "modified_dmt", "bem")
 
 
 class ValidityWarning(UserWarning):
-    """A model is used outside the regime where its measured error stays under the bound."""
+    """A model is used where its measured error (upper bound) exceeds the accepted tolerance."""
+
+
+class ErrorBound(NamedTuple):
+    """Measured relative error of a model near a surface (see :func:`model_error`)."""
+
+    median: float
+    upper: float
+    n: int
+    reason: str
+
+
+# ---------------------------------------------------------------------------------------------
+# dimensionless groups
+
+
+def _groups_kernel(z, dy, dx):
+    """(sigma, rms slope, m4, correlation length) of one map (NaN pixels: mean-filled)."""
+    z = np.asarray(z, dtype=float)
+    valid = np.isfinite(z)
+    if not valid.any():
+        raise ValueError("height has no finite pixel; the surface groups need heights.")
+    z = np.where(valid, z, np.nanmean(z))
+    z = z - z.mean()
+    sigma = float(z.std())
+    gx = np.diff(z, axis=1) / dx
+    gy = np.diff(z, axis=0) / dy
+    slope = float(np.sqrt((gx**2).mean() + (gy**2).mean()))
+    cxx = np.diff(z, 2, axis=1) / dx**2
+    cyy = np.diff(z, 2, axis=0) / dy**2
+    m4 = float(0.5 * ((cxx**2).mean() + (cyy**2).mean()))
+    f = np.fft.rfft2(z)
+    acf = np.fft.irfft2(np.abs(f) ** 2, s=z.shape)
+    acf = acf / acf[0, 0] if acf[0, 0] > 0 else acf
+    row = acf[0, : max(z.shape[1] // 2, 1)]
+    below = np.nonzero(row < np.exp(-1))[0]
+    corr = (below[0] if below.size else row.size) * dx
+    return sigma, slope, m4, corr
+
+
+def surface_groups(
+    height: xr.DataArray,
+    *,
+    relative_humidity,
+    material: Material = POLYSILICON,
+    material2: Material | None = None,
+    adsorbed_layer="paper",
+) -> xr.Dataset:
+    r"""Dimensionless groups that decide the modified DMT's error, per map and humidity.
+
+    Parameters
+    ----------
+    height : xarray.DataArray
+        Topography, dims ``(..., y, x)``, units length, uniform coordinates. For a lazy (dask)
+        stack only its first map is computed, and its groups stand for the stack.
+    relative_humidity : float or sequence
+        RH fractions in (0, 1).
+    material, material2 : Material
+        The two bodies (:math:`E^*`, :math:`K = 4E^*/3`).
+    adsorbed_layer : {"paper", "none"} or callable
+        Water-height model of :func:`roughstick.water_height`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over the leading dims of ``height`` and ``rh``: ``hw_over_sigma``
+        (:math:`h_{water}/\sigma`), ``rms_slope`` (:math:`\sqrt{\langle|\nabla z|^2\rangle}`,
+        forward differences), ``corr_over_L`` (1/e correlation length over the map side along
+        x), ``dp_over_E`` (:math:`|\Delta P|/E^*`), ``pressure_ratio``
+        (:math:`|\Delta P|/(E^*\,\mathrm{slope})`), ``maugis_lambda`` (Eq. 7 for the mean summit,
+        :math:`R = 3\sqrt{\pi}/(8\sqrt{m_4})` as in Table 4) and ``sigma`` [m].
+
+    Examples
+    --------
+    >>> h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
+    >>> g = rs.surface_groups(h, relative_humidity=[0.3, 0.9])
+    >>> sorted(g.data_vars)[:3]
+    ['corr_over_L', 'dp_over_E', 'hw_over_sigma']
+    """
+    height = require(height, "length", name="height")
+    for dim in ("y", "x"):
+        if dim not in height.dims or dim not in height.coords or height.sizes[dim] < 3:
+            raise ValueError(
+                f"height needs a coordinate {dim!r} with at least 3 pixels (uniform spacing in m)."
+            )
+    dy, dx = (float(np.diff(np.asarray(height[c].values, dtype=float))[0]) for c in ("y", "x"))
+    rh = as_relative_humidity(relative_humidity)
+    rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
+    hw = np.asarray(water_height(rh1, adsorbed_layer=adsorbed_layer).values, dtype=float)
+    dp = np.abs(np.asarray(laplace_pressure(rh1).values, dtype=float))
+    e_star = reduced_modulus(material, material2)
+    lead = [d for d in height.dims if d not in ("y", "x")]
+    h = height.transpose(*lead, "y", "x")
+    if h.chunks is not None:
+        # a lazy stack: the groups of its first map stand for the stack (one map is computed)
+        h = h.isel({d: [0] for d in lead}).compute()
+    vals = np.asarray(h.values, dtype=float)
+    flat = vals.reshape((-1, *vals.shape[-2:]))
+    per = np.array([_groups_kernel(m, dy, dx) for m in flat])
+    shape = vals.shape[:-2]
+    sigma, slope, m4, corr = (per[:, i].reshape(shape) for i in range(4))
+    L = height.sizes["x"] * dx
+    radius = 3 * np.sqrt(np.pi) / (8 * np.sqrt(m4))
+    K = 4.0 / 3.0 * e_star
+    ex = (...,) + (None,)
+    lam = 2 * dp / (np.pi * dp * hw * K**2 / radius[ex]) ** (1 / 3)
+    dims = (*lead, "rh")
+    coords = {c: h[c] for c in lead if c in h.coords}
+    coords["rh"] = np.asarray(rh1.values, dtype=float)
+    ds = xr.Dataset(
+        {
+            "hw_over_sigma": (dims, hw / sigma[ex]),
+            "rms_slope": (lead, slope),
+            "corr_over_L": (lead, corr / L),
+            "dp_over_E": (("rh",), dp / e_star),
+            "pressure_ratio": (dims, dp / (e_star * slope[ex])),
+            "maugis_lambda": (dims, lam),
+            "sigma": (lead, sigma, {"units": "m", "long_name": "rms height"}),
+        },
+        coords=coords,
+    )
+    for v in ds.data_vars:
+        ds[v].attrs.setdefault("units", "1")
+    if rh.ndim == 0:
+        ds = ds.squeeze("rh")
+    ds.attrs["reduced_modulus"] = e_star
+    return ds
+
+
+# ---------------------------------------------------------------------------------------------
+# the measured table
 
 
 @functools.lru_cache(maxsize=1)
 def validity_map() -> dict[str, np.ndarray]:
     """The measured error table (``roughstick/data/validity_map.csv``) as a dict of arrays.
 
-    Columns: ``sample`` (S1/S2-like surface), ``method`` (``gw`` or ``modified_dmt``),
-    ``reduced_modulus`` [Pa], ``rh`` [1], the relative errors against the boundary-element
-    reference ``error_adhesive_energy``, ``error_pull_off_pressure``,
-    ``error_equilibrium_distance`` [1] (absolute values), and the BEM values they refer to.
-    Produced by ``benchmarks/speed_vs_error.py --validity`` (see docs/accuracy.md).
+    One row per (map, humidity, modulus, method): ``family``, ``map_index``, ``pixels``,
+    ``reduced_modulus`` [Pa], ``rh``, ``method`` (``gw``, ``modified_dmt``, ``fft_bem``),
+    ``reference`` (``bem``: Tamaas on the same grid; ``fft_bem_fine``: the FFT model at
+    tolerance 1e-4, validated against Tamaas, used for the maps beyond the Tamaas runs), the
+    groups of :func:`surface_groups`, the relative errors ``error_adhesive_energy``,
+    ``error_pull_off_pressure``, ``error_equilibrium_distance`` and ``converged`` (0: no
+    equilibrium on the grid, the error is not a number and counts as unbounded). Written by
+    ``python benchmarks/bench_accuracy.py`` (docs/accuracy.md).
     """
-    try:
-        path = validity_map_path()
-    except FileNotFoundError as err:
+    path = validity_map_path()
+    if not path.is_file():
         raise FileNotFoundError(
-            f"{err} Regenerate it with python benchmarks/speed_vs_error.py --validity (needs the "
-            "'bem' extra)."
-        ) from None
+            f"the measured validity map {path} is missing; regenerate it with "
+            "python benchmarks/bench_accuracy.py (needs the 'bem' extra)."
+        )
     with path.open("r", encoding="utf-8") as fh:
-        rows = [r for r in csv.DictReader(line for line in fh if not line.startswith("#"))]
+        rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
     if not rows:
-        raise RuntimeError(f"{path} holds no rows; regenerate it with benchmarks/speed_vs_error.py")
+        raise RuntimeError(f"{path} holds no rows; regenerate it with benchmarks/bench_accuracy.py")
     out: dict[str, np.ndarray] = {}
     for key in rows[0]:
         vals = [r[key] for r in rows]
@@ -76,223 +234,251 @@ def validity_map() -> dict[str, np.ndarray]:
     return out
 
 
-def model_error(
-    method: str,
-    *,
-    reduced_modulus_value: float,
-    relative_humidity: float,
-    quantity: str = "adhesive_energy",
-) -> tuple[float, str]:
-    """Measured relative error of ``method`` against the BEM at one (E*, RH) point.
+def _features(values: dict) -> np.ndarray:
+    return np.column_stack([np.log10(np.asarray(values[f], dtype=float)) for f in GROUP_FEATURES])
 
-    The table is interpolated linearly in (log E*, RH) between measured points, taking the worst
-    sample; outside the measured range the nearest edge is used and the reason says so.
+
+def _prepare(table: dict, method: str):
+    """Search structure of ``method``'s rows of a validity table (dict of arrays)."""
+    sel = table["method"] == method
+    if not np.any(sel):
+        return None
+    scale = np.nanstd(_features({f: table[f] for f in GROUP_FEATURES}), axis=0)
+    scale = np.where(scale > 0, scale, 1.0)
+    Xs = _features({f: table[f][sel] for f in GROUP_FEATURES}) / scale
+    conv = table["converged"][sel] == 1
+    errs = {}
+    for q in _QUANTITIES:
+        e = np.abs(np.asarray(table[f"error_{q}"][sel], dtype=float))
+        errs[q] = np.where(conv & np.isfinite(e), e, np.inf)
+    # typical distance from a measured case to its N_NEIGHBOURS-th neighbour: a query farther
+    # than twice that from its own neighbours lies outside the measured range
+    k = min(N_NEIGHBOURS, len(Xs) - 1)
+    dd = np.sqrt(((Xs[:, None, :] - Xs[None, :, :]) ** 2).sum(-1))
+    kth = np.sort(dd, axis=1)[:, k] if k > 0 else np.zeros(len(Xs))
+    return dict(X=Xs, scale=scale, errors=errs, reach=2.0 * float(np.median(kth)),
+                family=np.asarray(table["family"])[sel])
+
+
+@functools.lru_cache(maxsize=8)
+def _table_for(method: str):
+    return _prepare(validity_map(), method)
+
+
+def _bound(tab, groups, quantity="adhesive_energy") -> ErrorBound:
+    """Error bound at ``groups`` from a prepared table (see :func:`model_error`)."""
+    x = _features({f: [float(groups[f])] for f in GROUP_FEATURES})[0] / tab["scale"]
+    if not np.all(np.isfinite(x)):
+        return ErrorBound(np.nan, np.inf, 0, "groups not finite (flat map?)")
+    d = np.sqrt(((tab["X"] - x) ** 2).sum(-1))
+    order = np.argsort(d)[:N_NEIGHBOURS]
+    qs = _QUANTITIES if quantity == "all" else (quantity,)
+    e = np.max(np.stack([tab["errors"][q][order] for q in qs]), axis=0)
+    fams = ", ".join(sorted(set(tab["family"][order].tolist())))
+    if d[order[-1]] > tab["reach"]:
+        return ErrorBound(
+            float(np.median(e)), np.inf, int(order.size),
+            f"outside the measured range of the groups (nearest measured cases: {fams})",
+        )
+    upper = float(e.max())
+    what = "error of " + ("Γ, pull-off and d_eq" if quantity == "all" else quantity)
+    return ErrorBound(
+        float(np.median(e)), upper, int(order.size),
+        f"measured {what}: median {np.median(e):.1%}, largest "
+        f"{'unbounded (no equilibrium)' if np.isinf(upper) else format(upper, '.1%')} over the "
+        f"{order.size} nearest measured maps ({fams}) in "
+        + ", ".join(f"{f} = {float(groups[f]):.3g}" for f in GROUP_FEATURES),
+    )
+
+
+def model_error(method: str, groups, *, quantity: str = "adhesive_energy") -> ErrorBound:
+    """Measured relative error of ``method`` at a surface with these groups.
+
+    The error is bounded by the largest error of the :data:`N_NEIGHBOURS` measured cases nearest
+    to ``groups`` (log10 of :data:`GROUP_FEATURES`, each scaled by its spread over the table):
+    for exchangeable cases that is a one-sided 95 % prediction bound on the error of this one.
+    A case without an equilibrium on the measurement grid counts as unbounded; a surface farther
+    from its neighbours than twice the table's typical spacing is outside the measured range and
+    gets an infinite bound.
 
     Parameters
     ----------
-    method : {"gw", "modified_dmt"}
-        Model whose error is wanted.
-    reduced_modulus_value : float
-        Contact modulus E* [Pa].
-    relative_humidity : float
-        RH fraction in (0, 1).
-    quantity : {"adhesive_energy", "pull_off_pressure", "equilibrium_distance"}
-        Summary whose error is looked up.
+    method : {"gw", "modified_dmt", "fft_bem", "bem"}
+        ``"bem"`` is the reference: error 0 by definition.
+    groups : mapping or xarray.Dataset
+        Scalar values of :data:`GROUP_FEATURES` (one map, one humidity), e.g.
+        ``surface_groups(h, relative_humidity=0.7)``.
+    quantity : {"adhesive_energy", "pull_off_pressure", "equilibrium_distance", "all"}
+        Summary whose error is bounded (``"all"``: the largest of the three).
 
     Returns
     -------
-    (float, str)
-        The relative error (NaN if never measured) and a note on how it was obtained.
+    ErrorBound
+        ``median`` and ``upper`` relative errors of the neighbours, their number ``n`` and a
+        ``reason`` quoting the cases used.
     """
-    if method not in ("gw", "modified_dmt"):
-        raise ValueError(f"method must be 'gw' or 'modified_dmt', got {method!r}.")
-    if quantity not in _QUANTITIES:
-        raise ValueError(f"quantity must be one of {_QUANTITIES}, got {quantity!r}.")
-    if not 0 < relative_humidity < 1:
-        raise ValueError(f"relative_humidity must lie in (0, 1), got {relative_humidity!r}.")
-    if not reduced_modulus_value > 0:
-        raise ValueError(f"reduced modulus must be positive (Pa), got {reduced_modulus_value!r}.")
+    if method not in MODEL_COST_ORDER:
+        raise ValueError(f"method must be one of {MODEL_COST_ORDER}, got {method!r}.")
+    if quantity not in (*_QUANTITIES, "all"):
+        raise ValueError(f"quantity must be one of {(*_QUANTITIES, 'all')}, got {quantity!r}.")
+    if method == "bem":
+        return ErrorBound(0.0, 0.0, 0, "the boundary-element reference itself")
     try:
-        table = validity_map()
+        tab = _table_for(method)
     except FileNotFoundError:
-        return float("nan"), "the measured validity map is not installed"
-    sel = table["method"] == method
-    err = np.abs(table[f"error_{quantity}"][sel])
-    if "converged" in table:
-        # no equilibrium on the measurement grid: the error is not a number, only "large"
-        err = np.where(table["converged"][sel] == 0, np.inf, err)
-    logE = np.log(table["reduced_modulus"][sel])
-    rh = table["rh"][sel]
-    if err.size == 0:
-        return float("nan"), f"no measurement of {method} in the validity map"
-    note = []
-    Es = np.unique(logE)
-    RHs = np.unique(rh)
-    x = float(np.log(reduced_modulus_value))
-    y = float(relative_humidity)
-    if x < Es.min() or x > Es.max():
-        note.append(
-            f"E* outside the measured {np.exp(Es.min()) / 1e9:.3g}-{np.exp(Es.max()) / 1e9:.3g} GPa"
-        )
-    if y < RHs.min() or y > RHs.max():
-        note.append(f"RH outside the measured {RHs.min():.2f}-{RHs.max():.2f}")
-    x = float(np.clip(x, Es.min(), Es.max()))
-    y = float(np.clip(y, RHs.min(), RHs.max()))
-
-    def worst(e_val, r_val):
-        m = (logE == e_val) & (rh == r_val)
-        vals = err[m][~np.isnan(err[m])]
-        return float(vals.max()) if vals.size else np.nan
-
-    def bracket(values, v):
-        i = int(np.clip(np.searchsorted(values, v), 1, max(len(values) - 1, 1)))
-        if len(values) == 1:
-            return values[0], values[0], 0.0
-        lo, hi = values[i - 1], values[i]
-        t = 0.0 if hi == lo else (v - lo) / (hi - lo)
-        return lo, hi, float(np.clip(t, 0, 1))
-
-    e0, e1, te = bracket(Es, x)
-    r0, r1, tr = bracket(RHs, y)
-    corners = np.array([[worst(e0, r0), worst(e0, r1)], [worst(e1, r0), worst(e1, r1)]])
-    if np.all(np.isnan(corners)):
-        return float("nan"), "no measurement near this point"
-    # missing corners: fall back to the worst measured neighbour (conservative)
-    corners = np.where(np.isnan(corners), np.nanmax(corners), corners)
-    weights = np.array([[(1 - te) * (1 - tr), (1 - te) * tr], [te * (1 - tr), te * tr]])
-    if np.any(np.isinf(corners) & (weights > 0)):
-        value = np.inf
-    else:
-        value = float(np.sum(weights * np.where(weights > 0, corners, 0.0)))
-    how = "interpolated from the measured map (worst of the S1/S2-like surfaces)"
-    return float(value), "; ".join([how, *note])
+        return ErrorBound(np.nan, np.inf, 0, "the measured validity map is not installed")
+    if tab is None:
+        return ErrorBound(np.nan, np.inf, 0, f"{method} was not measured")
+    return _bound(tab, groups, quantity)
 
 
-def _modulus(material, material2, reduced_modulus_value):
-    if reduced_modulus_value is not None:
-        return float(reduced_modulus_value)
-    return reduced_modulus(material, material2)
+def _group_points(height, relative_humidity, material, material2, adsorbed_layer):
+    """Per-humidity list of group dicts, worst map of a stack first-class (all maps checked)."""
+    g = surface_groups(height, relative_humidity=relative_humidity, material=material,
+                       material2=material2, adsorbed_layer=adsorbed_layer)
+    if "rh" not in g.dims:
+        g = g.expand_dims(rh=[float(g["rh"])] if "rh" in g.coords else [np.nan])
+    out = []
+    for r in g["rh"].values:
+        gr = g.sel(rh=r)
+        lead = [d for d in gr[GROUP_FEATURES[0]].dims]
+        stacked = gr.stack(_map=lead) if lead else gr.expand_dims(_map=[0])
+        out.append((float(r), [{f: float(stacked[f].isel(_map=i)) for f in GROUP_FEATURES}
+                               for i in range(stacked.sizes["_map"])]))
+    return out
 
 
 def select_model(
+    height: xr.DataArray,
     *,
-    tolerance: float,
-    relative_humidity: float,
+    relative_humidity,
+    tolerance: float = VALIDITY_BOUND,
     material: Material = POLYSILICON,
     material2: Material | None = None,
-    reduced_modulus_value: float | None = None,
+    adsorbed_layer="paper",
     quantity: str = "adhesive_energy",
+    candidates=MODEL_COST_ORDER,
 ) -> tuple[str, str]:
-    """Cheapest model whose measured error against the BEM meets ``tolerance``.
+    """Cheapest model whose measured error bound at this surface meets ``tolerance``.
 
-    GW (Eq. 14) is the cheapest, then the modified DMT (Eq. 16), then the boundary-element
-    reference; the errors come from :func:`model_error` (the measured validity map).
+    Candidates go from the cheapest (:data:`MODEL_COST_ORDER`); each humidity and each map of
+    a stack must pass; the reference (``"bem"``) always does.
 
     Parameters
     ----------
-    tolerance : float
-        Accepted relative error of ``quantity`` (e.g. 0.1 for 10 %), > 0.
-    relative_humidity : float
-        RH fraction in (0, 1); for several humidities call once per value or pass the highest
-        error case.
-    material, material2 : Material
-        The two bodies (E* as in :func:`roughstick.reduced_modulus`).
-    reduced_modulus_value : float, optional
-        E* [Pa], overrides the materials.
-    quantity : {"adhesive_energy", "pull_off_pressure", "equilibrium_distance"}
+    height : xarray.DataArray
+        The surface (its groups are computed, :func:`surface_groups`).
+    relative_humidity : float or sequence
+        RH fractions in (0, 1).
+    tolerance : float, default 0.10
+        Accepted relative error of ``quantity`` against the BEM, > 0.
+    material, material2, adsorbed_layer
+        As in :func:`roughstick.rough_contact_curves`.
+    quantity : {"adhesive_energy", "pull_off_pressure", "equilibrium_distance", "all"}
         Summary the tolerance applies to.
+    candidates : sequence of str
+        Models allowed, in cost order.
 
     Returns
     -------
     (str, str)
-        ``"gw"``, ``"modified_dmt"`` or ``"bem"``, and the reason (measured errors quoted).
+        The model and the reason (its bound, and why the cheaper ones failed).
     """
     if not tolerance > 0:
         raise ValueError(f"tolerance must be a positive relative error, got {tolerance!r}.")
-    E = _modulus(material, material2, reduced_modulus_value)
+    points = _group_points(height, relative_humidity, material, material2, adsorbed_layer)
     notes = []
-    for method in _COST_ORDER[:2]:
-        err, how = model_error(
-            method, reduced_modulus_value=E, relative_humidity=relative_humidity, quantity=quantity
-        )
-        if np.isinf(err):
-            notes.append(f"{method}: unbounded (no equilibrium on the measurement grid)")
-        else:
-            notes.append(f"{method}: {err:.1%}" if np.isfinite(err) else f"{method}: unmeasured")
-        if np.isfinite(err) and err <= tolerance:
+    for method in [m for m in MODEL_COST_ORDER if m in candidates]:
+        worst = None
+        for r, maps in points:
+            for gr in maps:
+                b = model_error(method, gr, quantity=quantity)
+                if worst is None or not (b.upper <= worst[1].upper):
+                    worst = (r, b)
+        r, b = worst
+        if b.upper <= tolerance:
             return method, (
-                f"measured {quantity} error of {method} vs BEM {err:.1%} <= tolerance "
-                f"{tolerance:.1%} at E* = {E / 1e9:.3g} GPa, RH = {relative_humidity:.2f} ({how})"
+                f"{method}: upper bound of the {quantity} error {b.upper:.1%} <= tolerance "
+                f"{tolerance:.0%} at RH {r:.2f} ({b.reason})"
+                + ("; rejected: " + "; ".join(notes) if notes else "")
             )
-    return "bem", (
-        f"no cheaper model meets tolerance {tolerance:.1%} at E* = {E / 1e9:.3g} GPa, "
-        f"RH = {relative_humidity:.2f} (measured {quantity} errors vs BEM: {', '.join(notes)})"
-    )
+        notes.append(f"{method} bound "
+                     f"{'unbounded' if np.isinf(b.upper) else format(b.upper, '.1%')} at RH {r:.2f}")
+    if "bem" not in candidates:
+        raise ValueError(
+            f"no allowed model ({', '.join(candidates)}) meets the tolerance {tolerance:.0%} on "
+            "this surface: " + "; ".join(notes) + ". Raise the tolerance or allow the "
+            "boundary-element models."
+        )
+    return "bem", "no cheaper model meets the tolerance: " + "; ".join(notes)
 
 
-_WARNED: set = set()
+_SKIP_MODULES = ("roughstick", "xarray", "dask", "distributed", "numpy", "toolz", "concurrent",
+                 "threading", "asyncio", "tornado", "importlib", "runpy", "pandas")
 
 
 def _external_stacklevel() -> int:
-    """``stacklevel`` of the first caller frame that is not inside the roughstick package."""
+    """``stacklevel`` of the first frame outside roughstick and the libraries that call it."""
     frame = sys._getframe(1)
     level = 1
-    while frame is not None and frame.f_globals.get("__name__", "").split(".")[0] == "roughstick":
+    while frame is not None:
+        name = frame.f_globals.get("__name__", "") or ""
+        if name.split(".")[0] not in _SKIP_MODULES:
+            return level
         frame = frame.f_back
         level += 1
-    return level
+    return 1
 
 
 def warn_if_outside_validity(
+    height: xr.DataArray,
     *,
     relative_humidity,
+    model: str = "modified_dmt",
+    tolerance: float = VALIDITY_BOUND,
     material: Material = POLYSILICON,
     material2: Material | None = None,
-    reduced_modulus_value: float | None = None,
-    bound: float = VALIDITY_BOUND,
+    adsorbed_layer="paper",
+    quantity: str = "adhesive_energy",
     stacklevel: int | None = None,
 ) -> bool:
-    """Warn (once per process) if the modified DMT's measured error exceeds ``bound`` here.
+    """Warn if the measured error bound of ``model`` at this surface exceeds ``tolerance``.
 
-    Parameters
-    ----------
-    relative_humidity : float or array_like
-        RH fraction(s); the worst one decides.
-    material, material2, reduced_modulus_value
-        As in :func:`select_model`.
-    bound : float, default 0.10
-        Relative error of the apparent adhesive energy taken as the validity limit.
-    stacklevel : int, optional
-        Passed to :func:`warnings.warn`; default: the first frame outside roughstick, so the
-        warning points at the user's call.
+    The warning names the remedy that exists: ``rough_contact_curves(..., model="auto",
+    tolerance=...)`` (or ``model="fft_bem"``) and the CLI flags ``roughstick curves --model auto
+    --tolerance ...``; it points at the first frame outside roughstick (and outside dask/xarray),
+    i.e. the user's line. Python's default filter shows it once per line and message.
 
     Returns
     -------
     bool
-        True when the call lies outside the measured validity regime (warned or already warned).
+        True when the bound exceeds the tolerance (warned).
     """
-    E = _modulus(material, material2, reduced_modulus_value)
-    rhs = np.atleast_1d(np.asarray(relative_humidity, dtype=float)).ravel()
-    worst, where = 0.0, None
-    for r in rhs:
-        if not 0 < r < 1:
-            continue
-        err, how = model_error("modified_dmt", reduced_modulus_value=E, relative_humidity=float(r))
-        if not np.isnan(err) and err > worst:
-            worst, where = err, (float(r), how)
-    if worst <= bound or where is None:
+    points = _group_points(height, relative_humidity, material, material2, adsorbed_layer)
+    worst = None
+    for r, maps in points:
+        for gr in maps:
+            b = model_error(model, gr, quantity=quantity)
+            if worst is None or not (b.upper <= worst[1].upper):
+                worst = (r, b)
+    if worst is None or worst[1].upper <= tolerance:
         return False
-    key = ("modified_dmt", bound)
-    if key not in _WARNED:
-        _WARNED.add(key)
-        warnings.warn(
-            f"the modified DMT (Eq. 16) is outside its measured validity regime here: its "
-            f"apparent adhesive energy differs from the boundary-element reference by "
-            f"{'an unbounded amount' if np.isinf(worst) else format(worst, '.0%')} "
-            f"(> {bound:.0%}) at E* = {E / 1e9:.3g} GPa, RH = {where[0]:.2f} "
-            f"({where[1]}). Use model='bem' (pip install roughstick[bem]) or model='auto'; see "
-            "docs/accuracy.md. This warning is shown once per process.",
-            ValidityWarning,
-            stacklevel=_external_stacklevel() if stacklevel is None else stacklevel,
-        )
+    r, b = worst
+    bound = ("an amount the measurements cannot bound" if np.isinf(b.upper)
+             else f"up to {b.upper:.0%}")
+    better = "bem"
+    for m in MODEL_COST_ORDER[MODEL_COST_ORDER.index(model) + 1:]:
+        if all(model_error(m, gr, quantity=quantity).upper <= tolerance
+               for _, maps in points for gr in maps):
+            better = m
+            break
+    warnings.warn(
+        f"{model} may be off by {bound} (> tolerance {tolerance:.0%}) on the {quantity} of this "
+        f"surface at RH {r:.2f}: {b.reason}. Remedy: rough_contact_curves(..., model='auto', "
+        f"tolerance={tolerance:g}) picks the cheapest model measured within the tolerance (here "
+        f"model={better!r}); on the command line: roughstick curves MAP --rh ... --model auto "
+        f"--tolerance {tolerance:g}. See docs/accuracy.md.",
+        ValidityWarning,
+        stacklevel=_external_stacklevel() if stacklevel is None else stacklevel,
+    )
     return True

@@ -11,6 +11,7 @@ are added in batches until the 95 % band of Γ and of the pressure curve stops m
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import pathlib
@@ -179,7 +180,10 @@ def run_ensemble(
     rh = relative_humidity_array(relative_humidity)
     material = POLYSILICON if material is None else material
     generate = generate_surfaces if generate is None else generate
-    curves = rough_contact_curves if curves is None else curves
+    # the per-surface validity check (contact.validity) would warn once per realization from
+    # inside dask; an ensemble is checked by the user on one map (warn_if_outside_validity)
+    curves = (functools.partial(rough_contact_curves, check_validity=False) if curves is None
+              else curves)
     summary = adhesion_summary if summary is None else summary
     root = as_seed_sequence(seed)
     if distance is None:

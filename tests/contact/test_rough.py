@@ -176,11 +176,11 @@ def test_model_auto_records_its_choice_and_runs_the_chosen_model():
     h = s1_like((24, 24))
     d = np.linspace(float(h.max()) - 2e-9, float(h.max()) + 3e-9, 11)
     for tolerance in (10.0, 1e-6):
-        chosen, _ = rs.select_model(tolerance=tolerance, relative_humidity=0.9)
+        chosen, _ = rs.select_model(h, tolerance=tolerance, relative_humidity=0.9)
         if chosen == "bem":
             pytest.importorskip("tamaas")
         auto = rs.rough_contact_curves(
-            h, relative_humidity=0.9, distance=d, model="auto", error_tolerance=tolerance
+            h, relative_humidity=0.9, distance=d, model="auto", tolerance=tolerance
         )
         assert auto.attrs["model_selection"].startswith(f"auto -> {chosen}:")
         if chosen == "bem":
@@ -188,8 +188,8 @@ def test_model_auto_records_its_choice_and_runs_the_chosen_model():
         else:
             ref = rs.rough_contact_curves(h, relative_humidity=0.9, distance=d, model=chosen)
         xr.testing.assert_allclose(auto.pressure, ref.pressure)
-    assert rs.select_model(tolerance=1e-6, relative_humidity=0.9)[0] == "bem"
-    assert rs.select_model(tolerance=10.0, relative_humidity=0.9)[0] in ("gw", "modified_dmt")
+    assert rs.select_model(h, tolerance=1e-6, relative_humidity=0.9)[0] == "bem"
+    assert rs.select_model(h, tolerance=10.0, relative_humidity=0.9)[0] in ("gw", "modified_dmt")
 
 
 def test_nanometre_input_is_converted():

@@ -1,8 +1,7 @@
-"""Validity map, model selection and the dispatcher's use of them (roughstick/contact/validity.py, curves.py)."""
+"""Measured validity per surface: groups, error bounds, model choice, the warning and its remedy."""
 
 from __future__ import annotations
 
-import importlib.util
 import warnings
 
 import numpy as np
@@ -10,172 +9,183 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
-from roughstick.contact import curves as dispatcher
 from roughstick.contact import validity
 from roughstick.testing import make_topography
 
 
-def synthetic_table():
-    # modified DMT: 2 % when stiff, 30 % at 1 GPa; worse at high RH; GW always 40 %
-    E = np.array([86.6e9, 86.6e9, 1e9, 1e9] * 2)
-    rh = np.array([0.3, 0.9, 0.3, 0.9] * 2)
-    method = np.array(["modified_dmt"] * 4 + ["gw"] * 4)
-    err = np.array([0.02, 0.04, 0.30, 0.50, 0.4, 0.4, 0.4, 0.4])
-    return {
-        "sample": np.array(["S1"] * 8),
-        "method": method,
-        "reduced_modulus": E,
-        "rh": rh,
-        "error_adhesive_energy": err,
-        "error_pull_off_pressure": err / 2,
-        "error_equilibrium_distance": err / 4,
-        "converged": np.ones(8),
-    }
+def sinusoid(n=64, spacing=5e-9, amplitude=2e-9, periods=4):
+    x = np.arange(n) * spacing
+    z = amplitude * np.sin(2 * np.pi * periods * x / (n * spacing))
+    return make_topography(np.tile(z, (n, 1)), spacing=spacing, periodic=True)
 
 
-@pytest.fixture
-def fake_map(monkeypatch):
-    monkeypatch.setattr(validity, "validity_map", synthetic_table)
-    monkeypatch.setattr(validity, "_WARNED", set())
+def family_map(name, seed=7, n=128):
+    return rs.datasets.surface_family(name, shape=(n, n), seed=seed)
 
 
-def test_committed_map_is_measured_and_complete():
-    try:
-        table = validity.validity_map()
-    except FileNotFoundError as err:
-        pytest.skip(f"validity map not generated yet: {err}")
-    for col in (
-        "sample",
-        "method",
-        "reduced_modulus",
-        "rh",
-        "error_adhesive_energy",
-        "error_pull_off_pressure",
-        "error_equilibrium_distance",
-    ):
-        assert col in table, col
-    assert set(table["method"]) <= {"gw", "modified_dmt"}
-    assert {"S1", "S2"} <= set(table["sample"])
-    E = table["reduced_modulus"]
-    assert np.isclose(E.max(), rs.reduced_modulus(), rtol=1e-3)
-    assert E.min() <= 1.01e9  # the sweep goes down to 1 GPa
-    err = table["error_adhesive_energy"]
-    assert np.all(err[np.isfinite(err)] >= 0)
-    # select_model quotes numbers that are in the table
-    model, reason = rs.select_model(tolerance=0.1, relative_humidity=0.7)
-    assert model in ("gw", "modified_dmt", "bem") and "%" in reason
+def test_surface_groups_of_a_sinusoid_match_closed_forms():
+    a, n, dx, k = 2e-9, 256, 5e-9, 8
+    h = sinusoid(n, dx, a, k)
+    g = rs.surface_groups(h, relative_humidity=0.7)
+    sigma = a / np.sqrt(2)
+    assert float(g.sigma) == pytest.approx(sigma, rel=1e-9)
+    q = 2 * np.pi * k / (n * dx)
+    # forward differences of a sampled sine: rms slope a q sinc(q dx / 2) / sqrt 2, to the
+    # O(1/n) of the one difference across the edge that a (possibly measured) map has not
+    slope = a * q * np.sinc(q * dx / (2 * np.pi)) / np.sqrt(2)
+    assert float(g.rms_slope) == pytest.approx(slope, rel=2 / n)
+    hw, dp = float(rs.water_height(0.7)), abs(float(rs.laplace_pressure(0.7)))
+    e_star = rs.reduced_modulus()
+    assert float(g.hw_over_sigma) == pytest.approx(hw / sigma, rel=1e-9)
+    assert float(g.dp_over_E) == pytest.approx(dp / e_star, rel=1e-12)
+    assert float(g.pressure_ratio) == pytest.approx(dp / (e_star * slope), rel=2 / n)
+    # ACF of a sine is cos(q r): it drops below 1/e at r = acos(1/e)/q (to a pixel)
+    r = np.arccos(np.exp(-1)) / q
+    assert abs(float(g.corr_over_L) * n * dx - r) <= dx
 
 
-def test_interpolation_in_log_modulus_and_rh(fake_map):
-    e, how = rs.model_error("modified_dmt", reduced_modulus_value=86.6e9, relative_humidity=0.3)
-    assert e == pytest.approx(0.02)
-    e, _ = rs.model_error("modified_dmt", reduced_modulus_value=86.6e9, relative_humidity=0.6)
-    assert e == pytest.approx(0.03)
-    mid = float(np.sqrt(86.6e9 * 1e9))  # geometric mean: halfway in log E*
-    e, _ = rs.model_error("modified_dmt", reduced_modulus_value=mid, relative_humidity=0.3)
-    assert e == pytest.approx(0.16)
-    # outside the measured range: clamped to the edge, and said so
-    e, how = rs.model_error("modified_dmt", reduced_modulus_value=0.1e9, relative_humidity=0.95)
-    assert e == pytest.approx(0.50) and "outside" in how
-    e, _ = rs.model_error(
-        "modified_dmt",
-        reduced_modulus_value=86.6e9,
-        relative_humidity=0.3,
-        quantity="pull_off_pressure",
-    )
-    assert e == pytest.approx(0.01)
+def test_surface_groups_over_a_stack_and_humidities():
+    h = xr.concat([sinusoid(periods=2), sinusoid(periods=4)], dim="realization")
+    g = rs.surface_groups(h, relative_humidity=[0.3, 0.9])
+    assert g.pressure_ratio.dims == ("realization", "rh")
+    assert float(g.rms_slope[0]) < float(g.rms_slope[1])
+    # a lazy stack: its first map stands for it (one map computed, not the ensemble)
+    lazy = rs.surface_groups(h.chunk(realization=1), relative_humidity=[0.3, 0.9])
+    assert lazy.sizes["realization"] == 1
+    np.testing.assert_allclose(lazy.maugis_lambda, g.maugis_lambda.isel(realization=[0]),
+                               rtol=1e-12)
 
 
-def test_select_model_cheapest_meeting_tolerance(fake_map):
-    soft = rs.Material(youngs_modulus=2 * (1 - 0.23**2) * 1e9, poisson_ratio=0.23)
-    assert rs.select_model(tolerance=0.1, relative_humidity=0.5)[0] == "modified_dmt"
-    assert rs.select_model(tolerance=0.5, relative_humidity=0.5)[0] == "gw"
-    model, reason = rs.select_model(tolerance=0.1, relative_humidity=0.5, material=soft)
-    assert model == "bem" and "modified_dmt: 36.7%" in reason
-    assert rs.select_model(tolerance=0.01, relative_humidity=0.3)[0] == "bem"
-    assert (
-        rs.select_model(tolerance=0.05, relative_humidity=0.3, reduced_modulus_value=86.6e9)[0]
-        == "modified_dmt"
-    )
+def test_the_reference_has_no_error_and_the_bound_covers_the_measured_cases():
+    t = rs.validity_map()
+    assert validity.model_error("bem", {}).upper == 0.0
+    for method in ("modified_dmt", "fft_bem"):
+        sel = np.nonzero((t["method"] == method) & (t["converged"] == 1))[0][:20]
+        for i in sel:
+            groups = {f: t[f][i] for f in validity.GROUP_FEATURES}
+            bound = validity.model_error(method, groups)
+            # the case itself is among its nearest neighbours: the bound is at least its error
+            assert bound.upper >= abs(t["error_adhesive_energy"][i]) - 1e-12
+            assert bound.n == validity.N_NEIGHBOURS
 
 
-def test_warns_once_outside_validity(fake_map):
-    soft = rs.Material(youngs_modulus=2 * (1 - 0.23**2) * 1e9, poisson_ratio=0.23)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        assert rs.warn_if_outside_validity(relative_humidity=[0.3, 0.9]) is False
-    with pytest.warns(rs.ValidityWarning, match=r"50% \(> 10%\).*RH = 0.90"):
-        assert rs.warn_if_outside_validity(relative_humidity=[0.3, 0.9], material=soft) is True
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")  # second time: silent, still reported
-        assert rs.warn_if_outside_validity(relative_humidity=0.3, material=soft) is True
+def test_far_outside_the_measured_range_is_unbounded():
+    groups = {"pressure_ratio": 1e3, "maugis_lambda": 1e3, "hw_over_sigma": 1e-4}
+    b = validity.model_error("modified_dmt", groups)
+    assert np.isinf(b.upper) and "outside the measured range" in b.reason
 
 
-def test_bad_input(fake_map):
+def test_select_model_is_the_cheapest_within_tolerance():
+    h = family_map("smooth")
+    for tol in (0.02, 0.1, 0.5):
+        model, reason = rs.select_model(h, relative_humidity=[0.5, 0.9], tolerance=tol)
+        g = rs.surface_groups(h, relative_humidity=[0.5, 0.9])
+        order = list(validity.MODEL_COST_ORDER)
+        worst = {m: max(validity.model_error(m, {f: float(g[f].sel(rh=r))
+                                                 for f in validity.GROUP_FEATURES}).upper
+                        for r in (0.5, 0.9)) for m in order}
+        assert worst[model] <= tol or model == "bem"
+        assert all(worst[m] > tol for m in order[: order.index(model)])
+        assert model in reason
+
+
+def test_auto_records_its_choice_and_stays_within_tolerance_of_the_fft_bem():
+    h = family_map("smooth", n=96)
+    ds = rs.rough_contact_curves(h, relative_humidity=0.7, model="auto", tolerance=0.1)
+    sel = ds.attrs["model_selection"]
+    assert sel.startswith("auto -> " + ds.attrs["contact_model"])
+    ref = rs.adhesion_summary(rs.fft_bem_contact_curves(h, relative_humidity=0.7, tolerance=1e-4))
+    got = rs.adhesion_summary(ds)
+    assert float(got.adhesive_energy) == pytest.approx(float(ref.adhesive_energy), rel=0.1)
+
+
+def test_warning_fires_only_above_the_bound_and_points_at_this_line():
+    h = family_map("smooth")
+    g = rs.surface_groups(h, relative_humidity=0.7)
+    bound = validity.model_error("modified_dmt", {f: float(g[f]) for f in validity.GROUP_FEATURES})
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        rs.rough_contact_curves(h, relative_humidity=0.7, model="modified_dmt",
+                                tolerance=bound.upper * 0.5 if np.isfinite(bound.upper) else 0.1)
+        line = __import__("inspect").currentframe().f_lineno - 2
+    hits = [w for w in rec if issubclass(w.category, rs.ValidityWarning)]
+    assert hits, "the measured bound exceeds the tolerance: the warning must fire"
+    assert hits[0].filename == __file__ and hits[0].lineno == line
+    msg = str(hits[0].message)
+    assert "model='auto'" in msg and "--model auto" in msg and "--tolerance" in msg
+    if np.isfinite(bound.upper):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", rs.ValidityWarning)
+            rs.rough_contact_curves(h, relative_humidity=0.7, model="modified_dmt",
+                                    tolerance=bound.upper * 1.01)
+
+
+def test_a_lazy_stack_stays_lazy_and_says_it_was_not_checked():
+    from roughstick.testing import raise_if_dask_computes
+
+    h = family_map("smooth", n=64)
+    stack = xr.concat([h, h], "realization").chunk(realization=1)
+    d = float(h.max()) + np.linspace(-3e-9, 1e-9, 8)
+    with warnings.catch_warnings(record=True) as rec, raise_if_dask_computes():
+        warnings.simplefilter("always")
+        ds = rs.rough_contact_curves(stack, relative_humidity=0.7, distance=d, tolerance=1e-6)
+    assert not [w for w in rec if issubclass(w.category, rs.ValidityWarning)]
+    assert ds.attrs["validity_check"].startswith("not checked (lazy input)")
+    # the check the note names works on one computed map and points at the caller's line
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        warned = rs.warn_if_outside_validity(stack.isel(realization=0).compute(),
+                                             relative_humidity=0.7, tolerance=1e-6)
+        line = __import__("inspect").currentframe().f_lineno - 2
+    hits = [w for w in rec if issubclass(w.category, rs.ValidityWarning)]
+    assert warned and hits and hits[0].filename == __file__ and hits[0].lineno == line
+
+
+def test_the_remedy_flags_exist_on_the_command_line():
+    from roughstick.cli import build_parser
+
+    args = build_parser().parse_args(
+        ["curves", "map.nc", "--rh", "0.7", "--out", "x.nc", "--model", "auto", "--tolerance",
+         "0.1"])
+    assert args.model == "auto" and args.tolerance == 0.1
+
+
+@pytest.mark.parametrize("name", ["S1A", "S2A"])
+def test_paper_samples_warn_exactly_where_the_measured_bound_exceeds_the_tolerance(name):
+    h = rs.datasets.load_sample(name).isel(y=slice(0, 256), x=slice(0, 256))
+    for rh in (0.3, 0.7, 0.9):
+        g = rs.surface_groups(h, relative_humidity=rh)
+        bound = validity.model_error("modified_dmt",
+                                     {f: float(g[f]) for f in validity.GROUP_FEATURES})
+        with warnings.catch_warnings(record=True) as rec:
+            warnings.simplefilter("always")
+            ds = rs.rough_contact_curves(h, relative_humidity=rh, n_distance=16)
+        hits = [w for w in rec if issubclass(w.category, rs.ValidityWarning)]
+        assert bool(hits) == (bound.upper > 0.1), (rh, bound)
+        assert ds.attrs["validity_check"].startswith(
+            "measured error bound " + ("above" if hits else "within"))
+
+
+def test_bad_tolerance_quantity_and_nan_maps():
+    h = sinusoid()
+    with pytest.raises(ValueError, match="tolerance must be a positive relative error"):
+        rs.rough_contact_curves(h, relative_humidity=0.7, model="auto", tolerance=0)
     with pytest.raises(ValueError, match="tolerance"):
-        rs.select_model(tolerance=0, relative_humidity=0.5)
-    with pytest.raises(ValueError, match="method"):
-        rs.model_error("jkr", reduced_modulus_value=1e9, relative_humidity=0.5)
-    with pytest.raises(ValueError, match="quantity"):
-        rs.model_error("gw", reduced_modulus_value=1e9, relative_humidity=0.5, quantity="force")
-    with pytest.raises(ValueError, match=r"\(0, 1\)"):
-        rs.select_model(tolerance=0.1, relative_humidity=50)
-
-
-def test_auto_dispatch_records_choice(fake_map, monkeypatch):
-    calls = []
-
-    def fake(name):
-        def curves(height, *, relative_humidity, material, material2, **kwargs):
-            calls.append((name, kwargs))
-            return xr.Dataset(attrs={"contact_model": name})
-        return curves
-
-    # the dispatcher calls the models; stand-ins record what it passes them
-    monkeypatch.setattr(dispatcher, "modified_dmt_curves", fake("modified_dmt"))
-    monkeypatch.setattr(dispatcher, "gw_contact_curves", fake("gw"))
-    h = make_topography(np.zeros((8, 8)), spacing=5e-9, periodic=True)
-    ds = rs.rough_contact_curves(h, relative_humidity=[0.3, 0.9], model="auto", error_tolerance=0.1,
-                                 connectivity=8, distance=[0.0, 1e-9])
-    assert [c[0] for c in calls] == ["modified_dmt"] and calls[0][1]["connectivity"] == 8
-    assert ds.attrs["model_selection"].startswith("auto -> modified_dmt: measured")
-    assert "chosen by model='auto'" in ds.attrs["history"]
-    # GW is cheapest when the tolerance allows it
-    ds = rs.rough_contact_curves(h, relative_humidity=0.5, model="auto", error_tolerance=0.45,
-                                 distance=[0.0, 1e-9])
-    assert calls[-1][0] == "gw" and "gw" in ds.attrs["model_selection"]
-
-
-@pytest.mark.skipif(
-    importlib.util.find_spec("tamaas") is None,
-    reason="Tamaas (pip install roughstick[bem]) is absent",
-)
-def test_auto_dispatch_runs_bem_when_nothing_cheaper_fits(fake_map):
-    soft = rs.Material(youngs_modulus=2 * (1 - 0.23**2) * 1e9, poisson_ratio=0.23)
-    z = np.random.default_rng(0).normal(size=(16, 16)) * 1e-9
-    h = make_topography(z, spacing=5e-9, periodic=True)
-    ds = rs.rough_contact_curves(
-        h,
-        model="auto",
-        relative_humidity=0.5,
-        material=soft,
-        distance=[z.max() - 0.2e-9, z.max() + 1e-9],
-    )
-    assert ds.attrs["contact_model"] == "bem"
-    assert "auto -> bem" in ds.attrs["model_selection"]
-
-
-def test_unconverged_measurements_count_as_unbounded(monkeypatch):
-    table = synthetic_table()
-    table["converged"] = np.where((table["reduced_modulus"] < 2e9) & (table["rh"] < 0.5), 0, 1)
-    monkeypatch.setattr(validity, "validity_map", lambda: table)
-    monkeypatch.setattr(validity, "_WARNED", set())
-    e, _ = rs.model_error("modified_dmt", reduced_modulus_value=1e9, relative_humidity=0.3)
-    assert np.isinf(e)
-    e, _ = rs.model_error("modified_dmt", reduced_modulus_value=1e9, relative_humidity=0.9)
-    assert e == pytest.approx(0.5)  # zero weight on the unconverged corner
-    model, reason = rs.select_model(tolerance=0.2, relative_humidity=0.3, reduced_modulus_value=1e9)
-    assert model == "bem" and "unbounded" in reason
-    with pytest.warns(rs.ValidityWarning, match="unbounded") as rec:
-        rs.warn_if_outside_validity(relative_humidity=0.3, reduced_modulus_value=1e9)
-    assert rec[0].filename == __file__  # points at the caller, not at roughstick
+        rs.select_model(h, relative_humidity=0.7, tolerance=-1)
+    with pytest.raises(ValueError, match="quantity must be one of"):
+        validity.model_error("modified_dmt", {f: 1.0 for f in validity.GROUP_FEATURES},
+                             quantity="energy")
+    with pytest.raises(ValueError, match="method must be one of"):
+        validity.model_error("jkr", {f: 1.0 for f in validity.GROUP_FEATURES})
+    z = family_map("smooth", n=64).values.copy()
+    z[3, 5] = np.nan
+    nan_map = make_topography(z, spacing=5e-9)
+    # the boundary-element models need a complete map: auto either finds a cheaper model
+    # within the tolerance or says why it cannot
+    try:
+        ds = rs.rough_contact_curves(nan_map, relative_humidity=0.7, model="auto",
+                                     tolerance=0.1)
+    except ValueError as err:
+        assert "NaN pixels" in str(err) and "crop or fill" in str(err)
+    else:
+        assert ds.attrs["contact_model"] in ("gw", "modified_dmt")

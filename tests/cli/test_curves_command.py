@@ -1,0 +1,70 @@
+"""`roughstick curves MAP --model auto|fft_bem|bem --tolerance T --resolution`."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import roughstick as rs
+
+
+def _map(tmp_path, family="smooth", n=64):
+    h = rs.datasets.surface_family(family, shape=(n, n), seed=11)
+    path = tmp_path / f"{family}.npy"
+    np.save(path, h.values * 1e9)
+    return path, h
+
+
+def test_model_auto_and_tolerance_reach_the_dispatcher(tmp_path, capsys):
+    from roughstick.cli import main
+
+    path, h = _map(tmp_path)
+    out = tmp_path / "auto.nc"
+    assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.7",
+                 "--model", "auto", "--tolerance", "0.1", "--out", str(out)]) == 0
+    text = capsys.readouterr()
+    assert "model: auto -> " in text.out
+    assert "warning" not in text.err  # auto never warns about its own choice
+    with xr.open_dataset(out) as ds:
+        chosen = ds.attrs["contact_model"]
+        assert ds.attrs["model_selection"].startswith(f"auto -> {chosen}:")
+        assert "--model auto --tolerance 0.1" in ds.attrs["history"]
+        api = rs.rough_contact_curves(rs.read_afm(path, spacing=5e-9, units="nm"),
+                                      relative_humidity=[0.7], model="auto", tolerance=0.1)
+        assert api.attrs["contact_model"] == chosen
+        np.testing.assert_allclose(ds.adhesive_energy.values,
+                                   rs.adhesion_summary(api).adhesive_energy.values, rtol=1e-6)
+
+
+def test_modified_dmt_warning_is_a_message_naming_the_flags(tmp_path, capsys):
+    from roughstick.cli import main
+
+    path, _ = _map(tmp_path)
+    assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.7",
+                 "--tolerance", "1e-4", "--out", str(tmp_path / "m.nc")]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("roughstick curves: warning: modified_dmt may be off")
+    assert "--model auto --tolerance 0.0001" in err
+
+
+def test_bem_model_and_resolution_option(tmp_path, capsys):
+    pytest.importorskip("tamaas")
+    from roughstick.cli import main
+
+    path, _ = _map(tmp_path, family="rough", n=32)
+    out = tmp_path / "bem.nc"
+    assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.9",
+                 "--model", "bem", "--out", str(out)]) == 0
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["contact_model"] == "bem"
+    out = tmp_path / "res.nc"
+    assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.9",
+                 "--model", "fft_bem", "--resolution", "--resolution-factors", "1", "2",
+                 "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "pixel-size sensitivity" in text and "pixel     10 nm" in text
+    with xr.open_dataset(out) as ds:
+        change = ds.resolution_relative_change_adhesive_energy
+        assert float(change.sel(resolution_pixel_size=5e-9, method="nearest").squeeze()) == 0.0
+        assert np.isfinite(change.sel(resolution_pixel_size=10e-9, method="nearest")).all()

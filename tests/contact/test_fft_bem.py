@@ -1,0 +1,196 @@
+"""FFT boundary-element model: closed forms (Hertz, Maugis-Dugdale), Tamaas, layout, bad input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import roughstick as rs
+from roughstick.testing import make_topography
+
+
+def paraboloid(n, spacing, radius):
+    c = (np.arange(n) - n / 2) * spacing
+    X, Y = np.meshgrid(c, c)
+    return make_topography(-(X**2 + Y**2) / (2 * radius), spacing=spacing, periodic=True)
+
+
+def rough_map(n=32, seed=3, rms=2e-9, shape=None):
+    rng = np.random.default_rng(seed)
+    ny, nx = shape or (n, n)
+    ky, kx = np.fft.fftfreq(ny), np.fft.fftfreq(nx)
+    K = np.hypot(ky[:, None], kx[None, :])
+    spec = np.where(K > 0, (K + 0.05) ** -2.0, 0.0)
+    z = np.fft.ifft2(np.sqrt(spec) * np.exp(2j * np.pi * rng.random((ny, nx)))).real
+    return make_topography(z * rms / z.std(), spacing=5e-9, periodic=True)
+
+
+def test_hertz_sphere_within_one_percent():
+    """Dry sphere: F = K sqrt(R) delta^1.5 with delta from the periodic-offset conversion."""
+    R, n, dx = 500e-9, 96, 1.33e-9
+    h = paraboloid(n, dx, R)
+    zmax = float(h.max())
+    d = zmax - np.array([0.1e-9, 0.2e-9, 0.4e-9])
+    ds = rs.fft_bem_contact_curves(h, relative_humidity=0.3, distance=d, tolerance=1e-6,
+                                   precision="double", adhesion=False)
+    area = (n * dx) ** 2
+    force = ds.pressure.values * area
+    delta = ds.max_interference.values
+    K = rs.hertz_modulus()
+    np.testing.assert_allclose(force, K * np.sqrt(R) * delta**1.5, rtol=0.01)
+    a = np.sqrt(ds.contact_fraction.values * area / np.pi)
+    np.testing.assert_allclose(a, np.sqrt(R * delta), rtol=0.04)
+    assert np.all(ds.wet_fraction.values == 0)
+    assert np.all(ds.n_contacts.values == 1)
+
+
+def test_loose_tolerance_keeps_hertz_within_one_percent():
+    """The default tolerance (1e-3, single precision) costs < 1 % on the Hertz force."""
+    R, n, dx = 500e-9, 96, 1.33e-9
+    h = paraboloid(n, dx, R)
+    d = float(h.max()) - np.array([0.1e-9, 0.2e-9, 0.4e-9])
+    ds = rs.fft_bem_contact_curves(h, relative_humidity=0.3, distance=d, adhesion=False)
+    force = ds.pressure.values * (n * dx) ** 2
+    K = rs.hertz_modulus()
+    np.testing.assert_allclose(force, K * np.sqrt(R) * ds.max_interference.values**1.5, rtol=0.01)
+
+
+def test_maugis_dugdale_sphere_pull_off_and_attached_branch():
+    """lambda = 0.5 sphere against the Maugis-Dugdale curve of roughstick.sphere_force."""
+    R, n, dx, rh = 200e-9, 96, 1.5e-9, 0.5
+    mat = rs.Material(youngs_modulus=7.05e9, poisson_ratio=0.23)
+    lam = float(rs.transition_parameter(radius=R, relative_humidity=rh, material=mat))
+    assert 0.45 < lam < 0.55
+    h = paraboloid(n, dx, R)
+    zmax = float(h.max())
+    d = zmax + np.linspace(-0.6e-9, 1.2e-9, 19)
+    ds = rs.fft_bem_contact_curves(h, relative_humidity=rh, distance=d, material=mat,
+                                   tolerance=1e-5, precision="double")
+    force = ds.pressure.values * (n * dx) ** 2
+    md = rs.sphere_force(np.linspace(-2e-9, 1e-9, 3001), model="maugis", radius=R,
+                         relative_humidity=rh, material=mat)
+    assert -force.min() == pytest.approx(-float(md.min()), rel=0.03)
+    md_at = rs.sphere_force(ds.max_interference, model="maugis", radius=R,
+                            relative_humidity=rh, material=mat)
+    attached = ds.contact_fraction.values > 0
+    assert attached.sum() >= 10
+    np.testing.assert_allclose(force[attached], md_at.values[attached], rtol=0.04)
+    # the neck holds beyond the undeformed first contact on retraction
+    assert np.any(attached & (ds.distance.values > zmax))
+
+
+def test_noncontact_states_are_dugdale_on_the_undeformed_gap_for_a_stiff_surface():
+    z = np.random.default_rng(0).normal(size=(32, 48)) * 2e-9
+    h = make_topography(z, spacing=5e-9, periodic=True)
+    d = z.max() + np.array([0.2e-9, 0.5e-9, 0.8e-9, 3e-9])
+    ds = rs.fft_bem_contact_curves(h, relative_humidity=[0.3, 0.5], distance=d)
+    dp = rs.laplace_pressure([0.3, 0.5]).values
+    hw = rs.water_height([0.3, 0.5]).values
+    for i in range(2):
+        wet = np.array([(z >= dd - hw[i]).mean() for dd in ds.distance.values])
+        np.testing.assert_allclose(ds.wet_fraction.values[i], wet, atol=1.5 / z.size)
+        np.testing.assert_allclose(ds.pressure.values[i], dp[i] * ds.wet_fraction.values[i],
+                                   rtol=1e-9)
+    assert np.all(ds.contact_fraction == 0)
+
+
+def test_layout_matches_the_reference_and_eq16_decomposition():
+    h = rough_map()
+    z = h.values
+    d = z.max() + np.linspace(-2.5e-9, 1.5e-9, 12)
+    ds = rs.fft_bem_contact_curves(h, relative_humidity=[0.3, 0.7], distance=d)
+    for name in ("pressure", "repulsive_pressure", "wet_fraction", "contact_fraction",
+                 "n_contacts", "fit_error", "max_interference", "distance_offset",
+                 "solver_residual", "solved"):
+        assert ds[name].dims == ("rh", "distance"), name
+    rs.testing.assert_units(ds.pressure, "Pa")
+    assert ds.attrs["contact_model"] == "fft_bem"
+    assert ds.fit_error.isnull().all()
+    dp = rs.laplace_pressure([0.3, 0.7]).values[:, None]
+    np.testing.assert_allclose(ds.pressure, ds.repulsive_pressure + dp * ds.wet_fraction,
+                               rtol=1e-6, atol=1e-3 * abs(dp).max())
+    assert np.all(np.diff(ds.contact_fraction.values, axis=1) <= 1e-12)
+    assert ds.attrs["unconverged"] == 0
+    assert np.all(ds.solved == 1)
+
+
+def test_odd_and_non_square_map_and_stack():
+    h = rough_map(shape=(27, 40))
+    d = float(h.max()) + np.linspace(-2e-9, 1e-9, 6)
+    one = rs.fft_bem_contact_curves(h, relative_humidity=0.7, distance=d)
+    stack = xr.concat([h, h], dim="realization")
+    two = rs.fft_bem_contact_curves(stack, relative_humidity=0.7, distance=d)
+    assert two.pressure.dims == ("realization", "distance")
+    np.testing.assert_array_equal(two.pressure.isel(realization=1), one.pressure)
+    lazy = rs.fft_bem_contact_curves(stack.chunk(realization=1), relative_humidity=0.7, distance=d)
+    assert lazy.pressure.chunks is not None
+    np.testing.assert_array_equal(lazy.pressure.compute().values, two.pressure.values)
+
+
+def test_automatic_grid_brackets_the_equilibrium_and_marks_solved_points():
+    h = rough_map(64)
+    ds = rs.fft_bem_contact_curves(h, relative_humidity=[0.3, 0.9])
+    s = rs.adhesion_summary(ds)
+    assert np.all(np.isfinite(s.equilibrium_distance))
+    assert np.all(s.adhesive_energy > 0)
+    # each humidity's own points are solved; merged grid: some interpolated points
+    assert ds.solved.sum() < ds.solved.size
+    # the same summaries as the humidity solved alone (interpolation keeps Eq. 13 exact)
+    for i, rh in enumerate((0.3, 0.9)):
+        alone = rs.adhesion_summary(rs.fft_bem_contact_curves(h, relative_humidity=rh))
+        for q in ("adhesive_energy", "pull_off_pressure", "equilibrium_distance"):
+            assert float(s[q][i]) == pytest.approx(float(alone[q]), rel=1e-9)
+
+
+def test_automatic_grid_matches_a_fine_uniform_grid():
+    """Gamma, pull-off and d_eq of the automatic grid within 3 % of a 200-point grid."""
+    h = rough_map(64, seed=5)
+    z = h.values
+    auto = rs.adhesion_summary(rs.fft_bem_contact_curves(h, relative_humidity=0.7))
+    deq = float(auto.equilibrium_distance)
+    fine = np.linspace(deq - 1e-9, z.max() + float(rs.water_height(0.7)), 200)
+    ref = rs.adhesion_summary(rs.fft_bem_contact_curves(h, relative_humidity=0.7, distance=fine))
+    for q in ("adhesive_energy", "pull_off_pressure", "equilibrium_distance"):
+        assert float(auto[q]) == pytest.approx(float(ref[q]), rel=0.03), q
+
+
+def test_bad_input():
+    h = rough_map()
+    with pytest.raises(ValueError, match="mean plane"):
+        rs.fft_bem_contact_curves(h, relative_humidity=0.5, distance=[-1e-9, 1e-9])
+    with pytest.raises(ValueError, match="path"):
+        rs.fft_bem_contact_curves(h, relative_humidity=0.5, path="sideways")
+    with pytest.raises(ValueError, match="precision"):
+        rs.fft_bem_contact_curves(h, relative_humidity=0.5, precision="half")
+    bad = h.copy()
+    bad[3, 4] = np.nan
+    with pytest.raises(ValueError, match="NaN"):
+        rs.fft_bem_contact_curves(bad, relative_humidity=0.5, distance=[3e-9, 4e-9])
+    with pytest.raises(TypeError, match="DataArray"):
+        rs.fft_bem_contact_curves(h.values, relative_humidity=0.5)
+    with pytest.raises(ValueError, match="eager"):
+        rs.fft_bem_contact_curves(xr.concat([h, h], "realization"), relative_humidity=0.5)
+
+
+tamaas = pytest.importorskip("tamaas", reason="Tamaas (the 'bem' extra) is absent")
+
+
+@pytest.mark.parametrize("material", [rs.POLYSILICON, rs.Material(youngs_modulus=20e9,
+                                                                   poisson_ratio=0.23)])
+def test_agrees_with_tamaas_on_a_rough_surface(material):
+    """Same grid, same physics: pressures within two pixels of water (the Dugdale zone has
+    several equilibria a pixel apart) plus 1 %, summaries within 3 % on this small map."""
+    h = rough_map(48, seed=11)
+    z = h.values
+    d = z.max() + np.linspace(-3e-9, 4.8e-9, 24)
+    d = d[d > z.mean() + 0.5e-9]
+    ref = rs.bem_contact_curves(h, relative_humidity=[0.5, 0.7], distance=d, material=material)
+    new = rs.fft_bem_contact_curves(h, relative_humidity=[0.5, 0.7], distance=d, material=material)
+    a, b = rs.adhesion_summary(new), rs.adhesion_summary(ref)
+    for q, rtol in (("adhesive_energy", 0.03), ("pull_off_pressure", 0.03),
+                    ("equilibrium_distance", 0.01)):
+        np.testing.assert_allclose(a[q].values, b[q].values, rtol=rtol, err_msg=q)
+    two_pixels = 2 * np.abs(rs.laplace_pressure([0.5, 0.7]).values[:, None]) / z.size
+    assert np.all(np.abs(new.pressure - ref.pressure)
+                  <= two_pixels + 0.01 * float(abs(ref.pressure).max()))
