@@ -7,8 +7,9 @@ numbers (:mod:`.self_affine`, Eq. 37); then surfaces are drawn from it (:mod:`.g
 Eqs. 33-35). :mod:`.summary` chains these as the paper's §4.1 does.
 """
 
-from . import generate, moments, profile, self_affine, spectrum, summary, topography
+from . import combine, generate, moments, profile, self_affine, spectrum, summary, topography
 from .generate import *  # noqa: F403
+from .combine import *  # noqa: F403
 from .moments import *  # noqa: F403
 from .profile import *  # noqa: F403
 from .self_affine import *  # noqa: F403
@@ -18,6 +19,6 @@ from .topography import *  # noqa: F403
 
 __all__ = [
     name
-    for mod in (topography, spectrum, moments, profile, self_affine, generate, summary)
+    for mod in (topography, spectrum, combine, moments, profile, self_affine, generate, summary)
     for name in mod.__all__
 ]

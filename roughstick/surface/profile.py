@@ -257,8 +257,10 @@ def profile_moments(data: xr.DataArray, *, method: str = "spline", qmax=None) ->
     Parameters
     ----------
     data : xarray.DataArray
-        A profile ``height`` over ``(..., x)`` or its PSD ``psd`` [m3] over ``(..., qx)``
-        (:func:`profile_psd`, :func:`project_psd`).
+        A profile ``height`` over ``(..., x)`` or its PSD ``psd`` [m3] over ``(..., qx)``:
+        two-sided on a uniform grid (:func:`profile_psd`, :func:`project_psd`; summed) or
+        one-sided, ``qx > 0`` only (:func:`roughstick.average_psd_common`; :math:`m_n =
+        2\int q_x^n C\,dq_x` by the trapezoid rule over its band).
     method : {"spline", "spectral"}
         Profile input: variances of the cubic-spline (not-a-knot) derivatives, as the paper's
         Table 2 does for maps, or :math:`m_n = \sum q_x^n C\,\Delta q_x` of its periodogram. A
@@ -293,8 +295,14 @@ def profile_moments(data: xr.DataArray, *, method: str = "spline", qmax=None) ->
         qx = c["qx"]
         if qmax is not None:
             c = c.where(np.abs(qx) <= qmax, 0.0)
-        dq = _dq(qx.values)
-        m0, m2, m4 = ((c * qx**k).sum("qx") * dq for k in (0, 2, 4))
+        if np.all(qx.values > 0):  # one-sided, e.g. averaged on a log grid (average_psd_common)
+            m0, m2, m4 = (2 * (c * qx**k).integrate("qx") for k in (0, 2, 4))
+        else:
+            steps = np.diff(qx.values)
+            if np.ptp(steps) > 1e-6 * steps.mean():
+                raise ValueError("a two-sided profile PSD needs a uniform qx grid (profile_psd); a "
+                                 "one-sided one (qx > 0 only) is integrated by the trapezoid rule.")
+            m0, m2, m4 = ((c * qx**k).sum("qx") * steps.mean() for k in (0, 2, 4))
     ds = xr.Dataset({k: set_attrs(v.rename(k), k) for k, v in (("m0", m0), ("m2", m2), ("m4", m4))})
     ds.attrs = dataset_attrs(title="profile moments")
     append_history(ds, f"profile_moments: method={method!r}, qmax={'none' if qmax is None else qmax}")

@@ -220,7 +220,12 @@ def average_psd(psd: xr.DataArray, dim) -> xr.DataArray:
     """
     if isinstance(psd, (list, tuple)):
         name = dim if isinstance(dim, str) else dim[0]
-        psd = xr.concat(list(psd), dim=name, join="exact", combine_attrs="drop_conflicts")
+        try:
+            psd = xr.concat(list(psd), dim=name, join="exact", combine_attrs="drop_conflicts")
+        except ValueError as exc:
+            raise ValueError(f"the PSDs have different q grids ({exc}); maps of different sizes "
+                             "or spacings are averaged by roughstick.average_psd_common(psds) on a "
+                             "common log-spaced q grid.") from exc
     dims = [dim] if isinstance(dim, str) else list(dim)
     missing = [d for d in dims if d not in psd.dims]
     if missing:
