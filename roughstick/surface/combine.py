@@ -154,6 +154,7 @@ def average_psd_common(psds, *, band: str = "overlap", n_q: int | None = None, n
         "q_min": xr.DataArray(lo, dims="map", attrs={"units": "rad m-1", "long_name": "smallest positive wave number of the map (2 pi / L)"}),
         "q_max": xr.DataArray(hi, dims="map", attrs={"units": "rad m-1", "long_name": "largest wave number of the map"}),
     })
+    ds["map"].attrs = {"long_name": "map (label of the averaged PSD)"}
     ds.attrs = dataset_attrs(title="PSD averaged over maps on a common q grid", band=band,
                              references=cite((PAPER, "Eq. 31")))
     return append_history(ds, f"average_psd_common: {len(psds)} PSDs on {n_q} log-spaced {dim} in "

@@ -231,9 +231,10 @@ def average_psd(psd: xr.DataArray, dim) -> xr.DataArray:
     if missing:
         raise ValueError(f"cannot average over {missing}: psd has dims {psd.dims}.")
     n = int(np.prod([psd.sizes[d] for d in dims]))
-    key = "psd_isotropic" if "q" in psd.dims else "psd"
+    key = ("psd_isotropic" if "q" in psd.dims else "psd_1d" if "qy" not in psd.dims and "qx" in psd.dims
+           else "psd")
     out = set_attrs(psd.mean(dims).rename("psd"), key,
-                    **_keep(psd.attrs, "spacing_x", "spacing_y", "window"), n_averaged=n)
+                    **_keep(psd.attrs, "spacing_x", "spacing_y", "window", "kind"), n_averaged=n)
     return append_history(out, f"average_psd: Eq. 31 mean of {n} spectra over {dims}")
 
 
