@@ -51,12 +51,6 @@ def validate_height(height: xr.DataArray) -> xr.DataArray:
             f"height must be an xarray.DataArray, got {type(height).__name__}; wrap arrays with "
             "roughstick.testing.make_topography(values, spacing=...) or read them with read_afm."
         )
-    if "x" in height.dims and "y" not in height.dims:
-        raise ValueError(
-            f"this is a line scan (1-D profile, dims {height.dims}), not a height map: contact, "
-            "ensembles and surface generation need a 2-D map (..., 'y', 'x'). For a profile's PSD "
-            "and moments use roughstick.profile_psd / profile_moments (CLI: roughstick psd)."
-        )
     h = _units.require(height, "length", name=height.name or "height")
     dx = grid_spacing(h, "x", min_pixels=MIN_PIXELS)
     dy = grid_spacing(h, "y", min_pixels=MIN_PIXELS)
