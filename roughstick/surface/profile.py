@@ -33,6 +33,7 @@ from scipy.signal import get_window
 
 from .._core import units as _units
 from .._core.conventions import append_history, dataset_attrs, set_attrs
+from .._core.dask import is_lazy
 from .._core.references import PAPER, cite
 from .._core.validate import check_core_not_chunked, grid_spacing
 from .spectrum import _check_psd2d, _dq, _units_psd, isotropic_to_2d
@@ -146,7 +147,8 @@ def profile_psd(profile: xr.DataArray, *, window: str | None = None) -> xr.DataA
     ----------
     profile : xarray.DataArray
         Heights over ``(..., x)`` (a line scan, a stack of them, or a map whose rows ``y`` are
-        then profiles), units length, at least 8 points, no NaN.
+        then profiles), units length, at least 8 points, no NaN. Dask-backed input stays lazy
+        (``x`` in one chunk).
     window : str, optional
         A :func:`scipy.signal.get_window` name, normalised to unit mean square.
 
@@ -166,18 +168,27 @@ def profile_psd(profile: xr.DataArray, *, window: str | None = None) -> xr.DataA
     True
     """
     p = validate_profile(profile)
-    z = np.asarray(p.values, dtype=float)
-    _refuse_bad(z)
+    if not is_lazy(p):
+        _refuse_bad(np.asarray(p.values, dtype=float))
     dx, n = p.attrs["spacing_x"], p.sizes["x"]
-    zc = z - z.mean(axis=-1, keepdims=True)
+    w = None
     if window is not None:
         w = get_window(window, n, fftbins=True)
-        zc = zc * (w / np.sqrt(np.mean(w**2)))
-    Z = np.fft.fftshift(np.fft.fft(zc, axis=-1), axes=-1)
-    c = (Z.real**2 + Z.imag**2) * dx / (2 * np.pi * n)
+        w = w / np.sqrt(np.mean(w**2))
+
+    def kern(z):
+        zc = z - z.mean(axis=-1, keepdims=True)
+        if w is not None:
+            zc = zc * w
+        Z = np.fft.fftshift(np.fft.fft(zc, axis=-1), axes=-1)
+        return (Z.real**2 + Z.imag**2) * dx / (2 * np.pi * n)
+
+    out = xr.apply_ufunc(kern, p.astype(float), input_core_dims=[["x"]], output_core_dims=[["qx"]],
+                         exclude_dims={"x"}, dask="parallelized", output_dtypes=[float],
+                         dask_gufunc_kwargs={"output_sizes": {"qx": n}})
     qx = 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(n, dx))
-    lead = {d: p[d] for d in p.dims[:-1] if d in p.coords}
-    out = xr.DataArray(c, dims=p.dims[:-1] + ("qx",), coords={**lead, "qx": qx}, name="psd")
+    out = out.assign_coords(qx=qx).rename("psd")
+    out.attrs = {}
     out["qx"].attrs = {"units": "rad m-1", "long_name": "wave number along the profile"}
     return set_attrs(out, "psd_1d", spacing_x=dx, window=str(window), kind="profile",
                      references=cite((PAPER, "Eqs. 26-31, 1-D counterpart")))

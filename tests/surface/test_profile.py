@@ -131,3 +131,13 @@ def test_line_scan_refused_where_a_map_is_needed():
     c = rs.profile_psd(p)
     with pytest.raises(ValueError, match="profile PSD.*2-D"):
         rs.generate_surfaces(c, n=1, shape=(16, 16), spacing=2e-9, seed=0)
+
+
+def test_lazy_stack_equals_eager_bit_for_bit():
+    z = np.random.default_rng(2).normal(size=(6, 50)) * 1e-9
+    p = profile(z, 2e-9)
+    eager = rs.profile_psd(p, window="hann")
+    lazy = rs.profile_psd(p.chunk({"row": 2}), window="hann")
+    assert lazy.chunks is not None
+    np.testing.assert_array_equal(lazy.compute().values, eager.values)
+    np.testing.assert_array_equal(rs.profile_psd(p.isel(row=3)).values, rs.profile_psd(p).isel(row=3).values)
