@@ -70,6 +70,9 @@ def validate_profile(profile: xr.DataArray) -> xr.DataArray:
     if "x" not in profile.dims:
         raise ValueError(f"a profile must have a dim 'x' (the scan direction); got {profile.dims}. "
                          "Rename it with .rename({'<dim>': 'x'}).")
+    if profile.sizes["x"] < MIN_POINTS:
+        raise ValueError(f"the profile has {profile.sizes['x']} point(s); its PSD and moments need at "
+                         f"least {MIN_POINTS} points.")
     p = _units.require(profile, "length", name=profile.name or "height")
     dx = grid_spacing(p, "x", min_pixels=MIN_POINTS, purpose="a profile's PSD and moments")
     check_core_not_chunked(p, ["x"])
