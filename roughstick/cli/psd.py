@@ -88,14 +88,22 @@ def _run(args):
     rs.conventions.append_history(ds, "roughstick psd " + " ".join(args.maps) + f" --out {args.out}")
     out.parent.mkdir(parents=True, exist_ok=True)
     netcdf.write(ds, out, compute=True)
-    m0, m2, m4 = (float(ds[f"spatial_{k}"].mean()) for k in ("m0", "m2", "m4"))
     what = (f"{len(maps)} line scans" if all(scans) else f"{len(maps)} maps, {args.submaps} sub-maps each")
+    if "map" in ds["spatial_m0"].dims:  # maps of different pixel sizes: m2, m4 depend on it, no mean
+        lo, hi = ({k: float(getattr(ds[f"spatial_{k}"], f)()) for k in ("m0", "m2", "m4")} for f in ("min", "max"))
+        LOG.info(f"{what}: sqrt(m0) = {lo['m0'] ** 0.5 * 1e9:.3g}-{hi['m0'] ** 0.5 * 1e9:.3g} nm, m2 = "
+                 f"{lo['m2']:.3g}-{hi['m2']:.3g}, m4 = {lo['m4'] * 1e-18:.3g}-{hi['m4'] * 1e-18:.3g} nm^-2 "
+                 "(spatial, per map: slopes and curvatures depend on the pixel size)")
+    m0, m2, m4 = (float(ds[f"spatial_{k}"].mean()) for k in ("m0", "m2", "m4"))
     qm = ds["qmax"] * 1e-6 if "qmax" in ds else None
     tail = ("no cutoff" if qm is None else f"qmax = {float(qm):.4g} rad/um" if qm.size == 1
             else f"qmax = {float(qm.min()):.4g}-{float(qm.max()):.4g} rad/um") + (
         f", Eq. 32 = {float(ds.relative_std.mean()):.3g}" if "relative_std" in ds else "")
-    LOG.info(f"{what}: sqrt(m0) = {m0 ** 0.5 * 1e9:.3g} nm, m2 = {m2:.3g}, m4 = {m4 * 1e-18:.3g} nm^-2 "
-             f"(spatial{', mean over maps' if 'map' in ds.dims else ''}); {tail}; wrote {out}")
+    if "map" in ds["spatial_m0"].dims:
+        LOG.info(f"{tail}; wrote {out}")
+    else:
+        LOG.info(f"{what}: sqrt(m0) = {m0 ** 0.5 * 1e9:.3g} nm, m2 = {m2:.3g}, m4 = {m4 * 1e-18:.3g} nm^-2 "
+                 f"(spatial); {tail}; wrote {out}")
     return 0
 
 
