@@ -206,6 +206,12 @@ def grid_spacing(da: xr.DataArray, dim: str, *, min_pixels: int = 8,
     ``min_pixels`` pixels, descending, non-monotonic or non-uniform coordinates (relative spread of
     the steps above 1e-6); coordinate ``units`` other than m are converted.
     """
+    if dim == "y" and "y" not in da.dims and "x" in da.dims:
+        raise ValueError(
+            f"this is a line scan (1-D profile, dims {da.dims}), not a height map: contact, "
+            "ensembles and surface generation need a 2-D map (..., 'y', 'x'). For a profile's PSD "
+            "and moments use roughstick.profile_psd / profile_moments (CLI: roughstick psd)."
+        )
     if dim not in da.dims:
         raise ValueError(
             f"height must have dims (..., 'y', 'x'); got {da.dims}. Rename with "

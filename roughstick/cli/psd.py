@@ -16,14 +16,18 @@ from ._common import LOG, positive_int
 def register(sub):
     p = sub.add_parser(
         "psd",
-        help="PSD (averaged over maps and sub-maps) and roughness statistics of AFM maps",
+        help="PSD (averaged over maps and sub-maps) and roughness statistics of AFM maps or line scans",
         description=(
             "Read AFM maps of one sample, level them, and write the averaged PSD (Eq. 31), its "
             "radial average, the spatial variances (cubic splines), the PSD moments at the cutoff "
-            "and the Eq. 32 check to a CF NetCDF file."
+            "and the Eq. 32 check to a CF NetCDF file. Maps of different sizes or pixel sizes are "
+            "averaged on a common log-spaced q grid over their bands' overlap. Line scans (1-D "
+            "profiles) give the profile PSD and the profile moments m0, m2, m4 instead (use "
+            "--window hann for scans that are not periodic)."
         ),
     )
-    p.add_argument("maps", nargs="+", help="AFM files (.nc, .npy, text, or vendor formats)")
+    p.add_argument("maps", nargs="+", help="AFM files (.nc, .npy, text, or vendor formats): all "
+                   "2-D maps, or all line scans")
     p.add_argument("--out", required=True, help="output NetCDF file")
     p.add_argument("--spacing", default=None, help="pixel size for .npy/text, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
@@ -31,7 +35,7 @@ def register(sub):
     p.add_argument("--level", default="plane", choices=["plane", "mean", "line", "none"])
     p.add_argument("--nan", default="raise", choices=["raise", "fill"], help="NaN pixels")
     p.add_argument("--submaps", type=positive_int, default=16,
-                   help="sub-maps per map: 1, 4, 16 (default 16)")
+                   help="sub-maps per map: 1, 4, 16 (default 16; maps only)")
     p.add_argument("--qmax", default=None,
                    help="cutoff with its unit, e.g. '289 rad/um'; default: chosen to match the "
                         "spatial variances")
@@ -55,29 +59,103 @@ def _run(args):
         channel = int(channel)
     maps = []
     for path in args.maps:
-        h = rs.read_afm(path, spacing=args.spacing, channel=channel, units=args.units)
-        maps.append(rs.level(h, method=args.level, nan=args.nan))
+        h = rs.read_afm(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True)
         used = h.attrs.get("channel")
-        LOG.info(f"{path}: {h.sizes['y']} x {h.sizes['x']} px of {float(h.x[1] - h.x[0]) * 1e9:.4g} nm"
+        size = f"{h.sizes['y']} x {h.sizes['x']} px" if "y" in h.dims else f"line scan of {h.sizes['x']} points"
+        LOG.info(f"{path}: {size} of {float(h.x[1] - h.x[0]) * 1e9:.4g} nm"
                  + (f", channel {used}" + (f" (of {h.attrs['channels_in_file']})"
                                             if "channels_in_file" in h.attrs else "") if used else ""))
-    shapes = {m.shape for m in maps}
-    if len(shapes) > 1:
-        raise ValueError(f"all maps must have the same size to be averaged; got {sorted(shapes)}.")
-    spacings = {round(float(m.x[1] - m.x[0]), 15) for m in maps}
-    if len(spacings) > 1:
-        raise ValueError(f"all maps must have the same pixel size; got {sorted(spacings)} m.")
-    stack = xr.concat(maps, dim="map", coords="minimal", compat="override", combine_attrs="drop")
-    stack = stack.assign_coords(map=[pathlib.Path(p).name for p in args.maps])
-    stack.attrs = dict(maps[0].attrs)
-    ds = rs.psd_summary(stack, n=args.submaps, qmax=qmax, window=args.window)
+        maps.append(h)
+    names = [pathlib.Path(p).name for p in args.maps]
+    scans = ["y" not in m.dims for m in maps]
+    if any(scans) and not all(scans):
+        raise ValueError("the files mix line scans (" + ", ".join(n for n, s in zip(names, scans) if s)
+                         + ") and 2-D maps; run roughstick psd on each kind separately.")
+    if all(scans):
+        ds = _line_scans([rs.level_profile(m, method=args.level, nan=args.nan) for m in maps], names, args, qmax)
+    else:
+        maps = [rs.level(m, method=args.level, nan=args.nan) for m in maps]
+        same = len({m.shape for m in maps}) == 1 and len({round(float(m.x[1] - m.x[0]), 15) for m in maps}) == 1 \
+            and len({round(float(m.y[1] - m.y[0]), 15) for m in maps}) == 1
+        if same:
+            stack = xr.concat(maps, dim="map", coords="minimal", compat="override", combine_attrs="drop")
+            stack = stack.assign_coords(map=names)
+            stack.attrs = dict(maps[0].attrs)
+            ds = rs.psd_summary(stack, n=args.submaps, qmax=qmax, window=args.window)
+        else:
+            ds = _different_grids(maps, names, args, qmax)
     ds.attrs["input_files"] = " ".join(str(p) for p in args.maps)
     rs.conventions.append_history(ds, "roughstick psd " + " ".join(args.maps) + f" --out {args.out}")
     out.parent.mkdir(parents=True, exist_ok=True)
     netcdf.write(ds, out, compute=True)
-    LOG.info(
-        f"{len(maps)} maps, {args.submaps} sub-maps each: sqrt(m0) = {float(ds.spatial_m0) ** 0.5 * 1e9:.3g} nm, "
-        f"m2 = {float(ds.spatial_m2):.3g}, m4 = {float(ds.spatial_m4) * 1e-18:.3g} nm^-2 (spatial); "
-        f"qmax = {float(ds.qmax) * 1e-6:.4g} rad/um, Eq. 32 = {float(ds.relative_std):.3g}; wrote {out}"
-    )
+    what = (f"{len(maps)} line scans" if all(scans) else f"{len(maps)} maps, {args.submaps} sub-maps each")
+    if "map" in ds["spatial_m0"].dims:  # maps of different pixel sizes: m2, m4 depend on it, no mean
+        lo, hi = ({k: float(getattr(ds[f"spatial_{k}"], f)()) for k in ("m0", "m2", "m4")} for f in ("min", "max"))
+        LOG.info(f"{what}: sqrt(m0) = {lo['m0'] ** 0.5 * 1e9:.3g}-{hi['m0'] ** 0.5 * 1e9:.3g} nm, m2 = "
+                 f"{lo['m2']:.3g}-{hi['m2']:.3g}, m4 = {lo['m4'] * 1e-18:.3g}-{hi['m4'] * 1e-18:.3g} nm^-2 "
+                 "(spatial, per map: slopes and curvatures depend on the pixel size)")
+    m0, m2, m4 = (float(ds[f"spatial_{k}"].mean()) for k in ("m0", "m2", "m4"))
+    qm = ds["qmax"] * 1e-6 if "qmax" in ds else None
+    tail = ("no cutoff" if qm is None else f"qmax = {float(qm):.4g} rad/um" if qm.size == 1
+            else f"qmax = {float(qm.min()):.4g}-{float(qm.max()):.4g} rad/um") + (
+        f", Eq. 32 = {float(ds.relative_std.mean()):.3g}" if "relative_std" in ds else "")
+    if "map" in ds["spatial_m0"].dims:
+        LOG.info(f"{tail}; wrote {out}")
+    else:
+        LOG.info(f"{what}: sqrt(m0) = {m0 ** 0.5 * 1e9:.3g} nm, m2 = {m2:.3g}, m4 = {m4 * 1e-18:.3g} nm^-2 "
+                 f"(spatial); {tail}; wrote {out}")
     return 0
+
+
+def _different_grids(maps, names, args, qmax):
+    """Maps of different sizes/spacings: each map's own §4.1 chain (stacked over ``map``) and
+    their radial PSDs averaged on a common log-spaced q grid over the bands' overlap."""
+    per_map = [rs.psd_summary(m, n=args.submaps, qmax=qmax, window=args.window) for m in maps]
+    common = rs.average_psd_common([s.psd_isotropic.drop_vars("n_ring") for s in per_map], names=names)
+    keys = [k for k in per_map[0].data_vars if not set(per_map[0][k].dims) & {"q", "qx", "qy"}]
+    ds = xr.concat([s[keys] for s in per_map], dim="map", combine_attrs="override").assign_coords(map=names)
+    ds["psd_isotropic"] = common.psd
+    ds["map"].attrs = {"long_name": "input file"}
+    for k in ("n_maps", "contributed", "q_min", "q_max"):
+        ds[k] = common[k]
+    band = f"{float(common.q[0]) * 1e-6:.4g}-{float(common.q[-1]) * 1e-6:.4g} rad/um"
+    ds.attrs = dict(per_map[0].attrs, title="PSD and roughness statistics of AFM maps of different "
+                    "sizes or pixel sizes (paper §4.1, Eq. 31 on a common q grid)",
+                    n_maps=len(maps), common_q_band=band)
+    LOG.info(f"maps of different sizes/pixel sizes: radial PSDs averaged on {common.sizes['q']} "
+             f"log-spaced q over their common band {band}; each map's statistics are kept over 'map'")
+    return ds
+
+
+def _line_scans(scans, names, args, qmax):
+    """Line scans: the profile PSD (1-D Eqs. 26-31) averaged over scans, profile moments."""
+    psds = [rs.profile_psd(s, window=args.window) for s in scans]
+    spatial = xr.concat([rs.profile_moments(s) for s in scans], dim="map").assign_coords(map=names)
+    dq = [float(c.qx[1] - c.qx[0]) for c in psds]
+    same = len({c.sizes["qx"] for c in psds}) == 1 and all(abs(d / dq[0] - 1) < 1e-9 for d in dq)
+    if same:
+        avg = rs.average_psd([c.assign_coords(qx=psds[0].qx) for c in psds], "map")
+        ds = xr.Dataset({"psd_1d": avg})
+    else:
+        common = rs.average_psd_common(psds, names=names)
+        ds = common.rename({"psd": "psd_1d"})
+        LOG.info(f"line scans of different lengths/spacings: averaged on {common.sizes['qx']} log-spaced "
+                 f"qx (one-sided) over {float(common.qx[0]) * 1e-6:.4g}-{float(common.qx[-1]) * 1e-6:.4g} rad/um")
+    if "map" in ds.dims:
+        ds["map"].attrs = {"long_name": "input file"}
+    spectral = rs.profile_moments(ds.psd_1d, qmax=qmax)
+    for k in ("m0", "m2", "m4"):
+        ds[f"spatial_{k}"] = spatial[k].mean("map").assign_attrs(
+            units=spatial[k].attrs["units"],
+            long_name=f"profile {k} (cubic-spline variances, mean over line scans)")
+        ds[k] = spectral[k].assign_attrs(long_name=f"profile PSD moment {k}" + (" up to qmax" if qmax else ""))
+    if qmax is not None:
+        ds["qmax"] = xr.DataArray(qmax, attrs={"units": "rad m-1", "long_name": "cutoff wave number"})
+    ds.attrs = rs.conventions.dataset_attrs(
+        "Profile PSD and moments of AFM line scans (1-D counterpart of paper §4.1, Eqs. 26-31)",
+        references="roughstick.profile_psd, profile_moments", n_maps=len(scans), kind="line scans",
+        window=str(args.window))
+    if args.window is None:
+        LOG.info("line scans are rarely periodic: without --window (e.g. hann) their edge step leaks "
+                 "power to high q and inflates m2 and m4")
+    return ds

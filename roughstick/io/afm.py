@@ -30,7 +30,17 @@ def _length(value, name: str) -> float:
     return v
 
 
-def _grid(values, dx, dy, *, units, source, periodic=0):
+_LINE_SCAN = ("roughstick's contact, ensemble and generation analyses need a 2-D height map; "
+              "for a line scan's PSD and moments read it with read_afm(path, line_scan=True) and "
+              "use roughstick.profile_psd / profile_moments (CLI: roughstick psd reads line scans).")
+
+
+def _line_scan_shape(shape) -> bool:
+    """A 1-D array, or one row or one column of at least 2 points."""
+    return len(shape) == 1 or (len(shape) == 2 and min(shape) == 1 and max(shape) >= 2)
+
+
+def _grid(values, dx, dy, *, units, source, periodic=0, line_scan=False):
     raw = np.asarray(values)
     if raw.dtype.kind not in "fiu":
         what = {"c": "complex numbers", "b": "booleans", "O": "Python objects", "U": "text",
@@ -38,11 +48,18 @@ def _grid(values, dx, dy, *, units, source, periodic=0):
         raise ValueError(f"{source} holds {what} (dtype {raw.dtype}), which a height map cannot be; "
                          "give real heights (float or integer).")
     z = raw.astype(float)
+    if _line_scan_shape(z.shape) and z.size:
+        if not line_scan:
+            raise ValueError(f"{source} is a line scan (1-D profile of {z.size} points, shape "
+                             f"{z.shape}). " + _LINE_SCAN)
+        z = z.reshape(1, -1)
     if z.ndim != 2:
         raise ValueError(f"a height map must be 2-D, got an array of shape {z.shape} from {source}.")
-    if z.size == 0 or min(z.shape) < 2:
+    if z.size == 0 or min(z.shape) < 2 and not line_scan:
         raise ValueError(f"{source} is empty or a single line of pixels (shape {z.shape}); a height "
                          "map needs at least 2 x 2 pixels.")
+    if z.shape[-1] < 2:
+        raise ValueError(f"{source} has fewer than 2 points (shape {z.shape}).")
     if np.isinf(z).any():
         raise ValueError(f"{source} has {int(np.isinf(z).sum())} infinite pixel(s); mark missing "
                          "pixels as NaN (roughstick.level(..., nan='fill') handles them).")
@@ -59,6 +76,12 @@ def _grid(values, dx, dy, *, units, source, periodic=0):
                       "implausible for an AFM map; if the values are nanometres, pass units='nm' "
                       "(--units nm).", UserWarning, stacklevel=4)
     ny, nx = z.shape
+    if ny == 1 and line_scan:  # a profile: height over x only
+        da = xr.DataArray(z[0] * f, dims=("x",), coords={"x": (np.arange(nx) + 0.5) * dx},
+                          name="height", attrs={**ATTRS["height"], "periodic": int(periodic),
+                                                "source": str(source), "line_scan": 1})
+        set_coord_attrs(da)
+        return da
     da = xr.DataArray(
         z * f,
         dims=("y", "x"),
@@ -104,7 +127,7 @@ def _is_height_name(name: str) -> bool:
     return "height" in str(name).lower().replace("_", " ")
 
 
-def _read_netcdf(path: pathlib.Path, channel, units, spacing):
+def _read_netcdf(path: pathlib.Path, channel, units, spacing, line_scan=False):
     import json
 
     try:
@@ -144,17 +167,22 @@ def _read_netcdf(path: pathlib.Path, channel, units, spacing):
         raise ValueError(f"{path.name}: variable {name!r} has no 'units' (or 'unit') attribute; pass "
                          "units= (e.g. 'nm'; roughstick psd/curves: --units nm).")
     if da.ndim == 1:
-        raise ValueError(f"{path.name}: {name!r} is a line scan (1-D profile of {da.size} points); "
-                         "roughstick's contact and ensemble analyses need a 2-D height map.")
-    if da.ndim != 2:
+        if not line_scan:
+            raise ValueError(f"{path.name}: {name!r} is a line scan (1-D profile of {da.size} "
+                             "points). " + _LINE_SCAN)
+        da = da.rename({da.dims[0]: "x"})
+    elif da.ndim != 2:
         raise ValueError(f"{path.name}: {name!r} has dims {da.dims}; a height map is 2-D.")
     if set(da.dims) == {"x", "y"}:
         da = da.transpose("y", "x")
-    ydim, xdim = da.dims
+    ydim, xdim = da.dims if da.ndim == 2 else (None, da.dims[0])
     if spacing is None:
         dxy = []
         for dim in (ydim, xdim):
-            c = ds[dim] if dim in ds.coords else None
+            if dim is None:  # a line scan: no y
+                dxy.append(None)
+                continue
+            c = da[dim] if dim in da.coords else None
             if c is None or c.size < 2:
                 raise ValueError(f"{path.name}: no {dim} coordinate to tell the pixel size; pass "
                                  "spacing= (e.g. '5 nm'; roughstick psd/curves: --spacing '5 nm').")
@@ -164,7 +192,7 @@ def _read_netcdf(path: pathlib.Path, channel, units, spacing):
                                  "(e.g. '5 nm'; --spacing '5 nm').")
             dxy.append(float(c[1] - c[0]) * _units.factor(cu, "length", name=dim))
         spacing = tuple(dxy)
-    out = _grid(da.values, spacing[1], spacing[0], units=zunit, source=str(path))
+    out = _grid(da.values, spacing[1], spacing[0], units=zunit, source=str(path), line_scan=line_scan)
     out.attrs["channel"] = name
     meta = {}
     if "json" in ds.attrs:
@@ -176,7 +204,7 @@ def _read_netcdf(path: pathlib.Path, channel, units, spacing):
     return out
 
 
-def _read_vendor(path: pathlib.Path, channel, spacing):
+def _read_vendor(path: pathlib.Path, channel, spacing, line_scan=False):
     try:
         from SurfaceTopography import open_topography
     except ImportError as exc:  # pragma: no cover - depends on the environment
@@ -209,9 +237,9 @@ def _read_vendor(path: pathlib.Path, channel, spacing):
             raise ValueError(f"{path.name} has no channel {channel!r}; channels: {listing}.")
         idx = names.index(channel)
     info = channels[idx]
-    if info.dim == 1:
-        raise ValueError(f"channel {idx} ({info.name!r}) of {path.name} is a line scan (1-D profile); "
-                         "roughstick's contact and ensemble analyses need a 2-D height map.")
+    if info.dim == 1 and not line_scan:
+        raise ValueError(f"channel {idx} ({info.name!r}) of {path.name} is a line scan (1-D profile). "
+                         + _LINE_SCAN)
     if not is_height(info):
         raise ValueError(
             f"channel {idx} ({info.name!r}) of {path.name} is not a height channel (no length unit); "
@@ -225,17 +253,21 @@ def _read_vendor(path: pathlib.Path, channel, spacing):
     # SurfaceTopography indexes heights[x, y]: transpose to (y, x) with scan lines along x
     z = np.asarray(h, dtype=float).T
     f = _units.factor(unit, "length", name="SurfaceTopography unit")
-    sx, sy = t.physical_sizes
-    nx, ny = t.nb_grid_pts
+    if z.ndim == 1:  # a line scan (UniformLineScan)
+        (sx,), (nx,) = np.atleast_1d(t.physical_sizes), np.atleast_1d(t.nb_grid_pts)
+        sy, ny = sx, 1
+    else:
+        sx, sy = t.physical_sizes
+        nx, ny = t.nb_grid_pts
     dx, dy = (sx * f / nx, sy * f / ny) if spacing is None else (spacing[1], spacing[0])
-    da = _grid(z, dx, dy, units=unit, source=str(path))
+    da = _grid(z, dx, dy, units=unit, source=str(path), line_scan=line_scan)
     da.attrs["channel"] = f"{idx}: {info.name}"
     da.attrs["channels_in_file"] = ", ".join(f"{i}: {n}" for i, n in listing)
     da.attrs.update(_metadata(dict(info.info)))
     return da
 
 
-def read_afm(path, *, spacing=None, channel=None, units=None) -> xr.DataArray:
+def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = False) -> xr.DataArray:
     """Read an AFM height map as ``height`` (y, x) in metres.
 
     Parameters
@@ -260,6 +292,12 @@ def read_afm(path, *, spacing=None, channel=None, units=None) -> xr.DataArray:
         required for them, since nothing in the file says. For NetCDF from other writers
         (SurfaceTopography, contact.engineering: attribute ``unit``, dims ``(x, y)``) it
         overrides the file's unit.
+    line_scan : bool
+        Accept a line scan (a 1-D profile: a 1-D array, one row or one column of numbers, a
+        1-D NetCDF variable, a vendor line-scan channel) and return it as ``height`` over
+        ``("x",)`` with attr ``line_scan = 1``, for :func:`roughstick.profile_psd` and
+        :func:`roughstick.profile_moments`. Default ``False``: a line scan is refused, since
+        contact, ensembles and generation need a 2-D map. 2-D maps are read either way.
 
     Returns
     -------
@@ -292,7 +330,7 @@ def read_afm(path, *, spacing=None, channel=None, units=None) -> xr.DataArray:
     suffix = path.suffix.lower()
     sp = _spacing_pair(spacing)
     if suffix in _NETCDF:
-        da = _read_netcdf(path, channel, units, sp)
+        da = _read_netcdf(path, channel, units, sp, line_scan)
         if "channel" in da.attrs:  # another writer's file (a roughstick file reads back exactly)
             append_history(da, f"read_afm: {path.name} variable {da.attrs['channel']!r}")
         return da
@@ -307,8 +345,8 @@ def read_afm(path, *, spacing=None, channel=None, units=None) -> xr.DataArray:
         else:
             delim = "," if suffix == ".csv" else None
             z = np.loadtxt(path, comments="#", delimiter=delim, ndmin=2)
-        da = _grid(z, sp[1], sp[0], units=units, source=str(path))
+        da = _grid(z, sp[1], sp[0], units=units, source=str(path), line_scan=line_scan)
     else:
-        da = _read_vendor(path, channel, sp)
+        da = _read_vendor(path, channel, sp, line_scan)
     append_history(da, f"read_afm: {path.name}" + (f" channel {channel!r}" if channel is not None else ""))
     return da

@@ -2,14 +2,16 @@
 
 The first stage of the data flow (paper §3.1, §4.1-4.2): a height map is validated and levelled
 (:mod:`.topography`), its spectrum estimated (:mod:`.spectrum`, Eqs. 26-32) and its Nayak moments
-measured (:mod:`.moments`, the one home of :math:`m_0, m_2, m_4`); or a PSD is built from a few
+measured (:mod:`.moments`, the one home of :math:`m_0, m_2, m_4`; line scans: :mod:`.profile`); or a PSD is built from a few
 numbers (:mod:`.self_affine`, Eq. 37); then surfaces are drawn from it (:mod:`.generate`,
 Eqs. 33-35). :mod:`.summary` chains these as the paper's §4.1 does.
 """
 
-from . import generate, moments, self_affine, spectrum, summary, topography
+from . import combine, generate, moments, profile, self_affine, spectrum, summary, topography
 from .generate import *  # noqa: F403
+from .combine import *  # noqa: F403
 from .moments import *  # noqa: F403
+from .profile import *  # noqa: F403
 from .self_affine import *  # noqa: F403
 from .spectrum import *  # noqa: F403
 from .summary import *  # noqa: F403
@@ -17,6 +19,6 @@ from .topography import *  # noqa: F403
 
 __all__ = [
     name
-    for mod in (topography, spectrum, moments, self_affine, generate, summary)
+    for mod in (topography, spectrum, combine, moments, profile, self_affine, generate, summary)
     for name in mod.__all__
 ]

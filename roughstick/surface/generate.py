@@ -277,6 +277,14 @@ def _half_plane_power(psd, ny, nx, dy, dx):
             "psd must be an xarray.DataArray over (qy, qx) or (q), or a callable |q| -> s(|q|) "
             f"[m4]; got {type(psd).__name__}."
         )
+    if set(psd.dims) == {"qx"}:
+        raise ValueError(
+            "this is a profile PSD (1-D, over qx, from line scans): generating a 2-D surface needs "
+            "a 2D PSD ('qy', 'qx') or an isotropic one ('q',). Recovering an isotropic PSD from "
+            "profiles assumes isotropy (an inverse Abel transform) and roughstick does not do it: "
+            "measure a 2-D map, or fit a self-affine PSD (roughstick.self_affine_psd) to the "
+            "profile's moments."
+        )
     factor = _psd_factor(psd)
     dims = set(psd.dims)
     if dims == {"qy", "qx"}:

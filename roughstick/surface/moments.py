@@ -248,6 +248,9 @@ def psd_moments(psd: xr.DataArray, *, qmax=None, direction: str = "mean") -> xr.
         raise ValueError(f"direction must be 'mean', 'x' or 'y', got {direction!r}.")
     if qmax is not None:
         qmax = _wavevector(qmax, name="qmax")
+    if "qx" in psd.dims and "qy" not in psd.dims:
+        raise ValueError("this is a profile (1-D) PSD over qx; its moments are "
+                         "roughstick.profile_moments(psd) (m_n = sum qx^n C dqx).")
     if "q" in psd.dims:
         s = _units_psd(psd)
         check_core_not_chunked(s, ["q"])

@@ -220,15 +220,21 @@ def average_psd(psd: xr.DataArray, dim) -> xr.DataArray:
     """
     if isinstance(psd, (list, tuple)):
         name = dim if isinstance(dim, str) else dim[0]
-        psd = xr.concat(list(psd), dim=name, join="exact", combine_attrs="drop_conflicts")
+        try:
+            psd = xr.concat(list(psd), dim=name, join="exact", combine_attrs="drop_conflicts")
+        except ValueError as exc:
+            raise ValueError(f"the PSDs have different q grids ({exc}); maps of different sizes "
+                             "or spacings are averaged by roughstick.average_psd_common(psds) on a "
+                             "common log-spaced q grid.") from exc
     dims = [dim] if isinstance(dim, str) else list(dim)
     missing = [d for d in dims if d not in psd.dims]
     if missing:
         raise ValueError(f"cannot average over {missing}: psd has dims {psd.dims}.")
     n = int(np.prod([psd.sizes[d] for d in dims]))
-    key = "psd_isotropic" if "q" in psd.dims else "psd"
+    key = ("psd_isotropic" if "q" in psd.dims else "psd_1d" if "qy" not in psd.dims and "qx" in psd.dims
+           else "psd")
     out = set_attrs(psd.mean(dims).rename("psd"), key,
-                    **_keep(psd.attrs, "spacing_x", "spacing_y", "window"), n_averaged=n)
+                    **_keep(psd.attrs, "spacing_x", "spacing_y", "window", "kind"), n_averaged=n)
     return append_history(out, f"average_psd: Eq. 31 mean of {n} spectra over {dims}")
 
 

@@ -163,8 +163,37 @@ def test_files_that_are_not_what_their_extension_says(tmp_path):
 def test_line_scan_netcdf_refused_clearly(tmp_path):
     xr.Dataset({"heights": (("x",), np.zeros(64), {"unit": "nm"})},
                coords={"x": ("x", np.arange(64.0), {"unit": "nm"})}).to_netcdf(tmp_path / "l.nc")
-    with pytest.raises(ValueError, match="line scan"):
+    with pytest.raises(ValueError, match="line scan.*2-D height map.*line_scan=True"):
         rs.read_afm(tmp_path / "l.nc")
+
+
+def test_line_scans_read_with_line_scan_true(tmp_path):
+    """1-D .npy, one text column, one csv row and a 1-D NetCDF variable (SurfaceTopography style:
+    'unit', a coordinate in nm) all read as height over x; a 2-D map reads as before."""
+    z = np.sin(np.arange(100) / 7.0) * 3.0  # nm
+    np.save(tmp_path / "p.npy", z)
+    np.savetxt(tmp_path / "p.txt", z[:, None])
+    np.savetxt(tmp_path / "p.csv", z[None, :], delimiter=",")
+    xr.Dataset({"heights": (("s",), z, {"unit": "nm"})},
+               coords={"s": ("s", np.arange(100) * 2.0, {"unit": "nm"})}).to_netcdf(tmp_path / "p.nc")
+    for name in ("p.npy", "p.txt", "p.csv", "p.nc"):
+        kw = {} if name == "p.nc" else {"spacing": "2 nm", "units": "nm"}
+        with pytest.raises(ValueError, match="line scan"):
+            rs.read_afm(tmp_path / name, **kw)
+        h = rs.read_afm(tmp_path / name, line_scan=True, **kw)
+        assert h.dims == ("x",) and h.attrs["line_scan"] == 1 and h.attrs["units"] == "m", name
+        np.testing.assert_allclose(h.values, z * 1e-9, rtol=1e-12)
+        np.testing.assert_allclose(float(h.x[1] - h.x[0]), 2e-9, rtol=1e-12)
+        c = rs.profile_psd(rs.level_profile(h, method="mean"))
+        np.testing.assert_allclose(float(c.sum()) * float(c.qx[1] - c.qx[0]), (z * 1e-9).var(), rtol=1e-10)
+        with pytest.raises(ValueError, match="line scan.*profile_psd"):
+            rs.level(h)
+    # a line scan written by roughstick reads back the same
+    rs.read_afm(tmp_path / "p.npy", spacing="2 nm", units="nm", line_scan=True).to_netcdf(tmp_path / "own.nc")
+    back = rs.read_afm(tmp_path / "own.nc", line_scan=True)
+    np.testing.assert_allclose(back.values, z * 1e-9, rtol=1e-12)
+    np.save(tmp_path / "m.npy", np.random.default_rng(0).normal(size=(16, 12)))
+    assert rs.read_afm(tmp_path / "m.npy", spacing="2 nm", units="nm", line_scan=True).dims == ("y", "x")
 
 
 @needs_afm
@@ -185,7 +214,8 @@ def test_cli_psd_names_the_channel(tmp_path, capsys):
         (np.zeros((8, 8), dtype=bool), "booleans"),
         (np.array([["a"] * 4] * 4), "text"),
         (np.zeros((0, 8)), "empty"),
-        (np.zeros((1, 8)), "single line"),
+        (np.zeros((1, 8)), "line scan.*line_scan=True"),
+        (np.zeros((8, 1)), "line scan.*roughstick psd"),
         (np.full((8, 8), np.inf), "infinite pixel"),
         (np.full((8, 8), np.nan), "no finite pixel"),
     ],
@@ -204,3 +234,17 @@ def test_implausible_or_flat_heights_warn_with_the_fix(tmp_path):
     np.save(tmp_path / "flat.npy", np.zeros((16, 16)))
     with pytest.warns(UserWarning, match="flat map"):
         rs.read_afm(tmp_path / "flat.npy", spacing="5 nm", units="nm")
+
+
+def test_surfacetopography_line_scan_netcdf(tmp_path):
+    """A line scan as SurfaceTopography / contact.engineering write it (UniformLineScan)."""
+    st = pytest.importorskip("SurfaceTopography")
+    z = np.sin(np.arange(100) / 7.0) * 3.0
+    st.UniformLineScan(z, 200.0, unit="nm", info={"instrument": {"name": "profiler"}}).to_netcdf(
+        str(tmp_path / "ls.nc"))
+    with pytest.raises(ValueError, match="line scan.*line_scan=True"):
+        rs.read_afm(tmp_path / "ls.nc")
+    h = rs.read_afm(tmp_path / "ls.nc", line_scan=True)
+    assert h.dims == ("x",) and h.attrs["instrument_name"] == "profiler"
+    np.testing.assert_allclose(h.values, z * 1e-9, rtol=1e-12)
+    np.testing.assert_allclose(float(h.x[1] - h.x[0]), 2e-9, rtol=1e-12)
