@@ -37,8 +37,15 @@ from roughstick.contact import water_height
 from . import _rare_engine as _e
 from . import _rare_kernels as _k
 from . import _rare_surface as _s
+from .beam import PAPER_CANTILEVER, Cantilever, critical_adhesive_energy
 
-__all__ = ["subset_simulation", "failure_probability", "weakest_link", "surface_from_noise"]
+__all__ = [
+    "subset_simulation",
+    "failure_probability",
+    "stiction_probability_subset",
+    "weakest_link",
+    "surface_from_noise",
+]
 
 
 def subset_simulation(
@@ -419,4 +426,62 @@ def weakest_link(result: xr.Dataset, *, patches) -> xr.Dataset:
     })
     ds.attrs = {**result.attrs, "title": "weakest-link failure probability of m independent patches"}
     append_history(ds, "weakest_link: P_m = 1 - (1 - p)^m, interval mapped through the same function")
+    return ds
+
+
+def stiction_probability_subset(
+    psd,
+    *,
+    relative_humidity,
+    shape,
+    spacing: float,
+    length: float | None = None,
+    beam: Cantilever = PAPER_CANTILEVER,
+    method: str = "subset",
+    target_cv: float | None = 0.3,
+    max_evaluations: int | None = 20_000,
+    seed=0,
+    **options,
+) -> xr.Dataset:
+    r"""P(stuck) of a beam from the zone model, small values included: :math:`P(\Gamma > \Gamma_{crit}(l))`.
+
+    The rare-event counterpart of :func:`roughstick.stiction_probability` (which counts a
+    Monte-Carlo sample): the pull-out proxy of paper §5.2 (a beam of length ``l`` stays stuck
+    when the zone's adhesive energy, Eq. 13, exceeds :math:`\Gamma_{crit}` of Eq. 36 at
+    :math:`s = l`), estimated by :func:`failure_probability` with ``method`` ("subset" or
+    "monte_carlo") until the coefficient of variation meets ``target_cv`` or
+    ``max_evaluations`` is spent (``converged`` says which). The output carries the names
+    :func:`roughstick.crossing_humidity` reads, so ``rs.crossing_humidity(out, level=1e-3)``
+    gives the RH at which P(stuck) reaches 1e-3 with its interval.
+
+    Parameters
+    ----------
+    psd, relative_humidity, shape, spacing, method, target_cv, max_evaluations, seed
+        As in :func:`failure_probability` (``relative_humidity`` a sequence: an ``rh`` dim).
+    length : float, optional
+        Beam length [m]; default ``beam.length``.
+    beam : Cantilever
+        Geometry and modulus of the beam (Eq. 36).
+    **options
+        Further keywords of :func:`failure_probability` (``samples_per_level``, ``output`` ...).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``stiction_probability`` with ``stiction_probability_lower``/``_upper`` (the
+        confidence interval), ``coefficient_of_variation``, ``n_evaluations``, ``converged``,
+        and the level samples of :func:`failure_probability`; attribute
+        ``critical_adhesive_energy`` [J m-2].
+    """
+    gc = float(critical_adhesive_energy(length=beam.length if length is None else length, beam=beam))
+    ds = failure_probability(psd, threshold=gc, relative_humidity=relative_humidity, shape=shape,
+                             spacing=spacing, method=method, target_cv=target_cv,
+                             max_evaluations=max_evaluations, seed=seed, **options)
+    ds = ds.rename({"failure_probability": "stiction_probability",
+                    "failure_probability_lower": "stiction_probability_lower",
+                    "failure_probability_upper": "stiction_probability_upper"})
+    ds["stiction_probability"].attrs["long_name"] = "probability that the beam stays stuck"
+    ds.attrs.update({"critical_adhesive_energy": gc,
+                     "beam_length": float(beam.length if length is None else length)})
+    append_history(ds, f"stiction_probability_subset(length={ds.attrs['beam_length']:.4g} m, method={method!r})")
     return ds

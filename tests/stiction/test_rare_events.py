@@ -331,3 +331,20 @@ def test_weakest_link_against_a_four_times_longer_zone():
     assert 0.02 < float(patch.failure_probability) < 0.1
     assert float(pred.failure_probability_lower) < float(long.failure_probability_upper)
     assert float(long.failure_probability_lower) < float(pred.failure_probability_upper)
+
+
+def test_stiction_probability_subset_matches_the_counting_estimator():
+    """Crude-MC P(stuck) equals rs.stiction_probability on the same Γ sample (the responses of
+    level 0) with Eq. 36's Γ_crit, and crossing_humidity reads the result with its interval."""
+    psd = table4()
+    length = 400e-6
+    ds = rs.stiction_probability_subset(psd, relative_humidity=[0.3, 0.5], shape=(32, 32), spacing=SPACING,
+                                        length=length, method="monte_carlo", samples_per_level=40,
+                                        target_cv=None, seed=5, scheduler="sync")
+    assert math.isclose(ds.attrs["critical_adhesive_energy"], rs.critical_adhesive_energy(length=length))
+    g = ds.response.isel(run=0, level=0).rename(sample="realization").assign_attrs(units="J m-2")
+    ref = rs.stiction_probability(g, length=length)
+    np.testing.assert_allclose(ds.stiction_probability.values, ref.stiction_probability.values, rtol=1e-12)
+    ch = rs.crossing_humidity(ds[["stiction_probability", "stiction_probability_lower",
+                                  "stiction_probability_upper"]], level=0.1)
+    assert {"crossing_humidity", "crossing_humidity_lower", "crossing_humidity_upper"} <= set(ch)
