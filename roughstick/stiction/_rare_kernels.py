@@ -29,7 +29,7 @@ _CHAIN_TAG = 0x5355  # "SU"
 
 
 def sample_rng(entropy, spawn_key, index: int) -> np.random.Generator:
-    """Generator of level-0 sample ``index``: realization ``index`` of ``generate_surfaces``."""
+    """Generator of level-0 sample ``index``: one SeedSequence child per sample index."""
     ss = np.random.SeedSequence(entropy, spawn_key=tuple(spawn_key) + (int(index),))
     return np.random.default_rng(ss)
 

@@ -11,7 +11,7 @@ probability is estimated by
   preconditioned Crank-Nicolson moves :math:`z' = \rho z + \sqrt{1-\rho^2}\,\xi` that leave the
   Gaussian prior (so the PSD) exactly invariant; it stops at the level whose p0-quantile passes
   the failure threshold. :math:`\hat P = \prod_j \hat p_j`.
-- ``method="monte_carlo"``: crude Monte Carlo over the generator's realizations, in batches.
+- ``method="monte_carlo"``: crude Monte Carlo over independent white-noise draws, in batches.
 
 Both add independent runs until the estimate's coefficient of variation meets ``target_cv``
 (or ``max_evaluations`` is spent), write every completed level to ``output`` (a rerun resumes),
@@ -128,6 +128,8 @@ def subset_simulation(
         Results do not depend on it.
     scheduler : None, str or distributed.Client
         ``None``/"threads", "sync", "processes", a scheduler address or a Client.
+        ("processes" starts a worker pool for every round of the chains: slow; prefer threads
+        or a distributed Client.)
     output : path, optional
         Folder receiving one NetCDF file per completed level and a manifest; a rerun with the same
         parameters resumes (and a larger ``target_cv``/budget adds runs to the stored ones).

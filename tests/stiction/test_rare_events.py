@@ -166,16 +166,6 @@ def test_bit_identical_across_chunks_and_schedulers():
         xr.testing.assert_identical(a.drop_attrs(), other.drop_attrs())
 
 
-@pytest.mark.slow
-def test_bit_identical_with_processes():
-    """Worker processes (pickled limit state): the same bits as one thread."""
-    shape = (12, 3)
-    kw = dict(noise_shape=shape, threshold=3.0, seed=9, samples_per_level=200)
-    a = re_.subset_simulation(Linear(shape), chunks=1, scheduler="sync", **kw)
-    c = re_.subset_simulation(Linear(shape), chunks=50, scheduler="processes", **kw)
-    xr.testing.assert_identical(a.drop_attrs(), c.drop_attrs())
-
-
 def test_surface_model_bit_identical_across_chunks():
     psd = table4()
     kw = dict(threshold=0.02, relative_humidity=0.5, shape=(48, 48), spacing=SPACING, seed=2,
