@@ -355,7 +355,8 @@ def failure_probability(
             confidence=confidence, seed=seed, chunks=chunks, scheduler=scheduler, output=sub,
             overwrite=overwrite, token=token,
             response_attrs={"units": units, "quantity": quantity})
-        out.append(ds)
+        # index every dim so humidities with different level/run/failure counts align (outer join)
+        out.append(ds.assign_coords({d: np.arange(n) for d, n in ds.sizes.items() if d not in ds.coords}))
     fill = {"accepted": np.int8(-1), "chain": np.int32(-1)}
     res = xr.concat(out, dim="rh", join="outer", fill_value=fill, combine_attrs="drop_conflicts",
                     data_vars="all", coords="different", compat="equals")
