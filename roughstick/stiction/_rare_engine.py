@@ -17,19 +17,16 @@ import numpy as np
 import xarray as xr
 
 from roughstick._core.conventions import append_history, dataset_attrs
+from roughstick._core.references import cite
 from roughstick.io.netcdf import write
 
 from . import _rare_kernels as _k
 
 __all__: list[str] = []
 
-REFERENCES = (
-    "Au and Beck, Probab. Eng. Mech. 16 (2001) 263-277, doi:10.1016/S0266-8920(01)00019-4 "
-    "(subset simulation, cv with the chain correlation factor gamma); Cotter, Roberts, Stuart and "
-    "White, Stat. Sci. 28 (2013) 424-446, doi:10.1214/13-STS421 (pCN); Papaioannou, Betz, "
-    "Zwirglmaier and Straub, Probab. Eng. Mech. 41 (2015) 89-103, "
-    "doi:10.1016/j.probengmech.2015.06.006 (MCMC in subset simulation, adaptive spread)"
-)
+REFERENCES = cite(("au2001", "subset simulation, cv with the chain correlation factor gamma"),
+                  ("cotter2013", "pCN"),
+                  ("papaioannou2015", "MCMC in subset simulation, adaptive spread"))
 
 _METHODS = ("subset", "monte_carlo")
 _PROPOSALS = ("adaptive", "pcn")
