@@ -23,7 +23,7 @@ def main():
     ap.add_argument("--shape", type=int, nargs=2, default=(128, 128))
     ap.add_argument("--rh", type=float, nargs="+", default=[0.5, 0.6, 0.65, 0.7])
     ap.add_argument("--samples-per-level", type=int, default=500)
-    ap.add_argument("--target-cv", type=float, default=0.3)
+    ap.add_argument("--target-cv", type=float, default=0.3, help="0: no stopping rule")
     ap.add_argument("--max-evaluations", type=int, default=6000)
     ap.add_argument("--level", type=float, default=1e-3)
     ap.add_argument("--output", default="small_stiction_probability.nc")
@@ -33,7 +33,7 @@ def main():
     t0 = time.perf_counter()
     ds = rs.stiction_probability_subset(
         psd, relative_humidity=args.rh, shape=tuple(args.shape), spacing=5e-9, length=args.length,
-        samples_per_level=args.samples_per_level, target_cv=args.target_cv,
+        samples_per_level=args.samples_per_level, target_cv=args.target_cv or None,
         max_evaluations=args.max_evaluations, seed=15)
     wall = time.perf_counter() - t0
     print(f"beam length {args.length * 1e6:.0f} um, Gamma_crit = {ds.attrs['critical_adhesive_energy'] * 1e3:.3f} "

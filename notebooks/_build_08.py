@@ -42,8 +42,10 @@ cells = [
     md(
         "## The designer's question: at which RH does P(stuck) reach 1e-3?\n\n"
         "A 200 µm beam (Eq. 36: Γ_crit ≈ 10 mJ/m²) on Table-4 zones of 128 × 128 pixels at 5 nm, "
-        "P(Γ > Γ_crit) at 50 % and 60 % RH, where it rises through 1e-3. Very few samples per level "
-        "here, so the intervals are wide; docs/rare_events.md gives the larger run."
+        "P(Γ > Γ_crit) at 50 % and 60 % RH. Very few samples per level here, so the intervals are "
+        "wide; docs/rare_events.md gives a larger run (300 per level): P ≈ 5e-3 at 50 %, 6e-3 at 55 %, "
+        "1.5e-2 at 60 % RH, all above 1e-3, so `crossing_humidity` answers −inf: 1e-3 is already "
+        "exceeded at the lowest RH computed, and the crossing lies below 50 % RH for these patches."
     ),
     code(
         "psd = rs.datasets.family_psd('table4')\n"
