@@ -144,6 +144,18 @@ BIBLIOGRAPHY: dict[str, Reference] = {
         checked=False, note="TODO: DOI not checked against a record here (journal, volume and "
                             "pages were)",
     ),
+    "cotter2013": Reference(
+        "S.L. Cotter, G.O. Roberts, A.M. Stuart, D. White",
+        "MCMC methods for functions: modifying old algorithms to make them faster",
+        "Stat. Sci. 28 (2013) 424-446", 2013, "10.1214/13-STS421",
+        checked=False, note="TODO: DOI not checked against a record here",
+    ),
+    "papaioannou2015": Reference(
+        "I. Papaioannou, W. Betz, K. Zwirglmaier, D. Straub",
+        "MCMC algorithms for subset simulation",
+        "Probab. Eng. Mech. 41 (2015) 89-103", 2015, "10.1016/j.probengmech.2015.06.006",
+        checked=False, note="TODO: DOI not checked against a record here",
+    ),
     "wilson1927": Reference(
         "E.B. Wilson", "Probable inference, the law of succession, and statistical inference",
         "J. Am. Stat. Assoc. 22 (1927) 209-212", 1927, "10.1080/01621459.1927.10502953",

@@ -7,9 +7,10 @@ front: Table 4 → Eq. 37 → an ensemble of zone surfaces). Room is left for th
 stochastic model and rare-event probabilities (modules of their own beside these).
 """
 
-from . import beam, interaction_zone, risk
+from . import beam, interaction_zone, rare_events, risk
 from .beam import *  # noqa: F403
 from .interaction_zone import *  # noqa: F403
+from .rare_events import *  # noqa: F403
 from .risk import *  # noqa: F403
 
-__all__ = [name for mod in (beam, risk, interaction_zone) for name in mod.__all__]
+__all__ = [name for mod in (beam, risk, interaction_zone, rare_events) for name in mod.__all__]

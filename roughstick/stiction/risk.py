@@ -6,8 +6,10 @@ from :func:`roughstick.adhesion_summary`), the stiction probability of a beam of
 :math:`s = l`, :mod:`.beam`); equivalently it is the empirical CDF of the predicted crack length at
 :math:`l`. Its uncertainty is a binomial interval (:func:`roughstick.binomial_interval`) and the
 interval of a crossing length an order-statistic one (:func:`roughstick.order_statistic_ranks`).
-(Rare-event probabilities, e.g. subset simulation after Au & Beck 2001, will sit beside this
-module.)
+Small probabilities (1e-3 ... 1e-4 and below, where counting needs 10^5+ surfaces) come from
+the zone model by subset simulation instead: :func:`roughstick.stiction_probability_subset`
+(``method="subset"`` or ``"monte_carlo"``, a ``target_cv`` stopping rule), whose output
+:func:`crossing_humidity` reads like this module's (:mod:`.rare_events`).
 """
 
 from __future__ import annotations

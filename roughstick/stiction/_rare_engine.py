@@ -1,0 +1,599 @@
+"""The engine of :mod:`roughstick.stiction.rare_events`: settings, level store, levels on dask.
+
+Private: the level bookkeeping (one ``_Level`` per subset level, written to one NetCDF file each
+so an interrupted run resumes), the chains of a level evaluated block by block on dask, and the
+estimate, coefficient of variation and interval assembled into the result Dataset.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import os
+import pathlib
+
+import numpy as np
+import xarray as xr
+
+from roughstick._core.conventions import append_history, dataset_attrs
+from roughstick._core.references import cite
+from roughstick.io.netcdf import write
+
+from . import _rare_kernels as _k
+
+__all__: list[str] = []
+
+REFERENCES = cite(("au2001", "subset simulation, cv with the chain correlation factor gamma"),
+                  ("cotter2013", "pCN"),
+                  ("papaioannou2015", "MCMC in subset simulation, adaptive spread"))
+
+_METHODS = ("subset", "monte_carlo")
+_PROPOSALS = ("adaptive", "pcn")
+_FORMAT = "roughstick-rare-events/1"
+
+#: CF attributes of the variables written here (phase 2: move into the conventions table)
+ATTRS = {
+    "run": {"units": "1", "long_name": "independent run index"},
+    "level": {"units": "1", "long_name": "subset-simulation level (0: crude Monte Carlo)"},
+    "sample": {"units": "1", "long_name": "sample index within a level (chain-major order)"},
+    "noise": {"units": "1", "long_name": "white-noise coordinate (flattened standard-normal input of the limit state)"},
+    "failure": {"units": "1", "long_name": "failure sample index"},
+    "failure_probability": {"units": "1", "long_name": "estimated probability of the failure event"},
+    "failure_probability_lower": {"units": "1", "long_name": "lower bound of the confidence interval on the failure probability"},
+    "failure_probability_upper": {"units": "1", "long_name": "upper bound of the confidence interval on the failure probability"},
+    "coefficient_of_variation": {"units": "1", "long_name": "estimated coefficient of variation of the failure probability estimate"},
+    "n_evaluations": {"units": "1", "long_name": "number of model evaluations"},
+    "au_beck_cv": {"units": "1", "long_name": "coefficient of variation from Au and Beck's level formula (chains inside a level only)"},
+    "between_run_cv": {"units": "1", "long_name": "coefficient of variation from the spread of the independent runs (NaN with one run)"},
+    "converged": {"units": "1", "long_name": "1 if the target coefficient of variation was met"},
+    "response": {"long_name": "model response of each state"},
+    "proposal_response": {"long_name": "model response of each proposed state (NaN: not evaluated)"},
+    "accepted": {"units": "1", "long_name": "1 if the state is a newly accepted proposal (or a level-0 sample / chain seed), 0 if rejected, -1 no sample", "flag_values": "-1 0 1"},
+    "chain": {"units": "1", "long_name": "Markov chain of the state (level 0: the sample itself), -1 no sample"},
+    "level_threshold": {"long_name": "threshold the states of the level are conditioned on (NaN at level 0)"},
+    "next_threshold": {"long_name": "intermediate threshold set from the level (the failure threshold at the last level)"},
+    "conditional_probability": {"units": "1", "long_name": "fraction of the level's states above next_threshold"},
+    "correlation_factor": {"units": "1", "long_name": "Au-Beck chain correlation factor gamma of the level"},
+    "level_cv": {"units": "1", "long_name": "coefficient of variation of the level's conditional probability"},
+    "proposal_scale": {"units": "1", "long_name": "proposal scale of each round of the level's chains (pCN sigma, or the adaptive lambda)"},
+    "round": {"units": "1", "long_name": "step of the level's chains (round 0: the seeds)"},
+    "acceptance_rate": {"units": "1", "long_name": "fraction of the level's proposals accepted"},
+    "level_evaluations": {"units": "1", "long_name": "model evaluations of the level"},
+    "run_probability": {"units": "1", "long_name": "failure probability estimated by the run"},
+    "run_cv": {"units": "1", "long_name": "coefficient of variation of the run's estimate"},
+    "run_evaluations": {"units": "1", "long_name": "model evaluations of the run"},
+    "run_levels": {"units": "1", "long_name": "number of levels of the run"},
+    "run_samples": {"units": "1", "long_name": "samples per level of the run"},
+    "run_offset": {"units": "1", "long_name": "index of the run's first level-0 sample (its seed child)"},
+    "failure_noise": {"units": "1", "long_name": "white noise of the failure samples of the last level (surface_from_noise regenerates them)"},
+    "failure_response": {"long_name": "response of the failure samples"},
+    "failure_run": {"units": "1", "long_name": "run of the failure sample"},
+}
+
+
+def _attrs(da, name, **extra):
+    out = da.copy(deep=False)
+    out.attrs = {**ATTRS[name], **extra}
+    return out
+
+
+# ============================================================================ settings and store
+@dataclasses.dataclass(frozen=True)
+class _Settings:
+    method: str
+    samples: int
+    level_probability: float
+    proposal: str
+    scale: float
+    target_acceptance: float
+    max_levels: int
+
+    @property
+    def n_keep(self):
+        return int(round(self.level_probability * self.samples))
+
+
+def _check_settings(method, samples, level_probability, proposal, scale, target_acceptance, max_levels,
+                    target_cv, max_evaluations, confidence):
+    if method not in _METHODS:
+        raise ValueError(f"method must be one of {_METHODS}, got {method!r}.")
+    if not (isinstance(samples, (int, np.integer)) and samples >= 2):
+        raise ValueError(f"samples_per_level must be an integer >= 2, got {samples!r}.")
+    if not 0 < level_probability < 1:
+        raise ValueError(f"level_probability must lie in (0, 1) (0.1 is customary), got {level_probability!r}.")
+    if method == "subset":
+        nk = level_probability * samples
+        if nk < 1 or samples - nk < 1 or abs(nk - round(nk)) > 1e-9:
+            raise ValueError(
+                f"level_probability * samples_per_level = {nk:g} must be a whole number of chains "
+                f"between 1 and samples_per_level - 1; e.g. samples_per_level=1000 with "
+                f"level_probability=0.1.")
+    if proposal not in _PROPOSALS:
+        raise ValueError(f"proposal must be one of {_PROPOSALS}, got {proposal!r}.")
+    if not 0 < scale <= 1:
+        raise ValueError(f"proposal_scale (the pCN step sqrt(1 - rho^2)) must lie in (0, 1], got {scale!r}.")
+    if not 0 < target_acceptance < 1:
+        raise ValueError(f"target_acceptance must lie in (0, 1), got {target_acceptance!r}.")
+    if not (isinstance(max_levels, (int, np.integer)) and max_levels >= 1):
+        raise ValueError(f"max_levels must be an integer >= 1, got {max_levels!r}.")
+    if target_cv is not None and not target_cv > 0:
+        raise ValueError(f"target_cv must be positive (e.g. 0.3) or None, got {target_cv!r}.")
+    if max_evaluations is not None and not max_evaluations >= samples:
+        raise ValueError(f"max_evaluations ({max_evaluations!r}) must be at least samples_per_level ({samples}).")
+    if not 0 < confidence < 1:
+        raise ValueError(f"confidence must lie in (0, 1), got {confidence!r}.")
+
+
+class _Store:
+    """A folder of one NetCDF file per completed level plus a manifest (resume)."""
+
+    def __init__(self, folder, token, overwrite, info, rattrs):
+        import shutil
+
+        self.rattrs = rattrs
+        self.folder = pathlib.Path(folder)
+        self.token = token
+        if self.folder.exists() and not self.folder.is_dir():
+            raise FileExistsError(f"output {str(self.folder)!r} exists and is not a folder; choose another path.")
+        manifest = self.folder / "manifest.json"
+        if self.folder.exists() and any(self.folder.iterdir()):
+            old = json.loads(manifest.read_text()) if manifest.exists() else None
+            if old is None or old.get("params_hash") != token:
+                if not overwrite:
+                    what = ("holds a run with different parameters" if old is not None
+                            else "is not empty and holds no rare-event manifest")
+                    raise FileExistsError(
+                        f"output folder {str(self.folder)!r} {what}; refusing to mix them. Resume with "
+                        "the original parameters, pass overwrite=True to replace it, or choose another "
+                        "folder.")
+                shutil.rmtree(self.folder)
+        self.folder.mkdir(parents=True, exist_ok=True)
+        for p in self.folder.glob("*.tmp*"):
+            p.unlink()
+        if not manifest.exists():
+            tmp = manifest.with_suffix(".json.tmp")
+            tmp.write_text(json.dumps({"format": _FORMAT, "params_hash": token, **info}, indent=1))
+            os.replace(tmp, manifest)
+
+    def path(self, run, level):
+        return self.folder / f"run{run:03d}-level{level:02d}.nc"
+
+    def load(self, run, level):
+        p = self.path(run, level)
+        if not p.exists():
+            return None
+        with xr.open_dataset(p) as ds:
+            ds = ds.load()
+        if ds.attrs.get("roughstick_params_hash") != self.token:
+            return None
+        return _Level.from_dataset(ds)
+
+    def save(self, run, level, lev):
+
+        ds = lev.to_dataset(self.rattrs)
+        ds.attrs = {"roughstick_params_hash": self.token, "run": run, "level": level,
+                    "Conventions": "CF-1.10", "title": "one completed subset-simulation level"}
+        write(ds, self.path(run, level), compute=True)
+
+
+# ============================================================================ one level
+_LEVEL_VARS = {
+    "response": "response of each state", "proposal_response": "response of each proposal",
+    "accepted": "1 if the state is an accepted proposal or a seed", "chain": "chain of the state",
+    "keep_noise": "white noise of the states kept (next seeds or failures)",
+    "keep_response": "response of the states kept", "scales": "proposal scale of each round",
+    "spread": "spread of the seeds per white-noise coordinate",
+    "threshold": "conditioning threshold", "next_threshold": "next intermediate threshold",
+    "probability": "conditional probability", "gamma": "chain correlation factor",
+    "cv2": "squared coefficient of variation", "final": "1 if last level",
+    "evaluations": "model evaluations", "noise_shape": "shape of the white noise", "sample": "sample",
+}
+_RESPONSE_VARS = ("response", "proposal_response", "keep_response", "threshold", "next_threshold")
+@dataclasses.dataclass
+class _Level:
+    response: np.ndarray
+    proposal: np.ndarray
+    accepted: np.ndarray
+    chain: np.ndarray
+    threshold: float          # conditioning threshold (-inf at level 0)
+    next_threshold: float
+    final: bool
+    probability: float
+    gamma: float
+    cv2: float
+    evaluations: int
+    scales: np.ndarray        # proposal scale of each round (NaN at round 0 / level 0)
+    spread: np.ndarray        # per-coordinate spread of the seeds (ones at level 0)
+    keep_noise: np.ndarray = None   # seeds of the next level, or failure samples of the last
+    keep_response: np.ndarray = None
+
+    @property
+    def acceptance(self):
+        prop = ~np.isnan(self.proposal)
+        return float(self.accepted[prop].mean()) if prop.any() else float("nan")
+
+    def to_dataset(self, rattrs):
+        n = self.response.size
+        kn = self.keep_noise.reshape(self.keep_noise.shape[0], -1)
+        ds = xr.Dataset(
+            {
+                "response": ("sample", self.response),
+                "proposal_response": ("sample", self.proposal),
+                "accepted": ("sample", self.accepted.astype(np.int8)),
+                "chain": ("sample", self.chain.astype(np.int32)),
+                "keep_noise": (("keep", "noise"), kn),
+                "keep_response": ("keep", self.keep_response),
+                "scales": ("round", self.scales),
+                "spread": ("noise", self.spread.ravel()),
+            },
+            coords={"sample": np.arange(n)},
+        )
+        for name in ("threshold", "next_threshold", "probability", "gamma", "cv2"):
+            ds[name] = xr.DataArray(float(getattr(self, name)))
+        ds["final"] = xr.DataArray(np.int8(self.final))
+        ds["evaluations"] = xr.DataArray(np.int64(self.evaluations))
+        ds["noise_shape"] = xr.DataArray(np.asarray(self.spread.shape, dtype=np.int64), dims="noise_axis")
+        for name, long_name in _LEVEL_VARS.items():
+            units = rattrs.get("units", "1") if name in _RESPONSE_VARS else "1"
+            ds[name].attrs = {"units": units, "long_name": long_name}
+        return ds
+
+    @classmethod
+    def from_dataset(cls, ds):
+        shape = tuple(int(v) for v in ds["noise_shape"].values)
+        kn = ds["keep_noise"].values.reshape((ds.sizes["keep"],) + shape)
+        return cls(
+            response=ds["response"].values, proposal=ds["proposal_response"].values,
+            accepted=ds["accepted"].values.astype(np.int8), chain=ds["chain"].values.astype(np.int64),
+            threshold=float(ds["threshold"]), next_threshold=float(ds["next_threshold"]),
+            final=bool(int(ds["final"])), probability=float(ds["probability"]),
+            gamma=float(ds["gamma"]), cv2=float(ds["cv2"]), evaluations=int(ds["evaluations"]),
+            scales=ds["scales"].values, spread=ds["spread"].values.reshape(shape),
+            keep_noise=kn, keep_response=ds["keep_response"].values,
+        )
+
+
+# ============================================================================ dask
+def _resolve_scheduler(scheduler):
+    if scheduler is None:
+        return None, "threads"
+    if isinstance(scheduler, str) and scheduler in ("threads", "threading", "sync", "synchronous", "processes"):
+        return None, scheduler
+    try:
+        from distributed import Client
+    except ImportError as exc:  # pragma: no cover
+        raise ValueError("scheduler addresses need the 'distributed' package") from exc
+    if isinstance(scheduler, Client):
+        return scheduler, None
+    if isinstance(scheduler, str) and "://" in scheduler:
+        return Client(scheduler, set_as_default=False), None
+    raise ValueError(f"scheduler must be None, 'threads', 'sync', 'processes', a 'tcp://host:port' "
+                     f"address or a distributed.Client; got {scheduler!r}.")
+
+
+def _compute(fn, model, blocks, scheduler, **kwargs):
+    """Evaluate ``fn(model, block, **kwargs)`` for each block on dask; results in block order."""
+    import dask
+
+    client, local = _resolve_scheduler(scheduler)
+    model_d = dask.delayed(model, pure=True, traverse=False)
+    tasks = [dask.delayed(fn, pure=False)(model_d, b, **kwargs) for b in blocks]
+    try:
+        if client is not None:
+            return client.gather(client.compute(tasks))
+        return list(dask.compute(*tasks, scheduler=local))
+    finally:
+        if client is not None and not _is_client(scheduler):
+            client.close()
+
+
+def _is_client(obj):
+    try:
+        from distributed import Client
+    except ImportError:  # pragma: no cover
+        return False
+    return isinstance(obj, Client)
+
+
+def _level0_block(model, indices, *, entropy, spawn_key, noise_shape):
+    return _k.evaluate_samples(model, indices, entropy=entropy, spawn_key=spawn_key, noise_shape=noise_shape)
+
+
+def _round_block(model, block, *, entropy, spawn_key, run, level, step, threshold, rho, sigma):
+    out = []
+    for c, z, y in block:
+        rng = _k.step_rng(entropy, spawn_key, run, level, c, step)
+        out.append(_k.chain_step(model, z, y, threshold=threshold, rho=rho, sigma=sigma, rng=rng))
+    return out
+
+
+def _blocks(items, size):
+    return [items[i:i + size] for i in range(0, len(items), size)]
+
+
+# ============================================================================ the engine
+class _Engine:
+    def __init__(self, model, noise_shape, threshold, settings, root, chunks, scheduler, store):
+        self.model = model
+        self.noise_shape = tuple(int(v) for v in noise_shape)
+        self.y_star = float(threshold)
+        self.s = settings
+        self.entropy = root.entropy
+        self.spawn_key = tuple(root.spawn_key)
+        self.chunks = int(chunks)
+        self.scheduler = scheduler
+        self.store = store
+
+    # -- level 0: independent samples ------------------------------------------------------
+    def level0(self, run, offset, n):
+        idx = list(range(offset, offset + n))
+        parts = _compute(_level0_block, self.model, _blocks(idx, self.chunks), self.scheduler,
+                         entropy=self.entropy, spawn_key=self.spawn_key, noise_shape=self.noise_shape)
+        y = np.concatenate(parts) if parts else np.empty(0)
+        lev = self._finish(y, np.full(n, np.nan), np.ones(n, np.int8), np.arange(n),
+                           threshold=-np.inf, evaluations=n, scales=np.full(1, np.nan),
+                           spread=np.ones(self.noise_shape), last=self.s.max_levels == 1)
+
+        def noise_of(sel):
+            return np.stack([_k.sample_noise(offset + int(i), entropy=self.entropy,
+                                             spawn_key=self.spawn_key, noise_shape=self.noise_shape)
+                             for i in sel]) if len(sel) else np.empty((0,) + self.noise_shape)
+
+        return self._keep(lev, noise_of)
+
+    # -- level j >= 1: conditional chains, advanced in rounds ----------------------------------
+    def level(self, run, j, prev, scale):
+        """Grow the chains of level ``j`` from the seeds kept by ``prev``; returns (level, scale)."""
+        n = self.s.samples
+        seeds_z, seeds_y = prev.keep_noise, prev.keep_response
+        m = seeds_y.size
+        lengths = _k.chain_lengths(n, m)
+        b = prev.next_threshold
+        if self.s.proposal == "adaptive" and m > 1:
+            spread = seeds_z.std(axis=0, ddof=1)
+        else:
+            spread = np.ones(self.noise_shape)
+        L = int(lengths.max())
+        ys = np.full((m, L), np.nan)
+        yps = np.full((m, L), np.nan)
+        accs = np.zeros((m, L), np.int8)
+        ys[:, 0] = seeds_y
+        accs[:, 0] = 1
+        zs = [np.array(z, dtype=float) for z in seeds_z]
+        scales = np.full(L, np.nan)
+        per_task = max(1, self.chunks)
+        for k in range(1, L):
+            scales[k] = scale
+            rho, sigma = _k.proposal_scales(spread, scale)
+            active = [c for c in range(m) if lengths[c] > k]
+            items = [(c, zs[c], ys[c, k - 1]) for c in active]
+            parts = _compute(_round_block, self.model, _blocks(items, per_task), self.scheduler,
+                             entropy=self.entropy, spawn_key=self.spawn_key, run=run, level=j, step=k,
+                             threshold=b, rho=rho, sigma=sigma)
+            results = [r for part in parts for r in part]
+            for c, (z_new, y_new, yp, a) in zip(active, results, strict=True):
+                zs[c] = z_new
+                ys[c, k], yps[c, k], accs[c, k] = y_new, yp, a
+            if self.s.proposal == "adaptive":
+                scale = _k.adapt_scale(scale, float(np.mean([r[3] for r in results])),
+                                       self.s.target_acceptance, k)
+        keep = np.arange(L)[None, :] < lengths[:, None]
+        y, yp, acc = ys[keep], yps[keep], accs[keep]
+        chain = np.repeat(np.arange(m), lengths)
+        lev = self._finish(y, yp, acc, chain, threshold=b, evaluations=int(n - m), scales=scales,
+                           spread=spread, last=j >= self.s.max_levels - 1)
+        starts = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+        rhos_sigmas = [(None, None)] + [_k.proposal_scales(spread, scales[k]) for k in range(1, L)]
+
+        def noise_of(sel):
+            out = []
+            sel = np.asarray(sel, dtype=np.int64)
+            for c in np.unique(chain[sel]):
+                steps = sel[chain[sel] == c] - starts[c]
+                a = acc[starts[c]:starts[c] + lengths[c]]
+                out.extend(_k.replay_chain(
+                    seeds_z[c], a, steps, rhos=[r for r, _ in rhos_sigmas], sigmas=[s for _, s in rhos_sigmas],
+                    rng_of_step=lambda k, c=int(c): _k.step_rng(self.entropy, self.spawn_key, run, j, c, k)))
+            return np.stack(out) if out else np.empty((0,) + self.noise_shape)
+
+        return self._keep(lev, noise_of), scale
+
+    def _finish(self, y, yp, acc, chain, *, threshold, evaluations, scales, spread, last=False):
+        s = self.s
+        n = y.size
+        if s.method == "monte_carlo" or last:
+            b, final = self.y_star, True
+        else:
+            b = _k.intermediate_threshold(y, s.n_keep)
+            final = b >= self.y_star
+            if final:
+                b = self.y_star
+        ind = np.where(np.isnan(y), False, y > b)
+        if not final and not ind.any():  # an atom at the top of the response: cannot go on
+            b, final = self.y_star, True
+            ind = np.where(np.isnan(y), False, y > b)
+        p = float(ind.mean())
+        if np.isfinite(threshold):
+            per_chain = [ind[chain == c] for c in np.unique(chain)]
+            gamma = _k.correlation_factor(per_chain, p)
+        else:
+            gamma = 0.0
+        return _Level(response=y, proposal=yp, accepted=acc, chain=chain, threshold=float(threshold),
+                      next_threshold=float(b), final=bool(final), probability=p, gamma=float(gamma),
+                      cv2=_k.level_cv2(p, n, gamma), evaluations=int(evaluations), scales=scales,
+                      spread=spread)
+
+    def _keep(self, lev, noise_of):
+        sel = np.flatnonzero(np.where(np.isnan(lev.response), False, lev.response > lev.next_threshold))
+        lev.keep_noise = noise_of(sel)
+        lev.keep_response = lev.response[sel]
+        return lev
+
+    # -- one run ------------------------------------------------------------------------------
+    def run(self, r, offset, n):
+        levels = []
+        lev = self._load_or(r, 0, lambda: (self.level0(r, offset, n), None))
+        levels.append(lev)
+        scale = self.s.scale
+        while not lev.final:
+            j = len(levels)
+            if j > 1 and self.s.proposal == "adaptive":  # carry the scale the last level ended with
+                scale = _last_scale(levels[-1], self.s)
+            prev = lev
+            lev = self._load_or(r, j, lambda: self.level(r, j, prev, scale))
+            levels.append(lev)
+        return levels
+
+    def _load_or(self, r, j, compute):
+        if self.store is not None:
+            lev = self.store.load(r, j)
+            if lev is not None:
+                return lev
+        lev, _ = compute()
+        if self.store is not None:
+            self.store.save(r, j, lev)
+        return lev
+
+
+def _last_scale(lev, s):
+    """The scale after the last round of a level (replays the deterministic update)."""
+    sc = lev.scales
+    k = int(np.max(np.flatnonzero(np.isfinite(sc)))) if np.isfinite(sc).any() else 0
+    if k == 0:
+        return s.scale
+    prop = ~np.isnan(lev.proposal)
+    # acceptance of the last round: states at step k of every chain
+    steps = np.concatenate([np.arange(c) for c in np.bincount(lev.chain)])
+    sel = prop & (steps == k)
+    return _k.adapt_scale(float(sc[k]), float(lev.accepted[sel].mean()), s.target_acceptance, k)
+
+
+def _run_summary(levels):
+    p = float(np.prod([lv.probability for lv in levels]))
+    cv2 = float(sum(lv.cv2 for lv in levels))
+    return p, math.sqrt(cv2), int(sum(lv.evaluations for lv in levels))
+
+
+
+def _estimate(runs, sizes, method, confidence):
+    """Estimate, cv and interval from the runs (see subset_simulation's Notes)."""
+    from scipy.special import stdtrit
+
+    out = {}
+    if method == "monte_carlo":
+        k = sum(int(round(lv[0].probability * n)) for lv, n in zip(runs, sizes, strict=True))
+        tot = sum(sizes)
+        p = k / tot
+        out["p"] = p
+        out["cv"] = out["au_beck_cv"] = math.sqrt((1 - p) / (tot * p)) if p > 0 else math.inf
+        out["between_run_cv"] = math.nan
+        out["lo"], out["hi"] = _k.wilson_interval(k, tot, confidence)
+        out["interval"] = "wilson"
+        return out
+    summ = [_run_summary(lv) for lv in runs]
+    ps = np.array([a[0] for a in summ])
+    cvs = np.array([a[1] for a in summ])
+    R = ps.size
+    p = float(ps.mean())
+    au = float(math.sqrt(np.mean(cvs**2) / R)) if np.all(np.isfinite(cvs)) else math.inf
+    between = float(ps.std(ddof=1) / math.sqrt(R) / p) if R >= 2 and p > 0 else math.nan
+    out["p"], out["au_beck_cv"], out["between_run_cv"] = p, au, between
+    if R >= 3 and np.isfinite(between) and between > au:
+        cv, q, how = between, float(stdtrit(R - 1, 0.5 + confidence / 2)), f"log-normal, between-run cv, Student t with {R - 1} dof"
+    else:
+        cv, q, how = au, None, "log-normal, Au-Beck cv"
+    out["cv"] = cv
+    if p > 0:
+        out["lo"], out["hi"] = _k.lognormal_interval(p, cv, confidence, quantile=q)
+    else:  # no failure seen: the levels reached times a Wilson bound on 0 out of N
+        bounds = [float(np.prod([lv.probability for lv in levels[:-1]]))
+                  * _k.wilson_interval(0, levels[-1].response.size, confidence)[1] for levels in runs]
+        out["lo"], out["hi"], out["cv"] = 0.0, min(bounds), math.inf
+    out["interval"] = how
+    return out
+
+
+def _to_dataset(runs, sizes, offsets, s, threshold, target_cv, converged, confidence, root, rattrs, method):
+    R = len(runs)
+    L = max(len(lv) for lv in runs)
+    N = max(sizes)
+    resp = np.full((R, L, N), np.nan)
+    prop = np.full((R, L, N), np.nan)
+    acc = np.full((R, L, N), -1, np.int8)
+    chain = np.full((R, L, N), -1, np.int32)
+    per = {k: np.full((R, L), np.nan) for k in ("level_threshold", "next_threshold", "conditional_probability",
+                                               "correlation_factor", "level_cv",
+                                               "acceptance_rate", "level_evaluations")}
+    fails, frun, fresp = [], [], []
+    n_round = max(lv.scales.size for levels in runs for lv in levels)
+    scale = np.full((R, L, n_round), np.nan)
+    for r, levels in enumerate(runs):
+        for j, lv in enumerate(levels):
+            n = lv.response.size
+            resp[r, j, :n] = lv.response
+            prop[r, j, :n] = lv.proposal
+            acc[r, j, :n] = lv.accepted
+            chain[r, j, :n] = lv.chain
+            per["level_threshold"][r, j] = lv.threshold if np.isfinite(lv.threshold) else np.nan
+            per["next_threshold"][r, j] = lv.next_threshold
+            per["conditional_probability"][r, j] = lv.probability
+            per["correlation_factor"][r, j] = lv.gamma
+            per["level_cv"][r, j] = math.sqrt(lv.cv2)
+            scale[r, j, :lv.scales.size] = lv.scales
+            per["acceptance_rate"][r, j] = lv.acceptance
+            per["level_evaluations"][r, j] = lv.evaluations
+        last = levels[-1]
+        if last.final and last.keep_noise is not None and last.keep_noise.shape[0]:
+            fails.append(last.keep_noise.reshape(last.keep_noise.shape[0], -1))
+            frun.extend([r] * last.keep_noise.shape[0])
+            fresp.extend(last.keep_response.tolist())
+    summ = [_run_summary(lv) for lv in runs]
+    est = _estimate(runs, sizes, method, confidence)
+    p, cv, lo, hi, interval = est["p"], est["cv"], est["lo"], est["hi"], est["interval"]
+    rdims = ("run", "level", "sample")
+    ds = xr.Dataset(coords={"run": np.arange(R), "level": np.arange(L), "sample": np.arange(N)})
+    ds["response"] = _attrs(xr.DataArray(resp, dims=rdims), "response", **rattrs)
+    ds["proposal_response"] = _attrs(xr.DataArray(prop, dims=rdims), "proposal_response", **rattrs)
+    ds["accepted"] = _attrs(xr.DataArray(acc, dims=rdims), "accepted")
+    ds["chain"] = _attrs(xr.DataArray(chain, dims=rdims), "chain")
+    for k, v in per.items():
+        extra = rattrs if k in ("level_threshold", "next_threshold") else {}
+        ds[k] = _attrs(xr.DataArray(v, dims=("run", "level")), k, **extra)
+    ds["proposal_scale"] = _attrs(xr.DataArray(scale, dims=("run", "level", "round")), "proposal_scale")
+    ds["run_probability"] = _attrs(xr.DataArray([a[0] for a in summ], dims="run"), "run_probability")
+    ds["run_cv"] = _attrs(xr.DataArray([a[1] for a in summ], dims="run"), "run_cv")
+    ds["run_evaluations"] = _attrs(xr.DataArray(np.array([a[2] for a in summ], np.int64), dims="run"), "run_evaluations")
+    ds["run_levels"] = _attrs(xr.DataArray(np.array([len(lv) for lv in runs], np.int64), dims="run"), "run_levels")
+    ds["run_samples"] = _attrs(xr.DataArray(np.array(sizes, np.int64), dims="run"), "run_samples")
+    ds["run_offset"] = _attrs(xr.DataArray(np.array(offsets, np.int64), dims="run"), "run_offset")
+    if fails:
+        ds["failure_noise"] = _attrs(xr.DataArray(np.concatenate(fails), dims=("failure", "noise")), "failure_noise")
+        ds["failure_run"] = _attrs(xr.DataArray(np.array(frun, np.int64), dims="failure"), "failure_run")
+        ds["failure_response"] = _attrs(xr.DataArray(np.array(fresp), dims="failure"), "failure_response", **rattrs)
+    ds["failure_probability"] = _attrs(xr.DataArray(p), "failure_probability")
+    ds["failure_probability_lower"] = _attrs(xr.DataArray(float(lo)), "failure_probability_lower")
+    ds["failure_probability_upper"] = _attrs(xr.DataArray(float(hi)), "failure_probability_upper")
+    ds["coefficient_of_variation"] = _attrs(xr.DataArray(float(cv)), "coefficient_of_variation")
+    ds["au_beck_cv"] = _attrs(xr.DataArray(float(est["au_beck_cv"])), "au_beck_cv")
+    ds["between_run_cv"] = _attrs(xr.DataArray(float(est["between_run_cv"])), "between_run_cv")
+    ds["n_evaluations"] = _attrs(xr.DataArray(np.int64(sum(a[2] for a in summ))), "n_evaluations")
+    ds["converged"] = _attrs(xr.DataArray(np.int8(bool(converged) and p > 0)), "converged")
+    ds = ds.assign_coords(round=np.arange(n_round))
+    for c in ("run", "level", "sample", "round"):
+        ds[c].attrs = dict(ATTRS[c])
+    recorded = int(root.entropy) if int(root.entropy) < 2**63 else str(root.entropy)
+    ds.attrs = dataset_attrs(
+        "failure probability by " + ("subset simulation" if method == "subset" else "crude Monte Carlo"),
+        references=REFERENCES, method=method, threshold=float(threshold),
+        samples_per_level=int(s.samples), level_probability=float(s.level_probability),
+        proposal=s.proposal, proposal_scale=float(s.scale),
+        target_acceptance=float(s.target_acceptance), confidence_level=float(confidence),
+        interval_method=interval, target_cv=float(target_cv) if target_cv is not None else "none",
+        seed=recorded, noise_shape=list(runs[0][0].keep_noise.shape[1:]) if runs[0][0].keep_noise is not None else [],
+    )
+    append_history(ds, f"subset_simulation(method={method!r}, threshold={threshold:.6g}, runs={R}, "
+                       f"evaluations={int(ds.n_evaluations)})")
+    return ds
+
+

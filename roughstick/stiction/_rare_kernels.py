@@ -1,0 +1,215 @@
+"""Plain-numpy kernels of the rare-event estimators in :mod:`roughstick.stiction.rare_events`.
+
+Subset simulation (Au & Beck 2001) in the standard-normal space of the white noise that
+roughstick's generator filters by the PSD, with preconditioned Crank-Nicolson (pCN) moves
+
+    z' = rho z + sqrt(1 - rho^2) xi,     xi ~ N(0, I),
+
+which leave N(0, I) invariant, so a chain conditioned on {Y(z) > b} needs no Metropolis ratio
+but the indicator: accept z' iff Y(z') > b (Cotter, Roberts, Stuart & White 2013; Papaioannou,
+Betz, Zwirglmaier & Straub 2015 for its use in subset simulation).
+
+Reproducibility: every random draw comes from one generator per (run, level, chain) or per
+level-0 sample (:func:`chain_rng`, :func:`sample_rng`), each drawing a fixed number of normals per
+step whatever happens, so a chain is replayed exactly from its seed state and its acceptance flags
+(:func:`replay_chain`) and the result does not depend on how chains are grouped into tasks.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__: list[str] = []
+
+#: spawn-key tag of the chains of levels >= 1: (run, level, chain) keys have 4 entries, the
+#: level-0 keys (realization index,) one, so they can never collide.
+_CHAIN_TAG = 0x5355  # "SU"
+
+
+def sample_rng(entropy, spawn_key, index: int) -> np.random.Generator:
+    """Generator of level-0 sample ``index``: one SeedSequence child per sample index."""
+    ss = np.random.SeedSequence(entropy, spawn_key=tuple(spawn_key) + (int(index),))
+    return np.random.default_rng(ss)
+
+
+def step_rng(entropy, spawn_key, run: int, level: int, chain: int, step: int) -> np.random.Generator:
+    """Generator of the proposal of ``step`` of ``chain`` at ``level`` (>= 1) of run ``run``.
+
+    One SeedSequence child per (run, level, chain, step): a chain's proposals do not depend on
+    the order in which chains or steps are evaluated, and any state is replayed from the seed and
+    the acceptance flags alone.
+    """
+    key = tuple(spawn_key) + (_CHAIN_TAG, int(run), int(level), int(chain), int(step))
+    return np.random.default_rng(np.random.SeedSequence(entropy, spawn_key=key))
+
+
+def proposal_scales(spread: np.ndarray, scale: float):
+    """Per-coordinate pCN parameters: ``sigma = min(1, scale * spread)``, ``rho = sqrt(1 - sigma^2)``.
+
+    ``spread`` is the standard deviation of the level's seeds in each white-noise coordinate
+    (adaptive conditional sampling, Papaioannou et al. 2015): coordinates the failure region
+    constrains get smaller steps. Each coordinate's move ``rho z + sigma xi`` leaves N(0, 1)
+    invariant, so the prior, hence the PSD, is kept exactly.
+    """
+    sigma = np.minimum(1.0, scale * spread)
+    return np.sqrt(1.0 - sigma * sigma), sigma
+
+
+def pcn_move(z: np.ndarray, xi: np.ndarray, rho, sigma) -> np.ndarray:
+    """The pCN proposal ``rho z + sigma xi`` (one expression, used by the chains and the replay)."""
+    return rho * z + sigma * xi
+
+
+def evaluate_samples(model, indices, *, entropy, spawn_key, noise_shape):
+    """Level 0: responses of the independent samples ``indices`` (float array)."""
+    out = np.empty(len(indices))
+    for k, i in enumerate(indices):
+        z = sample_rng(entropy, spawn_key, i).standard_normal(noise_shape)
+        out[k] = model(z)
+    return out
+
+
+def sample_noise(index, *, entropy, spawn_key, noise_shape):
+    """The white noise of level-0 sample ``index`` (regenerated from its seed)."""
+    return sample_rng(entropy, spawn_key, index).standard_normal(noise_shape)
+
+
+def chain_step(model, z, y, *, threshold, rho, sigma, rng):
+    """One conditional move: ``(z_new, y_new, proposal_response, accepted)``.
+
+    Accepted iff the proposal's response is strictly above ``threshold`` (NaN: rejected); the
+    pCN move needs no Metropolis ratio since it is reversible for the N(0, I) prior.
+    """
+    cand = pcn_move(z, rng.standard_normal(np.shape(z)), rho, sigma)
+    yc = float(model(cand))
+    if yc > threshold:
+        return cand, yc, yc, 1
+    return z, y, yc, 0
+
+
+def replay_chain(z0, accepted, steps, *, rhos, sigmas, rng_of_step):
+    """States of a chain at ``steps`` from its seed and acceptance flags (no model evaluation).
+
+    ``rhos[k]``, ``sigmas[k]`` are the move parameters of step ``k`` and ``rng_of_step(k)`` its
+    generator: the same normals combined by the same :func:`pcn_move`, so the states are
+    bit-identical to those the chain visited.
+    """
+    want = sorted(set(int(s) for s in steps))
+    out = {}
+    z = np.array(z0, dtype=float, copy=True)
+    last = want[-1] if want else 0
+    for k in range(0, last + 1):
+        if k > 0 and accepted[k]:
+            z = pcn_move(z, rng_of_step(k).standard_normal(z.shape), rhos[k], sigmas[k])
+        if k in want:
+            out[k] = z.copy()
+    return [out[int(s)] for s in steps]
+
+
+def chain_lengths(n_samples: int, n_chains: int) -> np.ndarray:
+    """Split ``n_samples`` states over ``n_chains`` chains as evenly as possible (first longer)."""
+    base, extra = divmod(int(n_samples), int(n_chains))
+    return np.array([base + (1 if c < extra else 0) for c in range(n_chains)], dtype=np.int64)
+
+
+def intermediate_threshold(response: np.ndarray, n_keep: int) -> float:
+    """Au & Beck's threshold: midway between the ``n_keep``-th and ``n_keep+1``-th largest.
+
+    NaN responses count as -inf (never above any threshold).
+    """
+    y = np.where(np.isnan(response), -np.inf, response)
+    top = np.sort(y)[::-1]
+    a, b = top[n_keep - 1], top[n_keep]
+    if not np.isfinite(b):
+        return float(a) if np.isfinite(a) else -np.inf
+    return float(0.5 * (a + b))
+
+
+def correlation_factor(indicator_chains, p: float) -> float:
+    r"""Au & Beck's :math:`\gamma` of one level from the failure indicators of its chains.
+
+    .. math:: \gamma = 2\sum_{k=1}^{L-1}\Big(1 - \frac{k}{L}\Big)\frac{R(k)}{R(0)},\quad
+              R(k) = \overline{I_{c,l} I_{c,l+k}} - p^2,\quad R(0) = p(1 - p),
+
+    the average over all pairs at lag :math:`k` inside a chain, :math:`L` the mean chain
+    length (chains of unequal length are allowed). 0 when :math:`p \in \{0, 1\}`.
+    """
+    if not 0.0 < p < 1.0:
+        return 0.0
+    chains = [np.asarray(c, dtype=float) for c in indicator_chains if len(c) > 0]
+    n = sum(c.size for c in chains)
+    L = n / len(chains)
+    kmax = max(c.size for c in chains) - 1
+    r0 = p * (1.0 - p)
+    gamma = 0.0
+    for k in range(1, kmax + 1):
+        num = 0.0
+        pairs = 0
+        for c in chains:
+            if c.size > k:
+                num += float(np.dot(c[:-k], c[k:]))
+                pairs += c.size - k
+        if pairs == 0 or k >= L:
+            break
+        gamma += 2.0 * (1.0 - k / L) * ((num / pairs - p * p) / r0)
+    return float(gamma)
+
+
+def level_cv2(p: float, n: int, gamma: float) -> float:
+    """Squared cv of one level's conditional probability, (1-p)/(n p) (1 + gamma); inf if p = 0."""
+    if p <= 0.0:
+        return math.inf
+    return (1.0 - p) / (n * p) * (1.0 + gamma)
+
+
+def lognormal_interval(p: float, cv: float, confidence: float, quantile: float | None = None):
+    """Interval ``p sqrt(1 + cv^2) exp(+-z s)``, ``s^2 = log(1 + cv^2)``: log-normal estimator.
+
+    Inverts a log-normal sampling distribution of the estimate with mean the true p and
+    coefficient of variation ``cv``.
+
+    The subset-simulation estimator is a product of level fractions, nearly log-normal; this
+    interval stays positive and is asymmetric like its sampling distribution.
+    """
+    from scipy.special import ndtri
+
+    if not (p > 0.0 and np.isfinite(cv)):
+        return (np.nan, np.nan)
+    z = float(ndtri(0.5 + confidence / 2.0)) if quantile is None else float(quantile)
+    s = math.sqrt(math.log1p(cv * cv))
+    # log P_hat = log p - s^2/2 + s eps (mean p): invert for p
+    centre = p * math.sqrt(1.0 + cv * cv)
+    return (centre * math.exp(-z * s), centre * math.exp(z * s))
+
+
+def wilson_interval(k: int, n: int, confidence: float):
+    """Wilson score interval of a binomial proportion k / n."""
+    from scipy.special import ndtri
+
+    if n <= 0:
+        return (np.nan, np.nan)
+    z = float(ndtri(0.5 + confidence / 2.0))
+    denom = n + z * z
+    centre = (k + z * z / 2.0) / denom
+    half = z / denom * math.sqrt(k * (n - k) / n + z * z / 4.0)
+    lo = 0.0 if k == 0 else max(centre - half, 0.0)
+    hi = 1.0 if k == n else min(centre + half, 1.0)
+    return (lo, hi)
+
+
+def adapt_scale(scale: float, acceptance: float, target: float, update: int) -> float:
+    """Robbins-Monro update of the proposal scale after the ``update``-th round of a level.
+
+    ``log scale += (acceptance - target) / sqrt(update)`` (Papaioannou et al. 2015, Algorithm 5):
+    larger steps when too many proposals are accepted, smaller when too few. Applied between
+    rounds (one step of every chain of the level), so all chains of a round share one kernel and
+    the result does not depend on how chains are grouped into tasks.
+    """
+    if not np.isfinite(acceptance):
+        return scale
+    return float(math.exp(math.log(scale) + (acceptance - target) / math.sqrt(update)))
+
+
+# --------------------------------------------------------------------------------------------

@@ -1,0 +1,123 @@
+"""The rough-surface limit states of :mod:`roughstick.stiction.rare_events` (private).
+
+White noise -> surface (Eqs. 33-34) -> modified-DMT curve (Eq. 16) -> adhesive energy (Eq. 13)
+or pull-off pressure, through the public functions of :mod:`roughstick.surface` and
+:mod:`roughstick.contact` only (``surface_filter``, ``rough_contact_curves``,
+``adhesion_summary``), so a faster contact kernel behind them is picked up unchanged.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.fft
+import xarray as xr
+
+from roughstick.contact import adhesion_summary, rough_contact_curves
+from roughstick.surface import surface_filter
+
+__all__: list[str] = []
+
+QUANTITIES = ("adhesive_energy", "pull_off_pressure")
+
+
+class NoiseToSurface:
+    r"""Map a standard-normal field ``w`` of shape ``(ny, nx)`` to a surface with the PSD.
+
+    :math:`z = \mathcal F^{-1}[\sqrt{P(\mathbf q)}\,\mathcal F_{\rm ortho}[w]]` with ``P`` the
+    power of each mode of :func:`roughstick.surface_filter` (its sum is the height variance) and
+    the mean mode removed: a circulant (periodic) Gaussian field with exactly the PSD of
+    Eqs. 33-34, whose random input is the white noise ``w`` itself. A pCN move on ``w`` keeps
+    ``w`` standard normal, hence the surface's law. (Equal in law to ``generate_surfaces``, not
+    the same realization for the same seed.)
+    """
+
+    def __init__(self, psd, *, shape, spacing):
+        s = surface_filter(psd, shape=shape, spacing=spacing)
+        ny, nx = s.shape
+        dy, dx = float(s.attrs["spacing_y"]), float(s.attrs["spacing_x"])
+        dq2 = (2 * np.pi / (ny * dy)) * (2 * np.pi / (nx * dx))
+        power = np.fft.ifftshift(np.asarray(s.values, dtype=float)) * dq2
+        power[0, 0] = 0.0  # the mean plane is the reference of the distances
+        self.amplitude = np.sqrt(power[:, : nx // 2 + 1])
+        self.ny, self.nx, self.dy, self.dx = ny, nx, dy, dx
+        self.noise_shape = (ny, nx)
+        self.variance = float(power.sum())
+
+    def __call__(self, noise) -> np.ndarray:
+        w = np.reshape(np.asarray(noise, dtype=float), self.noise_shape)
+        spec = scipy.fft.rfft2(w, norm="ortho", workers=1)
+        spec *= self.amplitude
+        return scipy.fft.irfft2(spec, s=self.noise_shape, norm="forward", workers=1)
+
+
+class SurfaceResponse:
+    """Response of the rough-surface model to one white-noise field (one model evaluation).
+
+    The distance grid belongs to the surface: from first water contact ``max z + h_water``
+    down by ``h_water / points_per_water_height`` to ``lower * sqrt(m0)``, then by blocks of
+    ``extend * sqrt(m0)`` until the curve has an equilibrium (or the flat is below every pixel).
+    A conditioned (rare) surface never falls off a grid made for typical ones. Γ and the
+    pull-off are taken from the equilibrium outwards (:func:`roughstick.adhesion_summary`).
+    ``patches > 1`` cuts the surface into that many strips along ``y`` evaluated alone (not
+    periodic) and returns the largest response: a weakest-link structure simulated directly.
+    """
+
+    def __init__(self, to_surface, *, relative_humidity, quantity="adhesive_energy",
+                 material=None, material2=None, adsorbed_layer="paper", connectivity=4,
+                 points_per_water_height=20.0, lower=2.0, extend=0.5, periodic=True, patches=1,
+                 water_height):
+        if quantity not in QUANTITIES:
+            raise ValueError(f"quantity must be one of {QUANTITIES}, got {quantity!r}.")
+        self.to_surface = to_surface
+        self.noise_shape = to_surface.noise_shape
+        self.rh = float(relative_humidity)
+        self.hw = float(water_height)
+        self.sigma = math.sqrt(to_surface.variance)
+        self.quantity = quantity
+        self.kw = {"material": material, "material2": material2, "adsorbed_layer": adsorbed_layer,
+                   "connectivity": int(connectivity)}
+        if material is None:
+            del self.kw["material"]
+        self.step = self.hw / float(points_per_water_height)
+        self.lower, self.extend = float(lower), float(extend)
+        self.periodic, self.patches = bool(periodic), int(patches)
+        if self.patches < 1 or to_surface.ny % self.patches:
+            raise ValueError(f"patches={patches} must be >= 1 and divide the {to_surface.ny} rows "
+                             "of the zone; choose a shape whose rows are a multiple of patches.")
+
+    def _curves(self, z, d, periodic):
+        ny, nx = z.shape
+        h = xr.DataArray(z, dims=("y", "x"), attrs={"units": "m", "periodic": int(periodic)},
+                         coords={"y": (np.arange(ny) + 0.5) * self.to_surface.dy,
+                                 "x": (np.arange(nx) + 0.5) * self.to_surface.dx})
+        return rough_contact_curves(h, relative_humidity=self.rh, distance=d, periodic=periodic,
+                                    **self.kw)
+
+    def map_response(self, z, *, periodic) -> float:
+        """Response of one height map [m] (its own distance grid, see the class notes)."""
+        zc = z - z.mean()
+        top = float(zc.max()) + self.hw
+        zmin = float(zc.min())
+        k_end = max(int(math.ceil((top - self.lower * self.sigma) / self.step)), 8)
+        d = top - self.step * np.arange(k_end + 1)[::-1]
+        curves = self._curves(zc, d, periodic)
+        block = max(int(math.ceil(self.extend * self.sigma / self.step)), 1)
+        while True:
+            s = adhesion_summary(curves)
+            if np.isfinite(float(s["equilibrium_distance"])) or d[0] < zmin - self.step:
+                break
+            more = top - self.step * np.arange(k_end + 1, k_end + block + 1)[::-1]
+            k_end += block
+            d = np.concatenate([more, d])
+            curves = xr.concat([self._curves(zc, more, periodic), curves], dim="distance")
+        return float(s[self.quantity])
+
+    def __call__(self, noise) -> float:
+        z = self.to_surface(noise)
+        if self.patches == 1:
+            return self.map_response(z, periodic=self.periodic)
+        rows = z.shape[0] // self.patches
+        return max(self.map_response(np.ascontiguousarray(z[k * rows:(k + 1) * rows]), periodic=False)
+                   for k in range(self.patches))

@@ -1,0 +1,340 @@
+"""Tests of the rare-event estimators: subset simulation, crude Monte Carlo, weakest link (issue 15)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from scipy.stats import norm
+
+import roughstick as rs
+from roughstick.stiction import _rare_kernels as _k
+from roughstick.stiction import _rare_surface as _s
+from roughstick.stiction import rare_events as re_
+
+SPACING = 5e-9
+
+
+def table4():
+    return rs.datasets.family_psd("table4")
+
+
+class Linear:
+    """Analytic limit state: a unit direction of the white noise; P(Y > beta) = Phi(-beta)."""
+
+    def __init__(self, shape, seed=0):
+        a = np.random.default_rng(seed).standard_normal(shape)
+        self.a = a / np.linalg.norm(a)
+
+    def __call__(self, z):
+        return float(np.sum(self.a * z))
+
+
+class Counting(Linear):
+    """Linear limit state that raises after ``limit`` evaluations (a killed run)."""
+
+    def __init__(self, shape, limit):
+        super().__init__(shape)
+        self.limit = limit
+        self.calls = 0
+
+    def __call__(self, z):
+        self.calls += 1
+        if self.calls > self.limit:
+            raise KeyboardInterrupt("simulated kill")
+        return super().__call__(z)
+
+
+# ------------------------------------------------------------------------------ white noise map
+@pytest.mark.parametrize("shape", [(64, 64), (48, 80), (33, 17), (31, 64)])
+def test_noise_map_has_the_psd(shape):
+    """The white noise -> surface map: real, zero-mean, variance the PSD's (Eqs. 33-34), the same
+    power spectrum as generate_surfaces (averaged over 200 surfaces each, 4 sigma)."""
+    psd = table4()
+    f = _s.NoiseToSurface(psd, shape=shape, spacing=SPACING)
+    rng = np.random.default_rng(1)
+    z = np.stack([f(rng.standard_normal(f.noise_shape)) for _ in range(200)])
+    assert np.all(np.isfinite(z)) and np.allclose(z.mean(axis=(1, 2)), 0, atol=1e-12 * np.sqrt(f.variance))
+    h = rs.generate_surfaces(psd, n=200, shape=shape, spacing=SPACING, seed=11).values
+    power_map = (np.abs(np.fft.fft2(z)) ** 2).mean(axis=0)
+    power_gen = (np.abs(np.fft.fft2(h - h.mean(axis=(1, 2), keepdims=True))) ** 2).mean(axis=0)
+    assert np.isclose(power_map.sum(), power_gen.sum(), rtol=4 * np.sqrt(2 / 200))
+    v = z.var(axis=(1, 2)).mean()
+    assert abs(v / f.variance - 1) < 0.15
+    out = re_.surface_from_noise(z[0] * 0 + rng.standard_normal(f.noise_shape), psd, shape=shape, spacing=SPACING)
+    assert out.dims == ("y", "x") and out.attrs["units"] == "m"
+
+
+def test_pcn_moves_keep_the_prior():
+    """A long unconditioned pCN chain (threshold -inf) keeps N(0, 1) in every coordinate."""
+    rng = np.random.default_rng(0)
+    z = rng.standard_normal(4000)
+    spread = np.linspace(0.2, 1.5, 4000)
+    rho, sigma = _k.proposal_scales(spread, 0.7)
+    for _ in range(50):
+        z = _k.pcn_move(z, rng.standard_normal(z.size), rho, sigma)
+    assert abs(z.mean()) < 0.05 and abs(z.std() - 1) < 0.03
+
+
+# ------------------------------------------------------------------------------ the estimator itself
+@pytest.mark.parametrize("beta", [2.326, 3.719])  # p = 1e-2, 1e-4
+def test_subset_against_exact_linear_limit_state(beta):
+    """Independent check: mean of 20 runs within 3 standard errors of Phi(-beta); the
+    estimator's cv agrees with the spread of the runs; the intervals cover the truth."""
+    shape = (20, 10, 2)
+    exact = norm.sf(beta)
+    ps, cvs, cover = [], [], 0
+    for s in range(20):
+        ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=beta, seed=s,
+                                   samples_per_level=500, scheduler="sync")
+        p = float(ds.failure_probability)
+        ps.append(p)
+        cvs.append(float(ds.coefficient_of_variation))
+        cover += float(ds.failure_probability_lower) <= exact <= float(ds.failure_probability_upper)
+    ps = np.array(ps)
+    assert abs(ps.mean() - exact) < 3 * ps.std(ddof=1) / math.sqrt(ps.size)
+    emp = ps.std(ddof=1) / exact
+    assert 0.6 < np.mean(cvs) / emp < 1.6
+    assert cover >= 15
+
+
+def test_monte_carlo_against_exact_and_wilson():
+    shape = (10, 2)
+    ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=1.645, method="monte_carlo",
+                               samples_per_level=4000, seed=3, scheduler="sync")
+    exact = norm.sf(1.645)
+    lo, hi = float(ds.failure_probability_lower), float(ds.failure_probability_upper)
+    assert lo < exact < hi
+    k = round(float(ds.failure_probability) * 4000)
+    wl, wh = rs.binomial_interval(k, 4000)
+    assert math.isclose(lo, float(wl), rel_tol=1e-12) and math.isclose(hi, float(wh), rel_tol=1e-12)
+    p = float(ds.failure_probability)
+    assert math.isclose(float(ds.coefficient_of_variation), math.sqrt((1 - p) / (4000 * p)))
+
+
+def test_target_cv_adds_runs_until_met():
+    shape = (20, 2)
+    ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=3.09, seed=5,
+                               samples_per_level=200, target_cv=0.15, scheduler="sync")
+    assert int(ds.converged) == 1
+    assert float(ds.coefficient_of_variation) <= 0.15
+    assert ds.sizes["run"] >= 2
+    # level-0 samples of the runs follow one another (realizations of one ensemble)
+    off = ds.run_offset.values
+    assert np.array_equal(off[1:], np.cumsum(ds.run_samples.values)[:-1])
+    assert int(ds.n_evaluations) == int(ds.level_evaluations.sum())
+    # budget: stops early, says so
+    small = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=3.09, seed=5,
+                                  samples_per_level=200, target_cv=0.05, max_evaluations=2000,
+                                  scheduler="sync")
+    assert int(small.converged) == 0 and int(small.n_evaluations) <= 2000 + 180  # + one level
+
+
+def test_monte_carlo_target_cv():
+    shape = (4,)
+    ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=1.0, method="monte_carlo",
+                               samples_per_level=100, target_cv=0.1, seed=1, scheduler="sync")
+    p = float(ds.failure_probability)
+    assert float(ds.coefficient_of_variation) <= 0.1 and int(ds.converged) == 1
+    assert abs(p - norm.sf(1.0)) < 4 * 0.1 * p
+
+
+def test_unreachable_threshold_gives_zero_with_upper_bound():
+    """Response bounded by 1: P(Y > 2) = 0, found without crashing, flagged not converged."""
+    shape = (8,)
+
+    def bounded(z):
+        return float(np.tanh(z[0]))
+
+    ds = re_.subset_simulation(bounded, noise_shape=shape, threshold=2.0, seed=0,
+                               samples_per_level=100, max_levels=4, scheduler="sync")
+    assert float(ds.failure_probability) == 0.0
+    assert int(ds.converged) == 0
+    assert float(ds.failure_probability_upper) > 0
+
+
+# ------------------------------------------------------------------------------ reproducibility
+def test_bit_identical_across_chunks_and_schedulers():
+    shape = (12, 3)
+    kw = dict(noise_shape=shape, threshold=3.0, seed=9, samples_per_level=200)
+    a = re_.subset_simulation(Linear(shape), chunks=1, scheduler="sync", **kw)
+    b = re_.subset_simulation(Linear(shape), chunks=7, scheduler="threads", **kw)
+    c = re_.subset_simulation(Linear(shape), chunks=1000, scheduler="threads", **kw)
+    for other in (b, c):
+        xr.testing.assert_identical(a.drop_attrs(), other.drop_attrs())
+
+
+def test_surface_model_bit_identical_across_chunks():
+    psd = table4()
+    kw = dict(threshold=0.02, relative_humidity=0.5, shape=(48, 48), spacing=SPACING, seed=2,
+              samples_per_level=50)
+    a = re_.failure_probability(psd, chunks=1, scheduler="sync", **kw)
+    b = re_.failure_probability(psd, chunks=13, scheduler="threads", **kw)
+    xr.testing.assert_identical(a.drop_attrs(), b.drop_attrs())
+    assert a.sizes["level"] >= 2  # the chains ran
+
+
+def test_resume_after_kill_equals_uninterrupted(tmp_path):
+    shape = (10, 2)
+    kw = dict(noise_shape=shape, threshold=3.2, seed=4, samples_per_level=200, scheduler="sync")
+    full = re_.subset_simulation(Linear(shape), **kw)
+    with pytest.raises(KeyboardInterrupt):
+        re_.subset_simulation(Counting(shape, 500), output=tmp_path / "run", token="lin", **kw)
+    files = sorted(p.name for p in (tmp_path / "run").glob("*.nc"))
+    assert files == ["run000-level00.nc", "run000-level01.nc"]  # 200 + 180 evaluations kept
+    again = re_.subset_simulation(Counting(shape, 10**9), output=tmp_path / "run", token="lin", **kw)
+    xr.testing.assert_identical(full.drop_attrs(), again.drop_attrs())
+    # a finished run is read back without evaluating anything
+    never = re_.subset_simulation(Counting(shape, 0), output=tmp_path / "run", token="lin", **kw)
+    xr.testing.assert_identical(full.drop_attrs(), never.drop_attrs())
+    # different parameters: refused unless overwrite
+    with pytest.raises(FileExistsError, match="different parameters"):
+        re_.subset_simulation(Linear(shape), output=tmp_path / "run", token="lin",
+                              **{**kw, "threshold": 3.0})
+
+
+def test_result_is_cf_netcdf(tmp_path):
+    shape = (6, 2)
+    ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=2.5, seed=0,
+                               samples_per_level=100, scheduler="sync")
+    rs.write(ds, tmp_path / "r.nc", compute=True)
+    back = xr.open_dataset(tmp_path / "r.nc")
+    assert float(back.failure_probability) == float(ds.failure_probability)
+    assert back.failure_noise.shape[1] == 12
+
+
+# ------------------------------------------------------------------------------ bad input
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(method="importance"), "method must be"),
+        (dict(samples_per_level=105, level_probability=0.1), "whole number of chains"),
+        (dict(level_probability=1.5), "level_probability"),
+        (dict(proposal_scale=0.0), "proposal_scale"),
+        (dict(target_cv=-1.0), "target_cv"),
+        (dict(proposal="mala"), "proposal must be"),
+    ],
+)
+def test_bad_settings(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        re_.subset_simulation(Linear((3,)), noise_shape=(3,), threshold=1.0, **kwargs)
+
+
+def test_bad_surface_input():
+    psd = table4()
+    kw = dict(threshold=0.01, relative_humidity=0.5, shape=(32, 32), spacing=SPACING)
+    with pytest.raises(ValueError, match="relative_humidity"):
+        re_.failure_probability(psd, **{**kw, "relative_humidity": 50})
+    with pytest.raises(ValueError, match="quantity"):
+        re_.failure_probability(psd, quantity="gamma", **kw)
+    with pytest.raises(ValueError, match="threshold"):
+        re_.failure_probability(psd, **{**kw, "threshold": -1.0})
+    with pytest.raises(ValueError, match="patches"):
+        re_.failure_probability(psd, patches=5, **kw)
+
+
+# ------------------------------------------------------------------------------ weakest link
+def test_weakest_link_formula():
+    ds = xr.Dataset({
+        "failure_probability": xr.DataArray(0.01),
+        "failure_probability_lower": xr.DataArray(0.008),
+        "failure_probability_upper": xr.DataArray(0.012),
+        "coefficient_of_variation": xr.DataArray(0.1),
+    })
+    w = re_.weakest_link(ds, patches=[1, 4, 1000])
+    p = w.failure_probability.values
+    assert math.isclose(p[0], 0.01) and math.isclose(p[1], 1 - 0.99**4)
+    assert p[2] > 0.9999
+    assert np.all(w.failure_probability_lower.values < p) and np.all(p < w.failure_probability_upper.values)
+    assert math.isclose(float(w.coefficient_of_variation[0]), 0.1)
+    # small p: P_m ~ m p, cv unchanged
+    tiny = ds.copy()
+    tiny["failure_probability"] = xr.DataArray(1e-7)
+    assert math.isclose(float(re_.weakest_link(tiny, patches=4).coefficient_of_variation), 0.1, rel_tol=1e-5)
+    with pytest.raises(ValueError, match="patches"):
+        re_.weakest_link(ds, patches=0)
+
+
+# ------------------------------------------------------------------------------ the surface model
+def test_surface_subset_small_run_is_consistent():
+    """Default-suite check of the surface path: levels, thresholds increasing, every state of a
+    level above its threshold, evaluations counted, the estimate inside its interval."""
+    psd = table4()
+    ds = re_.failure_probability(psd, threshold=0.03, relative_humidity=0.5, shape=(48, 48),
+                                 spacing=SPACING, samples_per_level=50, seed=3, scheduler="sync")
+    assert ds.sizes["level"] >= 2
+    thr = ds.next_threshold.values.ravel()
+    thr = thr[np.isfinite(thr)]
+    assert np.all(np.diff(thr) > 0)
+    for j in range(1, ds.sizes["level"]):
+        y = ds.response.isel(run=0, level=j).values
+        b = float(ds.level_threshold.isel(run=0, level=j))
+        assert np.all(y[np.isfinite(y)] > b)
+    p = float(ds.failure_probability)
+    assert float(ds.failure_probability_lower) <= p <= float(ds.failure_probability_upper)
+    assert ds.attrs["quantity"] == "adhesive_energy" and ds.attrs["threshold_units"] == "J m-2"
+
+
+@pytest.mark.slow
+def test_subset_agrees_with_crude_monte_carlo():
+    """Must-be-true (1): p ~ 1e-2 on 64 x 64 Table-4 zones at 50 % RH: subset simulation and
+    crude Monte Carlo (10,000 evaluations) agree within their 95 % intervals."""
+    psd = table4()
+    kw = dict(threshold=0.023, relative_humidity=0.5, shape=(64, 64), spacing=SPACING)
+    mc = re_.failure_probability(psd, method="monte_carlo", samples_per_level=10_000, seed=100, **kw)
+    ss = re_.failure_probability(psd, seed=200, samples_per_level=500, **kw)
+    assert int(ss.n_evaluations) < 2500
+    assert 3e-3 < float(mc.failure_probability) < 3e-2
+    assert float(ss.failure_probability_lower) < float(mc.failure_probability_upper)
+    assert float(mc.failure_probability_lower) < float(ss.failure_probability_upper)
+
+
+@pytest.mark.slow
+def test_subset_interval_coverage_on_the_surface_model():
+    """Coverage: 12 more seeds of subset simulation on the case above; the crude-MC estimate
+    (10,000) lies inside at least 9 of the 95 % intervals (binomial: P(<= 8 | 0.95) < 2 %,
+    widened for the MC's own error)."""
+    psd = table4()
+    kw = dict(threshold=0.023, relative_humidity=0.5, shape=(64, 64), spacing=SPACING)
+    mc = float(re_.failure_probability(psd, method="monte_carlo", samples_per_level=10_000, seed=100,
+                                       **kw).failure_probability)
+    inside = 0
+    for s in range(12):
+        ss = re_.failure_probability(psd, seed=300 + s, samples_per_level=300, **kw)
+        inside += float(ss.failure_probability_lower) <= mc <= float(ss.failure_probability_upper)
+    assert inside >= 9
+
+
+@pytest.mark.slow
+def test_weakest_link_against_a_four_times_longer_zone():
+    """Must-be-true (3): P for a 128 x 64 zone (4 strips of 32 x 64, each a non-periodic piece)
+    predicted as 1 - (1 - p)^4 from the 32 x 64 patch, against direct simulation of the long
+    zone (surfaces generated whole, so neighbouring strips are as correlated as the PSD makes
+    them): the two 95 % intervals overlap."""
+    psd = table4()
+    kw = dict(threshold=0.035, relative_humidity=0.5, spacing=SPACING, method="monte_carlo", periodic=False)
+    patch = re_.failure_probability(psd, shape=(32, 64), samples_per_level=1500, seed=21, **kw)
+    long = re_.failure_probability(psd, shape=(128, 64), patches=4, samples_per_level=600, seed=22, **kw)
+    pred = re_.weakest_link(patch, patches=4)
+    assert 0.02 < float(patch.failure_probability) < 0.1
+    assert float(pred.failure_probability_lower) < float(long.failure_probability_upper)
+    assert float(long.failure_probability_lower) < float(pred.failure_probability_upper)
+
+
+def test_stiction_probability_subset_matches_the_counting_estimator():
+    """Crude-MC P(stuck) equals rs.stiction_probability on the same Γ sample (the responses of
+    level 0) with Eq. 36's Γ_crit, and crossing_humidity reads the result with its interval."""
+    psd = table4()
+    length = 400e-6
+    ds = rs.stiction_probability_subset(psd, relative_humidity=[0.3, 0.5], shape=(32, 32), spacing=SPACING,
+                                        length=length, method="monte_carlo", samples_per_level=40,
+                                        target_cv=None, seed=5, scheduler="sync")
+    assert math.isclose(ds.attrs["critical_adhesive_energy"], rs.critical_adhesive_energy(length=length))
+    g = ds.response.isel(run=0, level=0).rename(sample="realization").assign_attrs(units="J m-2")
+    ref = rs.stiction_probability(g, length=length)
+    np.testing.assert_allclose(ds.stiction_probability.values, ref.stiction_probability.values, rtol=1e-12)
+    ch = rs.crossing_humidity(ds[["stiction_probability", "stiction_probability_lower",
+                                  "stiction_probability_upper"]], level=0.1)
+    assert {"crossing_humidity", "crossing_humidity_lower", "crossing_humidity_upper"} <= set(ch)
