@@ -7,9 +7,11 @@ front: Table 4 → Eq. 37 → an ensemble of zone surfaces). Room is left for th
 stochastic model and rare-event probabilities (modules of their own beside these).
 """
 
-from . import beam, interaction_zone, risk
+from . import beam, beam_model, interaction_zone, patch_bank, risk
 from .beam import *  # noqa: F403
+from .beam_model import *  # noqa: F403
 from .interaction_zone import *  # noqa: F403
+from .patch_bank import *  # noqa: F403
 from .risk import *  # noqa: F403
 
-__all__ = [name for mod in (beam, risk, interaction_zone) for name in mod.__all__]
+__all__ = [name for mod in (beam, risk, interaction_zone, beam_model, patch_bank) for name in mod.__all__]
