@@ -12,12 +12,12 @@ import argparse
 import sys
 
 from .._core.version import __version__
-from . import curves, demo, psd, reproduce, risk, run
+from . import beam, curves, demo, psd, reproduce, risk, run
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: The sub-command modules, in the order ``roughstick --help`` lists them.
-COMMANDS = (curves, demo, psd, reproduce, risk, run)
+COMMANDS = (curves, demo, psd, reproduce, risk, run, beam)
 
 
 def build_parser() -> argparse.ArgumentParser:
