@@ -13,13 +13,13 @@ import sys
 import warnings
 
 from .._core.version import __version__
-from . import curves, demo, psd, reproduce, risk, run
+from . import beam, curves, demo, psd, reproduce, risk, run
 from ._common import add_common_options, setup_logging, teardown_logging, user_message
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: The sub-command modules, in the order ``roughstick --help`` lists them.
-COMMANDS = (curves, demo, psd, reproduce, risk, run)
+COMMANDS = (curves, demo, psd, reproduce, risk, run, beam)
 
 
 def build_parser() -> argparse.ArgumentParser:

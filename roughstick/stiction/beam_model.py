@@ -1,0 +1,243 @@
+r"""Beam-scale stochastic stiction: a crack front running along a cantilever on random patches (§5).
+
+The interface under an S-shaped stuck cantilever (Fig. 18b) is cut into patches of length
+``patch_length`` (the interaction-zone length :math:`\Delta s` of §5.2); each patch carries the
+adhesive energy :math:`\Gamma_j` of one law drawn from a bank (:mod:`.patch_bank`). The front
+(crack length :math:`s`) feels the energy release rate of the Euler-Bernoulli beam,
+:math:`G(s) = \frac32 E t^3 h^2/s^4` (the derivative of the S-shape's bending energy, the
+relation of Eq. 36), and moves only while that lowers the total energy
+:math:`\Pi(s) = E t^3 h^2/(2s^3) - \int_s^l \Gamma`. It stops at the first local minimum in the
+direction it moves, so heterogeneity pins the front and two protocols differ:
+
+- ``"release"``: the beam is pressed down and released at each RH; the front opens from the
+  clamp and stops at the first patch able to hold it (the smallest stable :math:`s`);
+- ``"step_up"``: released at the first RH, then RH is raised step by step with the beam left in
+  place; the front can only close towards the clamp (adhesion rises with RH) and stays pinned
+  where the release protocol would have put it further out: adhesion hysteresis.
+
+With a uniform law :math:`\Gamma_0` the front stops at :math:`s = (3Eh^2t^3/2\Gamma_0)^{1/4}`,
+Eq. 36, or frees the beam when that exceeds its length (tests/stiction/test_beam_model.py).
+
+Scope: the patches are treated in the short-range (sharp front) limit, each law reduced to its
+work of separation; the finite range of the traction-separation law (a cohesive zone of a few
+nm opening against a 1.9 µm gap) is not resolved. A cohesive finite-element beam is left open.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from ..ensemble.statistics import binomial_interval
+from . import _beam_kernels as K
+from .beam import PAPER_CANTILEVER, Cantilever, adhesive_energy_from_crack_length
+
+__all__ = ["beam_crack_length", "simulate_beams", "stuck_probability"]
+
+PROTOCOLS = ("release", "step_up")
+
+
+def _check_patch_length(patch_length):
+    patch_length = float(patch_length)
+    if not np.isfinite(patch_length) or patch_length <= 0:
+        raise ValueError(f"patch_length must be a positive length in m, got {patch_length!r}")
+    if patch_length > 1e-3:
+        raise ValueError(f"patch_length={patch_length!r} m is over 1 mm: pass metres, not µm")
+    return patch_length
+
+
+def _n_patches(length, patch_length):
+    return int(np.ceil(length / patch_length - 1e-9))
+
+
+def beam_crack_length(patch_energy, *, beam: Cantilever = PAPER_CANTILEVER, patch_length=None,
+                      start=None, protocol: str = "release"):
+    r"""Crack length of cantilevers whose interface patches have the given adhesive energies.
+
+    The per-sample function of the beam model (Eq. 36 on a heterogeneous interface): no
+    randomness inside, so a rare-event sampler can call it on its own draws.
+
+    Parameters
+    ----------
+    patch_energy : array-like, shape (..., n_patch)
+        Adhesive energy :math:`\Gamma_j` [J m-2] of patch ``j`` counted from the clamp; at
+        least ``ceil(beam.length / patch_length)`` patches (extra ones are ignored).
+    beam : Cantilever
+        Geometry and modulus (length, thickness, gap, E).
+    patch_length : float, optional
+        Patch length [m]; default the beam's interaction-zone length (its thickness).
+    start : array-like, optional
+        Crack length before this step [m], ``inf`` for a free beam. ``None``: fresh release.
+    protocol : {"release", "step_up"}
+        ``"release"`` opens the front from ``start`` (default 0, the beam pressed down);
+        ``"step_up"`` lets a stuck front at ``start`` open or close to its nearest stable place.
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        Crack length :math:`s` [m]; ``inf`` where the beam is free (not stuck).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = rs.stiction.beam_crack_length(np.full(600, 0.1))  # uniform 0.1 J m-2
+    >>> round(float(s) * 1e6, 1)  # µm, Eq. 36
+    112.4
+    """
+    if protocol not in PROTOCOLS:
+        raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
+    patch_length = _check_patch_length(beam.interaction_zone_length if patch_length is None
+                                       else patch_length)
+    energy = np.asarray(patch_energy, dtype=float)
+    if energy.ndim == 0:
+        raise ValueError("patch_energy needs a last axis of patches along the beam")
+    m = _n_patches(beam.length, patch_length)
+    if energy.shape[-1] < m:
+        raise ValueError(f"beam of {beam.length:g} m with patches of {patch_length:g} m needs "
+                         f"{m} patch energies on the last axis, got {energy.shape[-1]}")
+    if np.isnan(energy[..., :m]).any():
+        raise ValueError("patch_energy has NaN: drop or fill the failed laws of the bank first")
+    lead = energy.shape[:-1]
+    flat = energy[..., :m].reshape(-1, m)
+    st = np.zeros(flat.shape[0]) if start is None else \
+        np.broadcast_to(np.asarray(start, dtype=float), lead).reshape(-1)
+    kterm = beam.stiffness_term
+    s = K.open_front(flat, kterm, patch_length, beam.length, st)
+    if protocol == "step_up":
+        s = K.close_front(flat, kterm, patch_length, beam.length, s)
+    return s.reshape(lead)
+
+
+def _draw_indices(seed, realizations, n_law, n_patch):
+    """Law index of every patch; one SeedSequence child per realization (chunk-independent)."""
+    out = np.empty((len(realizations), n_patch), dtype=np.int64)
+    for i, r in enumerate(realizations):
+        rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(int(r),)))
+        out[i] = rng.integers(0, n_law, size=n_patch)
+    return out
+
+
+def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100, seed: int = 0,
+                   protocol: str = "release", beam: Cantilever = PAPER_CANTILEVER,
+                   patch_length=None, realizations=None, shape_points: int = 0) -> xr.Dataset:
+    r"""Monte-Carlo cantilevers on random patches drawn from a bank of patch laws.
+
+    Parameters
+    ----------
+    bank : xarray.DataArray
+        Adhesive energy [J m-2] over ``(law, rh)`` (:func:`roughstick.build_patch_bank`, or
+        any DataArray with those dims). Law ``k`` is one surface patch at every RH, so a patch
+        keeps its identity when RH changes.
+    beam_length : float or sequence
+        Beam lengths [m]; all lengths share the patches of a realization (common random
+        numbers), counted from the clamp.
+    n_realization : int
+        Number of beams per length (ignored when ``realizations`` is given).
+    seed : int
+        Root seed; realization ``r`` draws from ``SeedSequence(seed, spawn_key=(r,))``, so any
+        subset/chunking of realizations gives bit-identical beams.
+    protocol : {"release", "step_up"}
+        Fresh release at every RH, or release at the first RH and RH stepped up in the order of
+        the ``rh`` coordinate (which must then increase).
+    beam : Cantilever
+        Thickness, gap, width and modulus (its length is replaced by ``beam_length``).
+    patch_length : float, optional
+        Patch length [m], default the beam thickness (§5.2).
+    realizations : sequence of int, optional
+        Realization numbers to simulate (for chunked / distributed runs).
+    shape_points : int
+        If > 0, also return the deflection ``shape`` [m] on that many points of ``x/l``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``(realization, rh, beam_length)``: ``crack_length`` [m] (NaN when free), ``stuck``
+        (bool), ``apparent_adhesive_energy`` [J m-2] from Eq. 36; ``stuck_probability`` with its
+        95 % Wilson interval over ``(rh, beam_length)``; optional ``shape``.
+    """
+    if protocol not in PROTOCOLS:
+        raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
+    if set(bank.dims) != {"law", "rh"}:
+        raise ValueError(f"bank must have dims ('law', 'rh'), got {bank.dims}")
+    bank = bank.transpose("law", "rh")
+    rh = bank["rh"].values if "rh" in bank.coords else np.arange(bank.sizes["rh"])
+    if protocol == "step_up" and np.any(np.diff(rh) <= 0):
+        raise ValueError("protocol='step_up' needs the bank's rh coordinate increasing")
+    lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
+    if np.any(~np.isfinite(lengths)) or np.any(lengths <= 0):
+        raise ValueError("beam_length must be positive lengths in m")
+    patch_length = _check_patch_length(beam.interaction_zone_length if patch_length is None
+                                       else patch_length)
+    reals = np.arange(int(n_realization)) if realizations is None else \
+        np.asarray(realizations, dtype=np.int64)
+    energy_bank = np.asarray(bank.values, dtype=float)
+    if np.isnan(energy_bank).any():
+        raise ValueError("bank has NaN adhesive energies: drop those laws (bank.dropna('law'))")
+    m = _n_patches(lengths.max(), patch_length)
+    idx = _draw_indices(seed, reals, energy_bank.shape[0], m)
+    s = np.empty((len(reals), len(rh), len(lengths)))
+    for b, length in enumerate(lengths):
+        geom = _with_length(beam, length)
+        prev = None
+        for k in range(len(rh)):
+            gam = energy_bank[idx, k]
+            if protocol == "release" or prev is None:
+                s[:, k, b] = beam_crack_length(gam, beam=geom, patch_length=patch_length)
+            else:
+                s[:, k, b] = beam_crack_length(gam, beam=geom, patch_length=patch_length,
+                                               start=prev, protocol="step_up")
+            prev = s[:, k, b]
+    return _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points)
+
+
+def _with_length(beam, length):
+    from dataclasses import replace
+    return replace(beam, length=float(length))
+
+
+def s_shape(crack_length, gap, x):
+    """Deflection below the rest position: S-shape on [0, s], flat on the pad beyond."""
+    xi = np.clip(x / crack_length, 0.0, 1.0)
+    return gap * (3 * xi**2 - 2 * xi**3)
+
+
+def _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points):
+    coords = {"realization": reals, "rh": rh, "beam_length": lengths}
+    dims = ("realization", "rh", "beam_length")
+    stuck = np.isfinite(s)
+    crack = xr.DataArray(np.where(stuck, s, np.nan), coords, dims,
+                         attrs={"units": "m", "long_name": "crack length (NaN: beam free)"})
+    gamma = adhesive_energy_from_crack_length(np.where(stuck, s, np.nan), beam=beam)
+    ds = xr.Dataset({
+        "crack_length": crack,
+        "stuck": xr.DataArray(stuck, coords, dims, attrs={"long_name": "beam stuck to its pad"}),
+        "apparent_adhesive_energy": xr.DataArray(
+            np.asarray(gamma), coords, dims,
+            attrs={"units": "J m-2", "long_name": "apparent adhesive energy from the crack length (Eq. 36)"}),
+    })
+    ds["rh"].attrs.update(units="1", long_name="relative humidity")
+    ds["beam_length"].attrs.update(units="m", long_name="beam length")
+    if shape_points:
+        xr_ = np.linspace(0.0, 1.0, int(shape_points))
+        x = xr_[None, None, None, :] * lengths[None, None, :, None]
+        w = np.where(stuck[..., None], s_shape(np.where(stuck, s, 1.0)[..., None], beam.gap, x), 0.0)
+        ds["shape"] = xr.DataArray(w, {**coords, "x_over_length": xr_}, dims + ("x_over_length",),
+                                   attrs={"units": "m", "long_name": "deflection towards the pad"})
+    ds = xr.merge([ds, stuck_probability(ds)])
+    ds.attrs.update(title="beam-scale stochastic stiction", protocol=protocol, seed=int(seed),
+                    patch_length=patch_length, thickness=beam.thickness, gap=beam.gap,
+                    youngs_modulus=beam.youngs_modulus,
+                    references="paper Eq. 36, §5; Hoang et al. 2017 (beam-scale model)")
+    return ds
+
+
+def stuck_probability(result: xr.Dataset, *, confidence: float = 0.95, method: str = "wilson"):
+    """P(stuck) over ``realization`` with its binomial interval (Wilson by default)."""
+    k = result["stuck"].sum("realization")
+    n = result.sizes["realization"]
+    lo, hi = binomial_interval(k, n, confidence=confidence, method=method)
+    out = xr.Dataset({"stuck_probability": k / n, "stuck_probability_lower": lo,
+                      "stuck_probability_upper": hi, "n_stuck": k})
+    out["stuck_probability"].attrs.update(units="1", long_name="probability that the beam stays stuck")
+    out.attrs["n_samples"] = n
+    return out

@@ -1,0 +1,98 @@
+r"""A bank of patch laws: adhesive energies of random surface patches, computed once and cached.
+
+Each law is one random periodic patch (:func:`roughstick.generate_surfaces` on a PSD, Eqs.
+33-35) put through :func:`roughstick.rough_contact_curves` at every requested RH and reduced to
+its adhesive energy (Eq. 13, :func:`roughstick.adhesion_summary`). Law ``k`` is the same patch at
+every RH. With ``cache_dir`` the bank is stored as netCDF under a name hashing every input, so a
+rerun with the same PSD, RH, patch grid, count and seed reads it instead of recomputing.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ..contact import adhesion_summary, rough_contact_curves
+from ..surface import generate_surfaces
+
+__all__ = ["build_patch_bank"]
+
+
+def _key(psd, rh, n_law, shape, spacing, seed, model):
+    h = hashlib.sha256()
+    h.update(np.ascontiguousarray(psd.values, dtype=float).tobytes())
+    for c in psd.coords:
+        h.update(np.asarray(psd[c].values, dtype=float).tobytes())
+    h.update(json.dumps([list(map(float, rh)), int(n_law), list(shape), float(spacing), seed,
+                         model]).encode())
+    return h.hexdigest()[:16]
+
+
+def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000, shape=(64, 64),
+               spacing: float, seed: int = 0, model: str = "modified_dmt",
+               cache_dir=None) -> xr.DataArray:
+    r"""Adhesive energies of ``n_law`` random patches at each RH: the law bank of the beam model.
+
+    Parameters
+    ----------
+    psd : xarray.DataArray
+        Power spectral density of the patches (as :func:`roughstick.generate_surfaces` takes).
+    relative_humidity : float or sequence
+        RH fractions in (0, 1).
+    n_law : int
+        Number of patches (laws).
+    shape : (int, int)
+        Pixels of a patch; with ``spacing`` the patch size (the interaction zone, §5.2).
+    spacing : float
+        Pixel size [m].
+    seed : int
+        Root seed of the patches (one SeedSequence child per patch, as generate_surfaces does).
+    model : str
+        Contact model of :func:`roughstick.rough_contact_curves`.
+    cache_dir : path-like, optional
+        Directory of the on-disk cache; ``None`` computes without caching.
+
+    Returns
+    -------
+    xarray.DataArray
+        ``adhesive_energy`` [J m-2] over ``(law, rh)``; ``attrs["cache_file"]`` when cached and
+        ``attrs["from_cache"]`` telling whether it was read back.
+    """
+    rh = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
+    if np.any((rh <= 0) | (rh >= 1)):
+        raise ValueError("relative_humidity must be fractions in (0, 1), e.g. 0.6 not 60")
+    if int(n_law) < 1:
+        raise ValueError("n_law must be at least 1")
+    if not isinstance(psd, xr.DataArray):
+        raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.self_affine_psd(q, ...)) "
+                        f"so the cache can key on its values, got {type(psd).__name__}")
+    path = None
+    if cache_dir is not None:
+        key = _key(psd, rh, n_law, tuple(shape), spacing, seed, model)
+        path = Path(cache_dir) / f"patch_bank_{key}.nc"
+        if path.exists():
+            out = xr.load_dataarray(path)
+            out.attrs.update(cache_file=str(path), from_cache=1)
+            return out
+    surf = generate_surfaces(psd, n=int(n_law), shape=tuple(shape), spacing=float(spacing),
+                             seed=seed)
+    values = np.empty((int(n_law), len(rh)))
+    for k in range(int(n_law)):
+        curves = rough_contact_curves(surf.isel(realization=k).load(), relative_humidity=list(rh),
+                                      model=model)
+        values[k] = adhesion_summary(curves)["adhesive_energy"].transpose("rh").values
+    out = xr.DataArray(values, {"law": np.arange(int(n_law)), "rh": rh}, ("law", "rh"),
+                       name="adhesive_energy",
+                       attrs={"units": "J m-2", "long_name": "adhesive energy of a patch (Eq. 13)",
+                              "contact_model": model, "seed": int(seed)})
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(".tmp")
+        out.to_netcdf(tmp)
+        tmp.replace(path)
+        out.attrs.update(cache_file=str(path), from_cache=0)
+    return out

@@ -1,0 +1,39 @@
+"""The patch-law bank: one patch per law at every RH, cached on disk and reused."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import roughstick as rs
+from roughstick.stiction.patch_bank import build_patch_bank
+
+
+def _psd():
+    c = rs.cantilever_psd()
+    q = np.geomspace(1e5, 4e9, 200)
+    return rs.self_affine_psd(q, s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
+
+
+def test_bank_cached_and_reused(tmp_path):
+    kwargs = dict(relative_humidity=[0.3, 0.9], n_law=2, shape=(16, 16), spacing=10e-9, seed=4,
+                  cache_dir=tmp_path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        first = build_patch_bank(_psd(), **kwargs)
+        again = build_patch_bank(_psd(), **kwargs)
+        other = build_patch_bank(_psd(), **{**kwargs, "seed": 5})
+    assert first.dims == ("law", "rh") and first.attrs["units"] == "J m-2"
+    assert first.attrs["from_cache"] == 0 and again.attrs["from_cache"] == 1
+    np.testing.assert_array_equal(first.values, again.values)
+    assert other.attrs["cache_file"] != first.attrs["cache_file"]
+    assert bool((first.isel(rh=1) > first.isel(rh=0)).all())  # capillary adhesion rises with RH
+    ds = rs.simulate_beams(first, beam_length=1500e-6, n_realization=5)
+    assert ds.crack_length.dims == ("realization", "rh", "beam_length")
+
+
+def test_bank_bad_input():
+    with pytest.raises(ValueError, match="fractions"):
+        build_patch_bank(_psd(), relative_humidity=60, spacing=1e-8)
+    with pytest.raises(TypeError, match="DataArray"):
+        build_patch_bank(lambda q: q, relative_humidity=0.5, spacing=1e-8)
