@@ -1,6 +1,6 @@
 """THE configuration schema of every ``roughstick`` command that reads a TOML file.
 
-One dialect for ``roughstick run`` and ``roughstick risk`` (docs/configuration.md):
+One dialect for ``roughstick run``, ``roughstick risk`` and ``roughstick beam`` (docs/configuration.md):
 
 * a dimensional quantity is a string with its unit, ``spacing = "5 nm"``, ``qmax = "289 rad/um"``,
   ``youngs_modulus = "164 GPa"``; a bare number is refused with the fix (``spacing = 5`` would
@@ -171,6 +171,39 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
         },
         "output": _COMMON["output"],
         "run": {"scheduler": _COMMON["run"]["scheduler"]},
+    },
+    "beam": {
+        "beam": {
+            "lengths": F("length", "the beam lengths to simulate", many=True, required=True),
+            "width": F("length", "beam width", default=30e-6),
+            "thickness": F("length", "beam thickness", default=2.62e-6),
+            "gap": F("length", "beam underside to landing pad", default=1.9e-6),
+            "youngs_modulus": F("pressure", "Young's modulus of the beam", default=164e9),
+            "patch_length": F("length", "length of one patch along the beam (default: thickness)"),
+        },
+        "surface": {
+            "spacing": F("length", "pixel size of the patch surfaces", required=True),
+            "shape": F("shape", "pixels of one patch surface: n or [ny, nx]", default=[64, 64]),
+            "psd": F("path", "a NetCDF PSD (variable 'psd'); default the paper's Table 4 (Eq. 37)"),
+        },
+        "ensemble": {
+            "n": F("int", "beams per length and RH", default=1000, minimum=1),
+            "relative_humidity": F("relative_humidity", "humidities as fractions", many=True,
+                                   required=True),
+            "protocol": F("choice", "release afresh at each RH, or RH stepped up with the beam in place",
+                          default="release", choices=("release", "step_up")),
+            "seed": F("int", "root seed of the beams", default=0, minimum=0),
+        },
+        "bank": {
+            "laws": F("int", "patch laws in the bank (surfaces computed once per RH)", default=1000,
+                      minimum=1),
+            "seed": F("int", "root seed of the patch surfaces", default=0, minimum=0),
+            "model": F("choice", "contact model of the patch laws", default="modified_dmt",
+                       choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
+            "cache": F("path", "folder of the bank cache (relative to the file)",
+                       default="beam-bank-cache"),
+        },
+        "output": _COMMON["output"],
     },
 }
 

@@ -210,12 +210,13 @@ def _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_po
     gamma = adhesive_energy_from_crack_length(np.where(stuck, s, np.nan), beam=beam)
     ds = xr.Dataset({
         "crack_length": crack,
-        "stuck": xr.DataArray(stuck, coords, dims, attrs={"long_name": "beam stuck to its pad"}),
+        "stuck": xr.DataArray(stuck, coords, dims, attrs={"units": "1", "long_name": "beam stuck to its pad"}),
         "apparent_adhesive_energy": xr.DataArray(
             np.asarray(gamma), coords, dims,
             attrs={"units": "J m-2", "long_name": "apparent adhesive energy from the crack length (Eq. 36)"}),
     })
     ds["rh"].attrs.update(units="1", long_name="relative humidity")
+    ds["realization"].attrs.update(units="1", long_name="realization index", standard_name="realization")
     ds["beam_length"].attrs.update(units="m", long_name="beam length")
     if shape_points:
         xr_ = np.linspace(0.0, 1.0, int(shape_points))
@@ -239,5 +240,9 @@ def stuck_probability(result: xr.Dataset, *, confidence: float = 0.95, method: s
     out = xr.Dataset({"stuck_probability": k / n, "stuck_probability_lower": lo,
                       "stuck_probability_upper": hi, "n_stuck": k})
     out["stuck_probability"].attrs.update(units="1", long_name="probability that the beam stays stuck")
+    level = f"{100 * confidence:g} % {method}"
+    out["stuck_probability_lower"].attrs.update(units="1", long_name=f"lower bound of P(stuck), {level} interval")
+    out["stuck_probability_upper"].attrs.update(units="1", long_name=f"upper bound of P(stuck), {level} interval")
+    out["n_stuck"].attrs.update(units="1", long_name="number of stuck beams")
     out.attrs["n_samples"] = n
     return out

@@ -9,7 +9,7 @@ import pathlib
 import pytest
 
 from roughstick.cli import main
-from roughstick.cli._config import SCHEMAS, ConfigError, load_config
+from roughstick.cli._config import SCHEMAS, ConfigError, load_config, parse, read_toml
 from roughstick.cli.risk import load_risk_config
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -51,6 +51,11 @@ def test_every_example_parses_with_the_one_schema():
             assert c["surface"]["asperity_density"] == pytest.approx(80.1e12)
             assert c["ensemble"]["relative_humidity"][0] == pytest.approx(0.30)
             assert c["beam"]["lengths"][-1] == pytest.approx(1500e-6)
+        elif f.name.startswith("beam"):
+            c = parse(read_toml(f), "beam", base=f.parent, source=f.name)
+            assert c["beam"]["youngs_modulus"] == pytest.approx(164e9)
+            assert c["surface"]["spacing"] == pytest.approx(20e-9)
+            assert all(0 < r < 1 for r in c["ensemble"]["relative_humidity"])
         else:
             cfg = load_config(f)
             assert cfg.spacing == pytest.approx(5e-9) and all(0 < r < 1 for r in cfg.relative_humidity)

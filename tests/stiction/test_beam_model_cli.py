@@ -8,15 +8,15 @@ from roughstick.cli import main
 
 CONFIG = """
 [beam]
-lengths_um = [100.0, 300.0]
+lengths = ["100 um", "300 um"]
 [surface]
+spacing = "20 nm"
 shape = [16, 16]
-[humidity]
-rh_percent = [30.0, 90.0]
+[ensemble]
+relative_humidity = [0.3, 0.9]
+n = 20
 [bank]
 laws = 3
-[ensemble]
-realizations = 20
 """
 
 
@@ -40,3 +40,14 @@ def test_cli_beam_bad_key(tmp_path, capsys):
     cfg.write_text("[beam]\nlength = 3\n")
     assert main(["beam", str(cfg)]) == 1
     assert "unknown key" in capsys.readouterr().err
+
+
+def test_cli_beam_old_dialect_names_the_fix(tmp_path, capsys):
+    """Units in key names and RH in percent are refused with the one schema's spelling."""
+    cfg = tmp_path / "beam.toml"
+    cfg.write_text('[beam]\nlengths_um = [100.0]\n[surface]\nspacing = "20 nm"\n'
+                   "[ensemble]\nrh_percent = [30.0]\n")
+    assert main(["beam", str(cfg)]) == 1
+    err = capsys.readouterr().err
+    assert 'lengths = ["250 um", "300 um"]' in err and "relative_humidity" in err
+    assert not (tmp_path / "beam-output").exists()
