@@ -65,7 +65,7 @@ def rough_contact_curves(
     adsorbed_layer="paper",
     connectivity: int = 4,
     periodic: bool | None = None,
-    n_distance: int = 200,
+    n_distance: int | None = None,
     error_tolerance: float = VALIDITY_BOUND,
     quantity: str = "adhesive_energy",
     **model_kwargs,
@@ -97,8 +97,9 @@ def rough_contact_curves(
         Adsorbed-water model of :func:`roughstick.water_height`.
     connectivity, periodic
         Asperity connectivity and periodicity of the modified DMT (also used for its grid).
-    n_distance : int, default 200
-        Size of the automatic distance grid.
+    n_distance : int, optional
+        Minimum size of the automatic distance grid (default: as many points as the modified-DMT
+        curves need; the BEM's own default count).
     error_tolerance : float, default 0.10
         ``model="auto"`` only: accepted relative error of ``quantity`` against the BEM.
     quantity : {"adhesive_energy", "pull_off_pressure", "equilibrium_distance"}
@@ -158,7 +159,8 @@ def rough_contact_curves(
                           * _spacing(height, "x") * _spacing(height, "y"))
         ds = gw_contact_curves(height, distance=distance_array(distance), **common, **kwargs)
     else:
-        ds = bem_contact_curves(height, distance=distance, n_distances=n_distance, **common,
+        ds = bem_contact_curves(height, distance=distance, **common,
+                                **({} if n_distance is None else {"n_distances": n_distance}),
                                 **model_kwargs)
     if reason is not None:
         ds.attrs["model_selection"] = f"auto -> {model}: {reason}"
