@@ -589,6 +589,11 @@ def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_r
     dp = np.atleast_1d(np.asarray(dp, float))
     R = hw.size
     p = grid_params(zflat.size) if params is None else np.asarray(params, float)
+    if distance is None and not np.nanmax(zflat) > np.nanmin(zflat):
+        # a flat map has no height scale for the controller: contact at d <= 0 (one plateau,
+        # no Hertz force), water below the water height; a uniform grid over that range
+        distance = np.linspace(0.0, 1.05 * max(float(np.max(hw)), 1e-10), 65)
+        per_rh = False
     fixed = np.empty(0) if distance is None else np.asarray(distance, float)
     mask = np.eye(R, dtype=bool) if per_rh else np.ones((1, R), bool)
     ws = workspace(zflat.size)
