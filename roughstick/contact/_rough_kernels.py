@@ -51,6 +51,7 @@ from ._rough_tail import (
     bucket_sort,
     count_ge,
     eval_level,
+    prepare_heights,
     successor,
 )
 
@@ -562,19 +563,6 @@ def grid_params(npix):
     p[ETA] *= f
     p[PULL_SMOOTH] *= f
     return p
-
-
-def prepare_heights(z):
-    """Mean-referred float64 heights (NaN kept) and the number of valid pixels."""
-    z = np.asarray(z, dtype=np.float64)
-    valid = np.isfinite(z)
-    nvalid = int(valid.sum())
-    if nvalid == 0:
-        raise ValueError("the height map has no finite pixel (all NaN/inf).")
-    if nvalid == z.size:
-        return np.ascontiguousarray(z - np.ascontiguousarray(z).ravel().mean()), nvalid
-    mean = z[valid].mean()
-    return np.ascontiguousarray(np.where(valid, z - mean, np.nan)), nvalid
 
 
 def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_rh=False, params=None):

@@ -20,7 +20,7 @@ import numpy as np
 
 from ._rough_fit import _SIMD, fit_sphere
 
-__all__ = ["bucket_sort", "count_ge", "successor", "eval_level"]
+__all__ = ["bucket_sort", "count_ge", "successor", "eval_level", "prepare_heights"]
 
 # scalar state slots
 _K, _NLIVE, _LOG, _NSORTED, _NEXTB, _POOL = range(6)
@@ -580,3 +580,16 @@ def _contact_event_above(x, ztail, nsorted):  # pragma: no cover - compiled
     if k == 0:
         return np.inf
     return ztail[k - 1]
+
+
+def prepare_heights(z):
+    """Mean-referred float64 heights (NaN kept) and the number of valid pixels."""
+    z = np.asarray(z, dtype=np.float64)
+    valid = np.isfinite(z)
+    nvalid = int(valid.sum())
+    if nvalid == 0:
+        raise ValueError("the height map has no finite pixel (all NaN/inf).")
+    if nvalid == z.size:
+        return np.ascontiguousarray(z - np.ascontiguousarray(z).ravel().mean()), nvalid
+    mean = z[valid].mean()
+    return np.ascontiguousarray(np.where(valid, z - mean, np.nan)), nvalid
