@@ -1,28 +1,29 @@
-"""Speed of the rough-surface modified DMT (not run by pytest).
+"""Speed and accuracy of the rough-surface modified DMT kernel (issue 12; not run by pytest).
 
-Prints, in one run on this machine:
-1. for one 1024 x 1024 map (5 nm pixels; data_samples S1A and S2A, S1-/S2-like statistics), six
-   humidities (30, 50, 60, 70, 80, 90 %) and a 200-point distance grid: the time of the full set of
-   curves as a multiple of one 1024 x 1024 complex inverse FFT (numpy) measured in the same run
-   (target: <= 10x);
-2. the speed-up over the literal reference (relabel per distance, scipy least_squares per
-   asperity) on a 256 x 256 crop: the reference runs on 10 of the 200 distances (every 20th) and
-   its time is scaled by 20 (target: >= 100x), with the largest pressure difference on those 10;
-3. the opt-in warm start of the fits (``curves_kernel(..., warm_start=True)``): its time and its
-   largest pressure difference from the default cold fits (speed against error; Eq. 21 is not
-   convex, so the warm start can follow another local minimum);
-4. the one-time numba compile cost (fresh cache, in a subprocess) and the load from cache.
-   Compilation is never inside the timed runs above (one call on an 8 x 8 map first).
+Everything is a ratio to one 1024 x 1024 complex inverse FFT (numpy) timed interleaved in the
+same run (min of several repeats; CPU time of this process, so other jobs on a shared machine
+count less). Prints:
 
-    python benchmarks/bench_rough_contact.py
+1. per surface (data_samples S1A and S2A, a Table-4 surface, the smooth and the rough self-affine
+   families; 1024^2 at 5 nm, six RH): the public default call ``rs.rough_contact_curves(h, relative_humidity=RH)``, the kernel's
+   default call (automatic one-pass grid) and the same levels as an explicit grid, the number of levels and of sphere fits, and the contact fraction
+   at the lowest level;
+2. accuracy of the automatic grid: Gamma (Eq. 13), pull-off and d_eq against the same grid with
+   every interval split in four (max over the six RH);
+3. the fast path against the literal reference (scipy relabel + least_squares per asperity) on
+   256^2 crops, at 8 levels of the automatic grid: max relative pressure difference;
+4. time versus map size (256^2 .. 4096^2) and versus the contact fraction at the floor of an
+   explicit grid (to show what the cost grows with);
+5. one interaction zone of the paper's cantilever (524 x 6000 pixels, Table 4 PSD).
+
+    nice -n 10 python benchmarks/bench_rough_contact.py [--quick]
 """
 
+# ruff: noqa: B023  (lambdas are called at once, inside their loop iteration)
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-import tempfile
+import argparse
+import pathlib
 import time
 import warnings
 
@@ -30,92 +31,157 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
-from roughstick.contact import _rough_kernels as k
+from roughstick.contact import _rough_kernels as rk
 from roughstick.contact._rough_reference import reference_curves
+from roughstick.contact.adhesion import _summary_kernel
+
+DATA = pathlib.Path(__file__).resolve().parents[1] / "data_samples"
+
+
+def family_surface(name, *, shape, seed):
+    """The issue's families (5 nm pixels, periodic): PSDs of the S1/S2 samples, the paper's
+    Table 4 (Eq. 37), a smooth (rms 2 nm, Hurst 0.8, roll-off 2e7 rad/m) and a rough (rms 8 nm,
+    Hurst 0.5, roll-off 5e7 rad/m) self-affine one; cut at 2.89e8 rad/m."""
+    if name in ("S1", "S2"):
+        a = xr.open_dataset(DATA / f"{name}A.nc").attrs
+        p = dict(s0=a["psd_s0"], s1=a["psd_s1"], q0=a["psd_q0"], qmax=a["psd_qmax"])
+    elif name == "table4":
+        c = rs.cantilever_psd()
+        p = dict(s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
+    else:
+        rms, hurst, q0, qmax = (2e-9, 0.8, 2e7, 289e6) if name == "smooth" else (8e-9, 0.5, 5e7, 289e6)
+        ratio = (qmax / q0) ** (-2.0 * (1.0 + hurst))
+        s0 = rms**2 / float(rs.self_affine_moments(s0=1.0, s1=ratio, q0=q0, qmax=qmax).m0)
+        p = dict(s0=s0, s1=s0 * ratio, q0=q0, qmax=qmax)
+    ens = rs.generate_surfaces(lambda q: rs.self_affine_psd(q, **p), n=1, shape=shape,
+                               spacing=5e-9, seed=seed)
+    return ens.isel(realization=0).compute()
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
+HW = rs.water_height(RH).values
+DP = rs.laplace_pressure(RH).values
+K = rs.hertz_modulus()
+SPEC = np.fft.fft2(np.random.default_rng(0).standard_normal((1024, 1024)))
 
 
-def best_of(fn, n=3):
-    t = []
-    for _ in range(n):
-        t0 = time.perf_counter()
-        fn()
-        t.append(time.perf_counter() - t0)
-    return min(t)
+def cpu(fn):
+    t0 = time.process_time()
+    out = fn()
+    return time.process_time() - t0, out
 
 
-def main():
-    rng = np.random.default_rng(0)
-    spec = np.fft.fft2(rng.standard_normal((1024, 1024)))
-    t_fft = best_of(lambda: np.fft.ifft2(spec))
-    print(f"one 1024^2 complex inverse FFT (numpy): {t_fft * 1e3:.1f} ms")
-    # compile once
-    rs.rough_contact_curves(rs.testing.make_topography(np.zeros((8, 8))), relative_humidity=0.5, distance=[0.0])
-    for name in ("S1A", "S2A"):
-        h = xr.open_dataset(rs.datasets.sample_path(name)).height.load()
-        d = rs.contact_distance_grid(h, relative_humidity=RH, n=200).values
-        t = best_of(lambda h=h, d=d: rs.rough_contact_curves(h, relative_humidity=RH, distance=d))
-        t_auto = best_of(lambda h=h: rs.rough_contact_curves(h, relative_humidity=RH), n=1)
-        ds = rs.rough_contact_curves(h, relative_humidity=RH, distance=d)
-        print(
-            f"{name} 1024^2, 6 RH, 200 distances: {t:.3f} s = {t / t_fft:.1f} x FFT "
-            f"(automatic grid incl. its search: {t_auto:.3f} s = {t_auto / t_fft:.1f} x FFT); "
-            f"tail pixels at the lowest distance: {int((h - h.mean() >= d.min()).sum())}, "
-            f"max asperities at one distance: {int(ds.n_contacts.max())}"
-        )
-    # speed-up over the literal reference on 256^2
-    h = xr.open_dataset(rs.datasets.sample_path("S1A")).height.isel(x=slice(0, 256), y=slice(0, 256)).load()
-    d = rs.contact_distance_grid(h, relative_humidity=RH, n=200).values
-    hw = rs.water_height(RH).values
-    dp = rs.laplace_pressure(RH).values
-    kw = dict(dx=5e-9, dy=5e-9, K=rs.hertz_modulus(), periodic=False, connectivity=4)
-    z = h.values
-    t_fast = best_of(lambda: k.curves_kernel(z, d, hw, dp, **kw))
-    sub = d[::20]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        t0 = time.perf_counter()
-        ref = reference_curves(z, sub, hw, dp, **kw)
-        t_ref = (time.perf_counter() - t0) * (d.size / sub.size)
-    fast = k.curves_kernel(z, sub, hw, dp, **kw)
-    big = np.abs(ref[0]) > 1e-3 * np.abs(ref[0]).max()
-    rel = np.max(np.abs(fast[0] - ref[0])[big] / np.abs(ref[0])[big], initial=0)
-    print(
-        f"S1A 256^2 crop, 6 RH, 200 distances: fast {t_fast * 1e3:.1f} ms, literal reference "
-        f"{t_ref:.1f} s (ran {sub.size} distances, scaled x{d.size // sub.size}): speed-up "
-        f"{t_ref / t_fast:.0f} x; max relative pressure difference on those {sub.size}: {rel:.1e}"
-    )
-    # warm start: speed against error (same 200-point grids as above)
-    kw = dict(dx=5e-9, dy=5e-9, K=rs.hertz_modulus(), periodic=False, connectivity=4)
-    for name in ("S1A", "S2A"):
-        h = xr.open_dataset(rs.datasets.sample_path(name)).height.load()
-        d = rs.contact_distance_grid(h, relative_humidity=RH, n=200).values
+def ratio(fn, reps=5):
+    """(min kernel time, min FFT time), interleaved."""
+    tk, tf = [], []
+    out = None
+    for _ in range(reps):
+        tf.append(cpu(lambda: np.fft.ifft2(SPEC))[0])
+        t, out = cpu(fn)
+        tk.append(t)
+    return min(tk), min(tf), out
+
+
+def surface(name, shape=(1024, 1024), seed=1):
+    if name in ("S1A", "S2A"):
+        h = rs.read_afm(DATA / f"{name}.nc")
+        return h.isel(y=slice(0, shape[0]), x=slice(0, shape[1])).load()
+    if name == "Table 4":
+        name = "table4"
+    return family_surface(name, shape=shape, seed=seed)
+
+
+def kw(h):
+    return dict(dx=float(h.x[1] - h.x[0]), dy=float(h.y[1] - h.y[0]), K=K,
+                periodic=bool(h.attrs.get("periodic", 0)), connectivity=4)
+
+
+def refine4(d):
+    parts = [d[:1]]
+    for a, b in zip(d[:-1], d[1:]):
+        parts.append(a + (b - a) * np.array([0.25, 0.5, 0.75, 1.0]))
+    return np.concatenate(parts)
+
+
+def main(quick=False):
+    reps = 3 if quick else 5
+    rk.curves(np.random.default_rng(0).normal(size=(16, 16)) * 1e-9, HW, DP, dx=5e-9, dy=5e-9, K=K,
+              periodic=True, connectivity=4)  # compile
+    tf0 = min(cpu(lambda: np.fft.ifft2(SPEC))[0] for _ in range(5))
+    print(f"one 1024^2 complex inverse FFT (numpy): {tf0 * 1e3:.1f} ms CPU")
+    print("\n1-2. 1024^2 at 5 nm, six RH (30-90 %): default call (automatic grid) and the same levels as an "
+          "explicit grid; x = multiples of one FFT in the same run")
+    print(f"{'surface':9s} {'public default':>16s} {'kernel default':>16s} {'explicit':>16s} {'levels':>6s} {'fits':>7s} {'c.f.':>6s} | "
+          f"4x-finer grid: {'Gamma':>7s} {'pull-off':>8s} {'d_eq':>7s}")
+    for name in ("S1A", "S2A", "Table 4", "smooth", "rough"):
+        h = surface(name)
         z = h.values
-        cold = k.curves_kernel(z, d, hw, dp, **kw)
-        warm = k.curves_kernel(z, d, hw, dp, **kw, warm_start=True)
-        t_c = best_of(lambda z=z, d=d: k.curves_kernel(z, d, hw, dp, **kw))
-        t_w = best_of(lambda z=z, d=d: k.curves_kernel(z, d, hw, dp, **kw, warm_start=True))
-        big = np.abs(cold[0]) > 1e-3 * np.abs(cold[0]).max()
-        rel = np.where(big, np.abs(warm[0] - cold[0]) / np.where(big, np.abs(cold[0]), 1.0), 0.0)
-        print(
-            f"{name} warm start: {t_w:.3f} s = {t_w / t_fft:.1f} x FFT vs cold {t_c:.3f} s = "
-            f"{t_c / t_fft:.1f} x FFT; max relative pressure difference {rel.max():.1e}, "
-            f"distances differing by > 1e-8: {int(np.sum(rel.max(axis=0) > 1e-8))} of {d.size}"
-        )
-    # one-time compile cost: a fresh numba cache in a subprocess, then the same with the cache
-    code = (
-        "import time; t0 = time.perf_counter(); import numpy as np; import roughstick as rs; "
-        "t1 = time.perf_counter(); rs.rough_contact_curves(rs.testing.make_topography(np.zeros((8, 8))), "
-        "relative_humidity=0.5, distance=[0.0]); print(time.perf_counter() - t1)"
-    )
-    with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-        run = [sys.executable, "-c", code]
-        first = float(subprocess.run(run, env=env, capture_output=True, text=True, check=True).stdout)
-        again = float(subprocess.run(run, env=env, capture_output=True, text=True, check=True).stdout)
-    print(f"numba compile, first call with an empty cache: {first:.1f} s; with the cache (cache=True): {again:.2f} s")
+        t, f, (d, o) = ratio(lambda: rk.curves(z, HW, DP, **kw(h)), reps)
+        te, fe, _ = ratio(lambda: rk.curves(z, HW, DP, distance=d, **kw(h)), reps)
+        tp, fp, _ = ratio(lambda: rs.rough_contact_curves(h, relative_humidity=RH), reps)
+        g, pull, deq, _, _ = _summary_kernel(o[0], o[2], d)
+        d4 = refine4(d)
+        _, o4 = rk.curves(z, HW, DP, distance=d4, **kw(h))
+        g4, pull4, deq4, _, _ = _summary_kernel(o4[0], o4[2], d4)
+        sig = float(np.nanstd(z))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            eg = np.nanmax(np.abs(g / g4 - 1))
+            ep = np.nanmax(np.abs(pull / pull4 - 1))
+        ed = np.nanmax(np.abs(deq - deq4) / np.maximum(np.abs(deq4), sig))
+        print(f"{name:9s} {tp * 1e3:7.1f} ms {tp / fp:5.1f}x {t * 1e3:7.1f} ms {t / f:5.1f}x "
+              f"{te * 1e3:7.1f} ms {te / fe:5.1f}x {d.size:6d} "
+              f"{int(o[4][0].sum()):7d} {o[3][0, 0]:6.3f} | {'':14s} {eg:7.1e} {ep:8.1e} {ed:7.1e}")
+
+    print("\n3. fast path vs the literal reference (256^2 crops, 8 levels of the automatic grid, six RH)")
+    for name in ("S1A", "S2A", "Table 4", "smooth", "rough"):
+        h = surface(name, (256, 256))
+        z = h.values
+        d, o = rk.curves(z, HW, DP, **kw(h))
+        cross = np.flatnonzero(o[4][0] > 0)
+        pick = d[cross[np.linspace(0, cross.size - 1, 8).astype(int)]] if cross.size else d[:8]
+        fast = rk.curves_kernel(z, pick, HW, DP, **kw(h))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            t_ref, ref = cpu(lambda: reference_curves(z, pick, HW, DP, **kw(h)))
+        t_fast, _ = cpu(lambda: rk.curves_kernel(z, pick, HW, DP, **kw(h)))
+        big = np.abs(ref[0]) > 1e-3 * np.abs(ref[0]).max()
+        rel = np.max(np.abs(fast[0] - ref[0])[big] / np.abs(ref[0])[big], initial=0.0)
+        fe = np.nanmax(np.abs(fast[5] - ref[5]) / np.where(ref[5] > 0, ref[5], np.inf), initial=0.0)
+        print(f"{name:9s} max rel. pressure diff {rel:.1e}, fit error (Eq. 23) {fe:.1e}; reference "
+              f"{t_ref:.1f} s, fast {t_fast * 1e3:.1f} ms ({t_ref / max(t_fast, 1e-9):.0f}x)")
+
+    print("\n4a. time of the default call versus map size (x one 1024^2 FFT)")
+    sizes = (256, 512, 1024, 2048) if quick else (256, 512, 1024, 2048, 4096)
+    print(f"{'family':8s} {'size':>6s} {'time':>10s} {'x FFT':>7s} {'tail px':>9s} {'levels':>6s} {'fits':>8s}")
+    for name in ("S2", "smooth"):
+        for n in sizes:
+            h = surface(name, (n, n))
+            z = h.values
+            t, f, (d, o) = ratio(lambda: rk.curves(z, HW, DP, **kw(h)), 1 if n >= 2048 else reps)
+            zc = z - np.nanmean(z)
+            print(f"{name:8s} {n:6d} {t * 1e3:8.1f}ms {t / f:7.1f} {int((zc >= d.min()).sum()):9d} {d.size:6d} "
+                  f"{int(o[4][0].sum()):8d}")
+
+    print("\n4b. explicit uniform grid of 100 levels on the smooth family (1024^2), floor at a given contact "
+          "fraction: time versus contacting pixels")
+    h = surface("smooth")
+    z = h.values
+    zc = z - z.mean()
+    top = zc.max() + HW.max()
+    for q in (0.995, 0.99, 0.98, 0.95, 0.90):
+        floor = np.quantile(zc, q)
+        d = np.linspace(floor, top, 100)
+        t, f, o = ratio(lambda: rk.curves_kernel(z, d, HW, DP, **kw(h)), 3)
+        print(f"footprint fraction at the floor {1 - q:5.3f}: {t * 1e3:8.1f} ms = {t / f:6.1f}x FFT; "
+              f"sum of footprint pixels over the levels {int(sum((zc >= x).sum() for x in d)):9d}")
+
+    print("\n5. one interaction zone of the paper's cantilever: 524 x 6000 pixels at 5 nm, Table 4 PSD")
+    h = family_surface("table4", shape=(524, 6000), seed=1)
+    z = h.values
+    t, f, (d, o) = ratio(lambda: rk.curves(z, HW, DP, **kw(h)), 3)
+    print(f"default call: {t:.3f} s CPU = {t / f:.1f}x FFT, {d.size} levels, {int(o[4][0].sum())} fits")
 
 
 if __name__ == "__main__":
-    main()
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true")
+    main(ap.parse_args().quick)

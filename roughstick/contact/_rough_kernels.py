@@ -1,11 +1,11 @@
-"""Compiled kernels of the rough-surface modified DMT (Eqs. 16-23), plain numpy/numba on SI floats.
+"""Compiled kernels of the rough-surface modified DMT (Eqs. 16-23): the one-pass adaptive grid.
 
-One pass over the heights in descending order with a union-find gives the asperities (connected
-components of ``{z >= d}``) at every distance level ``d`` (DESIGN.md §4). Each asperity is fitted
-with the constrained sphere of Eqs. 19-21 by a projected Levenberg-Marquardt iteration with an
-analytic Jacobian; Hertz (Eqs. 10-11) gives its repulsive force and contact area. The water term
-(the area ``A{z >= d - h_water}``) is a complementary cumulative count of the heights, done once
-for all distances and all humidities.
+:func:`auto_pass` visits distance levels in one pass over the top tail of the height
+distribution (:mod:`._rough_tail`): it walks down from the first water contact, refines where a
+curve turns, bisects the zero crossings of the mean pressure (equilibrium), the pull-off
+extremum and the wetting events, and stops once every humidity's curve is past its outermost
+stable crossing. Each level's asperities are fitted with Eq. 21 (:mod:`._rough_fit`); water
+areas come from the height buckets. With ``fixed`` levels it evaluates just those (any order).
 
 Conventions shared with :mod:`roughstick.contact._rough_reference` (the literal slow implementation):
 
@@ -30,341 +30,613 @@ Conventions shared with :mod:`roughstick.contact._rough_reference` (the literal 
 
 from __future__ import annotations
 
-import math
+import threading
 
 import numba as nb
 import numpy as np
 
 from .._core.conventions import CURVE_VARIABLES
-from ._rough_fit import _WS_ROWS, _fit_level, _fit_sphere, fit_workspace  # noqa: F401  (tests use them here)
+from ._rough_tail import (
+    _NEXTB,
+    _NJ,
+    _NSORTED,
+    _contact_event_above,
+    _find,
+    _grow1,
+    _grow2,
+    _n_above,
+    _seek,
+    _sort_until,
+    _wet_event_above,
+    bucket_sort,
+    count_ge,
+    eval_level,
+    prepare_heights,
+    successor,
+)
 
-__all__: list[str] = []
+__all__ = ["OUTPUTS", "DEFAULT_PARAMS", "auto_pass", "curves", "curves_kernel", "hertz_levels", "prepare_heights", "grid_params"]
 
-
-@nb.njit(cache=True, nogil=True)
-def _find(parent, vx, vy, stack, i):  # pragma: no cover - compiled
-    """Root of ``i`` with path compression; ``vx, vy`` become displacements to the root."""
-    top = 0
-    r = i
-    while parent[r] != r:
-        stack[top] = r
-        top += 1
-        r = parent[r]
-    # compress, nearest-to-root first so the parent's displacement is already to the root
-    for t in range(top - 1, -1, -1):
-        u = stack[t]
-        p = parent[u]
-        if p != r:
-            vx[u] += vx[p]
-            vy[u] += vy[p]
-            parent[u] = r
-    return r
-
-
-@nb.njit(cache=True, nogil=True)
-def _hertz_levels(
-    zflat, ny, nx, order, levels, dx, dy, K, periodic, connectivity, warm=False
-):  # pragma: no cover
-    """Hertz part of Eq. 16 at every level, in one descending pass with a union-find.
-
-    Parameters
-    ----------
-    zflat : (ny*nx,) float64, mean-referred heights (NaN allowed).
-    order : (T,) int64, raster indices of the pixels with ``z >= levels[-1]``, by descending
-        height (ties in raster order).
-    levels : (D,) float64, strictly descending distances.
-    warm : bool
-        Start the fit of an asperity whose pixels did not change since the previous level from
-        that level's solution (one local refinement instead of two starts; falls back to the
-        two cold starts if it does not converge). False: every fit from the two cold starts,
-        so the values at a distance do not depend on the other distances of the grid.
-
-    Returns
-    -------
-    force, hertz_area, foot_area, err2_area, n_comp, wraps : (D,) arrays
-        Sum over asperities of the Hertz force [N], Hertz contact area [m2], footprint area [m2],
-        squared fit error times footprint area [m4], number of asperities, and the number of
-        asperities that wrap all the way round a periodic map.
-    """
-    T = order.size
-    D = levels.size
-    pos = np.full(ny * nx, -1, np.int64)
-    for k in range(T):
-        pos[order[k]] = k
-    parent = np.arange(T)
-    vx = np.zeros(T, np.int64)
-    vy = np.zeros(T, np.int64)
-    wrap = np.zeros(T, np.bool_)
-    stack = np.empty(T, np.int64)
-    count = np.zeros(T, np.int64)
-    start = np.zeros(T + 1, np.int64)
-    members = np.empty(T, np.int64)
-    xs = np.empty(T)
-    ys = np.empty(T)
-    hs = np.empty(T)
-    ws = np.empty((_WS_ROWS, 5))
-    iw = np.empty(3, np.int64)
-    free = np.empty(3, np.bool_)
-    roots = np.empty(T, np.int64)
-    fit = np.empty((T, 2))
-    # warm starts: pixel count of each root's component at its last fit (0: never fitted) and
-    # that fit's solution (x0, y0, t) in the footprint's units
-    pm = np.zeros(T, np.int64)
-    sol = np.zeros((T, 3))
-    if connectivity == 8:
-        ndir = 4
-    else:
-        ndir = 2
-    # half of the neighbourhood is enough: each pair is met once, from the later pixel
-    drs = np.array([0, 1, 0, -1, 1, 1, -1, -1])
-    dcs = np.array([1, 0, -1, 0, 1, -1, 1, -1])
-    nd = 2 * ndir
-    force = np.zeros(D)
-    harea = np.zeros(D)
-    farea = np.zeros(D)
-    e2a = np.zeros(D)
-    ncomp = np.zeros(D, np.int64)
-    nwrap = np.zeros(D, np.int64)
-    pix = dx * dy
-    added = 0
-    for li in range(D):
-        d = levels[li]
-        while added < T and zflat[order[added]] >= d:
-            k = added
-            idx = order[k]
-            r0 = idx // nx
-            c0 = idx - r0 * nx
-            for t in range(nd):
-                rr = r0 + drs[t]
-                cc = c0 + dcs[t]
-                if periodic:
-                    rr = rr % ny
-                    cc = cc % nx
-                elif rr < 0 or rr >= ny or cc < 0 or cc >= nx:
-                    continue
-                q = pos[rr * nx + cc]
-                if q < 0 or q >= k:
-                    continue
-                rp = _find(parent, vx, vy, stack, k)
-                vpx = vx[k] if rp != k else 0
-                vpy = vy[k] if rp != k else 0
-                rq = _find(parent, vx, vy, stack, q)
-                vqx = vx[q] if rq != q else 0
-                vqy = vy[q] if rq != q else 0
-                sx = dcs[t]
-                sy = drs[t]
-                if rp != rq:
-                    if rq < rp:  # the root is the higher (earlier) pixel
-                        parent[rp] = rq
-                        vx[rp] = -sx - vpx + vqx
-                        vy[rp] = -sy - vpy + vqy
-                        wrap[rq] = wrap[rq] or wrap[rp]
-                    else:
-                        parent[rq] = rp
-                        vx[rq] = sx - vqx + vpx
-                        vy[rq] = sy - vqy + vpy
-                        wrap[rp] = wrap[rp] or wrap[rq]
-                elif vqx - vpx != sx or vqy - vpy != sy:
-                    wrap[rp] = True
-            added += 1
-        n_act = added
-        if n_act == 0:
-            continue
-        # group the active pixels by root (counting sort)
-        for j in range(n_act):
-            count[j] = 0
-        for j in range(n_act):
-            r = _find(parent, vx, vy, stack, j)
-            count[r] += 1
-        start[0] = 0
-        for j in range(n_act):
-            start[j + 1] = start[j] + count[j]
-        for j in range(n_act):
-            count[j] = 0
-        for j in range(n_act):
-            r = parent[j]
-            members[start[r] + count[r]] = j
-            count[r] += 1
-        nr = 0
-        for r in range(n_act):
-            if start[r + 1] > start[r]:
-                roots[nr] = r
-                nr += 1
-        _fit_level(
-            roots[:nr], start, members, vx, vy, zflat, order, d, dx, dy, xs, ys, hs, warm, pm,
-            sol, fit, ws, iw, free,
-        )
-        # sums over the asperities in root order
-        for c in range(nr):
-            r = roots[c]
-            m = start[r + 1] - start[r]
-            area = m * pix
-            af = math.sqrt(area / math.pi)
-            tt = fit[c, 0]
-            cost = fit[c, 1]
-            # Hertz (Eqs. 10-11) with delta = t a_f, R = a_f (1 + t^2) / (2 t):
-            # F = K sqrt(R) delta^1.5 = K a_f^2 t sqrt((1 + t^2) / 2), area pi R delta
-            force[li] += K * af * af * tt * math.sqrt(0.5 * (1.0 + tt * tt))
-            harea[li] += 0.5 * math.pi * af * af * (1.0 + tt * tt)
-            farea[li] += area
-            e2a[li] += cost / m * af * af * area
-            ncomp[li] += 1
-            if wrap[r]:
-                nwrap[li] += 1
-    return force, harea, farea, e2a, ncomp, nwrap
-
-
-@nb.njit(cache=True, nogil=True)
-def _count_above(zflat, thresholds):  # pragma: no cover - compiled
-    """Number of valid pixels with ``z >= t`` for every ``t`` of ascending ``thresholds``.
-
-    Each height is placed among the thresholds by a lookup in uniform buckets over
-    ``[thresholds[0], thresholds[-1]]`` (about four per threshold) followed by exact comparisons
-    in both directions, so the bin is exactly ``bisect_right(thresholds, z)`` whatever the
-    rounding of the bucket index, in O(1) per pixel for well-spread thresholds.
-    """
-    m = thresholds.size
-    out = np.zeros(m, np.int64)
-    if m == 0:
-        return out
-    hist = np.zeros(m + 1, np.int64)
-    t0 = thresholds[0]
-    span = thresholds[m - 1] - t0
-    nb_ = 4 * m
-    inv = nb_ / span if span > 0.0 else 0.0
-    # first[b] = number of thresholds below the lower edge of bucket b (approximately: fixed below)
-    first = np.zeros(nb_ + 1, np.int64)
-    j = 0
-    for bk in range(nb_ + 1):
-        while j < m and (thresholds[j] - t0) * inv < bk:
-            j += 1
-        first[bk] = j
-    for z in zflat:
-        if not (z >= t0):  # NaN, or below every threshold
-            continue
-        x = (z - t0) * inv
-        bk = int(x) if x < nb_ else nb_  # (inf * 0 = NaN also lands in the last bucket)
-        lo = first[bk]
-        while lo > 0 and thresholds[lo - 1] > z:
-            lo -= 1
-        while lo < m and thresholds[lo] <= z:
-            lo += 1
-        hist[lo] += 1
-    acc = 0
-    for j in range(m, 0, -1):
-        acc += hist[j]
-        out[j - 1] = acc
-    return out
-
-
-def prepare_heights(z):
-    """Mean-referred float64 heights and the number of valid pixels (shared with the reference)."""
-    z = np.asarray(z, dtype=np.float64)
-    valid = np.isfinite(z)
-    nvalid = int(valid.sum())
-    if nvalid == 0:
-        raise ValueError(
-            "the height map has no finite pixel (all NaN/inf): nothing to put in contact. "
-            "Check the input or fill the dropouts first."
-        )
-    if nvalid == z.size:  # no masked copy (same mean bit for bit: the same values in the same order)
-        return np.ascontiguousarray(z - np.ascontiguousarray(z).ravel().mean()), nvalid
-    mean = z[valid].mean()
-    out = np.where(valid, z - mean, np.nan)
-    return np.ascontiguousarray(out), nvalid
-
-
-#: names and order of the kernel's outputs
 OUTPUTS = CURVE_VARIABLES
 
+# parameters (index in the params array)
+EPS, ETA, FINE, ZERO_BAND, PULL_BAND, PULL_STOP, MARGIN, WFLOOR_REL, MAXP, DEQ_TOL, PULL_FINE, PULL_SMOOTH = range(12)
+DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.005, 0.0, 0.03, 1e-5, 4000.0, 0.004, 0.25, 0.002])
 
-def curves_kernel(
-    z,
-    distance,
-    water_height,
-    laplace_pressure,
-    *,
-    dx,
-    dy,
-    K,
-    periodic,
-    connectivity,
-    warm_start=False,
-):
-    """Force-distance curves of one map (Eq. 16) at every distance and humidity.
 
-    Parameters
-    ----------
-    z : (ny, nx) array
-        Heights [m] (NaN = missing pixel).
-    distance : (D,) array
-        Distances [m], any order, no duplicates.
-    water_height, laplace_pressure : (R,) arrays
-        h_water [m] and Delta P [Pa] (< 0) per humidity.
-    dx, dy : float
-        Pixel spacing [m].
-    K : float
-        Hertz modulus 4/3 E* [Pa].
-    periodic : bool
-        Connect across the map edges.
-    connectivity : {4, 8}
-    warm_start : bool
-        Refine the fit of an asperity whose pixels did not change since the next higher
-        distance from that distance's solution (faster; see :func:`_hertz_levels`).
+@nb.njit(**_NJ)
+def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, params, fixed, ws_start, ws_idx, ws_zb,
+              ws_pos, P, Cc, live, order, ztail, logstart, pooltop, LOG, pi, px, py, pz, xs, ys, hs, wt):  # pragma: no cover
+    """Evaluate the levels of the adaptive grids (or the ``fixed`` levels if given, any order).
 
-    Returns
-    -------
-    tuple of (R, D) float64 arrays, in the order of :data:`OUTPUTS`.
+    Returns ``(D, HZ, WET, MEM, n, crossed)``: level distances, Hertz sums per level
+    ``(force, hertz_area, foot_area, err2_area, n_comp, n_wrap)``, wet pixel counts per humidity,
+    membership of each level in each controller's grid, the number of levels, and each
+    controller's outermost stable crossing per humidity (NaN: none found).
     """
-    z, nvalid = prepare_heights(z)
-    ny, nx = z.shape
-    distance = np.asarray(distance, dtype=np.float64)
-    hw = np.atleast_1d(np.asarray(water_height, dtype=np.float64))
-    dp = np.atleast_1d(np.asarray(laplace_pressure, dtype=np.float64))
-    D = distance.size
     R = hw.size
-    zflat = z.ravel()
+    C = mask.shape[0]
+    start = ws_start
+    idx = ws_idx
+    zb = ws_zb
+    nbuck = start.size - 1
+    zmin, zmax, scale, nvalid, sigma = bucket_sort(zflat, start, idx, zb)
+    span = max(zmax - zmin, 1e-300)
+    pix = dx * dy
+    apparent = nvalid * pix
+    # union-find state (capacities: every valid pixel; pages never touched cost nothing)
+    pos = ws_pos
+    pos[:] = -1
+    scal = np.zeros(8, np.int64)
+    scal[_NEXTB] = nbuck - 1
+    nbuf = np.empty((4, 8), np.int64)
+    M = np.zeros((4, 5))
+    # levels
+    maxp = int(params[MAXP]) if fixed.size == 0 else fixed.size
+    Dv = np.empty(maxp)
+    HZ = np.empty((maxp, 6))
+    WET = np.empty((maxp, R), np.int64)
+    MEM = np.zeros((maxp, C), np.bool_)
+    ordd = np.empty(maxp, np.int64)
+    nlev = 0
+
+    if fixed.size > 0:
+        desc = np.argsort(-fixed)
+        for t in range(fixed.size):
+            d = fixed[desc[t]]
+            _sort_until(start, idx, zb, zmin, scale, scal, order, ztail, pos, d)
+            k = _n_above(ztail, scal[_NSORTED], d)
+            r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
+                      periodic, connectivity, nbuf)
+            while r != 0:
+                if r == 1:
+                    LOG = _grow2(LOG, 2 * LOG.shape[0])
+                else:
+                    n2 = 2 * pi.size
+                    pi = _grow1(pi, n2)
+                    px = _grow1(px, n2)
+                    py = _grow1(py, n2)
+                    pz = _grow1(pz, n2)
+                r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx,
+                          ny, periodic, connectivity, nbuf)
+            f, ha, fa, e2, nc, nw = eval_level(Cc, live, scal, px, py, pz, d, dx, dy, K, xs, ys, hs,
+                                                         wt, M)
+            li = desc[t]
+            Dv[li] = d
+            HZ[li, 0] = f
+            HZ[li, 1] = ha
+            HZ[li, 2] = fa
+            HZ[li, 3] = e2
+            HZ[li, 4] = nc
+            HZ[li, 5] = nw
+            for j in range(R):
+                WET[li, j] = count_ge(start, zb, zmin, scale, d - hw[j])
+        return Dv, HZ, WET, MEM, fixed.size, np.full((C, R), np.nan), LOG, pi, px, py, pz, scal, np.zeros(maxp, np.int64)
+
+    eps = params[EPS]
+    eta = params[ETA]
+    fine = params[FINE]
+    deq_tol = params[DEQ_TOL]
+    pull_fine = params[PULL_FINE]
+    pull_smooth = params[PULL_SMOOTH]
+    zero_band = params[ZERO_BAND]
+    pull_band = params[PULL_BAND]
+    pull_stop = params[PULL_STOP]
+    margin = params[MARGIN]
+    wfloor = params[WFLOOR_REL] * span
+    # each controller's grid starts above the first wetting of its own humidities
+    topc = np.empty(C)
+    for c in range(C):
+        hwmax = 0.0
+        for j in range(R):
+            if mask[c, j]:
+                hwmax = max(hwmax, hw[j])
+        topc[c] = zmax + hwmax + 1e-4 * span
+    dfloor = zmin - 1e-3 * span
+    dtop = np.empty(R)
+    for j in range(R):
+        dtop[j] = zmax + hw[j]
+    # controllers
+    S = np.zeros((C, R))
+    # the pull-off is at least the water term just above the first contact (no Hertz there)
+    for j in range(R):
+        w0 = count_ge(start, zb, zmin, scale, np.nextafter(zmax, np.inf) - hw[j])
+        for c in range(C):
+            S[c, j] = abs(dp[j]) * w0 * pix / apparent
+    crossed = np.full((C, R), np.nan)
+    pmin = np.zeros((C, R))
+    phase = np.zeros(C, np.int64)
+    dcur = topc.copy()
+    wstep = (topc - zmax) / 4
+    stopat = np.full(C, np.nan)
+    SD = 256
+    stk = np.empty((C, SD, 2))
+    sp = np.zeros(C, np.int64)
+    nacc = np.zeros(C, np.int64)
+    lastw = np.zeros(C)
+    dnext = np.zeros(C)
+    # pull refinement state
+    jj = np.zeros(C, np.int64)
+    rnd = np.zeros(C, np.int64)
+    band = np.zeros(C)
+    best = np.zeros(C)
+    REQ = np.empty((C, maxp))
+    SREQ = np.zeros((C, maxp), np.int64)
+    SDEPTH = np.zeros(maxp, np.int64)
+    SRC = np.zeros(maxp, np.bool_)
+    PH = np.zeros(maxp, np.int64)
+    wantph = 0
+    nreq = np.zeros(C, np.int64)
+    # start: each controller tests [top - w, top]
+    for c in range(C):
+        dnext[c] = max(topc[c] - wstep[c], dfloor)
+        stk[c, 0, 0] = dnext[c]
+        stk[c, 0, 1] = topc[c]
+        sp[c] = 1
+    full = False
+    while True:
+        # ---- collect each controller's next request; progress controllers that need none
+        want = -np.inf
+        alldone = True
+        progressed = True
+        while progressed:
+            progressed = False
+            want = -np.inf
+            alldone = True
+            for c in range(C):
+                if phase[c] == 3:
+                    continue
+                alldone = False
+                if phase[c] == 0:
+                    if sp[c] == 0:
+                        # interval done: next step of the descent, or stop
+                        dcur[c] = dnext[c]
+                        if nacc[c] > 1:
+                            wstep[c] = 2.0 * lastw[c]
+                        else:
+                            wstep[c] = 2.0 * wstep[c]
+                        nacc[c] = 0
+                        allx = True
+                        lowest = np.inf
+                        for j in range(R):
+                            if mask[c, j]:
+                                if np.isnan(crossed[c, j]):
+                                    allx = False
+                                else:
+                                    lowest = min(lowest, crossed[c, j])
+                        if allx and np.isnan(stopat[c]):
+                            stopat[c] = lowest - margin * sigma
+                        if (allx and dcur[c] <= stopat[c]) or dcur[c] <= dfloor or full:
+                            phase[c] = 1
+                            jj[c] = -1
+                            nreq[c] = 0
+                            progressed = True
+                            continue
+                        dnext[c] = max(dcur[c] - wstep[c], dfloor)
+                        stk[c, 0, 0] = dnext[c]
+                        stk[c, 0, 1] = dcur[c]
+                        sp[c] = 1
+                    a = stk[c, sp[c] - 1, 0]
+                    b = stk[c, sp[c] - 1, 1]
+                    m = 0.5 * (a + b)
+                    ia = _find(Dv, ordd, nlev, a)
+                    ib = _find(Dv, ordd, nlev, b)
+                    im = _find(Dv, ordd, nlev, m)
+                    if ib < 0:
+                        if b > want:
+                            want = b
+                            wantph = 0
+                        continue
+                    if im < 0:
+                        if m > want:
+                            want = m
+                            wantph = 0
+                        continue
+                    if ia < 0:
+                        if a > want:
+                            want = a
+                            wantph = 0
+                        continue
+                    MEM[ia, c] = True
+                    MEM[ib, c] = True
+                    MEM[im, c] = True
+                    # the midpoint test (see auto_proto): accept, or split (upper half first)
+                    w = b - a
+                    ok = True
+                    if w > 2 * wfloor and not full:
+                        for j in range(R):
+                            if not mask[c, j]:
+                                continue
+                            if not (np.isnan(crossed[c, j]) or b > crossed[c, j]):
+                                continue
+                            va = (HZ[ia, 0] + dp[j] * (WET[ia, j] * pix - HZ[ia, 1])) / apparent
+                            vb = (HZ[ib, 0] + dp[j] * (WET[ib, j] * pix - HZ[ib, 1])) / apparent
+                            vm = (HZ[im, 0] + dp[j] * (WET[im, j] * pix - HZ[im, 1])) / apparent
+                            err = abs(vm - 0.5 * (va + vb))
+                            lo3 = min(min(va, vb), vm)
+                            hi3 = max(max(va, vb), vm)
+                            f = 1.0
+                            if np.isnan(crossed[c, j]):
+                                if hi3 > 0.0 and lo3 < 0.0:
+                                    # the crossing: a finer grid moves d_eq within its interval only
+                                    if w > deq_tol * max(abs(a), sigma):
+                                        ok = False
+                                        break
+                                    continue
+                                if min(min(abs(va), abs(vb)), abs(vm)) <= zero_band * S[c, j]:
+                                    f = fine
+                            fl = min(eta * max(dtop[j] - a, 0.0), eta * sigma)
+                            if not (err <= f * eps * S[c, j] or w <= f * fl):
+                                ok = False
+                                break
+                    if ok:
+                        sp[c] -= 1
+                        # advance over (b, m) then (m, a)
+                        for half in range(2):
+                            if half == 0:
+                                ih = ib
+                                il = im
+                                dh = b
+                                dl = m
+                            else:
+                                ih = im
+                                il = ia
+                                dh = m
+                                dl = a
+                            for j in range(R):
+                                if not mask[c, j]:
+                                    continue
+                                ph = (HZ[ih, 0] + dp[j] * (WET[ih, j] * pix - HZ[ih, 1])) / apparent
+                                pl = (HZ[il, 0] + dp[j] * (WET[il, j] * pix - HZ[il, 1])) / apparent
+                                S[c, j] = max(S[c, j], max(abs(ph), abs(pl)))
+                                if np.isnan(crossed[c, j]):
+                                    if pl < pmin[c, j]:
+                                        pmin[c, j] = pl
+                                    if pl >= 0.0 and ph < 0.0:
+                                        crossed[c, j] = dh - (dh - dl) * ph / (ph - pl)
+                        nacc[c] += 1
+                        lastw[c] = w
+                    else:
+                        if sp[c] + 2 > SD:
+                            sp[c] -= 1  # (cannot happen: depth <= log2(span / wfloor))
+                        else:
+                            stk[c, sp[c] - 1, 0] = a
+                            stk[c, sp[c] - 1, 1] = m
+                            stk[c, sp[c], 0] = m
+                            stk[c, sp[c], 1] = b
+                            sp[c] += 1
+                    progressed = True
+                    continue
+                # ---- phase 1: pull-off refinement, one humidity of the mask after the other
+                if phase[c] == 1 and nreq[c] > 0:
+                    # requests pending: the highest missing one
+                    missing = False
+                    for q in range(nreq[c]):
+                        if _find(Dv, ordd, nlev, REQ[c, q]) < 0:
+                            if REQ[c, q] > want:
+                                want = REQ[c, q]
+                                wantph = 1
+                            missing = True
+                    if missing:
+                        continue
+                    after = np.inf
+                    j = jj[c]
+                    for q in range(nreq[c]):
+                        il = _find(Dv, ordd, nlev, REQ[c, q])
+                        MEM[il, c] = True
+                        if SREQ[c, q] > 0 and SDEPTH[il] == 0:
+                            SDEPTH[il] = SREQ[c, q]
+                        after = min(after, (HZ[il, 0] + dp[j] * (WET[il, j] * pix - HZ[il, 1])) / apparent)
+                    nreq[c] = 0
+                    if pull_stop > 0.0 and not (after < best[c] * (1.0 + pull_stop)):
+                        rnd[c] = 99  # no improvement: next humidity
+                    progressed = True
+                    continue
+                if phase[c] == 1:
+                    # next round for humidity jj (or the next humidity)
+                    if jj[c] < 0 or rnd[c] >= 40:
+                        jj[c] += 1
+                        while jj[c] < R and not mask[c, jj[c]]:
+                            jj[c] += 1
+                        rnd[c] = 0
+                        if jj[c] >= R:
+                            phase[c] = 3
+                            progressed = True
+                            continue
+                    j = jj[c]
+                    # this controller's grid, sorted
+                    cnt = 0
+                    for q in range(nlev):
+                        if MEM[ordd[q], c]:
+                            cnt += 1
+                    gl = np.empty(cnt, np.int64)
+                    cnt = 0
+                    for q in range(nlev):
+                        if MEM[ordd[q], c]:
+                            gl[cnt] = ordd[q]
+                            cnt += 1
+                    xc = crossed[c, j] if not np.isnan(crossed[c, j]) else -np.inf
+                    bi = -1
+                    bv = 0.0
+                    for q in range(cnt):
+                        if Dv[gl[q]] >= xc:
+                            v = (HZ[gl[q], 0] + dp[j] * (WET[gl[q], j] * pix - HZ[gl[q], 1])) / apparent
+                            if v < bv:
+                                bv = v
+                                bi = q
+                    if bi < 0:
+                        rnd[c] = 99
+                        progressed = True
+                        continue
+                    best[c] = bv
+                    if rnd[c] == 0:
+                        thr = Dv[gl[bi]] - hw[j]
+                        ze = successor(start, zb, zmin, scale, thr)
+                        nm = count_ge(start, zb, zmin, scale, ze) - count_ge(
+                            start, zb, zmin, scale, np.nextafter(ze, np.inf))
+                        jump = abs(dp[j]) * nm * pix / apparent
+                        band[c] = min(0.1, max(pull_band, 1.5 * jump / abs(bv)))
+                    rnd[c] += 1
+                    nr = 0
+                    for q in range(cnt - 1):
+                        d0 = Dv[gl[q]]
+                        d1 = Dv[gl[q + 1]]
+                        if d0 < xc:
+                            continue
+                        v0 = (HZ[gl[q], 0] + dp[j] * (WET[gl[q], j] * pix - HZ[gl[q], 1])) / apparent
+                        v1 = (HZ[gl[q + 1], 0] + dp[j] * (WET[gl[q + 1], j] * pix - HZ[gl[q + 1], 1])) / apparent
+                        if not (min(v0, v1) <= bv * (1.0 - band[c])):
+                            continue
+                        L = min(max(dtop[j] - d0, 0.0), sigma)
+                        if d1 - d0 <= max(pull_fine * eta * L, 2 * wfloor):
+                            # resolved: once, the most tensile points of the teeth just above d0
+                            # (the wetting and the contact event there: water and Hertz jumps)
+                            # (each point is the source of these snaps once, and snapped points
+                            # up to depth 2: the chain of events stops)
+                            src = gl[q]
+                            if SRC[src] or SDEPTH[src] >= 2:
+                                continue
+                            SRC[src] = True
+                            de = _wet_event_above(d0, hw[j], start, zb, zmin, scale)
+                            if d0 < de < d1 and nr < maxp:
+                                REQ[c, nr] = de
+                                SREQ[c, nr] = SDEPTH[src] + 1
+                                nr += 1
+                            dcx = _contact_event_above(d0, ztail, scal[_NSORTED])
+                            if d0 < dcx < d1 and dcx != de and nr < maxp:
+                                REQ[c, nr] = dcx
+                                SREQ[c, nr] = SDEPTH[src] + 1
+                                nr += 1
+                            continue
+                        # smooth here (each end on the chord of its neighbours within
+                        # pull_smooth): a finer grid finds nothing deeper, no need to bisect
+                        # (neighbours at least half the interval away: not the other point of
+                        # a snapped pair)
+                        qa = q - 1
+                        while qa >= 0 and d0 - Dv[gl[qa]] < 0.5 * (d1 - d0):
+                            qa -= 1
+                        qb = q + 2
+                        while qb < cnt and Dv[gl[qb]] - d1 < 0.5 * (d1 - d0):
+                            qb += 1
+                        if qa >= 0 and qb < cnt:
+                            vm1 = (HZ[gl[qa], 0] + dp[j] * (WET[gl[qa], j] * pix - HZ[gl[qa], 1])) / apparent
+                            v2 = (HZ[gl[qb], 0] + dp[j] * (WET[gl[qb], j] * pix - HZ[gl[qb], 1])) / apparent
+                            dm1 = Dv[gl[qa]]
+                            d2 = Dv[gl[qb]]
+                            e0 = abs(v0 - (vm1 + (v1 - vm1) * (d0 - dm1) / (d1 - dm1)))
+                            e1 = abs(v1 - (v0 + (v2 - v0) * (d1 - d0) / (d2 - d0)))
+                            if max(e0, e1) <= pull_smooth * abs(bv):
+                                continue
+                        m = 0.5 * (d0 + d1)
+                        if nr < maxp:
+                            REQ[c, nr] = m
+                            SREQ[c, nr] = 0
+                            nr += 1
+                        de = _wet_event_above(m, hw[j], start, zb, zmin, scale)
+                        if m < de < d1 and nr < maxp:
+                            REQ[c, nr] = de
+                            SREQ[c, nr] = 0
+                            nr += 1
+                    if nr == 0 or nlev + nr > maxp:
+                        rnd[c] = 99
+                    else:
+                        nreq[c] = nr
+                    progressed = True
+                    continue
+        if alldone:
+            break
+        if want == -np.inf:
+            continue
+        # ---- evaluate the highest request
+        d = want
+        if nlev >= maxp:
+            full = True
+            # serve no more levels: the controllers finish with what they have
+            for c in range(C):
+                if phase[c] == 0:
+                    phase[c] = 1
+                    jj[c] = -1
+                    nreq[c] = 0
+                elif phase[c] == 1:
+                    nreq[c] = 0
+                    rnd[c] = 99
+                    jj[c] = R
+            continue
+        _sort_until(start, idx, zb, zmin, scale, scal, order, ztail, pos, d)
+        k = _n_above(ztail, scal[_NSORTED], d)
+        r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
+                  periodic, connectivity, nbuf)
+        while r != 0:
+            if r == 1:
+                LOG = _grow2(LOG, 2 * LOG.shape[0])
+            else:
+                n2 = 2 * pi.size
+                pi = _grow1(pi, n2)
+                px = _grow1(px, n2)
+                py = _grow1(py, n2)
+                pz = _grow1(pz, n2)
+            r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
+                      periodic, connectivity, nbuf)
+        f, ha, fa, e2, nc, nw = eval_level(Cc, live, scal, px, py, pz, d, dx, dy, K, xs, ys, hs, wt, M)
+        li = nlev
+        PH[li] = wantph
+        Dv[li] = d
+        HZ[li, 0] = f
+        HZ[li, 1] = ha
+        HZ[li, 2] = fa
+        HZ[li, 3] = e2
+        HZ[li, 4] = nc
+        HZ[li, 5] = nw
+        for j in range(R):
+            WET[li, j] = count_ge(start, zb, zmin, scale, d - hw[j])
+        # insert into the sorted order
+        q = nlev
+        while q > 0 and Dv[ordd[q - 1]] > d:
+            ordd[q] = ordd[q - 1]
+            q -= 1
+        ordd[q] = li
+        nlev += 1
+    return Dv, HZ, WET, MEM, nlev, crossed, LOG, pi, px, py, pz, scal, PH
+
+
+
+_WS = threading.local()
+LAST_STATS = np.zeros(8, np.int64)  # counters of the last call in this process (benchmarks only)
+
+
+def workspace(n):
+    """Per-thread reusable arrays for maps of n pixels.
+
+    Every array the kernel needs, sized for the whole map (pages never touched cost nothing);
+    reused from call to call, because touching fresh memory costs page faults (~1.7 ms per MB on
+    the development machine) and ensembles call the kernel thousands of times per thread.
+    """
+    ws = getattr(_WS, "arrays", None)
+    if ws is None or ws["n"] != n:
+        nbuck = max(1024, n // 8)
+        cap = n + 1
+        ws = dict(
+            n=n,
+            start=np.empty(nbuck + 1, np.int64), idx=np.empty(n, np.int32), zb=np.empty(n),
+            pos=np.empty(n, np.int32), P=np.empty((cap, 3), np.int32), C=np.empty((cap, 8), np.int64),
+            live=np.empty(cap, np.int32), order=np.empty(cap, np.int64), ztail=np.empty(cap),
+            logstart=np.empty(cap + 1, np.int64), pooltop=np.empty(cap + 1, np.int64),
+            LOG=np.empty((1024, 10), np.int64), pi=np.empty(4096, np.int32), px=np.empty(4096, np.int32),
+            py=np.empty(4096, np.int32), pz=np.empty(4096), xs=np.empty(cap + 8), ys=np.empty(cap + 8),
+            hs=np.empty(cap + 8), wt=np.empty(cap + 8),
+        )
+        _WS.arrays = ws
+    return ws
+
+
+_WS_ORDER = ("start", "idx", "zb", "pos", "P", "C", "live", "order", "ztail", "logstart", "pooltop", "LOG", "pi",
+             "px", "py", "pz", "xs", "ys", "hs", "wt")
+
+
+def grid_params(npix):
+    """Controller parameters for a map of ``npix`` pixels: the tolerances on the curves' shape
+    scale with sqrt(npix / 1024^2) between 0.25 and 1. Small maps have few contacting pixels, so
+    their curves are staircases of large jumps that need a finer grid, and each level is cheap."""
+    p = DEFAULT_PARAMS.copy()
+    f = min(1.0, max(0.25, (npix / 1024.0**2) ** 0.5))
+    p[EPS] *= f
+    p[ETA] *= f
+    p[PULL_SMOOTH] *= f
+    return p
+
+
+def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_rh=False, params=None):
+    """Curves (CURVE_VARIABLES order, over (rh, distance) ascending) on an automatic or given grid.
+
+    ``per_rh``: one controller per humidity; returns a list of per-humidity tuples instead.
+    """
+    zc, nvalid = prepare_heights(z)
+    ny, nx = zc.shape
+    zflat = zc.ravel()
+    hw = np.atleast_1d(np.asarray(hw, float))
+    dp = np.atleast_1d(np.asarray(dp, float))
+    R = hw.size
+    p = grid_params(zflat.size) if params is None else np.asarray(params, float)
+    if distance is None and not np.nanmax(zflat) > np.nanmin(zflat):
+        # a flat map has no height scale for the controller: contact at d <= 0 (one plateau,
+        # no Hertz force), water below the water height; a uniform grid over that range
+        distance = np.linspace(0.0, 1.05 * max(float(np.max(hw)), 1e-10), 65)
+        per_rh = False
+    fixed = np.empty(0) if distance is None else np.asarray(distance, float)
+    mask = np.eye(R, dtype=bool) if per_rh else np.ones((1, R), bool)
+    ws = workspace(zflat.size)
+    out = auto_pass(zflat, ny, nx, bool(periodic), int(connectivity), float(dx), float(dy), float(K), hw, dp,
+                    mask, p, fixed, *(ws[k] for k in _WS_ORDER))
+    Dv, HZ, WET, MEM, n, crossed = out[:6]
+    ws["LOG"], ws["pi"], ws["px"], ws["py"], ws["pz"] = out[6:11]
+    LAST_STATS[:] = out[11]
+    Dv, HZ, WET, MEM = Dv[:n], HZ[:n], WET[:n], MEM[:n]
+    zmax = float(np.nanmax(zflat))
     apparent = nvalid * dx * dy
-    desc = np.argsort(-distance, kind="stable")
-    levels = distance[desc]
-    # the top tail: only pixels at or above the lowest level can touch the flat
-    tail = np.flatnonzero(zflat >= levels[-1]) if D else np.empty(0, np.int64)
-    order = tail[np.argsort(-zflat[tail], kind="stable")].astype(np.int64)
-    f, ha, _fa, e2a, nc, _nw = _hertz_levels(
-        zflat,
-        ny,
-        nx,
-        order,
-        levels,
-        float(dx),
-        float(dy),
-        float(K),
-        bool(periodic),
-        int(connectivity),
-        bool(warm_start),
-    )
-    inv = np.empty(D, np.int64)
-    inv[desc] = np.arange(D)
-    f, ha, e2a, fa, nc = f[inv], ha[inv], e2a[inv], _fa[inv], nc[inv]
-    # water: complementary cumulative count at every d - h_water (one pass for all d and rh)
-    thr = (distance[None, :] - hw[:, None]).ravel()
-    srt = np.argsort(thr, kind="stable")
-    counts = np.empty(thr.size, np.int64)
-    counts[srt] = _count_above(zflat, np.ascontiguousarray(thr[srt]))
-    wet_area = counts.reshape(R, D) * (dx * dy)
-    net_wet = (wet_area - ha[None, :]) / apparent
-    rep = f / apparent
-    pressure = rep[None, :] + dp[:, None] * net_wet
-    with np.errstate(invalid="ignore", divide="ignore"):
-        fit_error = np.where(nc > 0, np.sqrt(e2a / np.where(fa > 0, fa, 1.0)), np.nan)
-    zmax = np.nanmax(zflat)
-    shape = (R, D)
-    return (
-        pressure,
-        np.broadcast_to(rep, shape).copy(),
-        net_wet,
-        np.broadcast_to(ha / apparent, shape).copy(),
-        np.broadcast_to(nc.astype(np.float64), shape).copy(),
-        np.broadcast_to(fit_error, shape).copy(),
-        np.broadcast_to(zmax - distance, shape).copy(),
-    )
+
+    def build(sel, rows):
+        o = np.argsort(Dv[sel], kind="stable")
+        d = Dv[sel][o]
+        hz = HZ[sel][o]
+        wet = WET[sel][o][:, rows].T * (dx * dy)
+        f, ha, fa, e2, nc = hz[:, 0], hz[:, 1], hz[:, 2], hz[:, 3], hz[:, 4]
+        net = (wet - ha[None, :]) / apparent
+        rep = f / apparent
+        pres = rep[None, :] + dp[rows][:, None] * net
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fe = np.where(nc > 0, np.sqrt(e2 / np.where(fa > 0, fa, 1.0)), np.nan)
+        shape = (len(rows), d.size)
+        return d, (pres, np.broadcast_to(rep, shape).copy(), net, np.broadcast_to(ha / apparent, shape).copy(),
+                   np.broadcast_to(nc, shape).copy(), np.broadcast_to(fe, shape).copy(),
+                   np.broadcast_to(zmax - d, shape).copy())
+
+    if distance is not None:
+        return build(np.ones(n, bool), np.arange(R))
+    if not per_rh:
+        return build(MEM[:, 0], np.arange(R))
+    return [build(MEM[:, j], np.array([j])) for j in range(R)]
+
+
+def hertz_levels(z, distance, *, dx, dy, K, periodic, connectivity):
+    """Hertz sums per distance (any order): columns (force, hertz_area, foot_area, err2_area,
+    n_comp, n_wrap), in the order of ``distance``."""
+    zc, _ = prepare_heights(z)
+    ny, nx = zc.shape
+    zflat = zc.ravel()
+    fixed = np.asarray(distance, float)
+    ws = workspace(zflat.size)
+    out = auto_pass(zflat, ny, nx, bool(periodic), int(connectivity), float(dx), float(dy), float(K),
+                    np.zeros(1), np.zeros(1), np.ones((1, 1), bool), DEFAULT_PARAMS, fixed,
+                    *(ws[k] for k in _WS_ORDER))
+    ws["LOG"], ws["pi"], ws["px"], ws["py"], ws["pz"] = out[6:11]
+    return out[1][: fixed.size]
+
+
+def curves_kernel(z, distance, water_height, laplace_pressure, *, dx, dy, K, periodic, connectivity):
+    """Same contract as the base kernel: outputs in CURVE_VARIABLES order over (rh, distance),
+    distance in the given order."""
+    d = np.asarray(distance, float)
+    ds, outs = curves(z, water_height, laplace_pressure, dx=dx, dy=dy, K=K, periodic=periodic,
+                      connectivity=connectivity, distance=d)
+    inv = np.argsort(np.argsort(d, kind="stable"), kind="stable")
+    return tuple(o[:, inv] for o in outs)

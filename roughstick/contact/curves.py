@@ -69,7 +69,7 @@ def rough_contact_curves(
     adsorbed_layer="paper",
     connectivity: int = 4,
     periodic: bool | None = None,
-    n_distance: int = 200,
+    n_distance: int | None = None,
     tolerance: float = VALIDITY_BOUND,
     quantity: str = "adhesive_energy",
     check_validity: bool = True,
@@ -104,8 +104,9 @@ def rough_contact_curves(
         Adsorbed-water model of :func:`roughstick.water_height`.
     connectivity, periodic
         Asperity connectivity and periodicity of the modified DMT (also used for its grid).
-    n_distance : int, default 200
-        Size of the automatic distance grid.
+    n_distance : int, optional
+        Minimum size of the automatic distance grid (default: as many points as the modified-DMT
+        curves need; the BEM's own default count).
     tolerance : float, default 0.10
         Accepted relative error of ``quantity`` against the boundary-element reference:
         ``model="auto"`` picks a model that meets it; ``model="modified_dmt"`` warns
@@ -209,7 +210,8 @@ def rough_contact_curves(
     elif model == "fft_bem":
         ds = fft_bem_contact_curves(height, distance=distance, **common, **kwargs)
     else:
-        ds = bem_contact_curves(height, distance=distance, n_distances=n_distance, **common,
+        ds = bem_contact_curves(height, distance=distance, **common,
+                                **({} if n_distance is None else {"n_distances": n_distance}),
                                 **kwargs)
     if reason is not None:
         ds.attrs["model_selection"] = f"auto -> {model}: {reason}"

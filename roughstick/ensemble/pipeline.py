@@ -266,48 +266,96 @@ def _surfaces(spec: Spec, start: int, stop: int) -> xr.DataArray:
     return h
 
 
+def _crossing(p):
+    """Per (realization, rh): does the curve cross from repulsive (below) to attractive (above)?"""
+    return np.any((p[..., :-1] >= 0) & (p[..., 1:] < 0), axis=-1)
+
+
+def _curves_self_extending(spec, hk, rh, grid, top, bottom, index):
+    """Curves of one realization on the common grid, extended where that grid is too short.
+
+    Above: if the highest point plus the water height pokes above the grid's top, levels are added
+    up to it (Γ of Eq. 13 integrates the attraction from there). Below: if a humidity's curve has
+    no stable zero crossing (repulsive below, attractive above) on the grid, levels are added down
+    to the lowest pixel. Equilibrium and Γ are then decided on the separation path (the outermost
+    stable crossing, :func:`roughstick.adhesion_summary`); a curve attractive again deep in
+    contact is reported (``attractive_at_floor``), not an error. Returns ``(curves, flag)`` with
+    flag bit 1 = extended below, bit 2 = extended above.
+    """
+    flag = 0
+    step = float(np.min(np.diff(grid))) if grid.size > 1 else max(abs(top - bottom) / 100, 1e-12)
+    d = grid
+    if top > grid[-1] * (1 + 1e-12):
+        n_up = min(max(int(np.ceil((top + step - grid[-1]) / step)), 1), 400)
+        d = np.concatenate([d, np.linspace(grid[-1], top + step, n_up + 1)[1:]])
+        flag |= 2
+
+    def run(dist):
+        da = xr.DataArray(dist, dims="distance", coords={"distance": dist}, attrs=dict(ATTRS["distance"]))
+        c = spec.curves(hk, relative_humidity=rh, distance=da, material=spec.material,
+                        adsorbed_layer=spec.adsorbed_layer, **spec.curves_kwargs)
+        return c.to_dataset(name=c.name or "pressure") if isinstance(c, xr.DataArray) else c
+
+    curves = run(d)
+    if "pressure" not in curves:
+        return curves, flag
+    p = np.asarray(curves["pressure"].transpose(..., "distance").values)
+    if not np.all(_crossing(p)) and bottom < d[0]:
+        # the grid's own step (capped at 2000 levels): the crossing is resolved as finely as on it
+        n_down = min(max(int(np.ceil((d[0] - bottom + step) / step)), 1), 2000)
+        down = d[0] - step * np.arange(n_down, 0, -1) if n_down * step >= d[0] - bottom else \
+            np.linspace(bottom - step, d[0], n_down + 1)[:-1]
+        d = np.concatenate([down, d])
+        flag |= 1
+        curves = run(d)
+        p = np.asarray(curves["pressure"].transpose(..., "distance").values)
+    if not np.all(_crossing(p)):
+        raise ValueError(
+            f"realization {index}: the mean pressure never turns repulsive, even with the distance "
+            f"grid extended down to the lowest pixel ({d[0] * 1e9:.3f} nm), so there is no "
+            "equilibrium and Γ (Eq. 13) is undefined; check the material (hertz modulus) and units "
+            "of the heights."
+        )
+    return curves, flag
+
+
 def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> xr.Dataset:
     """Compute realizations [start, stop) at humidities rh[rh_lo:rh_hi] (numpy in, numpy out)."""
     h = _surfaces(spec, start, stop)
     top = h.max(("y", "x")) - h.mean(("y", "x"))  # d is measured from the mean plane (Eq. 16)
+    bottom = h.min(("y", "x")) - h.mean(("y", "x"))
     hw = spec.water_max
-    if float(top.max()) + hw > spec.distance[-1] * (1 + 1e-12):
-        k = int(np.argmax(np.asarray(top.values)))
-        raise ValueError(
-            f"realization {int(h.realization[k])}: highest point {float(top[k]) * 1e9:.3f} nm plus the "
-            f"water height {hw * 1e9:.3f} nm lies above the top of the common distance grid "
-            f"({spec.distance[-1] * 1e9:.3f} nm). Pass distance= reaching higher, or a smaller "
-            "exceedance to ensemble_distance_grid."
-        )
     rh = as_relative_humidity(spec.rh[rh_lo:rh_hi])
-    dist = xr.DataArray(spec.distance, dims="distance", coords={"distance": spec.distance},
-                        attrs=dict(ATTRS["distance"]))
-    parts = []
+    grid = np.asarray(spec.distance, dtype=float)
+    parts, extended, deep = [], [], []
     for k in range(h.sizes["realization"]):
         # one realization at a time: its numbers cannot depend on which block it falls in
         hk = h.isel(realization=[k])
-        curves = spec.curves(hk, relative_humidity=rh, distance=dist, material=spec.material,
-                             adsorbed_layer=spec.adsorbed_layer, **spec.curves_kwargs)
-        if isinstance(curves, xr.DataArray):
-            curves = curves.to_dataset(name=curves.name or "pressure")
+        curves, flag = _curves_self_extending(spec, hk, rh, grid, float(top[k]) + hw, float(bottom[k]),
+                                              start + k)
         summary = spec.summary(curves)
+        if flag:  # the summary saw the extended grid; the stored curves stay on the common grid
+            keep = np.isin(curves.distance.values, grid)
+            curves = curves.isel(distance=np.flatnonzero(keep))
+        if "pressure" in curves:
+            deep.append(np.asarray(curves["pressure"].isel(distance=0).transpose("realization", "rh").values < 0)[0])
         parts.append(xr.merge([curves, summary], compat="override", combine_attrs="drop_conflicts"))
+        extended.append(flag)
     ds = parts[0] if len(parts) == 1 else xr.concat(
         parts, "realization", data_vars="minimal", coords="minimal", compat="override",
         combine_attrs="drop_conflicts")
     ds["max_height"] = top.assign_attrs(ATTRS["max_height"])
-    if "pressure" in ds:
-        p_low = ds["pressure"].isel(distance=0)
-        bad = p_low < 0
-        if bool(bad.any()):
-            idx = np.argwhere(np.asarray(bad.transpose("realization", "rh").values))[0]
-            raise ValueError(
-                f"realization {start + int(idx[0])} at RH {float(rh[idx[1]]):.3g}: the mean pressure is "
-                f"still attractive ({float(p_low.transpose('realization', 'rh')[tuple(idx)]):.4g} Pa) at "
-                f"the bottom of the distance grid ({spec.distance[0] * 1e9:.3f} nm), so Γ (Eq. 13) would "
-                "be cut short. Pass distance= reaching lower, or a smaller lower= to "
-                "ensemble_distance_grid."
-            )
+    ds["grid_extension"] = xr.DataArray(
+        np.array(extended, dtype=np.int8), dims="realization",
+        attrs={"long_name": "distance grid extended for this realization (Γ, pull-off, d_eq)",
+               "units": "1", "flag_masks": "1 2",
+               "flag_meanings": "extended_below_the_floor extended_above_the_top"})
+    if deep:
+        ds["attractive_at_floor"] = xr.DataArray(
+            np.array(deep), dims=("realization", "rh"),
+            attrs={"long_name": "mean pressure attractive again at the bottom of the grid, below "
+                                "the outermost stable equilibrium (deep contact of merged asperities)",
+                   "units": "1"})
     out = {}
     for name, var in ds.data_vars.items():
         order = [d for d in _CURVE_DIMS if d in var.dims] + [d for d in var.dims if d not in _CURVE_DIMS]

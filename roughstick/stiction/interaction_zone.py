@@ -223,8 +223,11 @@ def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer
     into a few huge, flat fitted spheres), so a grid reaching far below the equilibrium picks up a
     spurious second attractive region. ``lower = 1`` keeps the bottom in the repulsive range for
     the paper's cantilever zone (checked on 64 x 512 to 524 x 6000 pixel zones, 30-95 % RH,
-    both layer models); :func:`roughstick.run_ensemble` raises if a curve is still attractive at
-    the bottom, so a bad choice never passes silently.
+    both layer models). Where a zone's curve has no stable zero crossing on this grid,
+    :func:`roughstick.run_ensemble` extends that realization's grid down to its lowest pixel
+    (and up past its highest point plus the water height), flags it in ``grid_extension``, and
+    reports a curve attractive again deep in contact in ``attractive_at_floor`` (Γ and the
+    equilibrium come from the outermost stable crossing, the separation path).
     """
     grids = [ensemble_distance_grid(psd, shape=shape, n=n, relative_humidity=relative_humidity,
                                     adsorbed_layer=layer, lower=lower, num=num)
