@@ -348,7 +348,7 @@ def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> 
     ds["grid_extension"] = xr.DataArray(
         np.array(extended, dtype=np.int8), dims="realization",
         attrs={"long_name": "distance grid extended for this realization (Γ, pull-off, d_eq)",
-               "units": "1", "flag_masks": "1 2",
+               "units": "1", "flag_masks": np.array([1, 2], dtype=np.int8),
                "flag_meanings": "extended_below_the_floor extended_above_the_top"})
     if deep:
         ds["attractive_at_floor"] = xr.DataArray(

@@ -23,13 +23,16 @@ __all__ = ["curves_by_map", "fig08_rough_curves", "fig10_mdmt_vs_gw", "fig11_adh
 def curves_by_map(curves: dict, summaries: dict) -> xr.Dataset:
     """The curves and adhesion summaries of several maps in one Dataset over a ``map`` dimension;
     each map keeps its own distance grid as the auxiliary coordinate ``distance(map, point)``
-    (CF §5), not as numbered variables."""
+    (CF §5), not as numbered variables; grids shorter than the longest are padded with NaN."""
     parts = []
     for k, c in curves.items():
         c = xr.merge([c, summaries[k]], compat="override", combine_attrs="drop_conflicts")
         d = c["distance"]
         c = c.rename({"distance": "point"}).drop_vars("point")
         parts.append(c.assign_coords(distance=("point", d.values, dict(d.attrs))))
+    # automatic grids have as many points as each map's curves need: pad the shorter with NaN
+    n_point = max(p.sizes["point"] for p in parts)
+    parts = [p.pad(point=(0, n_point - p.sizes["point"])) for p in parts]
     return xr.concat(parts, dim=xr.DataArray(list(curves), dims="map", name="map",
                                              attrs={"long_name": "measured height map (sample name)"}),
                      coords="different", compat="equals", join="exact", combine_attrs="drop_conflicts")
