@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-__all__ = ["is_lazy", "realization_rng", "as_seed_sequence"]
+__all__ = ["is_lazy", "realization_rng", "as_seed_sequence", "resolve_scheduler"]
 
 
 def is_lazy(obj) -> bool:
@@ -41,3 +41,31 @@ def realization_rng(root: np.random.SeedSequence, index: int) -> np.random.Gener
     """
     ss = np.random.SeedSequence(root.entropy, spawn_key=tuple(root.spawn_key) + (int(index),))
     return np.random.default_rng(ss)
+
+
+def resolve_scheduler(scheduler, connect_timeout: float = 5.0):
+    """None/"threads"/"sync"/"processes" → (None, name); "tcp://..." or a Client → (client, None)."""
+    if scheduler is None:
+        return None, "threads"
+    if isinstance(scheduler, str) and scheduler in ("threads", "threading", "sync", "synchronous", "processes"):
+        return None, scheduler
+    try:
+        from distributed import Client
+    except ImportError as exc:  # pragma: no cover
+        raise ValueError("scheduler addresses need the 'distributed' package: pip install distributed") from exc
+    if isinstance(scheduler, Client):
+        return scheduler, None
+    if isinstance(scheduler, str) and "://" in scheduler:
+        try:
+            client = Client(scheduler, timeout=f"{connect_timeout}s", set_as_default=False)
+        except (OSError, TimeoutError) as exc:
+            raise ConnectionError(
+                f"could not connect to the dask scheduler at {scheduler!r} within {connect_timeout:g} s "
+                f"({type(exc).__name__}). Check the address and that the scheduler is running "
+                "(`dask scheduler` prints it), or run locally by omitting the scheduler."
+            ) from exc
+        return client, None
+    raise ValueError(
+        f"scheduler must be None, 'threads', 'sync', 'processes', a 'tcp://host:port' address or a "
+        f"distributed.Client; got {scheduler!r}."
+    )

@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 from dask.callbacks import Callback
 
+from .._core.dask import resolve_scheduler
 from .pipeline import compute_block
 from .statistics import confidence_band
 from .store import (
@@ -105,34 +106,6 @@ class LogProgress:
         pass
 
 
-def _resolve_client(scheduler, connect_timeout: float):
-    """None/"threads"/"sync"/"processes" → (None, name); "tcp://..." or a Client → (client, None)."""
-    if scheduler is None:
-        return None, "threads"
-    if isinstance(scheduler, str) and scheduler in ("threads", "threading", "sync", "synchronous", "processes"):
-        return None, scheduler
-    try:
-        from distributed import Client
-    except ImportError as exc:  # pragma: no cover
-        raise ValueError("scheduler addresses need the 'distributed' package: pip install distributed") from exc
-    if isinstance(scheduler, Client):
-        return scheduler, None
-    if isinstance(scheduler, str) and "://" in scheduler:
-        try:
-            client = Client(scheduler, timeout=f"{connect_timeout}s", set_as_default=False)
-        except (OSError, TimeoutError) as exc:
-            raise ConnectionError(
-                f"could not connect to the dask scheduler at {scheduler!r} within {connect_timeout:g} s "
-                f"({type(exc).__name__}). Check the address and that the scheduler is running "
-                "(`dask scheduler` prints it), or run locally by omitting the scheduler."
-            ) from exc
-        return client, None
-    raise ValueError(
-        f"scheduler must be None, 'threads', 'sync', 'processes', a 'tcp://host:port' address or a "
-        f"distributed.Client; got {scheduler!r}."
-    )
-
-
 def compute_blocks(spec, todo, client, local, on_block, progress):
     """Compute blocks ``todo`` = [(i, a, b, j, lo, hi)], calling ``on_block(i, j, ds)`` as each ends."""
     if not todo:
@@ -182,7 +155,7 @@ def stream(spec, n, folder, *, overwrite, scheduler, connect_timeout, progress, 
     """Compute the missing blocks of realizations ``[start, n)`` into ``folder``; return how many."""
     manifest = prepare_folder(folder, spec, n, attrs, overwrite)
     todo = pending_blocks(folder, spec, manifest, start, n)
-    client, local = _resolve_client(scheduler, connect_timeout)
+    client, local = resolve_scheduler(scheduler, connect_timeout)
 
     def on_block(i, j, ds):
         write_block(folder, spec, manifest, attrs, i, j, ds)
@@ -232,7 +205,7 @@ def auto_ensemble(spec, *, batch, tolerance, n_max, patience, level, folder, str
     def keep(i, j, block):
         results[i, j] = block
 
-    client, local = _resolve_client(scheduler, connect_timeout) if folder is None else (None, None)
+    client, local = resolve_scheduler(scheduler, connect_timeout) if folder is None else (None, None)
     try:
         while n < n_max:
             n_next = min(n + batch, n_max)

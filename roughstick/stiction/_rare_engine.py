@@ -20,6 +20,7 @@ from roughstick._core.conventions import append_history, dataset_attrs
 from roughstick._core.references import cite
 from roughstick.io.netcdf import write
 
+from .._core.dask import resolve_scheduler
 from . import _rare_kernels as _k
 
 __all__: list[str] = []
@@ -255,28 +256,11 @@ class _Level:
 
 
 # ============================================================================ dask
-def _resolve_scheduler(scheduler):
-    if scheduler is None:
-        return None, "threads"
-    if isinstance(scheduler, str) and scheduler in ("threads", "threading", "sync", "synchronous", "processes"):
-        return None, scheduler
-    try:
-        from distributed import Client
-    except ImportError as exc:  # pragma: no cover
-        raise ValueError("scheduler addresses need the 'distributed' package") from exc
-    if isinstance(scheduler, Client):
-        return scheduler, None
-    if isinstance(scheduler, str) and "://" in scheduler:
-        return Client(scheduler, set_as_default=False), None
-    raise ValueError(f"scheduler must be None, 'threads', 'sync', 'processes', a 'tcp://host:port' "
-                     f"address or a distributed.Client; got {scheduler!r}.")
-
-
 def _compute(fn, model, blocks, scheduler, **kwargs):
     """Evaluate ``fn(model, block, **kwargs)`` for each block on dask; results in block order."""
     import dask
 
-    client, local = _resolve_scheduler(scheduler)
+    client, local = resolve_scheduler(scheduler)
     model_d = dask.delayed(model, pure=True, traverse=False)
     tasks = [dask.delayed(fn, pure=False)(model_d, b, **kwargs) for b in blocks]
     try:
@@ -441,7 +425,7 @@ class _Engine:
             if j > 1 and self.s.proposal == "adaptive":  # carry the scale the last level ended with
                 scale = _last_scale(levels[-1], self.s)
             prev = lev
-            lev = self._load_or(r, j, lambda: self.level(r, j, prev, scale))
+            lev = self._load_or(r, j, lambda j=j, prev=prev, scale=scale: self.level(r, j, prev, scale))
             levels.append(lev)
         return levels
 

@@ -35,7 +35,6 @@ from roughstick._core.dask import as_seed_sequence
 from roughstick.contact import water_height
 
 from . import _rare_engine as _e
-from . import _rare_kernels as _k
 from . import _rare_surface as _s
 from .beam import PAPER_CANTILEVER, Cantilever, critical_adhesive_energy
 

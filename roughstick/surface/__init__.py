@@ -8,8 +8,8 @@ Eqs. 33-35). :mod:`.summary` chains these as the paper's §4.1 does.
 """
 
 from . import combine, generate, moments, profile, self_affine, spectrum, summary, topography
-from .generate import *  # noqa: F403
 from .combine import *  # noqa: F403
+from .generate import *  # noqa: F403
 from .moments import *  # noqa: F403
 from .profile import *  # noqa: F403
 from .self_affine import *  # noqa: F403

@@ -7,7 +7,6 @@ import pytest
 import xarray as xr
 from ensemble_toys import (
     RH,
-    SIGMA,
     TOY,
     assert_same_values,
     toy_curves,
