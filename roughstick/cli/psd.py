@@ -46,10 +46,10 @@ def register(sub):
 
 def _run(args):
     out = pathlib.Path(args.out)
-    if out.exists() and not args.overwrite:
-        raise FileExistsError(f"{str(out)!r} exists; pass --overwrite to replace it or choose another --out.")
     if out.is_dir():
         raise FileExistsError(f"--out {str(out)!r} is a folder; give a file name, e.g. {str(out / 'psd.nc')!r}.")
+    if out.exists() and not args.overwrite:
+        raise FileExistsError(f"{str(out)!r} exists; pass --overwrite to replace it or choose another --out.")
     qmax = None
     if args.qmax is not None:
         qmax = _config.parse({"x": {"qmax": args.qmax}}, "psd", base=".", source="--qmax",

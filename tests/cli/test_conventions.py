@@ -13,7 +13,7 @@ from roughstick.cli import build_parser, main
 from roughstick.cli._common import MARKER, user_message
 from roughstick.plotting.save import save_figure
 
-WRITERS = ("demo", "psd", "reproduce", "risk", "run")  # curves: issue 13's file
+WRITERS = ("beam", "curves", "demo", "psd", "reproduce", "risk", "run")
 
 
 def _sub(name):
@@ -200,3 +200,30 @@ def test_real_ctrl_c_during_a_run_then_resume(tmp_path):
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     assert res.returncode == 0
     assert f"ensemble blocks: {total - kept} to compute" in res.stdout  # only the missing ones
+
+
+def test_writers_create_nested_output_folders(tmp_path, capsys):
+    """curves, psd and demo create the folders of --out (run, risk, beam, reproduce claim theirs
+    through claim_folder, which creates parents: tests/cli/test_run.py, test_risk_command.py)."""
+    np.save(tmp_path / "m.npy", rs.datasets.surface_family("smooth", shape=(32, 32), seed=1).values * 1e9)
+    common = [str(tmp_path / "m.npy"), "--spacing", "5 nm", "--units", "nm", "-q"]
+    assert main(["psd", *common, "--out", str(tmp_path / "a" / "b" / "p.nc")]) == 0
+    assert main(["curves", *common, "--rh", "0.5", "--out", str(tmp_path / "c" / "d" / "c.nc")]) == 0
+    assert main(["demo", "--quick", "--only", "sphere", "-q", "--out", str(tmp_path / "e" / "f")]) == 0
+    assert (tmp_path / "a/b/p.nc").is_file() and (tmp_path / "c/d/c.nc").is_file()
+    assert (tmp_path / "e/f" / MARKER).is_file()
+
+
+def test_curves_refuses_to_replace_a_file_without_overwrite(tmp_path, capsys):
+    np.save(tmp_path / "m.npy", rs.datasets.surface_family("smooth", shape=(32, 32), seed=1).values * 1e9)
+    out = tmp_path / "c.nc"
+    out.write_text("precious")
+    args = ["curves", str(tmp_path / "m.npy"), "--spacing", "5 nm", "--units", "nm", "--rh", "0.5",
+            "-q", "--out", str(out)]
+    assert main(args) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--overwrite" in err and out.read_text() == "precious"
+    assert main(args + ["--overwrite"]) == 0
+    assert rs.open_dataset(out).attrs["contact_model"] == "modified_dmt"
+    assert main([*args[:-1], str(tmp_path)]) == 1  # a folder as --out: name a file
+    assert "is a folder" in capsys.readouterr().err
