@@ -28,6 +28,7 @@ representation. Appl. Mech. Rev. 44, 191-204. https://doi.org/10.1115/1.3119501
 from __future__ import annotations
 
 import numbers
+import warnings
 from collections.abc import Sequence
 
 import dask
@@ -44,7 +45,7 @@ from .._core.validate import check_positive_block
 from ._generate_kernels import _centred_full, _filter, _generate_block
 from .spectrum import interpolate_psd, isotropic_to_2d
 
-__all__ = ["generate_surfaces", "surface_filter"]
+__all__ = ["generate_surfaces", "surface_filter", "ExtrapolatedPSDWarning"]
 
 REFERENCES = cite("shinozuka1991", (PAPER, "Eqs. 33-35, spectral representation by inverse FFT"))
 
@@ -227,6 +228,24 @@ def _check_cover(target_max: float, available: float, axis: str, spacing: float)
         )
 
 
+class ExtrapolatedPSDWarning(UserWarning):
+    """Generated surfaces are larger than the scan their PSD was measured on: the PSD below the
+    lowest measured wave number (the longest wavelengths of the surfaces) is extrapolated."""
+
+
+def _warn_if_extrapolated(needed_length: float, measured_length: float, how: str) -> None:
+    """Issue 16 item 5: say when the surfaces outgrow the scan behind the PSD (Python API too)."""
+    if needed_length > measured_length * (1 + 1e-6):
+        warnings.warn(
+            f"the generated surfaces ({needed_length * 1e6:.3g} µm) are larger than the scan the "
+            f"PSD was measured on ({measured_length * 1e6:.3g} µm, {how}): their low-q PSD (the "
+            "wavelengths longer than that scan) is extrapolated. Generate surfaces no larger "
+            "than the scan (size= or shape x spacing), or estimate the PSD on fewer, larger "
+            "sub-maps so that it reaches lower q.",
+            ExtrapolatedPSDWarning, stacklevel=4,
+        )
+
+
 def _values_checked(s: np.ndarray, what: str) -> np.ndarray:
     if not np.all(np.isfinite(s)):
         raise ValueError(f"the {what} contains NaN or infinite values; fill or drop them first.")
@@ -292,6 +311,10 @@ def _half_plane_power(psd, ny, nx, dy, dx):
         qy_c, qx_c = _q_coord(psd, "qy"), _q_coord(psd, "qx")
         _check_cover(np.abs(qy).max(), np.abs(qy_c).max(), "y", dy)
         _check_cover(np.abs(qx).max(), np.abs(qx_c).max(), "x", dx)
+        # a 2D PSD on a q grid of step dq was measured on a scan 2 pi / dq long
+        for n_pix, d, q_c, axis in ((ny, dy, qy_c, "y"), (nx, dx, qx_c, "x")):
+            _warn_if_extrapolated(n_pix * d, 2 * np.pi / float(np.min(np.diff(q_c))),
+                                  f"its q{axis} step")
         same = (
             qy_c.size == ny and qx_c.size == nx
             and np.allclose(qy_c, np.fft.fftshift(qy), rtol=1e-9, atol=0)
@@ -314,6 +337,9 @@ def _half_plane_power(psd, ny, nx, dy, dx):
         nyq = np.hypot(0, max(np.abs(qy).max(), np.abs(qx).max()))
         _check_cover(nyq, q_c.max(), "y" if np.abs(qy).max() >= np.abs(qx).max() else "x",
                      dy if np.abs(qy).max() >= np.abs(qx).max() else dx)
+        if np.any(q_c > 0):  # below its first q > 0 the isotropic PSD holds its first value
+            _warn_if_extrapolated(max(ny * dy, nx * dx), 2 * np.pi / float(q_c[q_c > 0].min()),
+                                  "2 pi / its lowest q")
 
         def build(values):
             return _psd_iso_on_grid(values, q_c, qy, qx, factor) * dq2
