@@ -139,7 +139,7 @@ def level_profile(profile: xr.DataArray, *, method: str = "line", nan: str = "ra
     return append_history(out, f"level_profile: method={method!r}, nan={nan!r}")
 
 
-def profile_psd(profile: xr.DataArray, *, window: str | None = None) -> xr.DataArray:
+def profile_psd(profile: xr.DataArray, *, window: str | None = "auto") -> xr.DataArray:
     r"""1-D PSD of line scans by FFT: the 1-D counterpart of Eqs. 26-30.
 
     :math:`C(q_x) = |\mathrm{FFT}(z - \bar z)|^2 \Delta x^2 / (2\pi L)`, two-sided, with
@@ -152,8 +152,10 @@ def profile_psd(profile: xr.DataArray, *, window: str | None = None) -> xr.DataA
         Heights over ``(..., x)`` (a line scan, a stack of them, or a map whose rows ``y`` are
         then profiles), units length, at least 8 points, no NaN. Dask-backed input stays lazy
         (``x`` in one chunk).
-    window : str, optional
-        A :func:`scipy.signal.get_window` name, normalised to unit mean square.
+    window : str or None, default "auto"
+        A :func:`scipy.signal.get_window` name, normalised to unit mean square. ``"auto"``: Hann
+        unless the profile is marked periodic (attribute ``periodic = 1``); ``None``/``"none"``:
+        no window (Parseval exact).
 
     Returns
     -------
@@ -174,6 +176,10 @@ def profile_psd(profile: xr.DataArray, *, window: str | None = None) -> xr.DataA
     if not is_lazy(p):
         _refuse_bad(np.asarray(p.values, dtype=float))
     dx, n = p.attrs["spacing_x"], p.sizes["x"]
+    if window is None or window == "none":
+        window = None
+    elif window == "auto":  # line scans are rarely periodic: Hann unless marked periodic
+        window = None if int(p.attrs.get("periodic", 0)) == 1 else "hann"
     w = None
     if window is not None:
         w = get_window(window, n, fftbins=True)
