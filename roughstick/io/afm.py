@@ -327,6 +327,8 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
     path = pathlib.Path(path)
     if not path.exists():
         raise FileNotFoundError(f"no such AFM file: {path}")
+    if path.is_dir():
+        raise ValueError(f"{str(path)!r} is a folder, not an AFM file; give one of the files in it.")
     suffix = path.suffix.lower()
     sp = _spacing_pair(spacing)
     if suffix in _NETCDF:
@@ -340,11 +342,39 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
                 f"{path.name} holds bare numbers: pass spacing= (pixel size, e.g. '5 nm' or 5e-9) "
                 "and units= (of the heights, e.g. 'nm')."
             )
+        with open(path, "rb") as fh:
+            head = fh.read(8)
+        is_npy = head.startswith(b"\x93NUMPY")
         if suffix == ".npy":
-            z = np.load(path, allow_pickle=False)
+            if not is_npy:
+                raise ValueError(
+                    f"{path.name} is not a NumPy .npy file despite its extension (it does not start "
+                    f"with the .npy signature: {head[:6]!r}); save it with np.save, or give the "
+                    "file its true extension (.txt/.csv for text, .nc, a vendor format)."
+                )
+            try:
+                z = np.load(path, allow_pickle=False)
+            except ValueError as err:
+                raise ValueError(
+                    f"{path.name}: cannot read it as a numeric .npy array ({err}); roughstick "
+                    "never loads pickled objects: save the heights with np.save(path, "
+                    "np.asarray(z, dtype=float))."
+                ) from None
         else:
+            if is_npy:
+                raise ValueError(
+                    f"{path.name} is a NumPy .npy file, not text as its extension says; rename it "
+                    "to .npy."
+                )
             delim = "," if suffix == ".csv" else None
-            z = np.loadtxt(path, comments="#", delimiter=delim, ndmin=2)
+            try:
+                z = np.loadtxt(path, comments="#", delimiter=delim, ndmin=2)
+            except (ValueError, UnicodeDecodeError) as err:
+                raise ValueError(
+                    f"{path.name} is not a table of numbers as its extension says "
+                    f"({type(err).__name__}: {str(err)[:120]}); give one row of heights per "
+                    "line (comments start with #), or the file's true extension."
+                ) from None
         da = _grid(z, sp[1], sp[0], units=units, source=str(path), line_scan=line_scan)
     else:
         da = _read_vendor(path, channel, sp, line_scan)

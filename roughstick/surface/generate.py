@@ -28,6 +28,7 @@ representation. Appl. Mech. Rev. 44, 191-204. https://doi.org/10.1115/1.3119501
 from __future__ import annotations
 
 import numbers
+import os
 import warnings
 from collections.abc import Sequence
 
@@ -134,7 +135,29 @@ def _grid(psd, shape, size, spacing):
     for v, a in zip(shape_p, "yx", strict=True):
         if v < 2:
             raise ValueError(f"shape[{a}] must be at least 2 pixels, got {v}.")
+    _check_fits_in_memory(shape_p)
     return shape_p, spacing_p
+
+
+def _physical_memory() -> float | None:
+    try:
+        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+        return None
+
+
+def _check_fits_in_memory(shape) -> None:
+    """Refuse, before allocating, a map whose filter and one realization cannot fit in memory."""
+    ny, nx = shape
+    # float64 filter (ny, nx/2+1) + its complex spectrum + the real map: ~ 4 x 8 bytes per pixel
+    need = 32.0 * ny * (nx // 2 + 1) + 8.0 * ny * nx
+    have = _physical_memory()
+    if have is not None and need > have:
+        raise MemoryError(
+            f"a {ny} x {nx} surface needs about {need / 2**30:.3g} GiB for its spectral filter and "
+            f"one map, more than this machine's {have / 2**30:.3g} GiB; use a smaller shape or "
+            "size (or a coarser spacing)."
+        )
 
 
 def _realizations(n, realizations):
