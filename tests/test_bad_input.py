@@ -96,3 +96,11 @@ def test_surfaces_too_large_for_memory_are_refused_before_allocating(h):
         rs.generate_surfaces(psd, n=1, shape=(10**6, 10**6), spacing=5e-9, seed=1)
     with pytest.raises(MemoryError, match="GiB"):
         rs.surface_filter(lambda q: 1e-36 + 0 * q, shape=(10**6, 10**6), spacing=5e-9)
+
+
+def test_plain_numpy_array_to_the_contact_models_names_the_wrapper():
+    """Item 10: `rough_contact_curves(numpy array)` gave AttributeError: ... no attribute 'attrs'."""
+    z = np.random.default_rng(0).normal(size=(16, 16)) * 1e-9
+    for model in ("modified_dmt", "gw", "fft_bem"):
+        with pytest.raises(TypeError, match="xarray.DataArray.*make_topography"):
+            rs.rough_contact_curves(z, relative_humidity=0.5, model=model)
