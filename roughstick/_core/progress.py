@@ -11,8 +11,11 @@ FFT pair measures this machine's speed on this map size, the constants below the
 in FFT pairs. They come from ``nice -n 19 python benchmarks/bench_bem_cost.py`` (three surface
 families, 64^2-256^2, RH 0.5; ratios within one run): one Tamaas solve took 884-1173 FFT pairs at
 64^2, 2301-2995 at 128^2 and 3111-4300 at 256^2, i.e. about ``1000 (N_pixels / 64^2)^0.5``; one
-fft_bem state 4-12 FFT pairs after the first call (whose numba compilation costs ~1 s). Expect the
-estimate within a factor of ~3 (the solver's iterations depend on the surface and humidity).
+fft_bem state 9-12 FFT pairs at 64^2, 6-10 at 128^2, 4-9 at 256^2 (after the first call, whose
+numba compilation costs ~1 s) and 2.3 at 1024^2 (``roughstick curves data_samples/S1A.nc --rh 0.3
+0.7 --model auto``: 92 states in 5 s), i.e. about ``12 (N_pixels / 64^2)^-0.25``. Expect the
+estimate within a factor of ~3 (the solver's iterations depend on the surface and humidity); the
+S1 256^2 BEM run at RH 0.5 was estimated at 37 s and took 18.6 s.
 """
 
 from __future__ import annotations
@@ -40,7 +43,8 @@ _LOG = logging.getLogger("roughstick")
 #: One Tamaas solve in FFT pairs of the same map at 64 x 64 pixels; scales as sqrt(pixels / 64^2)
 #: (benchmarks/bench_bem_cost.py, see the module docstring).
 BEM_SOLVE_FFT_PAIRS = 1000.0
-#: One fft_bem state (one distance) in FFT pairs of the same map (benchmarks/bench_bem_cost.py).
+#: One fft_bem state (one distance) in FFT pairs of the same map at 64 x 64 pixels; scales as
+#: (pixels / 64^2)^-0.25 (benchmarks/bench_bem_cost.py; ~2.3 at 1024^2, S1A map, see docstring).
 FFT_BEM_STATE_FFT_PAIRS = 12.0
 #: Runs estimated at least this long [s] show a progress bar / lines by default.
 PROGRESS_THRESHOLD = 5.0
@@ -71,7 +75,7 @@ def estimate_seconds(model: str, shape, solves: int) -> float:
     if model == "bem":
         per = BEM_SOLVE_FFT_PAIRS * np.sqrt(npix / 64**2)
     elif model == "fft_bem":
-        per = FFT_BEM_STATE_FFT_PAIRS
+        per = FFT_BEM_STATE_FFT_PAIRS * (npix / 64**2) ** -0.25
     else:
         raise ValueError(f"no cost model for {model!r}; known: 'bem', 'fft_bem'.")
     return float(per * fft_pair_seconds(shape) * max(int(solves), 0))
@@ -121,6 +125,8 @@ class WorkProgress:
         Units of work (e.g. humidity x distance points).
     what : str
         What is computed, e.g. ``"bem: 2 humidities x 40 distances on a 256 x 256 map"``.
+    unit : str
+        Name of one unit of work in the messages (``"points"``).
     estimate : float, optional
         Estimated seconds (:func:`estimate_seconds`).
     progress : bool or None
@@ -138,7 +144,7 @@ class WorkProgress:
     """
 
     def __init__(self, total: int, *, what: str, estimate: float | None = None,
-                 progress: bool | None = None, every: float = 30.0):
+                 progress: bool | None = None, every: float = 30.0, unit: str = "points"):
         self.total, self.what, self.every = max(int(total), 1), what, float(every)
         self.done = 0
         self.bar = None
@@ -150,7 +156,7 @@ class WorkProgress:
             f", estimated {format_seconds(estimate)} (cost model of "
             "benchmarks/bench_bem_cost.py, within a factor ~3)")
         _LOG.log(logging.INFO if (long or progress) else logging.DEBUG,
-                 f"{what}: {self.total} points to compute{est}")
+                 f"{what}: {self.total} {unit} to compute{est}")
         if show:
             if interactive():
                 self.bar = _tqdm_class()(total=self.total, desc=what.split(":")[0],

@@ -317,6 +317,7 @@ def fft_bem_contact_curves(
                   f"(about {n_maps * rh_values.size * n_points} states)"),
             estimate=estimate_seconds("fft_bem", (ny, nx), n_maps * rh_values.size * n_points),
             progress=progress,
+            unit="curves",
         )
         kw["on_curve"] = bar.update
         return bar

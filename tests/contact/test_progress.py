@@ -44,7 +44,7 @@ def test_fft_bem_progress_per_humidity_and_map(caplog):
     rs.rough_contact_curves(stack, relative_humidity=[0.4, 0.8], distance=dist, model="fft_bem",
                             progress=True)
     msgs = _messages(caplog)
-    assert msgs[0].startswith("fft_bem: 3 map(s) of 32 x 32 pixels x 2 humidities (about 30 states)")
+    assert msgs[0].startswith("fft_bem: 3 map(s) of 32 x 32 pixels x 2 humidities (about 30 states): 6 curves")
     assert msgs[-1].startswith("fft_bem: 6/6 done (100 %)")
 
 
