@@ -104,3 +104,18 @@ def test_plain_numpy_array_to_the_contact_models_names_the_wrapper():
     for model in ("modified_dmt", "gw", "fft_bem"):
         with pytest.raises(TypeError, match="xarray.DataArray.*make_topography"):
             rs.rough_contact_curves(z, relative_humidity=0.5, model=model)
+
+
+def test_unknown_window_names_the_choices(h, tmp_path, capsys):
+    from roughstick.cli import main
+
+    with pytest.raises(ValueError, match="unknown FFT window 'bogus'.*'auto'.*'none'.*'hann'"):
+        rs.power_spectrum(h, window="bogus")
+    with pytest.raises(ValueError, match="unknown FFT window"):
+        rs.profile_psd(h, window="bogus")
+    np.save(tmp_path / "m.npy", h.values * 1e9)
+    assert main(["psd", str(tmp_path / "m.npy"), "--spacing", "5 nm", "--units", "nm",
+                 "--window", "bogus", "--out", str(tmp_path / "p.nc")]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "unknown FFT window 'bogus'" in err
+    assert not (tmp_path / "p.nc").exists()

@@ -29,14 +29,13 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 from scipy.interpolate import CubicSpline
-from scipy.signal import get_window
 
 from .._core import units as _units
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.references import PAPER, cite
 from .._core.validate import check_core_not_chunked, grid_spacing
-from .spectrum import _check_psd2d, _dq, _units_psd, isotropic_to_2d
+from .spectrum import _check_psd2d, _dq, _get_window, _units_psd, isotropic_to_2d
 
 __all__ = ["validate_profile", "level_profile", "profile_psd", "project_psd", "profile_moments"]
 
@@ -182,7 +181,7 @@ def profile_psd(profile: xr.DataArray, *, window: str | None = "auto") -> xr.Dat
         window = None if int(p.attrs.get("periodic", 0)) == 1 else "hann"
     w = None
     if window is not None:
-        w = get_window(window, n, fftbins=True)
+        w = _get_window(window, n)
         w = w / np.sqrt(np.mean(w**2))
 
     def kern(z):

@@ -67,9 +67,19 @@ def _fft_module(data):
     return dask.array.fft if is_lazy(data) else np.fft
 
 
+def _get_window(name, n):
+    try:
+        return get_window(name, n, fftbins=True)
+    except (ValueError, TypeError) as err:
+        raise ValueError(
+            f"unknown FFT window {name!r} ({err}); use 'auto' (Hann unless the map is periodic), "
+            "'none', or a scipy.signal.get_window name such as 'hann' or 'blackman'."
+        ) from None
+
+
 def _window_2d(name, ny, nx):
-    wy = get_window(name, ny, fftbins=True)
-    wx = get_window(name, nx, fftbins=True)
+    wy = _get_window(name, ny)
+    wx = _get_window(name, nx)
     w = np.outer(wy, wx)
     return w / np.sqrt(np.mean(w**2))
 
