@@ -131,7 +131,8 @@ class WorkProgress:
         Estimated seconds (:func:`estimate_seconds`).
     progress : bool or None
         ``True``: always show progress; ``False``: only the start line (INFO); ``None``: show it
-        when the estimate is at least 5 s. Shown as a tqdm bar when :func:`interactive` (a
+        when the estimate is at least 5 s and this is the main thread (not a task of an ensemble,
+        whose own progress is shown). Shown as a tqdm bar when :func:`interactive` (a
         widget in Jupyter with ipywidgets), else as INFO log lines.
     every : float
         Seconds between log lines (non-interactive).
@@ -151,6 +152,8 @@ class WorkProgress:
         self.lines = False
         self._lock = threading.Lock()
         long = estimate is None or estimate >= PROGRESS_THRESHOLD
+        if progress is None and threading.current_thread() is not threading.main_thread():
+            long = False  # a task of a larger computation (an ensemble block): it has its own
         show = progress if progress is not None else long
         est = "" if estimate is None else (
             f", estimated {format_seconds(estimate)} (cost model of "

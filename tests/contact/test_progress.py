@@ -104,3 +104,20 @@ def test_cli_curves_bem_prints_the_estimate(tmp_path, capsys, monkeypatch):
     out = capsys.readouterr().out.splitlines()
     assert out[0].startswith("bem: 1 map(s) of 16 x 16 pixels x 1 humidities x 5 distances")
     assert "estimated about" in out[0] and any(line.startswith("bem: 5/5 done") for line in out)
+
+
+def test_tasks_of_a_larger_computation_stay_quiet(caplog, monkeypatch):
+    """Inside an ensemble block (a worker thread) the ensemble's own progress is shown instead."""
+    import threading
+
+    caplog.set_level(logging.INFO, logger="roughstick")
+    monkeypatch.setattr(prog, "interactive", lambda: True)
+    seen = {}
+
+    def task():
+        seen["p"] = prog.WorkProgress(10, what="fft_bem: x", estimate=100.0)
+
+    t = threading.Thread(target=task)
+    t.start()
+    t.join()
+    assert seen["p"].bar is None and not seen["p"].lines and _messages(caplog) == []
