@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pathlib
+import re
 import sys
 import warnings
 
@@ -64,6 +65,19 @@ def register(sub):
     p.set_defaults(func=_run)
 
 
+def _flags_only(message: str) -> str:
+    """The validity warning's remedy in command-line flags only (it names both spellings)."""
+    m = re.search(r"Remedy: rough_contact_curves\(\.\.\., model='auto', tolerance=([^)]*)\) "
+                  r"picks the cheapest model measured within the tolerance"
+                  r"(?: \(here model='(\w+)'\))?; on the command line: .*?--model auto "
+                  r"--tolerance [^ ]+?\.(?= |$)", message)
+    if m is None:
+        return message
+    here = f" (here --model {m.group(2)})" if m.group(2) else ""
+    return (message[:m.start()] + f"Remedy: --model auto --tolerance {m.group(1)} picks the "
+            f"cheapest model measured within the tolerance{here}." + message[m.end():])
+
+
 def _run(args):
     out = pathlib.Path(args.out)
     if out.is_dir():
@@ -99,7 +113,7 @@ def _run(args):
     for w in caught:
         if issubclass(w.category, rs.ValidityWarning):
             # on the command line the remedy is a flag: say it as a message, not a traceback line
-            print(f"roughstick curves: warning: {w.message}", file=sys.stderr)
+            print(f"roughstick curves: warning: {_flags_only(str(w.message))}", file=sys.stderr)
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     if "model_selection" in ds.attrs:
