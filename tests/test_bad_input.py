@@ -119,3 +119,9 @@ def test_unknown_window_names_the_choices(h, tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "unknown FFT window 'bogus'" in err
     assert not (tmp_path / "p.nc").exists()
+
+
+def test_generation_spacing_typed_in_nm_is_refused(h):
+    with pytest.raises(ValueError, match=r"spacing\[y\] = 5 m: implausible.*spacing=5e-9"):
+        rs.generate_surfaces(lambda q: 1e-36 + 0 * q, n=1, shape=16, spacing=5, seed=1)
+    rs.generate_surfaces(lambda q: 1e-36 + 0 * q, n=1, shape=16, spacing=5e-9, seed=1)

@@ -135,6 +135,12 @@ def _grid(psd, shape, size, spacing):
     for v, a in zip(shape_p, "yx", strict=True):
         if v < 2:
             raise ValueError(f"shape[{a}] must be at least 2 pixels, got {v}.")
+    for d, a in zip(spacing_p, "yx", strict=True):
+        if d > 1e-3:  # the same plausibility bound as a height map's pixels (validate_height)
+            raise ValueError(
+                f"spacing[{a}] = {d:.4g} m: implausible for a MEMS surface; spacing is in metres "
+                f"(was it typed in nm? then spacing={d:g}e-9)."
+            )
     _check_fits_in_memory(shape_p)
     return shape_p, spacing_p
 
