@@ -18,8 +18,9 @@ import warnings
 import numpy as np
 
 sys.path.insert(0, "/work/scratch")
-import roughstick as rs  # noqa: E402
 from families import family_surface  # noqa: E402
+
+import roughstick as rs  # noqa: E402
 
 
 def fft_pair_seconds(shape, repeats=5):

@@ -31,8 +31,8 @@ from .._core.conventions import (
     set_attrs,
     set_coord_attrs,
 )
-from .._core.progress import WorkProgress, estimate_seconds
 from .._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
 from .._core.validate import check_core_not_chunked

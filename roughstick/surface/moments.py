@@ -30,9 +30,9 @@ from scipy.interpolate import CubicSpline
 
 from .._core import units as _units
 from .._core.conventions import append_history, dataset_attrs, set_attrs
+from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material
 from .._core.references import cite
-from .._core.dask import is_lazy
 from .._core.validate import check_core_not_chunked, check_positive_block
 from .spectrum import _check_psd2d, _dq, _units_psd, _wavevector, power_spectrum
 from .topography import _refuse_constant_or_nan, validate_height
