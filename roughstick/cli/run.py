@@ -57,6 +57,9 @@ def run_config(cfg, *, figures=True, log=LOG.info):
     dist = rs.ensemble_distance_grid(psd, shape=shape, n=n_grid, relative_humidity=cfg.relative_humidity,
                                      adsorbed_layer=cfg.adsorbed_layer, num=cfg.distance_points,
                                      lower=cfg.distance_lower)
+    if cfg.folder.exists() and not cfg.folder.is_dir():
+        raise FileExistsError(f"output {str(cfg.folder)!r} exists and is not a folder; choose "
+                              "another with --out (or [output] folder).")
     cfg.folder.mkdir(parents=True, exist_ok=True)
     remove_partial_files(cfg.folder)  # band.nc / PNG left half-written by a killed run
     ens_dir = cfg.folder / "ensemble"

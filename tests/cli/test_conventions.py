@@ -227,3 +227,20 @@ def test_curves_refuses_to_replace_a_file_without_overwrite(tmp_path, capsys):
     assert rs.open_dataset(out).attrs["contact_model"] == "modified_dmt"
     assert main([*args[:-1], str(tmp_path)]) == 1  # a folder as --out: name a file
     assert "is a folder" in capsys.readouterr().err
+
+
+def test_folder_commands_refuse_a_file_as_out_and_create_nested_folders(tmp_path, capsys):
+    """run and reproduce: --out naming an existing file is one line, the file untouched."""
+    (tmp_path / "afile").write_text("precious")
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('[psd]\nsource = "moments"\nm0 = "15.7 nm2"\nm2 = 0.0279\nm4 = "5.08e-4 nm-2"\n'
+                   'qmax = "289 rad/um"\n[surface]\nshape = [32, 32]\nspacing = "5 nm"\n'
+                   '[ensemble]\nn = 2\nrelative_humidity = [0.5]\n[output]\nfolder = "o"\n'
+                   "figures = false\n")
+    for args in (["run", str(cfg)], ["reproduce", "--quick", "--n", "2"]):
+        assert main([*args, "-q", "--out", str(tmp_path / "afile")]) == 1
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "is not a folder" in err and "--out" in err
+    assert (tmp_path / "afile").read_text() == "precious"
+    assert main(["run", str(cfg), "-q", "--out", str(tmp_path / "x" / "y")]) == 0
+    assert (tmp_path / "x" / "y" / "band.nc").is_file()
