@@ -10,12 +10,15 @@ The estimate is ``constant x (one numpy rfft2 + irfft2 pair of the map, timed no
 FFT pair measures this machine's speed on this map size, the constants below the cost of one solve
 in FFT pairs. They come from ``nice -n 19 python benchmarks/bench_bem_cost.py`` (three surface
 families, 64^2-256^2, RH 0.5; ratios within one run): one Tamaas solve took 884-1173 FFT pairs at
-64^2, 2301-2995 at 128^2 and 3111-4300 at 256^2, i.e. about ``1000 (N_pixels / 64^2)^0.5``; one
+64^2, 2301-2995 at 128^2 and 3111-4300 at 256^2; on a loaded machine, in one run, 8342 at 256^2
+and 10916 at 512^2 (S1, 4 distances: the ratio grows 1.3x per 4x pixels there). The model
+``1500 (N_pixels / 64^2)^0.3`` is within a factor 1.5 of all of them (4600 at 512^2 for the quiet
+machine's FFT); one
 fft_bem state 9-12 FFT pairs at 64^2, 6-10 at 128^2, 4-9 at 256^2 (after the first call, whose
 numba compilation costs ~1 s) and 2.3 at 1024^2 (``roughstick curves data_samples/S1A.nc --rh 0.3
 0.7 --model auto``: 92 states in 5 s), i.e. about ``12 (N_pixels / 64^2)^-0.25``. Expect the
-estimate within a factor of ~3 (the solver's iterations depend on the surface and humidity); the
-S1 256^2 BEM run at RH 0.5 was estimated at 37 s and took 18.6 s.
+estimate within a factor of ~3 (the solver's iterations depend on the surface and humidity, and
+maps above 512^2 are extrapolated); the S1 256^2 BEM run at RH 0.5 (23 solves) took 18.6 s.
 """
 
 from __future__ import annotations
@@ -40,9 +43,9 @@ __all__ = [
 
 _LOG = logging.getLogger("roughstick")
 
-#: One Tamaas solve in FFT pairs of the same map at 64 x 64 pixels; scales as sqrt(pixels / 64^2)
+#: One Tamaas solve in FFT pairs of the same map at 64 x 64 pixels; scales as (pixels / 64^2)^0.3
 #: (benchmarks/bench_bem_cost.py, see the module docstring).
-BEM_SOLVE_FFT_PAIRS = 1000.0
+BEM_SOLVE_FFT_PAIRS = 1500.0
 #: One fft_bem state (one distance) in FFT pairs of the same map at 64 x 64 pixels; scales as
 #: (pixels / 64^2)^-0.25 (benchmarks/bench_bem_cost.py; ~2.3 at 1024^2, S1A map, see docstring).
 FFT_BEM_STATE_FFT_PAIRS = 12.0
@@ -73,7 +76,7 @@ def estimate_seconds(model: str, shape, solves: int) -> float:
     """
     npix = float(np.prod(shape))
     if model == "bem":
-        per = BEM_SOLVE_FFT_PAIRS * np.sqrt(npix / 64**2)
+        per = BEM_SOLVE_FFT_PAIRS * (npix / 64**2) ** 0.3
     elif model == "fft_bem":
         per = FFT_BEM_STATE_FFT_PAIRS * (npix / 64**2) ** -0.25
     else:

@@ -83,7 +83,7 @@ def test_terminal_gets_a_tqdm_bar_and_jupyter_a_widget(monkeypatch):
 
 
 def test_estimate_scales_with_pixels_and_solves():
-    # one Tamaas solve costs ~1000 (N/64^2)^0.5 FFT pairs (benchmarks/bench_bem_cost.py)
+    # one Tamaas solve costs ~1500 (N/64^2)^0.3 FFT pairs (benchmarks/bench_bem_cost.py)
     a = prog.estimate_seconds("bem", (64, 64), 10)
     b = prog.estimate_seconds("bem", (64, 64), 20)
     assert 1.2 < b / a < 3.5  # twice the solves (FFT timings jitter)
