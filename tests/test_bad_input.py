@@ -125,3 +125,13 @@ def test_generation_spacing_typed_in_nm_is_refused(h):
     with pytest.raises(ValueError, match=r"spacing\[y\] = 5 m: implausible.*spacing=5e-9"):
         rs.generate_surfaces(lambda q: 1e-36 + 0 * q, n=1, shape=16, spacing=5, seed=1)
     rs.generate_surfaces(lambda q: 1e-36 + 0 * q, n=1, shape=16, spacing=5e-9, seed=1)
+
+
+def test_npy_larger_than_memory_refused_from_its_header(tmp_path):
+    """Item 10: a size that cannot fit is refused before allocating, naming the size."""
+    path = tmp_path / "huge.npy"
+    with open(path, "wb") as fh:  # a valid header announcing 10^6 x 10^6 float64, no data
+        np.lib.format.write_array_header_1_0(
+            fh, {"descr": "<f8", "fortran_order": False, "shape": (10**6, 10**6)})
+    with pytest.raises(MemoryError, match=r"1000000 x 1000000 float64 array \(about .* GiB"):
+        rs.read_afm(path, spacing="5 nm", units="nm")

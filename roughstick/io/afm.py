@@ -7,6 +7,7 @@ an optional extra: ``pip install roughstick[afm]``.
 
 from __future__ import annotations
 
+import os
 import pathlib
 import warnings
 
@@ -267,6 +268,29 @@ def _read_vendor(path: pathlib.Path, channel, spacing, line_scan=False):
     return da
 
 
+def _check_npy_fits(path) -> None:
+    """Refuse, from its header and before reading the data, a .npy larger than the memory."""
+    try:
+        with open(path, "rb") as fh:
+            version = np.lib.format.read_magic(fh)
+            read = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                    else np.lib.format.read_array_header_2_0)
+            shape, _, dtype = read(fh)
+    except (ValueError, OSError):
+        return  # np.load reports a damaged header
+    need = float(np.prod(shape, dtype=float)) * max(dtype.itemsize, 8)  # read, then as float64
+    try:
+        have = float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+        return
+    if need > have:
+        raise MemoryError(
+            f"{pathlib.Path(path).name} holds a {' x '.join(map(str, shape))} {dtype} array "
+            f"(about {need / 2**30:.3g} GiB as float64), more than this machine's "
+            f"{have / 2**30:.3g} GiB; crop it first (np.load(..., mmap_mode='r')[rows, cols])."
+        )
+
+
 def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = False) -> xr.DataArray:
     """Read an AFM height map as ``height`` (y, x) in metres.
 
@@ -352,6 +376,7 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
                     f"with the .npy signature: {head[:6]!r}); save it with np.save, or give the "
                     "file its true extension (.txt/.csv for text, .nc, a vendor format)."
                 )
+            _check_npy_fits(path)
             try:
                 z = np.load(path, allow_pickle=False)
             except ValueError as err:
