@@ -244,3 +244,14 @@ def test_folder_commands_refuse_a_file_as_out_and_create_nested_folders(tmp_path
     assert (tmp_path / "afile").read_text() == "precious"
     assert main(["run", str(cfg), "-q", "--out", str(tmp_path / "x" / "y")]) == 0
     assert (tmp_path / "x" / "y" / "band.nc").is_file()
+
+
+def test_demo_says_the_validity_note_once_without_warnings(tmp_path, capsys):
+    """Issue 16 item 2: no warning the user cannot act on along the default path (the demo)."""
+    assert main(["demo", "--quick", "--only", "rough_contact", "--out", str(tmp_path / "d")]) == 0
+    text = capsys.readouterr()
+    assert "ValidityWarning" not in text.err and "rough_contact_curves(" not in text.err
+    notes = [line for line in text.out.splitlines() if "note:" in line]
+    assert len(notes) <= 1
+    if notes:
+        assert "--model auto" in notes[0] and "docs/accuracy.md" in notes[0]
