@@ -366,8 +366,13 @@ def _half_plane_power(psd, ny, nx, dy, dx):
         nyq = np.hypot(0, max(np.abs(qy).max(), np.abs(qx).max()))
         _check_cover(nyq, q_c.max(), "y" if np.abs(qy).max() >= np.abs(qx).max() else "x",
                      dy if np.abs(qy).max() >= np.abs(qx).max() else dx)
-        if np.any(q_c > 0):  # below its first q > 0 the isotropic PSD holds its first value
-            _warn_if_extrapolated(max(ny * dy, nx * dx), 2 * np.pi / float(q_c[q_c > 0].min()),
+        # below its first q > 0 the isotropic PSD holds its first value: exact for a PSD flat
+        # there (Eq. 37 below its roll-off, e.g. self_affine_psd), extrapolated for a measured one
+        pos = np.flatnonzero(q_c > 0)
+        flat = (not is_lazy(psd) and pos.size >= 2
+                and np.isclose(float(psd.values[pos[0]]), float(psd.values[pos[1]]), rtol=1e-9, atol=0))
+        if pos.size and not flat:
+            _warn_if_extrapolated(max(ny * dy, nx * dx), 2 * np.pi / float(q_c[pos[0]]),
                                   "2 pi / its lowest q")
 
         def build(values):

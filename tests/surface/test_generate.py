@@ -328,8 +328,7 @@ def test_psd_grid_not_covering_the_spacing():
                        attrs={"units": "m4"})
     with pytest.raises(ValueError, match="spacing >= "):
         generate_surfaces(iso, n=1, shape=8, spacing=5e-9)
-    with pytest.warns(rs.ExtrapolatedPSDWarning):  # coarse enough: accepted (but 88 nm > 84 nm)
-        generate_surfaces(iso, n=1, shape=8, spacing=11e-9)
+    generate_surfaces(iso, n=1, shape=8, spacing=11e-9)  # coarse enough: accepted (flat: exact)
 
 
 @pytest.mark.parametrize(
@@ -464,3 +463,14 @@ def test_surfaces_larger_than_the_measured_scan_warn_on_the_python_path(recwarn)
         generate_surfaces(iso, n=1, shape=int(scan / 10e-9), spacing=10e-9, seed=1)
     with pytest.warns(rs.ExtrapolatedPSDWarning, match="2 pi / its lowest q"):
         generate_surfaces(iso, n=1, shape=int(scan / 10e-9) + 2, spacing=10e-9, seed=1)
+
+
+def test_an_analytic_psd_flat_below_its_first_q_does_not_warn():
+    """Eq. 37 is flat below its roll-off: holding its first value there is exact, not extrapolated."""
+    import warnings
+
+    q = np.geomspace(1e6, 1e9, 200)
+    psd = rs.self_affine_psd(q, s0=1e-36, s1=1e-37, q0=2e7, qmax=3e8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.ExtrapolatedPSDWarning)
+        generate_surfaces(psd, n=1, shape=(16, 2048), spacing=5e-9, seed=1)  # 10 µm > 2π/1e6 = 6 µm
