@@ -138,8 +138,9 @@ def sample_maps(sample: str = "S1", *, method: str = "plane") -> xr.DataArray:
 
 def sample_psd(sample: str = "S1", *, qmax: float = QMAX_PAPER, submaps: int = 16) -> xr.DataArray:
     """PSD of the three bundled maps of ``sample`` (scheme 3 of §4.1: ``submaps`` sub-maps per map,
-    averaged, Eq. 31), zero beyond ``qmax`` [rad m-1]; the PSD the demos and ensembles start from."""
-    psd = submap_psd(sample_maps(sample), n=submaps)
+    averaged, Eq. 31, no window as in the paper), zero beyond ``qmax`` [rad m-1]; the PSD the
+    demos and ensembles start from."""
+    psd = submap_psd(sample_maps(sample), n=submaps, window=None)
     out = psd.where(abs(psd.qx + 1j * psd.qy) <= qmax, 0.0)
     out.attrs = {**psd.attrs, "qmax_cutoff": qmax, "sample": sample}
     return out

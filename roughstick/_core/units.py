@@ -142,6 +142,13 @@ def require(da: xr.DataArray, kind: str, *, name: str | None = None) -> xr.DataA
     UnitsError
         If ``units`` is missing or not a unit of ``kind``.
     """
+    if not isinstance(da, xr.DataArray):
+        raise TypeError(
+            f"{name or 'input'} must be an xarray.DataArray with a 'units' attribute, got "
+            f"{type(da).__name__}; wrap a height map with roughstick.testing.make_topography("
+            "values, spacing=...) or read it with roughstick.read_afm, other arrays with "
+            "xr.DataArray(values, dims=..., attrs={'units': ...})."
+        )
     label = name or (da.name if da.name is not None else "input")
     if "units" not in da.attrs:
         hint = ""

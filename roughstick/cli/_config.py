@@ -95,6 +95,9 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                         choices=("samples", "moments", "file")),
             "files": F("path", "height maps (source = 'samples')", many=True),
             "submaps": F("int", "sub-maps per map (paper scheme 3)", default=16, minimum=1),
+            "window": F("choice", "FFT window of the PSD (source = 'samples'): auto = Hann on "
+                        "measured maps (docs/topography_psd.md), none = the paper's", default="auto",
+                        choices=("auto", "hann", "none")),
             "qmax": F("wavevector", "high-wavevector cutoff (Table 3)"),
             "m0": F("area", "height variance (source = 'moments'), e.g. '15.7 nm2'"),
             "m2": F("number", "slope variance (dimensionless, source = 'moments')", minimum=0.0),
@@ -504,7 +507,7 @@ class RunConfig:
                 raise ValueError(f"the sample maps differ in shape {sorted(shapes)}; give maps of one size.")
             h = xr.concat(maps, dim="map", coords="minimal", compat="override", join="override",
                           combine_attrs="drop_conflicts")
-            psd = rs.submap_psd(h, n=int(p.get("submaps", 16)))
+            psd = rs.submap_psd(h, n=int(p.get("submaps", 16)), window=p.get("window", "auto"))
         elif src == "moments":
             fit = rs.fit_self_affine(m0=p["m0"], m2=p["m2"], m4=p["m4"], qmax=p["qmax"])
             qn = np.pi / self.spacing

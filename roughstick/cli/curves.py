@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pathlib
+import re
 import sys
 import warnings
 
@@ -11,6 +12,7 @@ import numpy as np
 import roughstick as rs
 
 from ..io import netcdf
+from ._common import positive_int
 
 MODELS = ("modified_dmt", "gw", "fft_bem", "bem", "auto")
 
@@ -32,10 +34,15 @@ def register(sub):
     p.add_argument("map", help="height map (.nc, .npy, text, or vendor formats)")
     p.add_argument("--rh", type=float, nargs="+", required=True,
                    help="relative humidities as fractions, e.g. --rh 0.3 0.5 0.7")
-    p.add_argument("--out", required=True, help="output NetCDF file")
+    p.add_argument("--out", required=True,
+                   help="output NetCDF file (its folder is created; an existing file is kept "
+                   "unless --overwrite)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --out file")
     p.add_argument("--spacing", default=None, help="pixel size for .npy/text, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
-    p.add_argument("--n-distance", type=int, default=200, help="points of the automatic grid")
+    p.add_argument("--n-distance", type=positive_int, default=None,
+                   help="points of the automatic grid (default: 200 for modified_dmt and gw, "
+                   "40 for bem; fft_bem builds its own adaptive grid)")
     p.add_argument("--distance", type=float, nargs=3, metavar=("LOW", "HIGH", "N"), default=None,
                    help="explicit uniform grid: low and high distance [m] and the number of points")
     p.add_argument("--adsorbed-layer", default="paper", choices=["paper", "none"])
@@ -58,8 +65,31 @@ def register(sub):
     p.set_defaults(func=_run)
 
 
+def _flags_only(message: str) -> str:
+    """The validity warning's remedy in command-line flags only (it names both spellings)."""
+    m = re.search(r"Remedy: rough_contact_curves\(\.\.\., model='auto', tolerance=([^)]*)\) "
+                  r"picks the cheapest model measured within the tolerance"
+                  r"(?: \(here model='(\w+)'\))?; on the command line: .*?--model auto "
+                  r"--tolerance [^ ]+?\.(?= |$)", message)
+    if m is None:
+        return message
+    here = f" (here --model {m.group(2)})" if m.group(2) else ""
+    return (message[:m.start()] + f"Remedy: --model auto --tolerance {m.group(1)} picks the "
+            f"cheapest model measured within the tolerance{here}." + message[m.end():])
+
+
 def _run(args):
+    out = pathlib.Path(args.out)
+    if out.is_dir():
+        raise FileExistsError(f"--out {str(out)!r} is a folder; give a file name, e.g. "
+                              f"{str(out / 'curves.nc')!r}.")
+    if out.exists() and not args.overwrite:
+        raise FileExistsError(f"{str(out)!r} exists; pass --overwrite to replace it or choose "
+                              "another --out.")
     h = rs.read_afm(args.map, spacing=args.spacing, units=args.units)
+    n_distance = args.n_distance
+    if n_distance is None and args.model in ("modified_dmt", "gw", "auto"):
+        n_distance = 200
     distance = None
     if args.distance is not None:
         lo, hi, n = args.distance
@@ -74,7 +104,7 @@ def _run(args):
             h,
             relative_humidity=list(args.rh),
             distance=distance,
-            n_distance=args.n_distance,
+            n_distance=n_distance,
             adsorbed_layer=args.adsorbed_layer,
             model=args.model,
             tolerance=args.tolerance,
@@ -83,7 +113,7 @@ def _run(args):
     for w in caught:
         if issubclass(w.category, rs.ValidityWarning):
             # on the command line the remedy is a flag: say it as a message, not a traceback line
-            print(f"roughstick curves: warning: {w.message}", file=sys.stderr)
+            print(f"roughstick curves: warning: {_flags_only(str(w.message))}", file=sys.stderr)
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     if "model_selection" in ds.attrs:
@@ -114,7 +144,7 @@ def _run(args):
         ds, f"roughstick curves {args.map} --rh {' '.join(map(str, args.rh))} --model "
             f"{args.model} --tolerance {args.tolerance} --out {args.out}"
     )
-    out = pathlib.Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
     netcdf.write(ds, out, compute=True)
     for rh, g, deq in zip(np.atleast_1d(ds.rh.values), np.atleast_1d(summary.adhesive_energy.values),
                           np.atleast_1d(summary.equilibrium_distance.values), strict=True):

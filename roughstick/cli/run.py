@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import pathlib
 import time
+import warnings
 
 import numpy as np
 
@@ -51,22 +52,28 @@ def run_config(cfg, *, figures=True, log=LOG.info):
     t0 = time.perf_counter()
     psd = cfg.psd_da if hasattr(cfg, "psd_da") else cfg.build_psd()
     shape = rs.surface_shape(shape=cfg.shape, size=cfg.size, spacing=cfg.spacing)
-    _warn_if_extrapolated(psd, shape, cfg.spacing, source=cfg.psd["source"])
+    said = _warn_if_extrapolated(psd, shape, cfg.spacing, source=cfg.psd["source"])
     n_grid = cfg.auto.get("n_max", 3000) if cfg.n == "auto" else cfg.n
     dist = rs.ensemble_distance_grid(psd, shape=shape, n=n_grid, relative_humidity=cfg.relative_humidity,
                                      adsorbed_layer=cfg.adsorbed_layer, num=cfg.distance_points,
                                      lower=cfg.distance_lower)
+    if cfg.folder.exists() and not cfg.folder.is_dir():
+        raise FileExistsError(f"output {str(cfg.folder)!r} exists and is not a folder; choose "
+                              "another with --out (or [output] folder).")
     cfg.folder.mkdir(parents=True, exist_ok=True)
     remove_partial_files(cfg.folder)  # band.nc / PNG left half-written by a killed run
     ens_dir = cfg.folder / "ensemble"
     log(f"{cfg.title}: n={cfg.n}, shape={shape}, spacing={cfg.spacing * 1e9:g} nm, "
         f"RH={cfg.relative_humidity}, output {ens_dir}")
-    ds = rs.run_ensemble(
-        psd, n=cfg.n, shape=shape, spacing=cfg.spacing, relative_humidity=cfg.relative_humidity,
-        seed=cfg.seed, chunks=cfg.chunks, distance=dist, adsorbed_layer=cfg.adsorbed_layer,
-        output=ens_dir, overwrite=cfg.overwrite, scheduler=cfg.scheduler,
-        connect_timeout=cfg.connect_timeout, progress=cfg.progress, **cfg.auto,
-    )
+    with warnings.catch_warnings():
+        if said:  # already said above in the config's words, not once more from the generator
+            warnings.simplefilter("ignore", rs.ExtrapolatedPSDWarning)
+        ds = rs.run_ensemble(
+            psd, n=cfg.n, shape=shape, spacing=cfg.spacing, relative_humidity=cfg.relative_humidity,
+            seed=cfg.seed, chunks=cfg.chunks, distance=dist, adsorbed_layer=cfg.adsorbed_layer,
+            output=ens_dir, overwrite=cfg.overwrite, scheduler=cfg.scheduler,
+            connect_timeout=cfg.connect_timeout, progress=cfg.progress, **cfg.auto,
+        )
     ds = ds.load()
     written = [ens_dir]
     band = rs.confidence_band(ds)
@@ -100,11 +107,11 @@ def run_config(cfg, *, figures=True, log=LOG.info):
     return written
 
 
-def _warn_if_extrapolated(psd, shape, spacing: float, *, source: str) -> None:
+def _warn_if_extrapolated(psd, shape, spacing: float, *, source: str) -> bool:
     """A measured PSD is known down to q = 2π/L of the scan it came from: generated surfaces larger
     than that scan rest on an extrapolated low-q PSD (issue 16 item 5). Say so."""
     if source == "moments" or "qx" not in psd.dims:
-        return
+        return False
     measured = [2 * np.pi / float(abs(psd[d][1] - psd[d][0])) for d in ("qy", "qx")]
     generated = [n * spacing for n in shape]
     if any(g > m * (1 + 1e-6) for g, m in zip(generated, measured, strict=True)):
@@ -113,6 +120,8 @@ def _warn_if_extrapolated(psd, shape, spacing: float, *, source: str) -> None:
             f"are larger than the scans the PSD was measured on ({measured[0] * 1e6:.3g} x "
             f"{measured[1] * 1e6:.3g} µm): their low-q PSD is extrapolated. Use a smaller [surface] "
             "size, or fewer sub-maps ([psd] submaps) so the PSD reaches lower q.")
+        return True
+    return False
 
 
 def _run(args):

@@ -27,6 +27,7 @@ from .._core.conventions import (
     set_coord_attrs,
 )
 from .._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
 from .._core.validate import check_core_not_chunked, grid_spacing, relative_humidity_coordinate
@@ -183,8 +184,11 @@ def _bem_kernel_unlocked(
     path,
     retries,
     stats,
+    on_point=None,
 ):
-    """Curves of one map (numpy, SI in and out): arrays of shape (n_rh, n_distance)."""
+    """Curves of one map (numpy, SI in and out): arrays of shape (n_rh, n_distance).
+
+    ``on_point()`` is called after each (humidity, distance) point (progress)."""
     tm = _import_tamaas()
     L = _LENGTH_UNIT
     z = np.asarray(z, dtype=float)
@@ -310,6 +314,8 @@ def _bem_kernel_unlocked(
                     )
             for name, v in vals.items():
                 out[name][ir, k] = v
+            if on_point is not None:
+                on_point()
     return out
 
 
@@ -336,6 +342,7 @@ def bem_contact_curves(
     retries: int = 1,
     n_distances: int = 40,
     adhesion: bool = True,
+    progress: bool | None = None,
 ) -> xr.Dataset:
     r"""Humid adhesive contact of a rough surface and a flat by the boundary-element method.
 
@@ -382,6 +389,11 @@ def bem_contact_curves(
     adhesion : bool, default True
         ``False`` switches the capillary tension off (dry Hertz-type contact, used for
         validation); ``wet_fraction`` is then zero.
+    progress : bool or None, default None
+        Before it starts, the run logs (logger ``roughstick``, INFO) its size and an estimate of
+        its time (:mod:`roughstick._core.progress`, within a factor ~3); runs estimated at 5 s or
+        more then show a progress bar (terminal; a widget in Jupyter with ipywidgets) or INFO
+        lines every 30 s (no terminal). ``True`` always shows it, ``False`` never.
 
     Returns
     -------
@@ -517,8 +529,22 @@ def bem_contact_curves(
             path=path,
             retries=retries,
             stats=stats,
+            on_point=bar.update,
         )
         return tuple(res[n] for n in names)
+
+    # cost estimate before the work starts (issue 16): solves = points below the highest summit
+    # (above it the non-contact state is solved directly, at the cost of a few FFTs)
+    n_maps = int(np.prod([height.sizes[d] for d in height.dims if d not in ("y", "x")]))
+    below = int(np.sum(dist < float(height.max()))) if height.chunks is None else dist.size
+    ny, nx = height.sizes["y"], height.sizes["x"]
+    bar = WorkProgress(
+        n_maps * len(rh_values) * dist.size,
+        what=(f"bem: {n_maps} map(s) of {ny} x {nx} pixels x {len(rh_values)} humidities x "
+              f"{dist.size} distances ({n_maps * len(rh_values) * below} Tamaas solves)"),
+        estimate=estimate_seconds("bem", (ny, nx), n_maps * len(rh_values) * below),
+        progress=progress,
+    )
 
     log_level = tm.get_log_level()
     tm.set_log_level(tm.LogLevel.error)
@@ -535,6 +561,7 @@ def bem_contact_curves(
         )
     finally:
         tm.set_log_level(log_level)
+        bar.close()
     ds = xr.Dataset(coords={"rh": rh_values, "distance": dist})
     for n, r in zip(names, results, strict=True):
         r = r.assign_coords(rh=rh_values, distance=dist)

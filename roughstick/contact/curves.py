@@ -43,7 +43,7 @@ CONTACT_MODELS = ("modified_dmt", "gw", "fft_bem", "bem", "auto")
 # keyword arguments of bem_contact_curves that rough_contact_curves passes through
 # (``solver_tolerance`` is the solver's own tolerance: ``tolerance`` is the accepted error)
 _BEM_KWARGS = ("solver_tolerance", "max_iterations", "path", "retries", "adhesion", "progress")
-_FFT_BEM_KWARGS = ("solver_tolerance", "max_iterations", "path", "adhesion", "precision",
+_FFT_BEM_KWARGS = ("solver_tolerance", "max_iterations", "path", "adhesion", "precision", "progress",
                    "n_contact", "n_free", "refine")
 # keyword arguments of gw_contact_curves that rough_contact_curves passes through
 _GW_KWARGS = ("sphere_model", "curvature_limits", "height_cutoff", "curvature_measure",

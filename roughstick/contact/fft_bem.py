@@ -32,6 +32,7 @@ from .._core.conventions import (
     set_coord_attrs,
 )
 from .._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
 from .._core.validate import check_core_not_chunked
@@ -100,8 +101,11 @@ def _count(st):
 
 
 def _fft_bem_kernel(z, *, spacing, distances, sigma0s, h_waters, e_star, tolerance,
-                    max_iterations, path, precision, n_contact, n_free, refine, stats):
-    """Curves of one map (numpy, SI in and out): dict of (n_rh, n_distance) arrays + grid."""
+                    max_iterations, path, precision, n_contact, n_free, refine, stats,
+                    on_curve=None):
+    """Curves of one map (numpy, SI in and out): dict of (n_rh, n_distance) arrays + grid.
+
+    ``on_curve()`` is called after each humidity's curve (progress)."""
     L = _LENGTH_UNIT
     z = np.asarray(z, dtype=float)
     if not np.all(np.isfinite(z)):
@@ -135,6 +139,8 @@ def _fft_bem_kernel(z, *, spacing, distances, sigma0s, h_waters, e_star, toleran
         stats["iterations"] += int(sum(st["iterations"] for st in states))
         stats["unconverged"] += int(sum(not st["converged"] for st in states))
         per_rh.append((dd, _states_to_arrays(states, dd, zmax, e_star, s0n, offset_per_pressure)))
+        if on_curve is not None:
+            on_curve()
     if distances is not None:
         grid_nm = per_rh[0][0]
         out = {k: np.stack([v[k] for _, v in per_rh]) for k in _NAMES}
@@ -174,6 +180,7 @@ def fft_bem_contact_curves(
     n_free: int = 24,
     refine: int = 2,
     adhesion: bool = True,
+    progress: bool | None = None,
 ) -> xr.Dataset:
     r"""Humid adhesive contact of a rough surface and a flat: fast FFT boundary-element model.
 
@@ -218,6 +225,11 @@ def fft_bem_contact_curves(
         contact, and bisection rounds around the pull-off and the equilibrium.
     adhesion : bool, default True
         ``False``: dry contact (validation against Hertz).
+    progress : bool or None, default None
+        As in :func:`roughstick.bem_contact_curves`: the size and estimated time are logged
+        (INFO) before the run; runs estimated at 5 s or more show a progress bar (terminal,
+        Jupyter widget with ipywidgets) or INFO lines (no terminal), one step per humidity and
+        map. ``True`` always shows it, ``False`` never.
 
     Returns
     -------
@@ -295,12 +307,30 @@ def fft_bem_contact_curves(
               max_iterations=max_iterations, path=path, precision=precision,
               n_contact=n_contact, n_free=n_free, refine=refine, stats=stats)
 
+    def announce(n_points):
+        # cost estimate before the work starts (issue 16): states = distance points solved
+        n_maps = int(np.prod([height.sizes[d] for d in height.dims if d not in ("y", "x")]))
+        ny, nx = height.sizes["y"], height.sizes["x"]
+        bar = WorkProgress(
+            n_maps * rh_values.size,
+            what=(f"fft_bem: {n_maps} map(s) of {ny} x {nx} pixels x {rh_values.size} humidities "
+                  f"(about {n_maps * rh_values.size * n_points} states)"),
+            estimate=estimate_seconds("fft_bem", (ny, nx), n_maps * rh_values.size * n_points),
+            progress=progress,
+            unit="curves",
+        )
+        kw["on_curve"] = bar.update
+        return bar
+
     if distance is None:
         if height.chunks is not None or height.ndim != 2:
             raise ValueError(
                 "distance=None builds a grid from one eager (y, x) map; for stacks or dask maps "
                 "pass distance=... so that all maps share one grid."
             )
+        # the automatic grid solved 44-48 states per curve with n_contact=12, n_free=24
+        # (benchmarks/bench_bem_cost.py)
+        bar = announce(int(1.3 * (n_contact + n_free)))
         dist, res = _fft_bem_kernel(np.asarray(height.transpose("y", "x").values), distances=None,
                                     **kw)
         data = {n: xr.DataArray(res[n], dims=("rh", "distance")) for n in _NAMES}
@@ -317,6 +347,8 @@ def fft_bem_contact_curves(
                     "Pass distances above the mean plane."
                 )
 
+        bar = announce(dist.size)
+
         def kernel(z):
             _, res = _fft_bem_kernel(z, distances=dist, **kw)
             return tuple(res[n] for n in _NAMES)
@@ -329,6 +361,7 @@ def fft_bem_contact_curves(
             dask_gufunc_kwargs={"output_sizes": {"rh": rh_values.size, "distance": dist.size}},
         )
         data = dict(zip(_NAMES, outs, strict=True))
+    bar.close()
     ds = xr.Dataset(coords={"rh": rh_values, "distance": dist})
     for n in _NAMES:
         arr = data[n].assign_coords(rh=rh_values, distance=dist)

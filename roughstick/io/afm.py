@@ -7,6 +7,7 @@ an optional extra: ``pip install roughstick[afm]``.
 
 from __future__ import annotations
 
+import os
 import pathlib
 import warnings
 
@@ -267,6 +268,29 @@ def _read_vendor(path: pathlib.Path, channel, spacing, line_scan=False):
     return da
 
 
+def _check_npy_fits(path) -> None:
+    """Refuse, from its header and before reading the data, a .npy larger than the memory."""
+    try:
+        with open(path, "rb") as fh:
+            version = np.lib.format.read_magic(fh)
+            read = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                    else np.lib.format.read_array_header_2_0)
+            shape, _, dtype = read(fh)
+    except (ValueError, OSError):
+        return  # np.load reports a damaged header
+    need = float(np.prod(shape, dtype=float)) * max(dtype.itemsize, 8)  # read, then as float64
+    try:
+        have = float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+        return
+    if need > have:
+        raise MemoryError(
+            f"{pathlib.Path(path).name} holds a {' x '.join(map(str, shape))} {dtype} array "
+            f"(about {need / 2**30:.3g} GiB as float64), more than this machine's "
+            f"{have / 2**30:.3g} GiB; crop it first (np.load(..., mmap_mode='r')[rows, cols])."
+        )
+
+
 def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = False) -> xr.DataArray:
     """Read an AFM height map as ``height`` (y, x) in metres.
 
@@ -327,6 +351,8 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
     path = pathlib.Path(path)
     if not path.exists():
         raise FileNotFoundError(f"no such AFM file: {path}")
+    if path.is_dir():
+        raise ValueError(f"{str(path)!r} is a folder, not an AFM file; give one of the files in it.")
     suffix = path.suffix.lower()
     sp = _spacing_pair(spacing)
     if suffix in _NETCDF:
@@ -340,11 +366,40 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
                 f"{path.name} holds bare numbers: pass spacing= (pixel size, e.g. '5 nm' or 5e-9) "
                 "and units= (of the heights, e.g. 'nm')."
             )
+        with open(path, "rb") as fh:
+            head = fh.read(8)
+        is_npy = head.startswith(b"\x93NUMPY")
         if suffix == ".npy":
-            z = np.load(path, allow_pickle=False)
+            if not is_npy:
+                raise ValueError(
+                    f"{path.name} is not a NumPy .npy file despite its extension (it does not start "
+                    f"with the .npy signature: {head[:6]!r}); save it with np.save, or give the "
+                    "file its true extension (.txt/.csv for text, .nc, a vendor format)."
+                )
+            _check_npy_fits(path)
+            try:
+                z = np.load(path, allow_pickle=False)
+            except ValueError as err:
+                raise ValueError(
+                    f"{path.name}: cannot read it as a numeric .npy array ({err}); roughstick "
+                    "never loads pickled objects: save the heights with np.save(path, "
+                    "np.asarray(z, dtype=float))."
+                ) from None
         else:
+            if is_npy:
+                raise ValueError(
+                    f"{path.name} is a NumPy .npy file, not text as its extension says; rename it "
+                    "to .npy."
+                )
             delim = "," if suffix == ".csv" else None
-            z = np.loadtxt(path, comments="#", delimiter=delim, ndmin=2)
+            try:
+                z = np.loadtxt(path, comments="#", delimiter=delim, ndmin=2)
+            except (ValueError, UnicodeDecodeError) as err:
+                raise ValueError(
+                    f"{path.name} is not a table of numbers as its extension says "
+                    f"({type(err).__name__}: {str(err)[:120]}); give one row of heights per "
+                    "line (comments start with #), or the file's true extension."
+                ) from None
         da = _grid(z, sp[1], sp[0], units=units, source=str(path), line_scan=line_scan)
     else:
         da = _read_vendor(path, channel, sp, line_scan)

@@ -28,6 +28,8 @@ representation. Appl. Mech. Rev. 44, 191-204. https://doi.org/10.1115/1.3119501
 from __future__ import annotations
 
 import numbers
+import os
+import warnings
 from collections.abc import Sequence
 
 import dask
@@ -44,7 +46,7 @@ from .._core.validate import check_positive_block
 from ._generate_kernels import _centred_full, _filter, _generate_block
 from .spectrum import interpolate_psd, isotropic_to_2d
 
-__all__ = ["generate_surfaces", "surface_filter"]
+__all__ = ["generate_surfaces", "surface_filter", "ExtrapolatedPSDWarning"]
 
 REFERENCES = cite("shinozuka1991", (PAPER, "Eqs. 33-35, spectral representation by inverse FFT"))
 
@@ -133,7 +135,35 @@ def _grid(psd, shape, size, spacing):
     for v, a in zip(shape_p, "yx", strict=True):
         if v < 2:
             raise ValueError(f"shape[{a}] must be at least 2 pixels, got {v}.")
+    for d, a in zip(spacing_p, "yx", strict=True):
+        if d > 1e-3:  # the same plausibility bound as a height map's pixels (validate_height)
+            raise ValueError(
+                f"spacing[{a}] = {d:.4g} m: implausible for a MEMS surface; spacing is in metres "
+                f"(was it typed in nm? then spacing={d:g}e-9)."
+            )
+    _check_fits_in_memory(shape_p)
     return shape_p, spacing_p
+
+
+def _physical_memory() -> float | None:
+    try:
+        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
+        return None
+
+
+def _check_fits_in_memory(shape) -> None:
+    """Refuse, before allocating, a map whose filter and one realization cannot fit in memory."""
+    ny, nx = shape
+    # float64 filter (ny, nx/2+1) + its complex spectrum + the real map: ~ 4 x 8 bytes per pixel
+    need = 32.0 * ny * (nx // 2 + 1) + 8.0 * ny * nx
+    have = _physical_memory()
+    if have is not None and need > have:
+        raise MemoryError(
+            f"a {ny} x {nx} surface needs about {need / 2**30:.3g} GiB for its spectral filter and "
+            f"one map, more than this machine's {have / 2**30:.3g} GiB; use a smaller shape or "
+            "size (or a coarser spacing)."
+        )
 
 
 def _realizations(n, realizations):
@@ -227,6 +257,24 @@ def _check_cover(target_max: float, available: float, axis: str, spacing: float)
         )
 
 
+class ExtrapolatedPSDWarning(UserWarning):
+    """Generated surfaces are larger than the scan their PSD was measured on: the PSD below the
+    lowest measured wave number (the longest wavelengths of the surfaces) is extrapolated."""
+
+
+def _warn_if_extrapolated(needed_length: float, measured_length: float, how: str) -> None:
+    """Issue 16 item 5: say when the surfaces outgrow the scan behind the PSD (Python API too)."""
+    if needed_length > measured_length * (1 + 1e-6):
+        warnings.warn(
+            f"the generated surfaces ({needed_length * 1e6:.3g} µm) are larger than the scan the "
+            f"PSD was measured on ({measured_length * 1e6:.3g} µm, {how}): their low-q PSD (the "
+            "wavelengths longer than that scan) is extrapolated. Generate surfaces no larger "
+            "than the scan (size= or shape x spacing), or estimate the PSD on fewer, larger "
+            "sub-maps so that it reaches lower q.",
+            ExtrapolatedPSDWarning, stacklevel=4,
+        )
+
+
 def _values_checked(s: np.ndarray, what: str) -> np.ndarray:
     if not np.all(np.isfinite(s)):
         raise ValueError(f"the {what} contains NaN or infinite values; fill or drop them first.")
@@ -292,6 +340,10 @@ def _half_plane_power(psd, ny, nx, dy, dx):
         qy_c, qx_c = _q_coord(psd, "qy"), _q_coord(psd, "qx")
         _check_cover(np.abs(qy).max(), np.abs(qy_c).max(), "y", dy)
         _check_cover(np.abs(qx).max(), np.abs(qx_c).max(), "x", dx)
+        # a 2D PSD on a q grid of step dq was measured on a scan 2 pi / dq long
+        for n_pix, d, q_c, axis in ((ny, dy, qy_c, "y"), (nx, dx, qx_c, "x")):
+            _warn_if_extrapolated(n_pix * d, 2 * np.pi / float(np.min(np.diff(q_c))),
+                                  f"its q{axis} step")
         same = (
             qy_c.size == ny and qx_c.size == nx
             and np.allclose(qy_c, np.fft.fftshift(qy), rtol=1e-9, atol=0)
@@ -314,6 +366,14 @@ def _half_plane_power(psd, ny, nx, dy, dx):
         nyq = np.hypot(0, max(np.abs(qy).max(), np.abs(qx).max()))
         _check_cover(nyq, q_c.max(), "y" if np.abs(qy).max() >= np.abs(qx).max() else "x",
                      dy if np.abs(qy).max() >= np.abs(qx).max() else dx)
+        # below its first q > 0 the isotropic PSD holds its first value: exact for a PSD flat
+        # there (Eq. 37 below its roll-off, e.g. self_affine_psd), extrapolated for a measured one
+        pos = np.flatnonzero(q_c > 0)
+        flat = (not is_lazy(psd) and pos.size >= 2
+                and np.isclose(float(psd.values[pos[0]]), float(psd.values[pos[1]]), rtol=1e-9, atol=0))
+        if pos.size and not flat:
+            _warn_if_extrapolated(max(ny * dy, nx * dx), 2 * np.pi / float(q_c[pos[0]]),
+                                  "2 pi / its lowest q")
 
         def build(values):
             return _psd_iso_on_grid(values, q_c, qy, qx, factor) * dq2

@@ -30,6 +30,7 @@ from scipy.interpolate import CubicSpline
 
 from .._core import units as _units
 from .._core.conventions import append_history, dataset_attrs, set_attrs
+from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material
 from .._core.references import cite
 from .._core.validate import check_core_not_chunked, check_positive_block
@@ -157,7 +158,7 @@ def roughness_moments(
     method: str = "spline",
     direction: str = "mean",
     qmax=None,
-    window=None,
+    window="auto",
 ) -> xr.Dataset:
     r"""Nayak moments :math:`m_0, m_2, m_4` of a height map (Table 2).
 
@@ -176,8 +177,9 @@ def roughness_moments(
         One-direction moments along ``x``, ``y``, or their mean (isotropic estimate).
     qmax : float, optional
         Spectral only: cutoff wave number [rad m-1].
-    window : str, optional
-        Spectral only: window of :func:`roughstick.power_spectrum`.
+    window : str or None, default "auto"
+        Spectral only: window of :func:`roughstick.power_spectrum` (``"auto"``: Hann unless the
+        map is periodic).
 
     Returns
     -------
@@ -196,7 +198,7 @@ def roughness_moments(
         return psd_moments(power_spectrum(height, window=window), qmax=qmax, direction=direction)
     if method != "spline":
         raise ValueError(f"method must be 'spline' or 'spectral', got {method!r}.")
-    if qmax is not None or window is not None:
+    if qmax is not None or window not in (None, "auto"):
         raise ValueError(
             "qmax and window apply to method='spectral' only (the spline moments use every "
             "pixel); pass method='spectral' to cut the periodogram at qmax."
@@ -255,6 +257,17 @@ def psd_moments(psd: xr.DataArray, *, qmax=None, direction: str = "mean") -> xr.
         s = _units_psd(psd)
         check_core_not_chunked(s, ["q"])
         q = s["q"]
+        qv = np.asarray(q.values, dtype=float)
+        if qv.size < 2 or np.any(np.diff(qv) <= 0) or qv[0] < 0:
+            raise ValueError(
+                "the isotropic PSD's coordinate 'q' must be >= 0 and strictly ascending with at "
+                "least 2 points (a descending grid gives negative moments); use psd.sortby('q')."
+            )
+        if not is_lazy(s) and np.any(np.asarray(s.values) < 0):
+            raise ValueError(
+                "the PSD has negative values; a power spectral density is non-negative. Clip "
+                "round-off with psd.clip(min=0)."
+            )
         if qmax is not None:
             s = s.where(q <= qmax, 0.0)
         m0 = 2 * np.pi * (s * q).integrate("q")

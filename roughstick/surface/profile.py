@@ -29,14 +29,13 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 from scipy.interpolate import CubicSpline
-from scipy.signal import get_window
 
 from .._core import units as _units
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.references import PAPER, cite
 from .._core.validate import check_core_not_chunked, grid_spacing
-from .spectrum import _check_psd2d, _dq, _units_psd, isotropic_to_2d
+from .spectrum import _check_psd2d, _dq, _get_window, _units_psd, isotropic_to_2d
 
 __all__ = ["validate_profile", "level_profile", "profile_psd", "project_psd", "profile_moments"]
 
@@ -139,7 +138,7 @@ def level_profile(profile: xr.DataArray, *, method: str = "line", nan: str = "ra
     return append_history(out, f"level_profile: method={method!r}, nan={nan!r}")
 
 
-def profile_psd(profile: xr.DataArray, *, window: str | None = None) -> xr.DataArray:
+def profile_psd(profile: xr.DataArray, *, window: str | None = "auto") -> xr.DataArray:
     r"""1-D PSD of line scans by FFT: the 1-D counterpart of Eqs. 26-30.
 
     :math:`C(q_x) = |\mathrm{FFT}(z - \bar z)|^2 \Delta x^2 / (2\pi L)`, two-sided, with
@@ -152,8 +151,10 @@ def profile_psd(profile: xr.DataArray, *, window: str | None = None) -> xr.DataA
         Heights over ``(..., x)`` (a line scan, a stack of them, or a map whose rows ``y`` are
         then profiles), units length, at least 8 points, no NaN. Dask-backed input stays lazy
         (``x`` in one chunk).
-    window : str, optional
-        A :func:`scipy.signal.get_window` name, normalised to unit mean square.
+    window : str or None, default "auto"
+        A :func:`scipy.signal.get_window` name, normalised to unit mean square. ``"auto"``: Hann
+        unless the profile is marked periodic (attribute ``periodic = 1``); ``None``/``"none"``:
+        no window (Parseval exact).
 
     Returns
     -------
@@ -174,9 +175,13 @@ def profile_psd(profile: xr.DataArray, *, window: str | None = None) -> xr.DataA
     if not is_lazy(p):
         _refuse_bad(np.asarray(p.values, dtype=float))
     dx, n = p.attrs["spacing_x"], p.sizes["x"]
+    if window is None or window == "none":
+        window = None
+    elif window == "auto":  # line scans are rarely periodic: Hann unless marked periodic
+        window = None if int(p.attrs.get("periodic", 0)) == 1 else "hann"
     w = None
     if window is not None:
-        w = get_window(window, n, fftbins=True)
+        w = _get_window(window, n)
         w = w / np.sqrt(np.mean(w**2))
 
     def kern(z):

@@ -65,7 +65,7 @@ def psd_summary(
     *,
     n: int = 16,
     qmax=None,
-    window: str | None = None,
+    window: str | None = "auto",
     match=("m2", "m4"),
 ) -> xr.Dataset:
     r"""The paper's §4.1 chain on a set of maps: spatial variances, averaged PSD, cutoff, Eq. 32.
@@ -78,8 +78,9 @@ def psd_summary(
         Sub-maps per map for the PSD (Eq. 31; 16 is the paper's scheme 3).
     qmax : float, optional
         Fixed cutoff [rad m-1] (Table 3: 289 rad/µm); default: chosen by :func:`choose_cutoff`.
-    window : str, optional
-        Window for :func:`power_spectrum`.
+    window : str or None, default "auto"
+        Window for :func:`submap_psd` (``"auto"``: Hann for sub-maps and non-periodic maps;
+        ``None``: none, as the paper's Table 3).
     match : sequence of str
         Moments matched by :func:`choose_cutoff`.
 

@@ -23,6 +23,46 @@ __all__ = ["validate_height", "level"]
 MIN_PIXELS = 8
 
 
+#: Largest pixel size [m] and rms height [m] taken at face value: above them a map of a MEMS
+#: surface is almost surely in other units than its label says (nm read as m, pixel indices).
+PLAUSIBLE_SPACING = 1e-3
+PLAUSIBLE_RMS = 1e-3
+
+
+def _check_dtype(height):
+    kind = np.dtype(height.dtype).kind
+    if kind not in "fiu":
+        what = {"b": "boolean (a mask?)", "c": "complex (an FFT?)", "O": "object",
+                "U": "text", "S": "bytes", "M": "date-time", "m": "time-delta"}.get(kind, kind)
+        raise TypeError(
+            f"height has dtype {height.dtype} ({what}); a height map holds real numbers. Pass the "
+            "heights themselves (e.g. np.abs(...) or .real only if that is what you mean), as "
+            "float."
+        )
+
+
+def _check_plausible(h, dx, dy):
+    """Values implausible in SI for a MEMS surface: a likely unit mistake, refused with the fix."""
+    for dim, d in (("x", dx), ("y", dy)):
+        if d > PLAUSIBLE_SPACING:
+            has = "units" in h[dim].attrs
+            raise ValueError(
+                f"the pixel size along {dim!r} is {d:.4g} m"
+                + ("" if has else f" (coordinate {dim!r} has no 'units', so it was taken as m)")
+                + ": implausible for an AFM map. Set the coordinate's units, e.g. "
+                f"height[{dim!r}].attrs['units'] = 'nm' (or 'um'), or build the map with "
+                "roughstick.testing.make_topography(values, spacing=5e-9)."
+            )
+    if h.chunks is None and h.size:
+        rms = float(np.nanstd(np.asarray(h.values, dtype=float)))
+        if rms > PLAUSIBLE_RMS:
+            raise ValueError(
+                f"the rms height is {rms:.4g} m: implausible for a MEMS surface; the heights are "
+                "probably in nm or um labelled m. Set height.attrs['units'] = 'nm' (or 'um') "
+                "to what they are."
+            )
+
+
 def validate_height(height: xr.DataArray) -> xr.DataArray:
     """Check a height map and return it in SI with canonical attributes.
 
@@ -44,16 +84,22 @@ def validate_height(height: xr.DataArray) -> xr.DataArray:
         Missing or non-length ``units``.
     ValueError
         Missing, descending, non-monotonic or non-uniform coordinates; fewer than 8 pixels;
-        chunked ``x``/``y``.
+        chunked ``x``/``y``; values implausible in SI for a MEMS map (pixels over 1 mm, e.g.
+        coordinates in nm or pixel indices without ``units``; rms height over 1 mm, e.g. nm
+        labelled m): the message names the fix.
+    TypeError
+        Not a DataArray; a dtype a height map cannot have (bool, complex, object, text).
     """
     if not isinstance(height, xr.DataArray):
         raise TypeError(
             f"height must be an xarray.DataArray, got {type(height).__name__}; wrap arrays with "
             "roughstick.testing.make_topography(values, spacing=...) or read them with read_afm."
         )
+    _check_dtype(height)
     h = _units.require(height, "length", name=height.name or "height")
     dx = grid_spacing(h, "x", min_pixels=MIN_PIXELS)
     dy = grid_spacing(h, "y", min_pixels=MIN_PIXELS)
+    _check_plausible(h, dx, dy)
     check_core_not_chunked(h, ["x", "y"])
     h = h.transpose(..., "y", "x")
     for dim in ("x", "y"):

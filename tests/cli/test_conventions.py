@@ -13,7 +13,7 @@ from roughstick.cli import build_parser, main
 from roughstick.cli._common import MARKER, user_message
 from roughstick.plotting.save import save_figure
 
-WRITERS = ("demo", "psd", "reproduce", "risk", "run")  # curves: issue 13's file
+WRITERS = ("beam", "curves", "demo", "psd", "reproduce", "risk", "run")
 
 
 def _sub(name):
@@ -200,3 +200,58 @@ def test_real_ctrl_c_during_a_run_then_resume(tmp_path):
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     assert res.returncode == 0
     assert f"ensemble blocks: {total - kept} to compute" in res.stdout  # only the missing ones
+
+
+def test_writers_create_nested_output_folders(tmp_path, capsys):
+    """curves, psd and demo create the folders of --out (run, risk, beam, reproduce claim theirs
+    through claim_folder, which creates parents: tests/cli/test_run.py, test_risk_command.py)."""
+    np.save(tmp_path / "m.npy", rs.datasets.surface_family("smooth", shape=(32, 32), seed=1).values * 1e9)
+    common = [str(tmp_path / "m.npy"), "--spacing", "5 nm", "--units", "nm", "-q"]
+    assert main(["psd", *common, "--out", str(tmp_path / "a" / "b" / "p.nc")]) == 0
+    assert main(["curves", *common, "--rh", "0.5", "--out", str(tmp_path / "c" / "d" / "c.nc")]) == 0
+    assert main(["demo", "--quick", "--only", "sphere", "-q", "--out", str(tmp_path / "e" / "f")]) == 0
+    assert (tmp_path / "a/b/p.nc").is_file() and (tmp_path / "c/d/c.nc").is_file()
+    assert (tmp_path / "e/f" / MARKER).is_file()
+
+
+def test_curves_refuses_to_replace_a_file_without_overwrite(tmp_path, capsys):
+    np.save(tmp_path / "m.npy", rs.datasets.surface_family("smooth", shape=(32, 32), seed=1).values * 1e9)
+    out = tmp_path / "c.nc"
+    out.write_text("precious")
+    args = ["curves", str(tmp_path / "m.npy"), "--spacing", "5 nm", "--units", "nm", "--rh", "0.5",
+            "-q", "--out", str(out)]
+    assert main(args) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--overwrite" in err and out.read_text() == "precious"
+    assert main(args + ["--overwrite"]) == 0
+    assert rs.open_dataset(out).attrs["contact_model"] == "modified_dmt"
+    assert main([*args[:-1], str(tmp_path)]) == 1  # a folder as --out: name a file
+    assert "is a folder" in capsys.readouterr().err
+
+
+def test_folder_commands_refuse_a_file_as_out_and_create_nested_folders(tmp_path, capsys):
+    """run and reproduce: --out naming an existing file is one line, the file untouched."""
+    (tmp_path / "afile").write_text("precious")
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('[psd]\nsource = "moments"\nm0 = "15.7 nm2"\nm2 = 0.0279\nm4 = "5.08e-4 nm-2"\n'
+                   'qmax = "289 rad/um"\n[surface]\nshape = [32, 32]\nspacing = "5 nm"\n'
+                   '[ensemble]\nn = 2\nrelative_humidity = [0.5]\n[output]\nfolder = "o"\n'
+                   "figures = false\n")
+    for args in (["run", str(cfg)], ["reproduce", "--quick", "--n", "2"]):
+        assert main([*args, "-q", "--out", str(tmp_path / "afile")]) == 1
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "is not a folder" in err and "--out" in err
+    assert (tmp_path / "afile").read_text() == "precious"
+    assert main(["run", str(cfg), "-q", "--out", str(tmp_path / "x" / "y")]) == 0
+    assert (tmp_path / "x" / "y" / "band.nc").is_file()
+
+
+def test_demo_says_the_validity_note_once_without_warnings(tmp_path, capsys):
+    """Issue 16 item 2: no warning the user cannot act on along the default path (the demo)."""
+    assert main(["demo", "--quick", "--only", "rough_contact", "--out", str(tmp_path / "d")]) == 0
+    text = capsys.readouterr()
+    assert "ValidityWarning" not in text.err and "rough_contact_curves(" not in text.err
+    notes = [line for line in text.out.splitlines() if "note:" in line]
+    assert len(notes) <= 1
+    if notes:
+        assert "--model auto" in notes[0] and "docs/accuracy.md" in notes[0]

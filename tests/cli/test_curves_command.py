@@ -68,3 +68,15 @@ def test_bem_model_and_resolution_option(tmp_path, capsys):
         change = ds.resolution_relative_change_adhesive_energy
         assert float(change.sel(resolution_pixel_size=5e-9, method="nearest").squeeze()) == 0.0
         assert np.isfinite(change.sel(resolution_pixel_size=10e-9, method="nearest")).all()
+
+
+def test_validity_remedy_is_said_in_flags_only(tmp_path, capsys):
+    """Issue 16 item 7: messages name CLI flags, not Python arguments."""
+    from roughstick.cli import main
+
+    path, _ = _map(tmp_path)
+    assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.7",
+                 "--tolerance", "1e-4", "--out", str(tmp_path / "m.nc")]) == 0
+    err = capsys.readouterr().err
+    assert "rough_contact_curves(" not in err and "model='" not in err
+    assert "Remedy: --model auto --tolerance 0.0001 picks the cheapest model" in err

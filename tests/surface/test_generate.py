@@ -286,11 +286,13 @@ def test_same_grid_2d_psd_is_used_exactly_and_larger_maps_interpolate():
     np.testing.assert_allclose(_periodogram(same)[0], _periodogram(z[None])[0], rtol=1e-8,
                                atol=1e-12 * m0)
     # a surface 4x larger than the map the PSD came from: interpolated PSD, variance conserved
-    big = surface_filter(psd, shape=(128, 128), spacing=10e-9)
+    with pytest.warns(rs.ExtrapolatedPSDWarning, match=r"1.28 µm\) are larger than the scan.*0.32 µm"):
+        big = surface_filter(psd, shape=(128, 128), spacing=10e-9)
     m0_big = float(big.sum()) * (2 * np.pi / (128 * 10e-9)) ** 2
     np.testing.assert_allclose(m0_big, m0, rtol=0.1)
     np.testing.assert_allclose(big.sel(qx=0.0, qy=0.0).item(), psd.sel(qx=0.0, qy=0.0).item(), rtol=1e-12)
-    hb = generate_surfaces(psd, n=2, shape=(128, 128), spacing=10e-9, seed=1, amplitude="fixed")
+    with pytest.warns(rs.ExtrapolatedPSDWarning):
+        hb = generate_surfaces(psd, n=2, shape=(128, 128), spacing=10e-9, seed=1, amplitude="fixed")
     np.testing.assert_allclose((hb.values**2).mean(axis=(1, 2)), m0_big, rtol=1e-10)
 
 
@@ -326,7 +328,7 @@ def test_psd_grid_not_covering_the_spacing():
                        attrs={"units": "m4"})
     with pytest.raises(ValueError, match="spacing >= "):
         generate_surfaces(iso, n=1, shape=8, spacing=5e-9)
-    generate_surfaces(iso, n=1, shape=8, spacing=11e-9)  # coarse enough: accepted
+    generate_surfaces(iso, n=1, shape=8, spacing=11e-9)  # coarse enough: accepted (flat: exact)
 
 
 @pytest.mark.parametrize(
@@ -438,3 +440,37 @@ def test_distributed_cluster_gives_the_same_surfaces():
                                   dashboard_address=None) as cluster, distributed.Client(cluster):
         h = generate_surfaces(S1, n=7, shape=(12, 18), spacing=20e-9, seed=99, chunks=3)
         np.testing.assert_array_equal(h.values, ref)
+
+
+def test_surfaces_larger_than_the_measured_scan_warn_on_the_python_path(recwarn):
+    """Issue 16 item 5: the low-q PSD of surfaces larger than the scan is extrapolated: say so in
+    the Python API too (not only `roughstick run`), for 2D and isotropic PSDs and run_ensemble."""
+    import warnings
+
+    z = generate_surfaces(S2, n=1, shape=(32, 32), spacing=10e-9, seed=8).values[0]
+    psd = _psd_2d(z, 10e-9)  # measured on a 0.32 µm scan
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.ExtrapolatedPSDWarning)
+        generate_surfaces(psd, n=1, shape=(32, 32), spacing=10e-9, seed=1)  # same size: silent
+        generate_surfaces(psd, n=1, shape=(16, 32), spacing=10e-9, seed=1)  # smaller: silent
+    with pytest.warns(rs.ExtrapolatedPSDWarning, match="0.64 µm.*0.32 µm, its qx step") as rec:
+        generate_surfaces(psd, n=1, shape=(32, 64), spacing=10e-9, seed=1)
+    assert rec[0].filename == __file__  # points at the caller, not inside roughstick
+    iso = rs.psd_isotropic(psd)
+    scan = 2 * np.pi / float(iso.q[iso.q > 0].min())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.ExtrapolatedPSDWarning)
+        generate_surfaces(iso, n=1, shape=int(scan / 10e-9), spacing=10e-9, seed=1)
+    with pytest.warns(rs.ExtrapolatedPSDWarning, match="2 pi / its lowest q"):
+        generate_surfaces(iso, n=1, shape=int(scan / 10e-9) + 2, spacing=10e-9, seed=1)
+
+
+def test_an_analytic_psd_flat_below_its_first_q_does_not_warn():
+    """Eq. 37 is flat below its roll-off: holding its first value there is exact, not extrapolated."""
+    import warnings
+
+    q = np.geomspace(1e6, 1e9, 200)
+    psd = rs.self_affine_psd(q, s0=1e-36, s1=1e-37, q0=2e7, qmax=3e8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.ExtrapolatedPSDWarning)
+        generate_surfaces(psd, n=1, shape=(16, 2048), spacing=5e-9, seed=1)  # 10 µm > 2π/1e6 = 6 µm

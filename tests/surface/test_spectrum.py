@@ -16,7 +16,7 @@ QMAX = 289e6  # rad/m (paper: 289 rad/µm)
 @pytest.mark.parametrize("shape", [(32, 32), (33, 20), (15, 64)])
 def test_parseval_machine_precision_odd_nonsquare(shape):
     h = rs.testing.make_topography(np.random.default_rng(6).normal(size=shape) * 1e-9, spacing=3e-9)
-    s = rs.power_spectrum(h)
+    s = rs.power_spectrum(h, window=None)  # the estimator's normalisation (no window: exact)
     assert s.dims == ("qy", "qx") and s.shape == shape
     rs.testing.assert_units(s, "m4")
     np.testing.assert_allclose(s.attrs["spacing_x"], 3e-9, rtol=1e-12)
@@ -76,7 +76,7 @@ def test_power_spectrum_stack_lazy_and_chunk_error(backend, no_compute):
 
 def test_psd_metadata_identical():
     h = rs.testing.make_topography(np.random.default_rng(10).normal(size=(8, 8)) * 1e-9)
-    s = rs.power_spectrum(h)
+    s = rs.power_spectrum(h, window="none")
     expected = xr.DataArray(
         s.values, dims=("qy", "qx"),
         coords={"qy": 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(8, 5e-9)),
@@ -104,7 +104,7 @@ def test_bad_psd_inputs():
 
 def test_submap_schemes_and_eq32():
     h, expected = filtered_noise((3, 128, 128), 5e-9, lorentz, np.random.default_rng(12))
-    outs = {n: rs.submap_psd(h, n=n) for n in (1, 4, 16)}
+    outs = {n: rs.submap_psd(h, n=n, window=None) for n in (1, 4, 16)}  # the paper's Eq. 31
     assert outs[1].shape == (128, 128) and outs[4].shape == (64, 64) and outs[16].shape == (32, 32)
     assert outs[16].attrs["n_averaged"] == 48 and outs[16].attrs["n_submaps"] == 16
     m0 = [float(rs.psd_moments(o).m0) for o in outs.values()]
@@ -200,3 +200,36 @@ def test_submap_psd_accepts_a_single_dim_name():
     by_list = rs.submap_psd(h, n=4, average_dims=["map"])
     xr.testing.assert_identical(by_name, by_list)
     assert by_name.attrs["n_averaged"] == 8
+
+
+def test_default_window_for_measured_scans():
+    """Issue 16 item 4: without a window the edge step of a non-periodic scan leaks power to high
+    q and inflates m2 and m4; the default ("auto") is Hann on non-periodic maps and no window on
+    periodic ones (Parseval exact). Truth: the periodic surface the crops are cut from
+    (benchmarks/psd_window.py measures all families and crop sizes)."""
+    full = rs.datasets.surface_family("smooth", shape=(512, 512), seed=5)
+    assert full.attrs["periodic"] == 1
+    truth = rs.psd_moments(rs.power_spectrum(full), qmax=289e6)
+    assert rs.power_spectrum(full).attrs["window"] == "None"  # periodic: no window, exact
+    np.testing.assert_allclose(float(truth.m0), float(full.var()), rtol=1e-10)
+    rng = np.random.default_rng(1)
+    err = {"none": [], "auto": []}
+    for _ in range(6):
+        iy, ix = rng.integers(0, 512 - 128, size=2)
+        crop = full.isel(y=slice(iy, iy + 128), x=slice(ix, ix + 128)).assign_attrs(periodic=0)
+        for w in err:
+            s = rs.power_spectrum(crop, window=w)
+            assert s.attrs["window"] == ("hann" if w == "auto" else "None")
+            m = rs.psd_moments(s, qmax=289e6)
+            err[w].append([float(m[k] / truth[k]) - 1 for k in ("m2", "m4")])
+    none, auto = np.median(err["none"], axis=0), np.median(err["auto"], axis=0)
+    # measured (benchmarks/psd_window.py, smooth 128²): none +36 % / +70 %, Hann +7 % / +5 %
+    assert none[0] > 0.2 and none[1] > 0.4
+    assert abs(auto[0]) < 0.12 and abs(auto[1]) < 0.12
+    # a map without the attribute is treated as measured (not periodic)
+    unmarked = crop.copy()
+    del unmarked.attrs["periodic"]
+    assert rs.power_spectrum(unmarked).attrs["window"] == "hann"
+    # sub-maps of a periodic map are not periodic: Hann; one sub-map of it: none
+    assert rs.submap_psd(full, n=4).attrs["window"] == "hann"
+    assert rs.submap_psd(full, n=1).attrs["window"] == "None"
