@@ -34,6 +34,7 @@ import sys
 import warnings
 from typing import NamedTuple
 
+import numba as nb
 import numpy as np
 import xarray as xr
 
@@ -84,28 +85,81 @@ class ErrorBound(NamedTuple):
 # dimensionless groups
 
 
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _centred(z):  # pragma: no cover - compiled
+    """Heights minus their mean over the finite pixels, NaN pixels set to the mean (0 here)."""
+    ny, nx = z.shape
+    total = 0.0
+    count = 0
+    for i in range(ny):
+        for j in range(nx):
+            if np.isfinite(z[i, j]):
+                total += z[i, j]
+                count += 1
+    out = np.zeros((ny, nx))
+    if count == 0:
+        return out, False
+    mean = total / count
+    for i in range(ny):
+        for j in range(nx):
+            if np.isfinite(z[i, j]):
+                out[i, j] = z[i, j] - mean
+    return out, True
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _moments_kernel(zc, dy, dx):  # pragma: no cover - compiled
+    """(sigma, rms slope, m4) of one centred map in one pass.
+
+    Forward differences as in :func:`surface_groups`; m4 is the mean of the squared second
+    differences along x and y (halved sum), sigma the population rms about the mean.
+    """
+    ny, nx = zc.shape
+    s2 = 0.0
+    gx2 = 0.0
+    gy2 = 0.0
+    cx2 = 0.0
+    cy2 = 0.0
+    for i in range(ny):
+        for j in range(nx):
+            a = zc[i, j]
+            s2 += a * a
+            if j + 1 < nx:
+                d = zc[i, j + 1] - a
+                gx2 += d * d
+                if j + 2 < nx:
+                    c = zc[i, j + 2] - 2.0 * zc[i, j + 1] + a
+                    cx2 += c * c
+            if i + 1 < ny:
+                d = zc[i + 1, j] - a
+                gy2 += d * d
+                if i + 2 < ny:
+                    c = zc[i + 2, j] - 2.0 * zc[i + 1, j] + a
+                    cy2 += c * c
+    sigma = np.sqrt(s2 / (ny * nx))
+    slope = np.sqrt(gx2 / (ny * (nx - 1)) / dx**2 + gy2 / ((ny - 1) * nx) / dy**2)
+    m4 = 0.5 * (cx2 / (ny * (nx - 2)) / dx**4 + cy2 / ((ny - 2) * nx) / dy**4)
+    return sigma, slope, m4
+
+
 def _groups_kernel(z, dy, dx):
-    """(sigma, rms slope, m4, correlation length) of one map (NaN pixels: mean-filled)."""
-    z = np.asarray(z, dtype=float)
-    valid = np.isfinite(z)
-    if not valid.any():
+    """(sigma, rms slope, m4, correlation length) of one map (NaN pixels: mean-filled).
+
+    The 1/e correlation length is read on the x-lag row of the autocorrelation, which is the
+    sum over rows of each row's circular autocorrelation: one batch of 1-D real FFTs along x
+    instead of a 2-D transform pair (same numbers, about a third of the cost).
+    """
+    zc, any_finite = _centred(np.ascontiguousarray(z, dtype=float))
+    if not any_finite:
         raise ValueError("height has no finite pixel; the surface groups need heights.")
-    z = np.where(valid, z, np.nanmean(z))
-    z = z - z.mean()
-    sigma = float(z.std())
-    gx = np.diff(z, axis=1) / dx
-    gy = np.diff(z, axis=0) / dy
-    slope = float(np.sqrt((gx**2).mean() + (gy**2).mean()))
-    cxx = np.diff(z, 2, axis=1) / dx**2
-    cyy = np.diff(z, 2, axis=0) / dy**2
-    m4 = float(0.5 * ((cxx**2).mean() + (cyy**2).mean()))
-    f = np.fft.rfft2(z)
-    acf = np.fft.irfft2(np.abs(f) ** 2, s=z.shape)
-    acf = acf / acf[0, 0] if acf[0, 0] > 0 else acf
-    row = acf[0, : max(z.shape[1] // 2, 1)]
+    sigma, slope, m4 = _moments_kernel(zc, dy, dx)
+    power = (np.abs(np.fft.rfft(zc, axis=1)) ** 2).sum(axis=0)
+    row = np.fft.irfft(power, n=z.shape[1])
+    row = row / row[0] if row[0] > 0 else row
+    row = row[: max(z.shape[1] // 2, 1)]
     below = np.nonzero(row < np.exp(-1))[0]
     corr = (below[0] if below.size else row.size) * dx
-    return sigma, slope, m4, corr
+    return float(sigma), float(slope), float(m4), corr
 
 
 def surface_groups(
