@@ -270,7 +270,6 @@ def modified_dmt_curves(
         lead = tuple(dim for dim in height.dims if dim not in ("y", "x"))
 
     rh_vals = np.atleast_1d(rh.values)
-    coords = {"rh": rh_vals, "distance": d}
     if distance is not None:
         def kernel(z):
             return _k.curves_kernel(z, d, hw, dp, dx=dx, dy=dy, K=K, periodic=per,
@@ -287,18 +286,20 @@ def modified_dmt_curves(
             dask_gufunc_kwargs={"output_sizes": {"rh": rh_vals.size, "distance": d.size}},
         )
         data = list(outs)
-    ds = xr.Dataset()
-    for name, arr in zip(_k.OUTPUTS, data, strict=True):
-        if not isinstance(arr, xr.DataArray):
-            arr = xr.DataArray(arr, dims=("rh", "distance"))
-        arr = arr.assign_coords(coords)
-        ds[name] = set_attrs(arr, name)
-    ds = ds.assign_coords(
-        water_height=("rh", hw, ATTRS["water_height"]),
-        laplace_pressure=("rh", dp, ATTRS["laplace_pressure"]),
-    )
-    for c in ("rh", "distance"):
-        ds[c].attrs = dict(ATTRS[c])
+    # one Dataset built at once (per-variable assignment re-aligned the coords every time)
+    new_coords = {
+        "rh": ("rh", rh_vals, dict(ATTRS["rh"])),
+        "distance": ("distance", d, dict(ATTRS["distance"])),
+        "water_height": ("rh", hw, ATTRS["water_height"]),
+        "laplace_pressure": ("rh", dp, ATTRS["laplace_pressure"]),
+    }
+    if distance is None:
+        ds = xr.Dataset({name: (("rh", "distance"), arr)
+                         for name, arr in zip(_k.OUTPUTS, data, strict=True)}, coords=new_coords)
+    else:
+        ds = xr.Dataset(dict(zip(_k.OUTPUTS, data, strict=True))).assign_coords(new_coords)
+    for name in _k.OUTPUTS:
+        ds.variables[name].attrs = dict(ATTRS[name])
     if rh.ndim == 0:
         ds = ds.squeeze("rh")
     for c in lead:
