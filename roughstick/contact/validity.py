@@ -392,14 +392,14 @@ def _group_points(height, relative_humidity, material, material2, adsorbed_layer
                        material2=material2, adsorbed_layer=adsorbed_layer)
     if "rh" not in g.dims:
         g = g.expand_dims(rh=[float(g["rh"])] if "rh" in g.coords else [np.nan])
-    out = []
-    for r in g["rh"].values:
-        gr = g.sel(rh=r)
-        lead = [d for d in gr[GROUP_FEATURES[0]].dims]
-        stacked = gr.stack(_map=lead) if lead else gr.expand_dims(_map=[0])
-        out.append((float(r), [{f: float(stacked[f].isel(_map=i)) for f in GROUP_FEATURES}
-                               for i in range(stacked.sizes["_map"])]))
-    return out
+    arrs = xr.broadcast(*(g[f] for f in GROUP_FEATURES))
+    lead = [d for d in arrs[0].dims if d != "rh"]
+    n_rh = g.sizes["rh"]
+    table = [np.asarray(a.transpose(*lead, "rh").values, dtype=float).reshape(-1, n_rh)
+             for a in arrs]
+    return [(float(r), [{f: float(t[i, j]) for f, t in zip(GROUP_FEATURES, table)}
+                        for i in range(table[0].shape[0])])
+            for j, r in enumerate(g["rh"].values)]
 
 
 def select_model(
