@@ -8,13 +8,52 @@ distance and the wetted fraction there.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import xarray as xr
 
 from .._core.conventions import append_history, set_attrs
 from .._core.validate import check_core_not_chunked
 
-__all__ = ["adhesion_summary", "adhesive_energy_kernel"]
+__all__ = ["CurveGridWarning", "adhesion_summary", "adhesive_energy_kernel"]
+
+
+class CurveGridWarning(UserWarning):
+    """The distance grid of a curve does not span what Eq. 13 integrates (its Γ is incomplete)."""
+
+
+def _grid_coverage_warning(p, d):
+    """Warn when eager curves are all zero (grid above the surface), still attractive at the
+    largest distance (separation not reached; beyond 1 % of the largest pressure, so a
+    vanishing Gaussian tail does not count) or attractive at the smallest one with no
+    equilibrium (grid entirely inside the adhesive range)."""
+    p = np.asarray(p, dtype=float).reshape(-1, d.size)
+    finite = np.isfinite(p).any(axis=-1)
+    problems = []
+    if np.any(finite & np.all(np.nan_to_num(p) == 0.0, axis=-1)):
+        problems.append(
+            "the pressure is zero at every distance (the grid lies entirely above the surface "
+            f"and its water, from {d[0]:.3g} m up): Γ = 0 there says nothing about adhesion")
+    with np.errstate(invalid="ignore"):
+        scale = np.nanmax(np.abs(p), axis=-1)
+    if np.any(p[:, -1] < -1e-2 * scale):
+        problems.append(
+            f"the pressure is still attractive at the largest distance ({d[-1]:.3g} m, over 1 % "
+            "of the curve's largest pressure): the grid stops before separation "
+            "and Γ misses the rest of the curve")
+    cross = (p[:, :-1] >= 0) & (p[:, 1:] < 0)
+    if np.any((p[:, 0] < 0) & ~cross.any(axis=-1)):
+        problems.append(
+            f"the pressure is attractive at the smallest distance ({d[0]:.3g} m) and never "
+            "repulsive: the grid lies inside the adhesive range, no equilibrium, Γ is a lower "
+            "bound")
+    if problems:
+        warnings.warn(
+            "adhesion_summary: " + "; ".join(problems) + ". Fix: compute the curves on the "
+            "automatic grid (distance=None), which spans the surface from above its highest "
+            "summit to the equilibrium.",
+            CurveGridWarning, stacklevel=3)
 
 
 def adhesive_energy_kernel(pressure, distance):
@@ -164,6 +203,8 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True) -> xr
         ("wet_fraction_at_equilibrium", "wet_fraction_at_equilibrium"),
         ("attraction_below_equilibrium", "attraction_below_equilibrium"),
     ]
+    if not hasattr(p.data, "dask"):
+        _grid_coverage_warning(p.values, d)
     ds = xr.Dataset({name: set_attrs(o, key) for (name, key), o in zip(names, outs, strict=True)})
     drop = [c for c in ds.coords if "distance" in ds[c].dims]
     ds = ds.drop_vars(drop)

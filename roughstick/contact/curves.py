@@ -146,6 +146,16 @@ def rough_contact_curves(
     if model not in CONTACT_MODELS:
         raise ValueError(f"model must be one of {CONTACT_MODELS}, got {model!r}.")
     _check_tolerance(tolerance)
+    if getattr(height, "chunks", None) is None and hasattr(height, "dims"):
+        values = np.asarray(height)
+        if values.dtype.kind == "f" and np.isinf(values).any():
+            iy, ix = (int(i[0]) for i in np.nonzero(np.isinf(values))[-2:])
+            raise ValueError(
+                f"height has {int(np.isinf(values).sum())} infinite pixel(s) (the first at "
+                f"y index {iy}, x index {ix}): an infinite height is not a surface (one +inf "
+                "summit moved Γ by 16 %). Set them to NaN (missing pixels are skipped by the "
+                "modified DMT) or crop them away."
+            )
     common = dict(relative_humidity=relative_humidity, material=material, material2=material2,
                   adsorbed_layer=adsorbed_layer)
     reason = None

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -126,3 +128,53 @@ def test_gamma_without_equilibrium_is_whole_grid_lower_bound():
     sep, whole = _curve([-1.0, -1.0, 0.0], d)
     assert np.isnan(float(sep.equilibrium_distance))
     assert float(sep.adhesive_energy) == pytest.approx(float(whole.adhesive_energy)) == pytest.approx(1.5)
+
+
+# --- grids that do not span what Eq. 13 integrates (issue 16 item 11) -----------------------
+def _sphere_curves(distance):
+    h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
+    return rs.rough_contact_curves(h, relative_humidity=0.5, distance=distance,
+                                   check_validity=False)
+
+
+def test_grid_above_the_surface_warns_that_gamma_zero_means_nothing():
+    h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
+    top = float((h - h.mean()).max())
+    curves = _sphere_curves(np.linspace(top + 5e-9, top + 20e-9, 16))
+    assert float(np.abs(curves.pressure).max()) == 0.0
+    with pytest.warns(rs.CurveGridWarning, match="zero at every distance"):
+        s = rs.adhesion_summary(curves)
+    assert float(s.adhesive_energy) == 0.0
+
+
+def test_grid_stopping_before_separation_warns():
+    full = _sphere_curves(None)  # the automatic grid spans equilibrium to separation
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.CurveGridWarning)
+        whole = rs.adhesion_summary(full)
+    p = full.pressure.values
+    k_eq = int(np.nonzero((p[:-1] >= 0) & (p[1:] < 0))[0][-1])
+    cut = full.isel(distance=slice(0, k_eq + 4))
+    with pytest.warns(rs.CurveGridWarning, match="still attractive at the largest distance"):
+        part = rs.adhesion_summary(cut)
+    assert float(part.adhesive_energy) < float(whole.adhesive_energy)
+
+
+def test_grid_inside_the_adhesive_range_warns_lower_bound():
+    full = _sphere_curves(None)
+    p = full.pressure.values
+    k_eq = int(np.nonzero((p[:-1] >= 0) & (p[1:] < 0))[0][-1])
+    inside = full.isel(distance=slice(k_eq + 2, None))
+    with pytest.warns(rs.CurveGridWarning, match="never repulsive"):
+        s = rs.adhesion_summary(inside)
+    assert np.isnan(float(s.equilibrium_distance))
+
+
+def test_infinite_pixels_are_refused_with_the_fix():
+    h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
+    h[5, 7] = np.inf
+    with pytest.raises(ValueError, match=r"1 infinite pixel.*y index 5, x index 7.*NaN"):
+        rs.rough_contact_curves(h, relative_humidity=0.5)
+    h[5, 7] = -np.inf
+    with pytest.raises(ValueError, match="infinite"):
+        rs.rough_contact_curves(h, relative_humidity=0.5, model="gw")
