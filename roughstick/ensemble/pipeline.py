@@ -13,6 +13,7 @@ block is bit-identical. :func:`lazy_ensemble` lays the blocks out as one dask-ba
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import inspect
 import json
@@ -28,6 +29,7 @@ from .._core.conventions import ATTRS, dataset_attrs
 from .._core.references import PAPER, cite
 from .._core.validate import relative_humidity_array
 from .._core.version import __version__
+from ..contact.curves import rough_contact_curves
 from ..contact.meniscus import as_relative_humidity, water_height
 from ..surface.moments import psd_moments
 from ..testing import make_topography
@@ -194,6 +196,7 @@ class Spec:
     curves_kwargs: dict
     water_max: float
     token: str
+    own_grid: bool = False  # summaries on each map's own automatic grid (distance=None)
 
     def rh_blocks(self):
         r = self.rh.size
@@ -227,6 +230,7 @@ def _hash_params(spec_fields: dict) -> str:
         k: spec_fields[k]
         for k in ("shape", "spacing", "chunk", "rh_chunk", "seed_entropy", "seed_spawn_key")
     }
+    rest["own_grid"] = bool(spec_fields.get("own_grid", False))
     rest["version"] = __version__
     rest["adsorbed_layer"] = (
         spec_fields["adsorbed_layer"]
@@ -319,6 +323,32 @@ def _curves_self_extending(spec, hk, rh, grid, top, bottom, index):
     return curves, flag
 
 
+OWN_GRID_NOTE = (
+    "adhesive_energy, pull_off_pressure, equilibrium_distance and the other summaries of each "
+    "(realization, rh) come from that map's own automatic distance grid at that humidity alone "
+    "(roughstick.contact_distance_grid), so they do not depend on the other humidities, on n or "
+    "on the chunks; the stored curves are on the common distance grid (extended per realization "
+    "where it fell short: grid_extension)")
+
+
+def _own_grid_capable(spec: Spec) -> bool:
+    """Summaries on each map's own grid: asked for (no ``distance=`` given) and possible (the
+    default contact stage, rough_contact_curves, builds its own grid from ``distance=None``)."""
+    f = spec.curves
+    return spec.own_grid and isinstance(f, functools.partial) and f.func is rough_contact_curves
+
+
+def _own_grid_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dataset:
+    """Summaries of one map, each humidity on its own automatic grid (one call per humidity)."""
+    parts = []
+    for r in np.atleast_1d(rh.values):
+        c = spec.curves(h2d, relative_humidity=[float(r)], distance=None, material=spec.material,
+                        adsorbed_layer=spec.adsorbed_layer, **spec.curves_kwargs)
+        s = spec.summary(c)
+        parts.append(s.drop_vars([v for v in s.coords if v != "rh"], errors="ignore"))
+    return parts[0] if len(parts) == 1 else xr.concat(parts, "rh", combine_attrs="drop_conflicts")
+
+
 def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> xr.Dataset:
     """Compute realizations [start, stop) at humidities rh[rh_lo:rh_hi] (numpy in, numpy out)."""
     h = _surfaces(spec, start, stop)
@@ -327,6 +357,7 @@ def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> 
     hw = spec.water_max
     rh = as_relative_humidity(spec.rh[rh_lo:rh_hi])
     grid = np.asarray(spec.distance, dtype=float)
+    own_grid = _own_grid_capable(spec)
     parts, extended, deep = [], [], []
     for k in range(h.sizes["realization"]):
         # one realization at a time: its numbers cannot depend on which block it falls in
@@ -334,6 +365,16 @@ def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> 
         curves, flag = _curves_self_extending(spec, hk, rh, grid, float(top[k]) + hw, float(bottom[k]),
                                               start + k)
         summary = spec.summary(curves)
+        if own_grid:
+            own = _own_grid_summary(spec, h.isel(realization=k, drop=True), rh)
+            for name in own.data_vars:
+                ref = summary.get(name)
+                if ref is None or not set(ref.dims) <= {"realization", "rh"}:
+                    continue
+                o = own[name]
+                if "realization" in ref.dims:
+                    o = o.expand_dims(realization=ref.sizes["realization"])
+                summary[name] = ref.copy(data=np.asarray(o.transpose(*ref.dims).values))
         if flag:  # the summary saw the extended grid; the stored curves stay on the common grid
             keep = np.isin(curves.distance.values, grid)
             curves = curves.isel(distance=np.flatnonzero(keep))
@@ -443,4 +484,7 @@ def _attrs(spec: Spec, n) -> dict:
         realization_chunk=spec.chunk,
         rh_chunk=spec.rh_chunk,
         params_hash=spec.token,
+        summary_grid=(OWN_GRID_NOTE if _own_grid_capable(spec) else
+                      "summaries on the common distance grid (given distances or a custom "
+                      "contact function)"),
     )

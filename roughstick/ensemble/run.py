@@ -212,6 +212,8 @@ def run_ensemble(
         material=material, generate=generate, curves=curves, summary=summary,
         generate_kwargs=dict(generate_kwargs or {}), curves_kwargs=dict(curves_kwargs or {}),
         seed_entropy=str(root.entropy), seed_spawn_key=list(root.spawn_key),
+        # summaries on each map's own automatic grid unless the user fixed the distances
+        own_grid=distance is None,
     )
     token = _hash_params(fields)
     spec = Spec(
@@ -220,6 +222,7 @@ def run_ensemble(
         generate=generate, curves=curves, summary=summary,
         generate_kwargs=fields["generate_kwargs"], curves_kwargs=fields["curves_kwargs"],
         water_max=float(np.max(_water_heights(rh, adsorbed_layer))), token=token,
+        own_grid=fields["own_grid"],
     )
     attrs = _attrs(spec, n_total)
     folder = pathlib.Path(output) if output is not None else None
@@ -238,7 +241,8 @@ def run_ensemble(
                                   f"({time.perf_counter() - t0:.1f} s this session)")
     ds = lazy_ensemble(spec, 0, n_total)
     ds.attrs = attrs
-    return append_history(ds, f"run_ensemble(n={n_total}, shape={shp}, rh={rh.tolist()})")
+    return append_history(ds, f"run_ensemble(n={n_total}, shape={shp}, rh={rh.tolist()}); "
+                              f"{ds.attrs.get('summary_grid', '')}")
 
 
 def surface_size_study(

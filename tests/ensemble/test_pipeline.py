@@ -173,8 +173,13 @@ def test_real_pipeline_layout_and_single_realization(sample_psds):
     s = rs.adhesion_summary(c)
     np.testing.assert_array_equal(c.pressure.isel(realization=0).transpose("rh", "distance").values,
                                   ds.pressure.sel(realization=2).values)
-    np.testing.assert_array_equal(s.adhesive_energy.isel(realization=0).values,
-                                  ds.adhesive_energy.sel(realization=2).values)
+    # its summaries: each humidity alone on the map's own automatic grid
+    own = [float(rs.adhesion_summary(rs.rough_contact_curves(
+        h.isel(realization=0, drop=True), relative_humidity=[r], check_validity=False)
+    ).adhesive_energy[0]) for r in RH6]
+    np.testing.assert_array_equal(own, ds.adhesive_energy.sel(realization=2).values)
+    # and within the grid-convergence tolerance of the common-grid summary
+    np.testing.assert_allclose(s.adhesive_energy.isel(realization=0).values, own, rtol=0.02)
     assert (ds.adhesive_energy > 0).all() and np.isfinite(ds.equilibrium_distance).all()
 
 
@@ -200,3 +205,53 @@ def test_section_4_3_findings_S2(sample_psds):
 @pytest.mark.slow
 def test_section_4_3_findings_S1(sample_psds):
     _findings(sample_psds["S1"], n=48, seed=3)
+
+
+# --- a realization's summaries depend on nothing else in the run (issue 12) ----------------------
+def _smooth_psd():
+    """The issue's smooth self-affine PSD (rms 2 nm, Hurst 0.8, roll-off 2e7 rad/m, cut 2.89e8)."""
+    q0, qmax, hurst = 2e7, 2.89e8, 0.8
+    s1_over_s0 = (qmax / q0) ** (-2.0 * (1.0 + hurst))
+    m0 = float(rs.self_affine_moments(s0=1.0, s1=s1_over_s0, q0=q0, qmax=qmax).m0)
+    s0 = (2e-9) ** 2 / m0
+    q = np.geomspace(1e5, 2e9, 300)
+    q = xr.DataArray(q, dims="q", coords={"q": q}, attrs={"units": "rad/m"})
+    return rs.self_affine_psd(q, s0=s0, s1=s0 * s1_over_s0, q0=q0, qmax=qmax)
+
+
+SUMMARIES = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
+
+
+def _summaries(n, rh, chunks=None):
+    ds = rs.run_ensemble(_smooth_psd(), n=n, relative_humidity=rh, spacing=5e-9,
+                         shape=(64, 64), seed=11, chunks=chunks, scheduler="sync")
+    return ds[list(SUMMARIES)].compute()
+
+
+@pytest.mark.filterwarnings("ignore::roughstick.ValidityWarning")
+def test_summaries_independent_of_other_humidities_n_and_chunks():
+    alone = _summaries(4, [0.3])
+    # the extreme humidity next to it used to move Γ(0.3) (shared grid capped at 2000 points)
+    with_wet = _summaries(4, [0.3, 0.999]).sel(rh=[0.3])
+    bigger_n = _summaries(9, [0.3], chunks=4).isel(realization=slice(0, 4))
+    for other in (with_wet, bigger_n):
+        for v in SUMMARIES:
+            np.testing.assert_array_equal(alone[v].values, other[v].values, err_msg=v)
+    dry = _summaries(3, [0.01])
+    dry_next_to_wet = _summaries(3, [0.01, 0.999]).sel(rh=[0.01])
+    for v in SUMMARIES:
+        np.testing.assert_array_equal(dry[v].values, dry_next_to_wet[v].values, err_msg=v)
+    assert np.all(dry.adhesive_energy.values > 0)  # not the Γ = 0 the shared grid gave
+
+
+@pytest.mark.filterwarnings("ignore::roughstick.ValidityWarning")
+def test_summary_is_the_single_map_automatic_grid_result():
+    ds = rs.run_ensemble(_smooth_psd(), n=2, relative_humidity=[0.5], spacing=5e-9,
+                         shape=(64, 64), seed=5, scheduler="sync").compute()
+    h = rs.generate_surfaces(_smooth_psd(), n=2, shape=(64, 64), spacing=5e-9,
+                             seed=5).isel(realization=1, drop=True).compute()
+    direct = rs.adhesion_summary(rs.rough_contact_curves(h, relative_humidity=[0.5],
+                                                         check_validity=False))
+    np.testing.assert_allclose(ds.adhesive_energy.isel(realization=1).values,
+                               direct.adhesive_energy.values, rtol=1e-12)
+    assert "own automatic distance grid" in ds.attrs["history"]
