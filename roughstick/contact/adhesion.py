@@ -124,7 +124,8 @@ def _summary_kernel(p, wet, d, from_equilibrium=True):
     return gamma, pull, deq, weq, gamma_all - gamma_sep
 
 
-def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True) -> xr.Dataset:
+def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
+                     check_grid: bool = True) -> xr.Dataset:
     r"""Apparent adhesive energy (Eq. 13), pull-off pressure and equilibrium of each curve.
 
     Parameters
@@ -140,6 +141,10 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True) -> xr
         spurious attraction *below* the equilibrium; ``False`` integrates Eq. 13 literally over
         the whole grid, and ``attraction_below_equilibrium`` reports the difference either way.
         The pull-off pressure is taken over the same range.
+    check_grid : bool, default True
+        Warn (:class:`CurveGridWarning`) when an eager grid never reaches the surface, stops
+        before separation or lies inside the adhesive range; ``False`` for callers that extend
+        the grid themselves (a ``warnings.catch_warnings`` block is not thread-safe under dask).
 
     Returns
     -------
@@ -203,7 +208,7 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True) -> xr
         ("wet_fraction_at_equilibrium", "wet_fraction_at_equilibrium"),
         ("attraction_below_equilibrium", "attraction_below_equilibrium"),
     ]
-    if not hasattr(p.data, "dask"):
+    if check_grid and not hasattr(p.data, "dask"):
         _grid_coverage_warning(p.values, d)
     ds = xr.Dataset({name: set_attrs(o, key) for (name, key), o in zip(names, outs, strict=True)})
     drop = [c for c in ds.coords if "distance" in ds[c].dims]

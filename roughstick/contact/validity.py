@@ -41,12 +41,14 @@ import xarray as xr
 from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.units import require
 from ..datasets import validity_map_path
+from ..surface.generate import surface_filter
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = [
     "ValidityWarning",
     "ErrorBound",
     "surface_groups",
+    "expected_surface_groups",
     "validity_map",
     "model_error",
     "select_model",
@@ -208,11 +210,6 @@ def surface_groups(
                 f"height needs a coordinate {dim!r} with at least 3 pixels (uniform spacing in m)."
             )
     dy, dx = (float(np.diff(np.asarray(height[c].values, dtype=float))[0]) for c in ("y", "x"))
-    rh = as_relative_humidity(relative_humidity)
-    rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
-    hw = np.asarray(water_height(rh1, adsorbed_layer=adsorbed_layer).values, dtype=float)
-    dp = np.abs(np.asarray(laplace_pressure(rh1).values, dtype=float))
-    e_star = reduced_modulus(material, material2)
     lead = [d for d in height.dims if d not in ("y", "x")]
     h = height.transpose(*lead, "y", "x")
     if h.chunks is not None:
@@ -223,19 +220,31 @@ def surface_groups(
     per = np.array([_groups_kernel(m, dy, dx) for m in flat])
     shape = vals.shape[:-2]
     sigma, slope, m4, corr = (per[:, i].reshape(shape) for i in range(4))
-    L = height.sizes["x"] * dx
+    coords = {c: h[c] for c in lead if c in h.coords}
+    return _groups_dataset(sigma, slope, m4, corr / (height.sizes["x"] * dx), lead, coords,
+                           relative_humidity, material, material2, adsorbed_layer)
+
+
+def _groups_dataset(sigma, slope, m4, corr_over_L, lead, coords, relative_humidity, material,
+                    material2, adsorbed_layer) -> xr.Dataset:
+    """The groups Dataset from per-map (sigma, rms slope, m4, correlation length / side)."""
+    rh = as_relative_humidity(relative_humidity)
+    rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
+    hw = np.asarray(water_height(rh1, adsorbed_layer=adsorbed_layer).values, dtype=float)
+    dp = np.abs(np.asarray(laplace_pressure(rh1).values, dtype=float))
+    e_star = reduced_modulus(material, material2)
     radius = 3 * np.sqrt(np.pi) / (8 * np.sqrt(m4))
     K = 4.0 / 3.0 * e_star
     ex = (...,) + (None,)
     lam = 2 * dp / (np.pi * dp * hw * K**2 / radius[ex]) ** (1 / 3)
     dims = (*lead, "rh")
-    coords = {c: h[c] for c in lead if c in h.coords}
+    coords = dict(coords)
     coords["rh"] = np.asarray(rh1.values, dtype=float)
     ds = xr.Dataset(
         {
             "hw_over_sigma": (dims, hw / sigma[ex]),
             "rms_slope": (lead, slope),
-            "corr_over_L": (lead, corr / L),
+            "corr_over_L": (lead, corr_over_L),
             "dp_over_E": (("rh",), dp / e_star),
             "pressure_ratio": (dims, dp / (e_star * slope[ex])),
             "maugis_lambda": (dims, lam),
@@ -249,6 +258,64 @@ def surface_groups(
         ds = ds.squeeze("rh")
     ds.attrs["reduced_modulus"] = e_star
     return ds
+
+
+def expected_surface_groups(
+    psd: xr.DataArray,
+    *,
+    shape,
+    spacing: float,
+    relative_humidity,
+    material: Material = POLYSILICON,
+    material2: Material | None = None,
+    adsorbed_layer="paper",
+) -> xr.Dataset:
+    r"""The groups of :func:`surface_groups` expected over surfaces generated from a PSD.
+
+    No surface is generated: the PSD on the target grid (:func:`roughstick.surface_filter`,
+    Eqs. 33-34) gives each estimator's expectation, with the forward-difference transfer
+    functions the map estimators use: :math:`\sigma^2 = \sum w`,
+    :math:`\langle|\nabla z|^2\rangle = \sum w\,(k_x^2 + k_y^2)`,
+    :math:`m_4 = \tfrac12\sum w\,(k_x^4 + k_y^4)` with
+    :math:`k = 2\sin(q\Delta/2)/\Delta` and :math:`w` the variance of each mode; the 1/e
+    correlation length from :math:`\sum w\cos(q_x\ell)`. This is how an ensemble is checked
+    once, before its graph is built (:func:`roughstick.run_ensemble`).
+
+    Parameters
+    ----------
+    psd : xarray.DataArray
+        2-D ``(qy, qx)`` or isotropic ``(q)`` PSD, as for :func:`roughstick.generate_surfaces`.
+    shape : int or (int, int)
+        Surface shape ``(ny, nx)`` in pixels.
+    spacing : float
+        Pixel size [m].
+    relative_humidity, material, material2, adsorbed_layer
+        As in :func:`surface_groups`.
+
+    Returns
+    -------
+    xarray.Dataset
+        The variables of :func:`surface_groups` over ``rh``.
+    """
+    shp = (int(shape), int(shape)) if np.ndim(shape) == 0 else tuple(int(v) for v in shape)
+    f = surface_filter(psd, shape=shp, spacing=spacing)
+    qy = np.asarray(f["qy"].values, dtype=float)
+    qx = np.asarray(f["qx"].values, dtype=float)
+    dq = (2 * np.pi / (shp[0] * spacing)) * (2 * np.pi / (shp[1] * spacing))
+    w = np.asarray(f.transpose("qy", "qx").values, dtype=float) * dq
+    ky2 = (2 * np.sin(qy * spacing / 2) / spacing)[:, None] ** 2
+    kx2 = (2 * np.sin(qx * spacing / 2) / spacing)[None, :] ** 2
+    m0 = float(w.sum())
+    slope = float(np.sqrt((w * (kx2 + ky2)).sum()))
+    m4 = float(0.5 * (w * (kx2**2 + ky2**2)).sum())
+    wx = w.sum(axis=0)
+    lags = np.arange(max(shp[1] // 2, 1))
+    acf = np.cos(np.outer(lags * spacing, qx)) @ wx / m0
+    below = np.nonzero(acf < np.exp(-1))[0]
+    corr_over_L = (below[0] if below.size else lags.size) / shp[1]
+    return _groups_dataset(np.asarray(np.sqrt(m0)), np.asarray(slope), np.asarray(m4),
+                           np.asarray(corr_over_L), [], {}, relative_humidity, material,
+                           material2, adsorbed_layer)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -386,10 +453,11 @@ def model_error(method: str, groups, *, quantity: str = "adhesive_energy") -> Er
     return _bound(tab, groups, quantity)
 
 
-def _group_points(height, relative_humidity, material, material2, adsorbed_layer):
+def _group_points(height, relative_humidity, material, material2, adsorbed_layer, groups=None):
     """Per-humidity list of group dicts, worst map of a stack first-class (all maps checked)."""
-    g = surface_groups(height, relative_humidity=relative_humidity, material=material,
-                       material2=material2, adsorbed_layer=adsorbed_layer)
+    g = groups if groups is not None else surface_groups(
+        height, relative_humidity=relative_humidity, material=material, material2=material2,
+        adsorbed_layer=adsorbed_layer)
     if "rh" not in g.dims:
         g = g.expand_dims(rh=[float(g["rh"])] if "rh" in g.coords else [np.nan])
     arrs = xr.broadcast(*(g[f] for f in GROUP_FEATURES))
@@ -495,8 +563,12 @@ def warn_if_outside_validity(
     adsorbed_layer="paper",
     quantity: str = "adhesive_energy",
     stacklevel: int | None = None,
+    groups: xr.Dataset | None = None,
 ) -> bool:
     """Warn if the measured error bound of ``model`` at this surface exceeds ``tolerance``.
+
+    ``groups`` (e.g. :func:`expected_surface_groups` of an ensemble's PSD) replaces the groups of
+    ``height``, which may then be None.
 
     The warning names the remedy that exists: ``rough_contact_curves(..., model="auto",
     tolerance=...)`` (or ``model="fft_bem"``) and the CLI flags ``roughstick curves --model auto
@@ -508,7 +580,8 @@ def warn_if_outside_validity(
     bool
         True when the bound exceeds the tolerance (warned).
     """
-    points = _group_points(height, relative_humidity, material, material2, adsorbed_layer)
+    points = _group_points(height, relative_humidity, material, material2, adsorbed_layer,
+                           groups=groups)
     worst = None
     for r, maps in points:
         for gr in maps:

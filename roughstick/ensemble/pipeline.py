@@ -18,6 +18,7 @@ import hashlib
 import inspect
 import json
 import math
+import warnings
 from collections.abc import Callable
 
 import dask.array as dsa
@@ -31,6 +32,7 @@ from .._core.validate import relative_humidity_array
 from .._core.version import __version__
 from ..contact.curves import rough_contact_curves
 from ..contact.meniscus import as_relative_humidity, water_height
+from ..surface.generate import ExtrapolatedPSDWarning
 from ..surface.moments import psd_moments
 from ..testing import make_topography
 
@@ -254,6 +256,16 @@ def _surfaces(spec: Spec, start: int, stop: int) -> xr.DataArray:
     except (TypeError, ValueError):  # pragma: no cover
         params = {}
     kw = dict(spec.generate_kwargs)
+    with warnings.catch_warnings():
+        # said once by run_ensemble before the graph was built, not once per block
+        warnings.simplefilter("ignore", ExtrapolatedPSDWarning)
+        h = _generate(gen, params, spec, start, stop, kw)
+    if h.chunks is not None:
+        h = h.compute(scheduler="sync")
+    return h
+
+
+def _generate(gen, params, spec, start, stop, kw):
     if "realizations" in params:
         h = gen(spec.psd, realizations=np.arange(start, stop), shape=spec.shape,
                 spacing=spec.spacing, seed=spec.seed, **kw)
@@ -265,8 +277,6 @@ def _surfaces(spec: Spec, start: int, stop: int) -> xr.DataArray:
         h = gen(spec.psd, n=stop, shape=spec.shape, spacing=spec.spacing, seed=spec.seed,
                 chunks=chunks, **kw)
         h = h.isel(realization=slice(start, stop))
-    if h.chunks is not None:
-        h = h.compute(scheduler="sync")
     return h
 
 
@@ -364,17 +374,13 @@ def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> 
         hk = h.isel(realization=[k])
         curves, flag = _curves_self_extending(spec, hk, rh, grid, float(top[k]) + hw, float(bottom[k]),
                                               start + k)
-        summary = spec.summary(curves)
         if own_grid:
+            # each humidity alone on this map's own automatic grid (OWN_GRID_NOTE)
             own = _own_grid_summary(spec, h.isel(realization=k, drop=True), rh)
-            for name in own.data_vars:
-                ref = summary.get(name)
-                if ref is None or not set(ref.dims) <= {"realization", "rh"}:
-                    continue
-                o = own[name]
-                if "realization" in ref.dims:
-                    o = o.expand_dims(realization=ref.sizes["realization"])
-                summary[name] = ref.copy(data=np.asarray(o.transpose(*ref.dims).values))
+            summary = own.expand_dims(realization=hk["realization"].values).transpose(
+                "realization", ...)
+        else:
+            summary = spec.summary(curves)
         if flag:  # the summary saw the extended grid; the stored curves stay on the common grid
             keep = np.isin(curves.distance.values, grid)
             curves = curves.isel(distance=np.flatnonzero(keep))

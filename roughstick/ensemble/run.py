@@ -27,7 +27,8 @@ from .._core.materials import POLYSILICON
 from .._core.validate import distance_array, relative_humidity_array
 from ..contact.adhesion import adhesion_summary
 from ..contact.curves import rough_contact_curves
-from ..surface.generate import generate_surfaces
+from ..contact.validity import expected_surface_groups, warn_if_outside_validity
+from ..surface.generate import generate_surfaces, surface_filter
 from .execute import auto_ensemble, stream
 from .pipeline import (
     Spec,
@@ -41,6 +42,20 @@ from .pipeline import (
 from .store import open_ensemble
 
 __all__ = ["run_ensemble", "surface_size_study"]
+
+
+def _check_once(psd, shape, spacing, rh, material, adsorbed_layer):
+    """Warn once per run, before the graph and without computing a surface: generated surfaces
+    larger than the PSD's scan (ExtrapolatedPSDWarning) and the modified DMT's measured validity
+    at the groups expected from the PSD (ValidityWarning, docs/accuracy.md). Blocks then
+    generate and compute without warnings."""
+    if rh.size and np.all((rh > 0) & (rh < 1)):
+        groups = expected_surface_groups(psd, shape=shape, spacing=spacing, relative_humidity=rh,
+                                         material=material, adsorbed_layer=adsorbed_layer)
+        warn_if_outside_validity(None, relative_humidity=rh, material=material,
+                                 adsorbed_layer=adsorbed_layer, groups=groups)
+    else:
+        surface_filter(psd, shape=shape, spacing=spacing)
 
 
 def run_ensemble(
@@ -179,9 +194,11 @@ def run_ensemble(
     shp = surface_shape(shape=shape, size=size, spacing=spacing)
     rh = relative_humidity_array(relative_humidity)
     material = POLYSILICON if material is None else material
+    if generate is None and curves is None:
+        _check_once(psd, shp, spacing, rh, material, adsorbed_layer)
     generate = generate_surfaces if generate is None else generate
-    # the per-surface validity check (contact.validity) would warn once per realization from
-    # inside dask; an ensemble is checked by the user on one map (warn_if_outside_validity)
+    # the per-surface validity check would warn once per realization from inside dask: the run is
+    # checked once above, on its realization 0, before any graph is built
     curves = (functools.partial(rough_contact_curves, check_validity=False) if curves is None
               else curves)
     summary = adhesion_summary if summary is None else summary

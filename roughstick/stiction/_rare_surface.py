@@ -9,13 +9,12 @@ or pull-off pressure, through the public functions of :mod:`roughstick.surface` 
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 import scipy.fft
 import xarray as xr
 
-from roughstick.contact import CurveGridWarning, adhesion_summary, rough_contact_curves
+from roughstick.contact import adhesion_summary, rough_contact_curves
 from roughstick.surface import surface_filter
 
 __all__: list[str] = []
@@ -106,10 +105,8 @@ class SurfaceResponse:
         curves = self._curves(zc, d, periodic)
         block = max(int(math.ceil(self.extend * self.sigma / self.step)), 1)
         while True:
-            with warnings.catch_warnings():
-                # the loop below extends the grid until the curve has its equilibrium
-                warnings.simplefilter("ignore", CurveGridWarning)
-                s = adhesion_summary(curves)
+            # this loop extends the grid until the curve has its equilibrium
+            s = adhesion_summary(curves, check_grid=False)
             if np.isfinite(float(s["equilibrium_distance"])) or d[0] < zmin - self.step:
                 break
             more = top - self.step * np.arange(k_end + 1, k_end + block + 1)[::-1]

@@ -341,9 +341,12 @@ def _half_plane_power(psd, ny, nx, dy, dx):
         _check_cover(np.abs(qy).max(), np.abs(qy_c).max(), "y", dy)
         _check_cover(np.abs(qx).max(), np.abs(qx_c).max(), "x", dx)
         # a 2D PSD on a q grid of step dq was measured on a scan 2 pi / dq long
-        for n_pix, d, q_c, axis in ((ny, dy, qy_c, "y"), (nx, dx, qx_c, "x")):
-            _warn_if_extrapolated(n_pix * d, 2 * np.pi / float(np.min(np.diff(q_c))),
-                                  f"its q{axis} step")
+        # one warning for the map: the axis that outgrows its scan the most
+        excess = [(n_pix * d / (2 * np.pi / float(np.min(np.diff(q_c)))), n_pix * d,
+                   2 * np.pi / float(np.min(np.diff(q_c))), axis)
+                  for n_pix, d, q_c, axis in ((ny, dy, qy_c, "y"), (nx, dx, qx_c, "x"))]
+        _, needed, measured, axis = max(excess)
+        _warn_if_extrapolated(needed, measured, f"its q{axis} step")
         same = (
             qy_c.size == ny and qx_c.size == nx
             and np.allclose(qy_c, np.fft.fftshift(qy), rtol=1e-9, atol=0)

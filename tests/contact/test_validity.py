@@ -189,3 +189,19 @@ def test_bad_tolerance_quantity_and_nan_maps():
         assert "NaN pixels" in str(err) and "crop or fill" in str(err)
     else:
         assert ds.attrs["contact_model"] in ("gw", "modified_dmt")
+
+
+def test_expected_groups_from_the_psd_match_generated_maps():
+    """The PSD-side expectation of the groups (no map generated) agrees with the mean of the
+    map estimators over generated surfaces, within their sampling error."""
+    psd = rs.datasets.sample_psd("S2")
+    shape, spacing = (128, 128), 5e-9
+    exp = rs.expected_surface_groups(psd, shape=shape, spacing=spacing, relative_humidity=[0.5])
+    maps = rs.generate_surfaces(psd, n=24, shape=shape, spacing=spacing, seed=3).compute()
+    got = rs.surface_groups(maps, relative_humidity=[0.5])
+    for v in ("sigma", "rms_slope", "pressure_ratio", "maugis_lambda", "hw_over_sigma"):
+        x = got[v].values.reshape(24, -1)
+        mean, se = x.mean(axis=0), x.std(axis=0, ddof=1) / np.sqrt(24)
+        e = np.asarray(exp[v].values).reshape(-1)
+        assert np.all(np.abs(e - mean) < 4 * se + 0.01 * np.abs(mean)), (v, e, mean, se)
+    assert abs(float(exp.corr_over_L) - float(got.corr_over_L.mean())) < 0.05

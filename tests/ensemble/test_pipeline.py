@@ -255,3 +255,22 @@ def test_summary_is_the_single_map_automatic_grid_result():
     np.testing.assert_allclose(ds.adhesive_energy.isel(realization=1).values,
                                direct.adhesive_energy.values, rtol=1e-12)
     assert "own automatic distance grid" in ds.attrs["history"]
+
+
+def test_run_warns_once_before_the_graph(sample_psds):
+    """Extrapolated PSD and model validity are said once per run (realization 0, before any
+    block runs), not once per block from inside dask, and not at all when computing."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ds = rs.run_ensemble(sample_psds["S2"], n=4, shape=512, spacing=5e-9,
+                             relative_humidity=[0.7], seed=2, chunks=1)
+    kinds = [w.category for w in caught]
+    assert kinds.count(rs.ExtrapolatedPSDWarning) == 1, kinds
+    assert kinds.count(rs.ValidityWarning) == 1, kinds
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ds.adhesive_energy.compute(scheduler="sync")
+    assert not [w for w in caught if issubclass(w.category, (rs.ExtrapolatedPSDWarning,
+                                                              rs.ValidityWarning))]
