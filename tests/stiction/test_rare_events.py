@@ -340,18 +340,19 @@ def test_subset_agrees_with_crude_monte_carlo():
 
 @pytest.mark.slow
 def test_subset_interval_coverage_on_the_surface_model():
-    """Coverage: 12 more seeds of subset simulation on the case above; the crude-MC estimate
-    (10,000) lies inside at least 9 of the 95 % intervals (binomial: P(<= 8 | 0.95) < 2 %,
-    widened for the MC's own error)."""
+    """Coverage: 20 more seeds of subset simulation on the case above; the crude-MC estimate
+    (10,000 evaluations, cv about 0.1, a third of the subset runs' 0.3) lies inside at least 16
+    of the 95 % intervals (binomial: P(<= 15 | 0.95) = 0.3 %); the rate is printed (-s)."""
     psd = table4()
     kw = dict(threshold=0.023, relative_humidity=0.5, shape=(64, 64), spacing=SPACING)
     mc = float(re_.failure_probability(psd, method="monte_carlo", samples_per_level=10_000, seed=100,
                                        **kw).failure_probability)
     inside = 0
-    for s in range(12):
+    for s in range(20):
         ss = re_.failure_probability(psd, seed=300 + s, samples_per_level=300, **kw)
         inside += float(ss.failure_probability_lower) <= mc <= float(ss.failure_probability_upper)
-    assert inside >= 9
+    print(f"crude MC {mc:.4g} inside {inside} of 20 subset intervals")
+    assert inside >= 16
 
 
 @pytest.mark.slow
