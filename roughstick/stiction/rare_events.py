@@ -369,6 +369,9 @@ def failure_probability(
     fill = {"accepted": np.int8(-1), "chain": np.int32(-1)}
     res = xr.concat(out, dim="rh", join="outer", fill_value=fill, combine_attrs="drop_conflicts",
                     data_vars="all", coords="different", compat="equals")
+    for d in res.dims:  # the index coords added above for the alignment: CF attrs to be written
+        if d in _e.ATTRS and not res[d].attrs:
+            res[d].attrs = dict(_e.ATTRS[d])
     res = res.assign_coords(rh=("rh", rh_in, {"units": "1", "long_name": "relative humidity",
                                              "standard_name": "relative_humidity"}))
     res = res.assign_coords(water_height=("rh", hw, {"units": "m", "long_name": "water height h_water"}))

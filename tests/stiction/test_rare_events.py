@@ -305,9 +305,10 @@ def test_weakest_link_formula():
 
 
 # ------------------------------------------------------------------------------ the surface model
-def test_surface_subset_small_run_is_consistent():
+def test_surface_subset_small_run_is_consistent(tmp_path):
     """Default-suite check of the surface path: levels, thresholds increasing, every state of a
-    level above its threshold, evaluations counted, the estimate inside its interval."""
+    level above its threshold, evaluations counted, the estimate inside its interval, and the
+    result is a CF NetCDF file (its failure/noise index coords carry their attributes)."""
     psd = table4()
     ds = re_.failure_probability(psd, threshold=0.03, relative_humidity=0.5, shape=(48, 48),
                                  spacing=SPACING, samples_per_level=50, seed=3, scheduler="sync")
@@ -322,6 +323,9 @@ def test_surface_subset_small_run_is_consistent():
     p = float(ds.failure_probability)
     assert float(ds.failure_probability_lower) <= p <= float(ds.failure_probability_upper)
     assert ds.attrs["quantity"] == "adhesive_energy" and ds.attrs["threshold_units"] == "J m-2"
+    rs.write(ds, tmp_path / "p.nc", compute=True)
+    with xr.open_dataset(tmp_path / "p.nc") as back:
+        assert float(back.failure_probability) == p
 
 
 @pytest.mark.slow
