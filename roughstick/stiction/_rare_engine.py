@@ -477,7 +477,9 @@ def _estimate(runs, sizes, method, confidence):
     from scipy.special import stdtrit
 
     out = {}
-    if method == "monte_carlo":
+    # a subset run that stops at level 0 is crude Monte Carlo: the binomial cv and Wilson interval
+    # (Au-Beck's and the genealogical cv are 0 when every sample fails, which no sample proves)
+    if method == "monte_carlo" or all(len(levels) == 1 for levels in runs):
         k = sum(int(round(lv[0].probability * n)) for lv, n in zip(runs, sizes, strict=True))
         tot = sum(sizes)
         p = k / tot

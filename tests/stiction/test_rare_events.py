@@ -147,6 +147,16 @@ def test_reported_cv_matches_the_spread_over_seeds():
     assert np.mean(aus) < np.mean(cvs)
     assert cover >= 33
 
+def test_certain_failure_is_not_certain_from_a_sample():
+    """Every level-0 sample fails (a 1500 um beam: Gamma_crit 3e-3 mJ/m2): the run stops at level 0,
+    P = 1, and the interval is the Wilson one of N out of N, not [1, 1] with cv 0."""
+    shape = (8, 2)
+    ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=-20.0, seed=0,
+                               samples_per_level=300, scheduler="sync")
+    assert float(ds.failure_probability) == 1.0
+    lo, hi = rs.binomial_interval(300, 300)
+    assert math.isclose(float(ds.failure_probability_lower), float(lo), rel_tol=1e-12) and float(lo) < 0.99
+
 def test_monte_carlo_against_exact_and_wilson():
     shape = (10, 2)
     ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=1.645, method="monte_carlo",
