@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import time
+import warnings
 
 import numpy as np
 
@@ -33,16 +34,20 @@ def ifft_unit(repeat=7):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--threshold", type=float, default=0.0205)
+    ap.add_argument("--threshold", type=float, default=0.036)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--shape", type=int, nargs=2, default=(128, 128))
     ap.add_argument("--rh", type=float, default=0.5)
     ap.add_argument("--target-cv", type=float, default=0.3)
     ap.add_argument("--max-evaluations", type=int, default=5000)
     ap.add_argument("--analytic-runs", type=int, default=50)
-    ap.add_argument("--samples-per-level", type=int, default=None)
+    ap.add_argument("--samples-per-level", type=int, default=900)
+    ap.add_argument("--save", default=None, help="write the result Dataset to this NetCDF file")
     ap.add_argument("--level-probability", type=float, default=None)
     args = ap.parse_args()
+    # the modified DMT is outside its measured validity on these zones (docs/rare_events.md,
+    # Limits): one warning per evaluation would drown the figures
+    warnings.filterwarnings("ignore", category=rs.ValidityWarning)
     psd = rs.datasets.family_psd("table4")
     settings = {k: v for k, v in (("samples_per_level", args.samples_per_level),
                                   ("level_probability", args.level_probability)) if v is not None}
@@ -60,7 +65,10 @@ def main():
           f"P(Gamma > {args.threshold * 1e3:.2f} mJ/m2)")
     print(f"subset simulation: P = {p:.3e}  95% [{float(ds.failure_probability_lower):.3e}, "
           f"{float(ds.failure_probability_upper):.3e}]  cv = {cv:.3f}  evaluations = {n}  "
-          f"runs = {ds.sizes['run']}  converged = {int(ds.converged)}")
+          f"runs = {ds.sizes['run']}  converged = {int(ds.converged)}  (Au-Beck cv "
+          f"{float(ds.au_beck_cv):.3f})")
+    if args.save:
+        rs.write(ds, args.save, compute=True)
     for r in range(ds.sizes["run"]):
         print(f"  run {r}: levels {int(ds.run_levels[r])}, thresholds "
               f"{np.round(ds.next_threshold.values[r] * 1e3, 3)} mJ/m2, p_j "
@@ -86,18 +94,19 @@ def main():
         return float(np.sum(a * z))
 
     beta = norm.isf(1e-4)
-    ps, cvs, ns, cover = [], [], [], 0
+    ps, cvs, aus, ns, cover = [], [], [], [], 0
     for s in range(args.analytic_runs):
         r = rs.subset_simulation(linear, noise_shape=shape, threshold=beta, seed=1000 + s,
                                   scheduler="sync", chunks=1000, **settings)
         ps.append(float(r.failure_probability))
         cvs.append(float(r.coefficient_of_variation))
+        aus.append(float(r.au_beck_cv))
         ns.append(int(r.n_evaluations))
         cover += float(r.failure_probability_lower) <= 1e-4 <= float(r.failure_probability_upper)
     ps = np.array(ps)
     print(f"analytic linear limit state, P = 1e-4 exactly, {args.analytic_runs} runs: mean P = "
           f"{ps.mean():.3e}, true cv (rms error / P) = {np.sqrt(np.mean((ps - 1e-4) ** 2)) / 1e-4:.3f}, "
-          f"mean estimated cv = {np.mean(cvs):.3f}, evaluations = {np.mean(ns):.0f}, "
+          f"mean reported cv = {np.mean(cvs):.3f} (Au-Beck {np.mean(aus):.3f}), evaluations = {np.mean(ns):.0f}, "
           f"95% interval coverage = {cover / args.analytic_runs:.2f}")
 
 

@@ -163,6 +163,16 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                           choices=("wilson", "clopper-pearson", "exact")),
             "quantiles": F("fraction", "quantiles of Γ saved", many=True,
                            default=[0.025, 0.5, 0.975]),
+            "method": F("choice", "'count': count stuck surfaces of [ensemble]; 'subset': subset "
+                                  "simulation of P(stuck) on zones of [surface] shape (small "
+                                  "probabilities); 'monte_carlo': crude Monte Carlo on those zones",
+                        default="count", choices=("count", "subset", "monte_carlo")),
+            "target_cv": F("fraction", "method 'subset'/'monte_carlo': stop when the cv of P(stuck) is "
+                                       "at most this", default=0.3),
+            "max_evaluations": F("int", "method 'subset'/'monte_carlo': model evaluations allowed per "
+                                        "length, RH and layer", default=20000, minimum=10),
+            "samples_per_level": F("int", "method 'subset': samples per level (a multiple of 5: "
+                                          "p0 = 0.2)", default=1000, minimum=10),
         },
         "measured": {  # an array of tables: [[measured]]
             "label": F("str", "legend label", default="measured"),

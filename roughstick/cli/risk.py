@@ -65,6 +65,21 @@ def load_risk_config(path) -> dict:
                 if v in m and len(m[v]) != len(m["relative_humidity"]):
                     problems.append(f"[[measured]] #{k + 1}: {v} has {len(m[v])} values, "
                                     f"relative_humidity {len(m['relative_humidity'])}")
+    r = c["risk"]
+    if r["method"] != "count":
+        if "shape" not in c["surface"]:
+            problems.append(f"[risk] method = {r['method']!r} evaluates one zone per model call: set "
+                            "[surface] shape, e.g. shape = [128, 128] (the whole interaction zone is "
+                            "out of reach)")
+        if "adhesive_energy" in c["ensemble"]:
+            problems.append(f"[risk] method = {r['method']!r} simulates its own zones: remove "
+                            "[ensemble] adhesive_energy, or use method = 'count' to read that sample")
+        if r["method"] == "subset" and r["samples_per_level"] % 5:
+            problems.append(f"[risk] samples_per_level = {r['samples_per_level']}: must be a multiple "
+                            "of 5 (20 % of each level seed the chains), e.g. 1000")
+        if r["max_evaluations"] < r["samples_per_level"]:
+            problems.append(f"[risk] max_evaluations = {r['max_evaluations']} is below samples_per_level "
+                            f"= {r['samples_per_level']}: raise it (e.g. 20000)")
     if problems:
         raise ConfigError(f"{path.name}: " + "; ".join(problems) + ".")
     if "shape" in c["surface"]:
@@ -141,6 +156,67 @@ def _measured(c, beam):
     return out
 
 
+def _psd(s):
+    if "psd" in s:
+        return rs.open_dataset(s["psd"])["psd"]
+    d = TABLE4
+    return rs.cantilever_psd(
+        roughness=s.get("roughness", d["roughness"]),
+        asperity_radius=s.get("asperity_radius", d["asperity_radius"]),
+        asperity_density=s.get("asperity_density", d["asperity_density"]),
+        qmax=s.get("qmax", d["qmax"]),
+    )
+
+
+_SUBSET_VARS = ("stiction_probability", "stiction_probability_lower", "stiction_probability_upper",
+                "coefficient_of_variation", "n_evaluations", "converged")
+
+
+def _subset_risk(c, beam, lengths, out, *, overwrite):
+    """P(stuck)(adsorbed_layer, beam_length, rh) by subset simulation (or crude Monte Carlo) of
+    the pull-out proxy on zones of [surface] shape, each to [risk] target_cv; crossing humidities."""
+    import functools
+
+    ens, s, r = c["ensemble"], c["surface"], c["risk"]
+    psd = _psd(s)
+    if isinstance(psd, xr.Dataset):  # the Eq. 37 parameters: the PSD exactly on any grid
+        psd = functools.partial(rs.self_affine_psd, **{k: float(psd[k]) for k in ("s0", "s1", "q0", "qmax")})
+    rh = list(ens["relative_humidity"])
+    kw = {"scheduler": c["run"]["scheduler"]} if "scheduler" in c["run"] else {}
+    if r["method"] == "subset":
+        kw["samples_per_level"] = r["samples_per_level"]
+    per_layer = []
+    for layer in ens["adsorbed_layer"]:
+        per_length = []
+        for length in lengths:
+            LOG.info(f"[{layer}] l = {length * 1e6:g} um: {r['method']} on {s['shape'][0]} x {s['shape'][1]} px "
+                     f"zones, {len(rh)} humidities, target cv {r['target_cv']:g} ...")
+            ds = rs.stiction_probability_subset(
+                psd, relative_humidity=rh, shape=s["shape"], spacing=s["spacing"], length=length,
+                beam=beam, method=r["method"], target_cv=r["target_cv"],
+                max_evaluations=r["max_evaluations"], seed=ens["seed"], adsorbed_layer=layer,
+                confidence=r["confidence"], output=out / f"subset-{layer}-{length * 1e6:g}um",
+                overwrite=overwrite, **kw)
+            if "rh" not in ds.dims:
+                ds = ds.expand_dims("rh")
+            per_length.append(ds[list(_SUBSET_VARS)].drop_vars("water_height", errors="ignore"))
+        per_layer.append(xr.concat(per_length, dim=xr.DataArray(lengths, dims="beam_length", name="beam_length")))
+    risk = xr.concat(per_layer, dim=xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer",
+                                                 name="adsorbed_layer"))
+    risk["beam_length"].attrs = dict(ATTRS["beam_length"])
+    risk["adsorbed_layer"].attrs = {"units": "1", "long_name": "adsorbed water layer model"}
+    cross = [rs.crossing_humidity(risk, level=lev) for lev in r["levels"]]
+    cross = xr.concat(cross, dim=xr.DataArray(r["levels"], dims="probability_level", name="probability_level"))
+    cross["probability_level"].attrs = dict(ATTRS["probability_level"])
+    for name in cross.data_vars:
+        risk[name] = cross[name]
+    risk.attrs.update({"method": r["method"], "target_cv": r["target_cv"],
+                       "zone_shape": list(s["shape"]), "spacing": s["spacing"],
+                       "probability_model": "pull-out proxy P(Gamma > Gamma_crit(l)) of paper section 5.2 "
+                                            "on zones of zone_shape pixels"})
+    return risk
+
+
 def _gamma_samples(c, beam, out, *, overwrite):
     """Γ(adsorbed_layer, realization, rh): read from a file, or simulated with the §5.2 model."""
     ens, s = c["ensemble"], c["surface"]
@@ -156,16 +232,7 @@ def _gamma_samples(c, beam, out, *, overwrite):
         LOG.info(f"read the Γ sample {dict(g.sizes)} from {path}")
         return g.load()
     spacing = s["spacing"]
-    if "psd" in s:
-        psd = rs.open_dataset(s["psd"])["psd"]
-    else:
-        d = TABLE4
-        psd = rs.cantilever_psd(
-            roughness=s.get("roughness", d["roughness"]),
-            asperity_radius=s.get("asperity_radius", d["asperity_radius"]),
-            asperity_density=s.get("asperity_density", d["asperity_density"]),
-            qmax=s.get("qmax", d["qmax"]),
-        )
+    psd = _psd(s)
     shape = s.get("shape")
     rh = ens["relative_humidity"]
     parts = []
@@ -206,6 +273,8 @@ def _run(args):
     r = c["risk"]
     levels = r["levels"]
 
+    if r["method"] != "count":
+        return _run_subset(c, beam, lengths, out, overwrite=overwrite or unfinished)
     g = _gamma_samples(c, beam, out, overwrite=overwrite or unfinished)
     g = set_attrs(g, "surface_adhesive_energy")
     risk = rs.stiction_risk(g, length=lengths, beam=beam, levels=levels, confidence=r["confidence"],
@@ -228,10 +297,39 @@ def _run(args):
         _, fig = figures.crack_length(risk, measured=measured)
         files.append(save_figure(fig, out / "crack_length.png", dpi=120))
 
-    # a short table on the terminal, each crossing with its interval
-    layers = list(risk.adsorbed_layer.values) if "adsorbed_layer" in risk.dims else [None]
     n = risk.sizes.get("realization", g.sizes.get("realization"))
     LOG.info(f"from n = {n} surfaces per layer; [..] = {r['confidence']:.0%} interval")
+    _crossing_table(risk, levels)
+    for f in files:
+        LOG.info(f"wrote {f}")
+    finish_folder(out)
+    return 0
+
+
+def _run_subset(c, beam, lengths, out, *, overwrite):
+    r = c["risk"]
+    risk = _subset_risk(c, beam, lengths, out, overwrite=overwrite)
+    risk.attrs["configuration"] = c["path"].read_text()
+    append_history(risk, f"roughstick risk {c['path'].name} (method={r['method']})")
+    f = rs.io.netcdf.write(risk, out / "risk.nc", compute=True)
+    LOG.info(f"{r['method']}: P(stuck) [..] = {r['confidence']:.0%} interval, cv, model evaluations")
+    for layer in risk.adsorbed_layer.values:
+        for bl in risk.beam_length.values:
+            for rh in risk.rh.values:
+                d = risk.sel(adsorbed_layer=layer, beam_length=bl, rh=rh)
+                LOG.info(f"  [{layer}] l={bl * 1e6:.0f}um RH {rh * 100:.1f}%: P = {float(d.stiction_probability):.3g} "
+                         f"[{float(d.stiction_probability_lower):.3g}, {float(d.stiction_probability_upper):.3g}] "
+                         f"cv {float(d.coefficient_of_variation):.2f}, {int(d.n_evaluations)} evaluations"
+                         + ("" if int(d.converged) else " (target cv not met)"))
+    _crossing_table(risk, r["levels"])
+    LOG.info(f"wrote {f} (no figures with method = {r['method']!r}: it has no Γ sample)")
+    finish_folder(out)
+    return 0
+
+
+def _crossing_table(risk, levels):
+    """A short table on the terminal, each crossing with its interval."""
+    layers = list(risk.adsorbed_layer.values) if "adsorbed_layer" in risk.dims else [None]
     for layer in layers:
         d = risk.sel(adsorbed_layer=layer) if layer is not None else risk
         if layer is not None:
@@ -244,10 +342,6 @@ def _run(args):
                 hi = d.crossing_humidity_upper.sel(probability_level=lev, beam_length=bl)
                 row.append(f"l={bl * 1e6:.0f}um: {_pct(cr)} [{_pct(lo)}, {_pct(hi)}]")
             LOG.info(f"  RH where P(stuck) reaches {lev:g}: " + "; ".join(row))
-    for f in files:
-        LOG.info(f"wrote {f}")
-    finish_folder(out)
-    return 0
 
 
 def _pct(v) -> str:

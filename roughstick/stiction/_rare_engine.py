@@ -62,7 +62,7 @@ ATTRS = {
     "acceptance_rate": {"units": "1", "long_name": "fraction of the level's proposals accepted"},
     "level_evaluations": {"units": "1", "long_name": "model evaluations of the level"},
     "run_probability": {"units": "1", "long_name": "failure probability estimated by the run"},
-    "run_cv": {"units": "1", "long_name": "coefficient of variation of the run's estimate"},
+    "run_cv": {"units": "1", "long_name": "coefficient of variation of the run's estimate (genealogical)"},
     "run_evaluations": {"units": "1", "long_name": "model evaluations of the run"},
     "run_levels": {"units": "1", "long_name": "number of levels of the run"},
     "run_samples": {"units": "1", "long_name": "samples per level of the run"},
@@ -453,10 +453,22 @@ def _last_scale(lev, s):
     return _k.adapt_scale(float(sc[k]), float(lev.accepted[sel].mean()), s.target_acceptance, k)
 
 
+def _above(lv):
+    return np.where(np.isnan(lv.response), False, lv.response > lv.next_threshold)
+
+
+def _genealogical_cv2(levels):
+    """Squared cv of one run from its genealogy (see ``_rare_kernels.genealogical_cv2``)."""
+    kept = [np.flatnonzero(_above(lv)) for lv in levels]
+    roots = _k.root_ancestors([lv.chain for lv in levels], kept)
+    return _k.genealogical_cv2(roots[-1], _above(levels[-1]), levels[0].response.size)
+
+
 def _run_summary(levels):
+    """(P, cv, evaluations, Au-Beck cv) of one run; cv: the genealogical estimate."""
     p = float(np.prod([lv.probability for lv in levels]))
-    cv2 = float(sum(lv.cv2 for lv in levels))
-    return p, math.sqrt(cv2), int(sum(lv.evaluations for lv in levels))
+    au2 = float(sum(lv.cv2 for lv in levels))
+    return p, math.sqrt(_genealogical_cv2(levels)), int(sum(lv.evaluations for lv in levels)), math.sqrt(au2)
 
 
 
@@ -465,7 +477,9 @@ def _estimate(runs, sizes, method, confidence):
     from scipy.special import stdtrit
 
     out = {}
-    if method == "monte_carlo":
+    # a subset run that stops at level 0 is crude Monte Carlo: the binomial cv and Wilson interval
+    # (Au-Beck's and the genealogical cv are 0 when every sample fails, which no sample proves)
+    if method == "monte_carlo" or all(len(levels) == 1 for levels in runs):
         k = sum(int(round(lv[0].probability * n)) for lv, n in zip(runs, sizes, strict=True))
         tot = sum(sizes)
         p = k / tot
@@ -480,13 +494,15 @@ def _estimate(runs, sizes, method, confidence):
     cvs = np.array([a[1] for a in summ])
     R = ps.size
     p = float(ps.mean())
-    au = float(math.sqrt(np.mean(cvs**2) / R)) if np.all(np.isfinite(cvs)) else math.inf
+    aus = np.array([a[3] for a in summ])
+    gen = float(math.sqrt(np.mean(cvs**2) / R)) if np.all(np.isfinite(cvs)) else math.inf
+    au = float(math.sqrt(np.mean(aus**2) / R)) if np.all(np.isfinite(aus)) else math.inf
     between = float(ps.std(ddof=1) / math.sqrt(R) / p) if R >= 2 and p > 0 else math.nan
     out["p"], out["au_beck_cv"], out["between_run_cv"] = p, au, between
-    if R >= 3 and np.isfinite(between) and between > au:
+    if R >= 3 and np.isfinite(between) and between > gen:
         cv, q, how = between, float(stdtrit(R - 1, 0.5 + confidence / 2)), f"log-normal, between-run cv, Student t with {R - 1} dof"
     else:
-        cv, q, how = au, None, "log-normal, Au-Beck cv"
+        cv, q, how = gen, None, "log-normal, genealogical cv"
     out["cv"] = cv
     if p > 0:
         out["lo"], out["hi"] = _k.lognormal_interval(p, cv, confidence, quantile=q)

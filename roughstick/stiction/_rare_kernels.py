@@ -213,3 +213,45 @@ def adapt_scale(scale: float, acceptance: float, target: float, update: int) -> 
 
 
 # --------------------------------------------------------------------------------------------
+
+
+def root_ancestors(levels_chain, levels_kept):
+    """Level-0 ancestor ("Eve") of every state of every level of one subset-simulation run.
+
+    ``levels_chain[j]`` is the chain (= seed index) of each state of level ``j >= 1`` (ignored at
+    level 0) and ``levels_kept[j]`` the sorted sample indices level ``j`` kept as the seeds of
+    level ``j + 1``: seed ``c`` of level ``j + 1`` is state ``levels_kept[j][c]`` of level ``j``.
+    Returns one integer array per level; level 0's states are their own roots.
+    """
+    roots = []
+    for j, chain in enumerate(levels_chain):
+        if j == 0:
+            roots.append(np.arange(np.asarray(chain).size, dtype=np.int64))
+        else:
+            seed_root = roots[j - 1][np.asarray(levels_kept[j - 1], dtype=np.int64)]
+            roots.append(seed_root[np.asarray(chain, dtype=np.int64)])
+    return roots
+
+
+def genealogical_cv2(final_roots, final_indicator, n_roots: int) -> float:
+    r"""Squared cv of a run's estimate from its genealogy (clusters by level-0 ancestor).
+
+    The estimate :math:`\hat P = p_0^{m-1} n_F / N` is a sum of the contributions of the
+    :math:`N` level-0 samples, :math:`c_i \propto n_i`, the final failures descending from
+    sample :math:`i`. Treating these clusters as exchangeable,
+
+    .. math:: \hat\delta^2 = \frac{N}{N-1}\sum_{i=1}^{N}\Big(\frac{n_i}{n_F} - \frac1N\Big)^2,
+
+    the ancestral-lineage variance estimator of sequential Monte Carlo (Chan & Lai 2013; Lee &
+    Whiteley 2018) applied to subset simulation. Unlike Au & Beck's level formula it contains the
+    correlation of the states of a chain *and* of the levels (descendants of one ancestor
+    succeed or fail together), which is what that formula misses. With one level it is the
+    binomial :math:`(1-\hat p)/(N\hat p)` (up to :math:`N/(N-1)`). ``inf`` if no failure.
+    """
+    ind = np.asarray(final_indicator, dtype=bool)
+    n_f = int(ind.sum())
+    if n_f == 0:
+        return math.inf
+    counts = np.bincount(np.asarray(final_roots, dtype=np.int64)[ind], minlength=n_roots)
+    frac = counts / n_f - 1.0 / n_roots
+    return float(n_roots / (n_roots - 1) * np.dot(frac, frac))

@@ -83,3 +83,60 @@ def test_failed_risk_run_never_blocks_the_next(tmp_path, monkeypatch, capsys):
     assert main(["risk", str(cfg), "-q"]) == 1
     assert "--overwrite" in capsys.readouterr().err
     assert main(["risk", str(cfg), "-q", "--overwrite"]) == 0
+
+
+def test_cli_risk_subset_method_is_checked_before_work(tmp_path, capsys):
+    """method = 'subset' needs a zone shape, a whole number of chains, and no given Γ sample;
+    each mistake is named with its fix before any simulation starts."""
+    from roughstick.cli import main
+    from roughstick.cli._config import ConfigError
+    from roughstick.cli.risk import load_risk_config
+
+    cfg = tmp_path / "r.toml"
+    cfg.write_text('[risk]\nmethod = "subset"\nsamples_per_level = 333\nmax_evaluations = 100\n')
+    try:
+        load_risk_config(cfg)
+    except ConfigError as exc:
+        msg = str(exc)
+    else:  # pragma: no cover
+        raise AssertionError("no ConfigError")
+    assert "set [surface] shape" in msg and "multiple of 5" in msg and "below samples_per_level" in msg
+    cfg.write_text('[risk]\nmethod = "importance"\n')
+    assert main(["risk", str(cfg)]) == 1
+    cfg.write_text('[risk]\nmethod = "subset"\ntarget_cv = 1.5\n[surface]\nshape = [16, 16]\n')
+    assert main(["risk", str(cfg)]) == 1
+    cfg.write_text('[risk]\nmethod = "subset"\ntarget_cv = "20 %"\n[surface]\nshape = [16, 16]\n')
+    c = load_risk_config(cfg)
+    assert c["risk"]["method"] == "subset" and c["risk"]["target_cv"] == 0.2
+    assert c["risk"]["samples_per_level"] == 1000 and c["risk"]["max_evaluations"] == 20000
+
+
+def test_cli_risk_subset_run(tmp_path, capsys):
+    """A small subset-simulation risk run: P(stuck) per layer, length and RH with its interval,
+    cv and evaluations in risk.nc, crossing humidities read from it; and the numbers are those of
+    rs.stiction_probability_subset with the same settings."""
+    from roughstick.cli import main
+
+    cfg = tmp_path / "r.toml"
+    cfg.write_text(
+        '[output]\nfolder = "out"\n'
+        '[beam]\nlengths = ["400 um"]\n'
+        '[surface]\nshape = [16, 16]\n'
+        '[ensemble]\nrelative_humidity = [0.5, 0.7]\nadsorbed_layer = ["paper"]\nseed = 3\n'
+        '[run]\nscheduler = "sync"\n'
+        '[risk]\nmethod = "subset"\nsamples_per_level = 50\ntarget_cv = 0.5\nmax_evaluations = 400\n'
+        "levels = [0.01]\n")
+    assert main(["risk", str(cfg), "-q"]) == 0
+    got = rs.open_dataset(tmp_path / "out" / "risk.nc").load()
+    assert got.stiction_probability.dims == ("adsorbed_layer", "beam_length", "rh")
+    p = got.stiction_probability.values
+    assert np.all((got.stiction_probability_lower.values <= p) & (p <= got.stiction_probability_upper.values))
+    assert np.all(got.n_evaluations.values <= 400 + 40)
+    assert "crossing_humidity" in got and got.attrs["method"] == "subset"
+    fit = rs.cantilever_psd(**{k: rs.stiction.interaction_zone.TABLE4[k]
+                               for k in ("roughness", "asperity_radius", "asperity_density", "qmax")})
+    ref = rs.stiction_probability_subset(
+        lambda q: rs.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}),
+        relative_humidity=[0.5, 0.7], shape=(16, 16), spacing=5e-9, length=400e-6, target_cv=0.5,
+        max_evaluations=400, seed=3, samples_per_level=50, scheduler="sync")
+    np.testing.assert_array_equal(p[0, 0], ref.stiction_probability.values)
