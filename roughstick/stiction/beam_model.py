@@ -21,7 +21,7 @@ Eq. 36, or frees the beam when that exceeds its length (tests/stiction/test_beam
 Scope: by default (``model="sharp_front"``) the patches are treated in the short-range limit,
 each law reduced to its work of separation. ``model="cohesive"`` resolves the finite range of
 the laws instead: an Euler-Bernoulli finite-element cantilever loaded by each patch's pressure
-law and released by continuation (:mod:`.cohesive_beam`; release protocol only).
+law and released by continuation (:mod:`.cohesive_beam`).
 """
 
 from __future__ import annotations
@@ -158,7 +158,9 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
         Sharp front on each patch's work of separation (fast, default) or the Euler-Bernoulli
         beam on each patch's pressure law (:func:`roughstick.stiction.cohesive_beam.release_cohesive_beam`; an energy
         bank gets the short-range law shape of :func:`roughstick.stiction.cohesive_beam.short_range_pressure_law`).
-        Both draw the same patches for the same seed. ``"cohesive"`` takes ``"release"`` only.
+        Both draw the same patches for the same seed. With ``"cohesive"``, ``"step_up"``
+        carries each beam's deflection from one RH to the next
+        (:func:`roughstick.stiction.cohesive_beam.step_cohesive_beam`).
     element_size : float
         Largest finite element [m] of the cohesive model.
     law_kwargs : dict, optional
@@ -218,13 +220,14 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
 
 def _simulate_cohesive(bank, *, beam_length, n_realization, seed, protocol, beam, patch_length,
                        realizations, shape_points, element_size, law_kwargs):
-    if protocol != "release":
-        raise ValueError("model='cohesive' follows the release protocol only; use "
-                         "model='sharp_front' for protocol='step_up'")
+    if protocol not in PROTOCOLS:
+        raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
     if not {"law", "rh"} <= set(bank.dims):
         raise ValueError(f"bank must have dims ('law', 'rh'[, 'gap']), got {bank.dims}")
     laws = CB.laws_by_rh(bank, **law_kwargs)
     rh = bank["rh"].values if "rh" in bank.coords else np.arange(bank.sizes["rh"])
+    if protocol == "step_up" and np.any(np.diff(rh) <= 0):
+        raise ValueError("protocol='step_up' needs the bank's rh coordinate increasing")
     lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
     if np.any(~np.isfinite(lengths)) or np.any(lengths <= 0):
         raise ValueError("beam_length must be positive lengths in m")
@@ -234,7 +237,7 @@ def _simulate_cohesive(bank, *, beam_length, n_realization, seed, protocol, beam
         np.asarray(realizations, dtype=np.int64)
     idx = _draw_indices(seed, reals, bank.sizes["law"], _n_patches(lengths.max(), patch_length))
     s, failed, attached, arc = CB.release_many(laws, idx, lengths, beam, patch_length,
-                                               element_size=element_size)
+                                               element_size=element_size, protocol=protocol)
     ds = _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points,
                   failed=failed)
     dims = ("realization", "rh", "beam_length")

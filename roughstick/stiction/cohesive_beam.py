@@ -25,13 +25,14 @@ an S-shaped guess, energy descent, load doubled/halved). A release that still fa
 
 The crack length reported is the zero-slope point of the free span's cubic (the s of Eq. 36);
 the apparent Γ is Eq. 36 applied to it, as an experimenter would. Internal units: µm along the
-beam, nm for gaps (:mod:`._cohesive_kernels`). RH stepping is not implemented for this model.
+beam, nm for gaps (:mod:`._cohesive_kernels`). RH stepping (state carried from one RH to the
+next): :func:`step_cohesive_beam`.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import xarray as xr
@@ -41,8 +42,8 @@ from ..surface import generate_surfaces
 from . import _cohesive_kernels as K
 from .beam import PAPER_CANTILEVER, Cantilever
 
-__all__ = ["PatchLaws", "CohesiveRelease", "release_cohesive_beam", "short_range_pressure_law",
-           "pressure_law_bank", "SolverError"]
+__all__ = ["PatchLaws", "CohesiveRelease", "release_cohesive_beam", "step_cohesive_beam",
+           "short_range_pressure_law", "pressure_law_bank", "SolverError"]
 
 SolverError = K.SolverError
 _PA_TO_HAT = 1e-9  # p_hat = p[Pa] * 1e-9  (pJ µm^-2 nm^-1)
@@ -144,6 +145,10 @@ class CohesiveRelease:
     clamp_moment: float
     n_steps: int
     arc: bool = False
+    #: deflection dofs (internal units) and mesh refinement start of the state reached, for
+    #: :func:`step_cohesive_beam`; None when free
+    state: np.ndarray | None = field(default=None, repr=False, compare=False)
+    x_fine: float = math.nan
 
 
 def _mesh(laws: PatchLaws, patch_law, beam: Cantilever, patch_length, element_size, x_fine):
@@ -219,9 +224,57 @@ def release_cohesive_beam(laws: PatchLaws, patch_law, *, beam: Cantilever = PAPE
     s = r.crack_length * 1e-6
     if not s < beam.length:
         return CohesiveRelease(False, nan, r.attached_length * 1e-6, nan, r.front * 1e-6,
-                               r.clamp_moment * 1e-9, r.n_steps, arc=True)
+                               r.clamp_moment * 1e-9, r.n_steps, arc=True, state=r.u,
+                               x_fine=0.8 * start)
     return CohesiveRelease(True, s, r.attached_length * 1e-6, beam.stiffness_term / s**4,
-                           r.front * 1e-6, r.clamp_moment * 1e-9, r.n_steps)
+                           r.front * 1e-6, r.clamp_moment * 1e-9, r.n_steps, state=r.u,
+                           x_fine=0.8 * start)
+
+
+def step_cohesive_beam(laws: PatchLaws, patch_law, previous: CohesiveRelease, *,
+                       beam: Cantilever = PAPER_CANTILEVER, patch_length: float | None = None,
+                       element_size: float = 0.5e-6) -> CohesiveRelease:
+    r"""The beam left in place while RH changes: its state carried onto the new patch laws.
+
+    The protocol of DelRio et al. (2007), RH stepped up with no pull-in in between: a free beam
+    stays free (no load brings it down); a stuck one relaxes, at zero load, to the stable state
+    reached by energy descent from its previous deflection under the new laws. With stronger
+    laws the front zips towards the clamp through its cohesive zone (on a uniform interface to
+    the Eq. 36 crack length of the new law) and stops at the first stable place, so
+    heterogeneity can pin it further out than a fresh release; a beam free at a lower RH stays
+    free even where a fresh release would leave it stuck — adhesion hysteresis.
+
+    Parameters
+    ----------
+    laws, patch_law, beam, patch_length, element_size
+        As in :func:`release_cohesive_beam` (same patches, same mesh parameters as ``previous``).
+    previous : CohesiveRelease
+        The state at the previous RH (from :func:`release_cohesive_beam` or this function).
+
+    Returns
+    -------
+    CohesiveRelease
+    """
+    nan = math.nan
+    if previous.state is None:
+        return CohesiveRelease(False, nan, 0.0, nan, nan, nan, 0)
+    patch_length = float(beam.interaction_zone_length if patch_length is None else patch_length)
+    patch_law = np.asarray(patch_law, dtype=np.int64)
+    mesh = _mesh(laws, patch_law, beam, patch_length, element_size, previous.x_fine)
+    if mesh.ndof != previous.state.size:
+        raise ValueError("previous state is of another mesh: use the same beam, patch_length "
+                         "and element_size at every RH")
+    marker_gap = laws.g_hi + max(10.0, 0.5 * (laws.g_hi - laws.g_lo))
+    u, n = mesh.minimize(previous.state, 0.0)
+    a = mesh.front_position(u, marker_gap)
+    if not a < mesh.length:
+        return CohesiveRelease(False, nan, 0.0, nan, nan, nan, n)
+    s = mesh.zero_slope_point(u, a) * 1e-6
+    keep = dict(n_steps=n, state=u, x_fine=previous.x_fine, front=a * 1e-6,
+                clamp_moment=mesh.clamp_moment(u) * 1e-9, attached_length=(mesh.length - a) * 1e-6)
+    if not s < beam.length:
+        return CohesiveRelease(False, nan, apparent_adhesive_energy=nan, arc=True, **keep)
+    return CohesiveRelease(True, s, apparent_adhesive_energy=beam.stiffness_term / s**4, **keep)
 
 
 def laws_by_rh(bank: xr.DataArray, **law_kwargs) -> list[PatchLaws]:
@@ -237,24 +290,38 @@ def laws_by_rh(bank: xr.DataArray, **law_kwargs) -> list[PatchLaws]:
 
 
 def release_many(laws: list[PatchLaws], idx, lengths, beam: Cantilever, patch_length, *,
-                 element_size=0.5e-6, step=1e-6):
-    """Release every (realization, rh, length): arrays s [m] (inf free), failed, attached, arc."""
+                 element_size=0.5e-6, step=1e-6, protocol="release"):
+    """Every (realization, rh, length): arrays s [m] (inf free), failed, attached, arc.
+
+    ``protocol="step_up"`` releases at the first RH and carries each beam's state through the
+    next ones (:func:`step_cohesive_beam`); a failure there fails the later RH of that beam.
+    """
     shape = (idx.shape[0], len(laws), len(lengths))
     s = np.full(shape, np.inf)
     failed = np.zeros(shape, bool)
     arc = np.zeros(shape, bool)
     attached = np.zeros(shape)
     for i in range(idx.shape[0]):
-        for j, law in enumerate(laws):
-            for b, length in enumerate(lengths):
-                geom = replace(beam, length=float(length))
+        for b, length in enumerate(lengths):
+            geom = replace(beam, length=float(length))
+            prev = None
+            for j, law in enumerate(laws):
                 try:
-                    r = release_cohesive_beam(law, idx[i], beam=geom, patch_length=patch_length,
-                                              element_size=element_size, step=step)
+                    if protocol == "release" or j == 0:
+                        r = release_cohesive_beam(law, idx[i], beam=geom, patch_length=patch_length,
+                                                  element_size=element_size, step=step)
+                    elif prev is None:
+                        raise K.SolverError("the state at the previous RH was not solved")
+                    else:
+                        r = step_cohesive_beam(law, idx[i], prev, beam=geom,
+                                               patch_length=patch_length,
+                                               element_size=element_size)
                 except K.SolverError:
                     failed[i, j, b] = True
                     s[i, j, b] = np.nan
+                    prev = None
                     continue
+                prev = r
                 if r.stuck:
                     s[i, j, b] = r.crack_length
                 arc[i, j, b] = r.arc

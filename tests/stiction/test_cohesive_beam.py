@@ -187,10 +187,39 @@ def test_bad_input():
     bank = _energy_bank([1e-3])
     with pytest.raises(ValueError, match="model must be one of"):
         simulate_beams(bank, beam_length=[600e-6], model="fem")
-    with pytest.raises(ValueError, match="release protocol only"):
-        simulate_beams(bank, beam_length=[600e-6], model="cohesive", protocol="step_up")
+    with pytest.raises(ValueError, match="rh coordinate increasing"):
+        simulate_beams(xr.DataArray([[2e-3, 1e-3]], dims=("law", "rh"), coords={"rh": [0.6, 0.3]}),
+                       beam_length=[600e-6], model="cohesive", protocol="step_up")
     with pytest.raises(ValueError, match="dims"):
         simulate_beams(bank.expand_dims(x=[0]), beam_length=[600e-6], model="cohesive")
+
+
+def test_step_up_on_a_uniform_interface():
+    """RH stepped up with the beam left in place: a stuck front zips in to the Eq. 36 crack
+    length of the stronger law (as a fresh release would put it), a free beam stays free
+    (a fresh release would leave it stuck): the hysteresis of the free state."""
+    g1, g2 = 1e-4, 4e-4  # s36 = 632 and 447 µm
+    bank = xr.DataArray([[g1, g2]], dims=("law", "rh"), coords={"rh": [0.3, 0.6]})
+    kw = dict(n_realization=1, model="cohesive", element_size=1e-6)
+    up = simulate_beams(bank, beam_length=[500e-6, 800e-6], protocol="step_up", **kw)
+    rel = simulate_beams(bank, beam_length=[500e-6, 800e-6], protocol="release", **kw)
+    assert not up.solver_failed.any()
+    assert not up.stuck.isel(beam_length=0).any()  # 500 µm: free at RH 0.3, stays free
+    assert bool(rel.stuck.isel(beam_length=0, rh=1).all())
+    s_up = float(up.crack_length.isel(beam_length=1, rh=1).squeeze())
+    assert s_up == pytest.approx(s36(g2), rel=0.01)
+
+
+def test_step_up_is_pinned_further_out_on_random_patches():
+    rng = np.random.default_rng(8)
+    low = 10 ** rng.uniform(-4.5, -3.5, 40)
+    bank = xr.DataArray(np.stack([low, 4 * low], 1), dims=("law", "rh"), coords={"rh": [0.3, 0.6]})
+    kw = dict(beam_length=[1000e-6], n_realization=8, seed=2, model="cohesive", element_size=1e-6)
+    rel = simulate_beams(bank, protocol="release", **kw).isel(rh=1)
+    up = simulate_beams(bank, protocol="step_up", **kw).isel(rh=1)
+    assert not up.solver_failed.any() and up.stuck.all() and rel.stuck.all()
+    assert (up.crack_length >= rel.crack_length * (1 - 1e-3)).all()
+    assert int((up.crack_length > 1.05 * rel.crack_length).sum()) >= 4  # measured 8 of 8
 
 
 @pytest.mark.slow
