@@ -28,7 +28,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["tabulate_laws", "law_eval", "assemble", "ldl_factor", "ldl_solve", "load_vector",
-           "point_interp", "marker_vector", "field_on_quadrature", "BeamMesh", "release",
+           "point_interp", "marker_vector", "BeamMesh", "release",
            "SolverError", "ReleaseResult", "pull_in"]
 
 GAUSS_XI = np.array([0.5 - 0.5 * math.sqrt(0.6), 0.5, 0.5 + 0.5 * math.sqrt(0.6)])
@@ -288,39 +288,6 @@ def marker_vector(xnode, x, ndof):
         if dofs[a] >= 0:
             vec[dofs[a]] = N[a]
     return vec
-
-
-@njit(cache=True, nogil=True)
-def field_on_quadrature(u, xnode, law_index, P, S, PHI, g_lo, dg, gap):
-    """Positions, gaps, pressures and potentials at every Gauss point (diagnostics)."""
-    ne = xnode.shape[0] - 1
-    nq = 3 * ne
-    xq = np.empty(nq)
-    gq = np.empty(nq)
-    pq = np.empty(nq)
-    phq = np.empty(nq)
-    wq = np.empty(nq)
-    dofs = np.empty(4, np.int64)
-    N = np.empty(4)
-    dN = np.empty(4)
-    for e in range(ne):
-        L = xnode[e + 1] - xnode[e]
-        _elem_dofs(e, dofs)
-        for q in range(3):
-            _shape(GAUSS_XI[q], L, N, dN)
-            v = 0.0
-            for a in range(4):
-                if dofs[a] >= 0:
-                    v += N[a] * u[dofs[a]]
-            g = gap - v
-            p, sp, phi = law_eval(P, S, PHI, law_index[e], g, g_lo, dg)
-            i = 3 * e + q
-            xq[i] = xnode[e] + GAUSS_XI[q] * L
-            gq[i] = g
-            pq[i] = p
-            phq[i] = phi
-            wq[i] = GAUSS_W[q] * L
-    return xq, gq, pq, phq, wq
 
 
 # ----------------------------------------------------------------------------- driver
