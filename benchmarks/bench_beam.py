@@ -8,6 +8,11 @@ numpy complex iFFT (min of 5), so the figure can be rescaled to a quiet machine.
 
     nice -n 10 python benchmarks/bench_beam.py                 # 1000 laws, 1000 beams, RH 0.6
     python benchmarks/bench_beam.py --laws 100 --beams 1000    # quicker
+
+The cohesive model (``simulate_beams(model="cohesive")``: Euler-Bernoulli beam on each patch's
+law, here main's energy bank with the short-range law shape) is timed beside the sharp front on
+``--cohesive-beams`` of the same beams (same seed, same patches), with the crack lengths of the
+two models compared.
 """
 
 from __future__ import annotations
@@ -39,6 +44,7 @@ def main():
     ap.add_argument("--rh", type=float, default=0.6)
     ap.add_argument("--shape", type=int, default=64)
     ap.add_argument("--spacing-nm", type=float, default=40.0)
+    ap.add_argument("--cohesive-beams", type=int, default=20)
     ap.add_argument("--cache", default=None, help="cache folder (default: a fresh temporary one)")
     args = ap.parse_args()
     c = rs.cantilever_psd()
@@ -60,6 +66,11 @@ def main():
         bank2 = rs.build_patch_bank(psd, **kw)
         ds2 = rs.simulate_beams(bank2, beam_length=1500e-6, n_realization=args.beams, seed=1)
         t_rerun = time.perf_counter() - t
+        nc = args.cohesive_beams
+        t = time.perf_counter()
+        coh = rs.simulate_beams(bank, beam_length=1500e-6, n_realization=nc, seed=1,
+                                model="cohesive")
+        t_coh = time.perf_counter() - t
     y1 = _yardstick()
     ref = min(y0, y1)
     same = bool((ds.crack_length.fillna(-1) == ds2.crack_length.fillna(-1)).all())
@@ -70,6 +81,14 @@ def main():
           f"(target 600 s)")
     print(f"rerun (bank read from cache + beams): {t_rerun:.2f} s, "
           f"from_cache={bank2.attrs['from_cache']}, identical={same}")
+    sub = ds.isel(realization=slice(0, nc))
+    d = (coh.crack_length - sub.crack_length).values * 1e6
+    per_sf = t_beams / args.beams
+    print(f"cohesive: {nc} x 1500 µm {t_coh:.1f} s = {t_coh / nc:.2f} s/beam "
+          f"({t_coh / nc / per_sf:.0f} x the sharp front per beam; 1000 beams ~ "
+          f"{t_coh / nc * 1000:.0f} s); solver_failed {int(coh.solver_failed.sum())}/{nc}; "
+          f"s(cohesive) - s(sharp) [µm]: mean {np.nanmean(d):.1f}, "
+          f"range [{np.nanmin(d):.1f}, {np.nanmax(d):.1f}]")
     g = bank.values[:, 0]
     print(f"patch Γ: median {np.median(g):.3g} J/m², 5-95 % [{np.quantile(g, 0.05):.3g}, "
           f"{np.quantile(g, 0.95):.3g}]; P(stuck) {float(ds.stuck_probability.squeeze()):.3f} "

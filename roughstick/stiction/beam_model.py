@@ -18,9 +18,10 @@ direction it moves, so heterogeneity pins the front and two protocols differ:
 With a uniform law :math:`\Gamma_0` the front stops at :math:`s = (3Eh^2t^3/2\Gamma_0)^{1/4}`,
 Eq. 36, or frees the beam when that exceeds its length (tests/stiction/test_beam_model.py).
 
-Scope: the patches are treated in the short-range (sharp front) limit, each law reduced to its
-work of separation; the finite range of the traction-separation law (a cohesive zone of a few
-nm opening against a 1.9 µm gap) is not resolved. A cohesive finite-element beam is left open.
+Scope: by default (``model="sharp_front"``) the patches are treated in the short-range limit,
+each law reduced to its work of separation. ``model="cohesive"`` resolves the finite range of
+the laws instead: an Euler-Bernoulli finite-element cantilever loaded by each patch's pressure
+law and released by continuation (:mod:`.cohesive_beam`).
 """
 
 from __future__ import annotations
@@ -30,11 +31,13 @@ import xarray as xr
 
 from ..ensemble.statistics import binomial_interval
 from . import _beam_kernels as K
+from . import cohesive_beam as CB
 from .beam import PAPER_CANTILEVER, Cantilever, adhesive_energy_from_crack_length
 
 __all__ = ["beam_crack_length", "simulate_beams", "stuck_probability"]
 
 PROTOCOLS = ("release", "step_up")
+MODELS = ("sharp_front", "cohesive")
 
 
 def _check_patch_length(patch_length):
@@ -119,7 +122,9 @@ def _draw_indices(seed, realizations, n_law, n_patch):
 
 def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100, seed: int = 0,
                    protocol: str = "release", beam: Cantilever = PAPER_CANTILEVER,
-                   patch_length=None, realizations=None, shape_points: int = 0) -> xr.Dataset:
+                   patch_length=None, realizations=None, shape_points: int = 0,
+                   model: str = "sharp_front", element_size: float = 0.5e-6,
+                   law_kwargs=None) -> xr.Dataset:
     r"""Monte-Carlo cantilevers on random patches drawn from a bank of patch laws.
 
     Parameters
@@ -127,7 +132,8 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
     bank : xarray.DataArray
         Adhesive energy [J m-2] over ``(law, rh)`` (:func:`roughstick.build_patch_bank`, or
         any DataArray with those dims). Law ``k`` is one surface patch at every RH, so a patch
-        keeps its identity when RH changes.
+        keeps its identity when RH changes. With ``model="cohesive"`` also a pressure bank
+        [Pa] over ``(law, rh, gap)`` (:func:`roughstick.stiction.cohesive_beam.pressure_law_bank`).
     beam_length : float or sequence
         Beam lengths [m]; all lengths share the patches of a realization (common random
         numbers), counted from the clamp.
@@ -146,15 +152,37 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
     realizations : sequence of int, optional
         Realization numbers to simulate (for chunked / distributed runs).
     shape_points : int
-        If > 0, also return the deflection ``shape`` [m] on that many points of ``x/l``.
+        If > 0, also return the deflection ``shape`` [m] on that many points of ``x/l``
+        (the S-shape of the crack length; sharp-front shape for both models).
+    model : {"sharp_front", "cohesive"}
+        Sharp front on each patch's work of separation (fast, default) or the Euler-Bernoulli
+        beam on each patch's pressure law (:func:`roughstick.stiction.cohesive_beam.release_cohesive_beam`; an energy
+        bank gets the short-range law shape of :func:`roughstick.stiction.cohesive_beam.short_range_pressure_law`).
+        Both draw the same patches for the same seed. With ``"cohesive"``, ``"step_up"``
+        carries each beam's deflection from one RH to the next
+        (:func:`roughstick.stiction.cohesive_beam.step_cohesive_beam`).
+    element_size : float
+        Largest finite element [m] of the cohesive model.
+    law_kwargs : dict, optional
+        Keywords of :func:`roughstick.stiction.cohesive_beam.short_range_pressure_law` for an energy bank (cohesive).
 
     Returns
     -------
     xarray.Dataset
-        Over ``(realization, rh, beam_length)``: ``crack_length`` [m] (NaN when free), ``stuck``
-        (bool), ``apparent_adhesive_energy`` [J m-2] from Eq. 36; ``stuck_probability`` with its
-        95 % Wilson interval over ``(rh, beam_length)``; optional ``shape``.
+        Over ``(realization, rh, beam_length)``: ``crack_length`` [m] (NaN when free or not
+        solved), ``stuck`` (bool), ``solver_failed`` (bool: the cohesive release could not be
+        followed; such beams are excluded from the trials of P(stuck), ``n_solved``),
+        ``apparent_adhesive_energy`` [J m-2] from Eq. 36; ``stuck_probability`` with its 95 %
+        Wilson interval over ``(rh, beam_length)``; optional ``shape``.
     """
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {MODELS}, got {model!r}")
+    if model == "cohesive":
+        return _simulate_cohesive(bank, beam_length=beam_length, n_realization=n_realization,
+                                  seed=seed, protocol=protocol, beam=beam,
+                                  patch_length=patch_length, realizations=realizations,
+                                  shape_points=shape_points, element_size=element_size,
+                                  law_kwargs=law_kwargs or {})
     if protocol not in PROTOCOLS:
         raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
     if set(bank.dims) != {"law", "rh"}:
@@ -190,6 +218,37 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
     return _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points)
 
 
+def _simulate_cohesive(bank, *, beam_length, n_realization, seed, protocol, beam, patch_length,
+                       realizations, shape_points, element_size, law_kwargs):
+    if protocol not in PROTOCOLS:
+        raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
+    if not {"law", "rh"} <= set(bank.dims):
+        raise ValueError(f"bank must have dims ('law', 'rh'[, 'gap']), got {bank.dims}")
+    laws = CB.laws_by_rh(bank, **law_kwargs)
+    rh = bank["rh"].values if "rh" in bank.coords else np.arange(bank.sizes["rh"])
+    if protocol == "step_up" and np.any(np.diff(rh) <= 0):
+        raise ValueError("protocol='step_up' needs the bank's rh coordinate increasing")
+    lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
+    if np.any(~np.isfinite(lengths)) or np.any(lengths <= 0):
+        raise ValueError("beam_length must be positive lengths in m")
+    patch_length = _check_patch_length(beam.interaction_zone_length if patch_length is None
+                                       else patch_length)
+    reals = np.arange(int(n_realization)) if realizations is None else \
+        np.asarray(realizations, dtype=np.int64)
+    idx = _draw_indices(seed, reals, bank.sizes["law"], _n_patches(lengths.max(), patch_length))
+    s, failed, attached, arc = CB.release_many(laws, idx, lengths, beam, patch_length,
+                                               element_size=element_size, protocol=protocol)
+    ds = _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points,
+                  failed=failed)
+    dims = ("realization", "rh", "beam_length")
+    ds["attached_length"] = xr.DataArray(attached, ds["stuck"].coords, dims, attrs={
+        "units": "m", "long_name": "length of beam beyond the crack front (cohesive model)"})
+    ds["arc"] = xr.DataArray(arc, ds["stuck"].coords, dims, attrs={
+        "units": "1", "long_name": "beam left as an arc held by its tip (not counted as stuck)"})
+    ds.attrs.update(model="cohesive", element_size=element_size)
+    return ds
+
+
 def _with_length(beam, length):
     from dataclasses import replace
     return replace(beam, length=float(length))
@@ -201,16 +260,20 @@ def s_shape(crack_length, gap, x):
     return gap * (3 * xi**2 - 2 * xi**3)
 
 
-def _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points):
+def _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points,
+             failed=None):
     coords = {"realization": reals, "rh": rh, "beam_length": lengths}
     dims = ("realization", "rh", "beam_length")
-    stuck = np.isfinite(s)
+    failed = np.zeros(s.shape, bool) if failed is None else failed
+    stuck = np.isfinite(s) & ~failed
     crack = xr.DataArray(np.where(stuck, s, np.nan), coords, dims,
                          attrs={"units": "m", "long_name": "crack length (NaN: beam free)"})
     gamma = adhesive_energy_from_crack_length(np.where(stuck, s, np.nan), beam=beam)
     ds = xr.Dataset({
         "crack_length": crack,
         "stuck": xr.DataArray(stuck, coords, dims, attrs={"units": "1", "long_name": "beam stuck to its pad"}),
+        "solver_failed": xr.DataArray(failed, coords, dims, attrs={
+            "units": "1", "long_name": "release not solved (excluded from the trials of P(stuck))"}),
         "apparent_adhesive_energy": xr.DataArray(
             np.asarray(gamma), coords, dims,
             attrs={"units": "J m-2", "long_name": "apparent adhesive energy from the crack length (Eq. 36)"}),
@@ -226,6 +289,7 @@ def _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_po
                                    attrs={"units": "m", "long_name": "deflection towards the pad"})
     ds = xr.merge([ds, stuck_probability(ds)])
     ds.attrs.update(title="beam-scale stochastic stiction", protocol=protocol, seed=int(seed),
+                    model="sharp_front",
                     patch_length=patch_length, thickness=beam.thickness, gap=beam.gap,
                     youngs_modulus=beam.youngs_modulus,
                     references="paper Eq. 36, §5; Hoang et al. 2017 (beam-scale model)")
@@ -233,16 +297,23 @@ def _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_po
 
 
 def stuck_probability(result: xr.Dataset, *, confidence: float = 0.95, method: str = "wilson"):
-    """P(stuck) over ``realization`` with its binomial interval (Wilson by default)."""
+    """P(stuck) over ``realization`` with its binomial interval (Wilson by default).
+
+    Beams flagged ``solver_failed`` are not trials: ``n_solved`` counts the rest.
+    """
     k = result["stuck"].sum("realization")
     n = result.sizes["realization"]
+    if "solver_failed" in result:
+        n = n - result["solver_failed"].sum("realization")
     lo, hi = binomial_interval(k, n, confidence=confidence, method=method)
     out = xr.Dataset({"stuck_probability": k / n, "stuck_probability_lower": lo,
-                      "stuck_probability_upper": hi, "n_stuck": k})
+                      "stuck_probability_upper": hi, "n_stuck": k,
+                      "n_solved": n if isinstance(n, xr.DataArray) else xr.full_like(k, n)})
     out["stuck_probability"].attrs.update(units="1", long_name="probability that the beam stays stuck")
     level = f"{100 * confidence:g} % {method}"
     out["stuck_probability_lower"].attrs.update(units="1", long_name=f"lower bound of P(stuck), {level} interval")
     out["stuck_probability_upper"].attrs.update(units="1", long_name=f"upper bound of P(stuck), {level} interval")
     out["n_stuck"].attrs.update(units="1", long_name="number of stuck beams")
-    out.attrs["n_samples"] = n
+    out["n_solved"].attrs.update(units="1", long_name="beams solved (the trials of P(stuck))")
+    out.attrs["n_samples"] = result.sizes["realization"]
     return out
