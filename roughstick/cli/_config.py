@@ -205,6 +205,9 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                                    required=True),
             "protocol": F("choice", "release afresh at each RH, or RH stepped up with the beam in place",
                           default="release", choices=("release", "step_up")),
+            "beam_model": F("choice", "structural model: sharp-front energy balance (fast) or the "
+                            "cohesive Euler-Bernoulli beam on each patch's law (~0.5 s per beam)",
+                            default="sharp_front", choices=("sharp_front", "cohesive")),
             "seed": F("int", "root seed of the beams", default=0, minimum=0),
         },
         "bank": {

@@ -68,7 +68,7 @@ def _run(args) -> int:
     t1 = time.perf_counter()
     ds = rs.simulate_beams(bank, beam_length=np.asarray(b["lengths"], dtype=float), n_realization=ens["n"],
                            seed=ens["seed"], protocol=ens["protocol"], beam=beam,
-                           patch_length=b.get("patch_length"))
+                           patch_length=b.get("patch_length"), model=ens["beam_model"])
     t2 = time.perf_counter()
     write_netcdf(ds, out / "beam.nc", compute=True)
     finish_folder(out)

@@ -12,10 +12,12 @@ beside them.
 from . import beam, beam_model, cohesive_beam, interaction_zone, patch_bank, rare_events, risk
 from .beam import *  # noqa: F403
 from .beam_model import *  # noqa: F403
+from .cohesive_beam import *  # noqa: F403
 from .interaction_zone import *  # noqa: F403
 from .patch_bank import *  # noqa: F403
 from .rare_events import *  # noqa: F403
 from .risk import *  # noqa: F403
 
-__all__ = [name for mod in (beam, risk, interaction_zone, beam_model, patch_bank, rare_events)
+__all__ = [name for mod in (beam, risk, interaction_zone, beam_model, cohesive_beam, patch_bank,
+                             rare_events)
            for name in mod.__all__]

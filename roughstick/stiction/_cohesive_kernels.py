@@ -136,9 +136,15 @@ def assemble(u, xnode, law_index, P, S, PHI, g_lo, dg, gap, EI, width, lam, F, b
         for a in range(4):
             ue[a] = u[dofs[a]] if dofs[a] >= 0 else 0.0
         c = EI / (L * L * L)
-        ke[0, 0] = 12 * c; ke[0, 1] = 6 * L * c; ke[0, 2] = -12 * c; ke[0, 3] = 6 * L * c
-        ke[1, 1] = 4 * L * L * c; ke[1, 2] = -6 * L * c; ke[1, 3] = 2 * L * L * c
-        ke[2, 2] = 12 * c; ke[2, 3] = -6 * L * c
+        ke[0, 0] = 12 * c
+        ke[0, 1] = 6 * L * c
+        ke[0, 2] = -12 * c
+        ke[0, 3] = 6 * L * c
+        ke[1, 1] = 4 * L * L * c
+        ke[1, 2] = -6 * L * c
+        ke[1, 3] = 2 * L * L * c
+        ke[2, 2] = 12 * c
+        ke[2, 3] = -6 * L * c
         ke[3, 3] = 4 * L * L * c
         for a in range(4):
             for b in range(a):
@@ -189,8 +195,8 @@ def ldl_factor(band):
         # d_j = a_jj - sum_k L[j,k]^2 d_k
         dj = band[0, j]
         for k in range(max(0, j - m), j):
-            l = band[j - k, k]
-            dj -= l * l * band[0, k]
+            ljk = band[j - k, k]
+            dj -= ljk * ljk * band[0, k]
         if dj == 0.0 or not math.isfinite(dj):
             return -1
         band[0, j] = dj

@@ -92,7 +92,10 @@ class SurfaceResponse:
         h = xr.DataArray(z, dims=("y", "x"), attrs={"units": "m", "periodic": int(periodic)},
                          coords={"y": (np.arange(ny) + 0.5) * self.to_surface.dy,
                                  "x": (np.arange(nx) + 0.5) * self.to_surface.dx})
+        # thousands of evaluations per run: the validity of the model is the caller's to check
+        # once (docs/rare_events.md), not once per evaluation
         return rough_contact_curves(h, relative_humidity=self.rh, distance=d, periodic=periodic,
+                                    check_validity=False,
                                     **self.kw)
 
     def map_response(self, z, *, periodic) -> float:

@@ -43,7 +43,7 @@ from . import _cohesive_kernels as K
 from .beam import PAPER_CANTILEVER, Cantilever
 
 __all__ = ["PatchLaws", "CohesiveRelease", "release_cohesive_beam", "step_cohesive_beam",
-           "short_range_pressure_law", "pressure_law_bank", "SolverError"]
+           "short_range_pressure_law", "pressure_law_bank"]
 
 SolverError = K.SolverError
 _PA_TO_HAT = 1e-9  # p_hat = p[Pa] * 1e-9  (pJ µm^-2 nm^-1)

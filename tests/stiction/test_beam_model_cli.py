@@ -51,3 +51,22 @@ def test_cli_beam_old_dialect_names_the_fix(tmp_path, capsys):
     err = capsys.readouterr().err
     assert 'lengths = ["250 um", "300 um"]' in err and "relative_humidity" in err
     assert not (tmp_path / "beam-output").exists()
+
+
+def test_cli_beam_cohesive_model_matches_the_python_call(tmp_path):
+    """beam_model = "cohesive" in [ensemble] runs the cohesive beam; the stuck flags agree with
+    the sharp front on the same draws where the laws are short-range (docs/beam.md)."""
+    cfg = tmp_path / "beam.toml"
+    small = CONFIG.replace("n = 20", "n = 3").replace('lengths = ["100 um", "300 um"]',
+                                                      'lengths = ["300 um"]')
+    cfg.write_text(small.replace("[bank]", 'beam_model = "cohesive"\n[bank]'))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["beam", str(cfg), "--out", str(tmp_path / "c")]) == 0
+        cfg.write_text(small)
+        assert main(["beam", str(cfg), "--out", str(tmp_path / "s")]) == 0
+    c = xr.load_dataset(tmp_path / "c" / "beam.nc")
+    s = xr.load_dataset(tmp_path / "s" / "beam.nc")
+    assert c.sizes == s.sizes
+    assert "cohesive" in str(c.attrs).lower() and "cohesive" not in str(s.attrs.get("beam_model", ""))
+    assert (c.stuck.values == s.stuck.values).all()

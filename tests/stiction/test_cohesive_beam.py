@@ -13,8 +13,11 @@ from roughstick.stiction import _cohesive_kernels as K
 from roughstick.stiction import cohesive_beam as CB
 from roughstick.stiction.beam import Cantilever, crack_length_from_adhesive_energy
 from roughstick.stiction.beam_model import simulate_beams
-from roughstick.stiction.cohesive_beam import (PatchLaws, release_cohesive_beam,
-                                               short_range_pressure_law)
+from roughstick.stiction.cohesive_beam import (
+    PatchLaws,
+    release_cohesive_beam,
+    short_range_pressure_law,
+)
 
 BEAM = Cantilever()  # paper §5.1: w 30 µm, t 2.62 µm, h 1.9 µm, E 164 GPa, l 1500 µm
 ZEROS = np.zeros(1000, int)
@@ -226,8 +229,8 @@ def test_step_up_is_pinned_further_out_on_random_patches():
 def test_table4_pressure_bank_releases_are_solved():
     """Real modified-DMT laws (several wells, scattered equilibrium gaps) of small Table-4
     patches: every release of 12 beams solved (the direct start failed on them all)."""
-    from roughstick.surface import self_affine_psd
     from roughstick.stiction.interaction_zone import cantilever_psd
+    from roughstick.surface import self_affine_psd
     par = cantilever_psd()
     kw = {k: float(par[k]) for k in ("s0", "s1", "q0", "qmax")}
 
