@@ -38,6 +38,7 @@ __all__ = [
     "estimate_seconds",
     "format_seconds",
     "interactive",
+    "tqdm_class",
     "WorkProgress",
 ]
 
@@ -110,7 +111,8 @@ def interactive() -> bool:
     return bool(getattr(sys.stderr, "isatty", lambda: False)())
 
 
-def _tqdm_class():
+def tqdm_class():
+    """tqdm.auto (a Jupyter widget) when ipywidgets is there, else the text bar."""
     try:
         import ipywidgets  # noqa: F401
         from tqdm.auto import tqdm
@@ -165,7 +167,7 @@ class WorkProgress:
                  f"{what}: {self.total} {unit} to compute{est}")
         if show:
             if interactive():
-                self.bar = _tqdm_class()(total=self.total, desc=what.split(":")[0],
+                self.bar = tqdm_class()(total=self.total, desc=what.split(":")[0],
                                          leave=False, file=sys.stderr)
             else:
                 self.lines = True

@@ -10,8 +10,6 @@ from __future__ import annotations
 import contextlib
 import json
 import logging
-import os
-import sys
 import time
 
 import dask
@@ -20,6 +18,7 @@ import xarray as xr
 from dask.callbacks import Callback
 
 from .._core.dask import resolve_scheduler
+from .._core.progress import interactive, tqdm_class
 from .pipeline import compute_block
 from .statistics import confidence_band
 from .store import (
@@ -36,30 +35,6 @@ __all__ = ["progress_bar"]
 _LOG = logging.getLogger("roughstick")
 
 
-def _interactive() -> bool:
-    if os.environ.get("CI", "").lower() not in ("", "0", "false", "no"):
-        return False
-    try:  # Jupyter kernels have no tty but do show widgets
-        from IPython import get_ipython
-
-        ip = get_ipython()
-        if ip is not None and "IPKernelApp" in getattr(ip, "config", {}):
-            return True
-    except ImportError:  # pragma: no cover
-        pass
-    return bool(getattr(sys.stderr, "isatty", lambda: False)())
-
-
-def _tqdm_class():
-    """tqdm.auto (a Jupyter widget) when ipywidgets is there, else the text bar."""
-    try:
-        import ipywidgets  # noqa: F401
-        from tqdm.auto import tqdm
-    except ImportError:
-        from tqdm import tqdm
-    return tqdm
-
-
 def progress_bar(progress: bool | None = None, **kwargs):
     """A dask callback showing a tqdm progress bar (terminal or Jupyter), or a no-op.
 
@@ -72,12 +47,12 @@ def progress_bar(progress: bool | None = None, **kwargs):
     ...     pass
     """
     if progress is None:
-        progress = _interactive()
+        progress = interactive()
     if not progress:
         return contextlib.nullcontext()
     from tqdm.dask import TqdmCallback
 
-    return TqdmCallback(tqdm_class=_tqdm_class(), **kwargs)
+    return TqdmCallback(tqdm_class=tqdm_class(), **kwargs)
 
 
 class LogProgress:
@@ -110,8 +85,8 @@ def compute_blocks(spec, todo, client, local, on_block, progress):
     """Compute blocks ``todo`` = [(i, a, b, j, lo, hi)], calling ``on_block(i, j, ds)`` as each ends."""
     if not todo:
         return
-    if progress if progress is not None else _interactive():
-        bar = _tqdm_class()(total=len(todo), desc="ensemble blocks", unit="block")
+    if progress if progress is not None else interactive():
+        bar = tqdm_class()(total=len(todo), desc="ensemble blocks", unit="block")
     else:  # batch jobs (SLURM, CI, nohup): a log line now and then, not silence until the end
         bar = LogProgress(len(todo), what="ensemble blocks")
     spec_d = dask.delayed(spec, pure=True, name=f"roughstick-ensemble-spec-{spec.token}")

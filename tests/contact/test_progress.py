@@ -79,7 +79,7 @@ def test_terminal_gets_a_tqdm_bar_and_jupyter_a_widget(monkeypatch):
     monkeypatch.setitem(sys.modules, "ipywidgets", type(sys)("ipywidgets"))
     import tqdm.auto
 
-    assert prog._tqdm_class() is tqdm.auto.tqdm
+    assert prog.tqdm_class() is tqdm.auto.tqdm
 
 
 def test_estimate_scales_with_pixels_and_solves():

@@ -25,10 +25,10 @@ def test_bad_scheduler_name():
 
 
 def test_progress_quiet_when_not_interactive(monkeypatch, capsys):
-    from roughstick.ensemble.execute import _interactive
+    from roughstick._core.progress import interactive
 
     monkeypatch.setenv("CI", "true")
-    assert not _interactive()
+    assert not interactive()
     toy_run(n="auto", n_max=4, batch=2)
     assert capsys.readouterr().err == ""
     monkeypatch.delenv("CI")
