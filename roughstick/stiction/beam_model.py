@@ -188,16 +188,8 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
     if set(bank.dims) != {"law", "rh"}:
         raise ValueError(f"bank must have dims ('law', 'rh'), got {bank.dims}")
     bank = bank.transpose("law", "rh")
-    rh = bank["rh"].values if "rh" in bank.coords else np.arange(bank.sizes["rh"])
-    if protocol == "step_up" and np.any(np.diff(rh) <= 0):
-        raise ValueError("protocol='step_up' needs the bank's rh coordinate increasing")
-    lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
-    if np.any(~np.isfinite(lengths)) or np.any(lengths <= 0):
-        raise ValueError("beam_length must be positive lengths in m")
-    patch_length = _check_patch_length(beam.interaction_zone_length if patch_length is None
-                                       else patch_length)
-    reals = np.arange(int(n_realization)) if realizations is None else \
-        np.asarray(realizations, dtype=np.int64)
+    rh, lengths, patch_length, reals = _run_axes(bank, beam_length, n_realization, protocol,
+                                                 beam, patch_length, realizations)
     energy_bank = np.asarray(bank.values, dtype=float)
     if np.isnan(energy_bank).any():
         raise ValueError("bank has NaN adhesive energies: drop those laws (bank.dropna('law'))")
@@ -218,13 +210,8 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
     return _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points)
 
 
-def _simulate_cohesive(bank, *, beam_length, n_realization, seed, protocol, beam, patch_length,
-                       realizations, shape_points, element_size, law_kwargs):
-    if protocol not in PROTOCOLS:
-        raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
-    if not {"law", "rh"} <= set(bank.dims):
-        raise ValueError(f"bank must have dims ('law', 'rh'[, 'gap']), got {bank.dims}")
-    laws = CB.laws_by_rh(bank, **law_kwargs)
+def _run_axes(bank, beam_length, n_realization, protocol, beam, patch_length, realizations):
+    """(rh, beam lengths, patch length, realization indices) of a run, checked."""
     rh = bank["rh"].values if "rh" in bank.coords else np.arange(bank.sizes["rh"])
     if protocol == "step_up" and np.any(np.diff(rh) <= 0):
         raise ValueError("protocol='step_up' needs the bank's rh coordinate increasing")
@@ -235,6 +222,18 @@ def _simulate_cohesive(bank, *, beam_length, n_realization, seed, protocol, beam
                                        else patch_length)
     reals = np.arange(int(n_realization)) if realizations is None else \
         np.asarray(realizations, dtype=np.int64)
+    return rh, lengths, patch_length, reals
+
+
+def _simulate_cohesive(bank, *, beam_length, n_realization, seed, protocol, beam, patch_length,
+                       realizations, shape_points, element_size, law_kwargs):
+    if protocol not in PROTOCOLS:
+        raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
+    if not {"law", "rh"} <= set(bank.dims):
+        raise ValueError(f"bank must have dims ('law', 'rh'[, 'gap']), got {bank.dims}")
+    laws = CB.laws_by_rh(bank, **law_kwargs)
+    rh, lengths, patch_length, reals = _run_axes(bank, beam_length, n_realization, protocol,
+                                                 beam, patch_length, realizations)
     idx = _draw_indices(seed, reals, bank.sizes["law"], _n_patches(lengths.max(), patch_length))
     s, failed, attached, arc = CB.release_many(laws, idx, lengths, beam, patch_length,
                                                element_size=element_size, protocol=protocol)
