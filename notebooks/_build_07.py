@@ -53,6 +53,22 @@ cells = [
         "    ax.errorbar(lengths * 1e6, p, yerr=[p - lo, hi - p], marker='o', capsize=3, label=f'RH {r:.0%}')\n"
         "ax.set_xlabel('beam length [µm]'); ax.set_ylabel('P(stuck)'); ax.legend();"
     ),
+    md("## Beside the pull-out proxy of Fig. 20\n\n"
+       "The proxy treats one patch as the whole interaction zone: the beam sticks when that "
+       "patch's Γ exceeds Eq. 36's critical energy for its length (`rs.stiction_probability`, the "
+       "paper's Fig. 20). The beam model instead lets the crack front run over many random "
+       "patches. Same bank, both with 95 % Wilson intervals; the proxy's n is the 20 laws, so its "
+       "intervals are wide."),
+    code(
+        "proxy = rs.stiction_probability(bank.rename(law='realization'), length=lengths)\n"
+        "fig, axes = plt.subplots(1, rel.rh.size, figsize=(4 * rel.rh.size, 3.2), sharey=True)\n"
+        "for ax, r in zip(axes, rel.rh.values):\n"
+        "    for ds, v, lab in ((rel, 'stuck_probability', 'beam model'), (proxy, 'stiction_probability', 'pull-out proxy (Fig. 20)')):\n"
+        "        p = ds[v].sel(rh=r); lo = ds[v + '_lower'].sel(rh=r); hi = ds[v + '_upper'].sel(rh=r)\n"
+        "        ax.errorbar(lengths * 1e6, p, yerr=[p - lo, hi - p], marker='o', capsize=3, label=lab)\n"
+        "    ax.set_title(f'RH {r:.0%}'); ax.set_xlabel('beam length [µm]')\n"
+        "axes[0].set_ylabel('P(stuck)'); axes[0].legend(fontsize=8);"
+    ),
     md("Hysteresis: with RH stepped up and the beam left in place, the front stays pinned further "
        "out than after a fresh release at the same RH."),
     code(
