@@ -11,12 +11,18 @@ from __future__ import annotations
 
 import hashlib
 import json
+import warnings
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from ..contact import adhesion_summary, rough_contact_curves
+from ..contact import (
+    adhesion_summary,
+    expected_surface_groups,
+    rough_contact_curves,
+    warn_if_outside_validity,
+)
 from ..surface import generate_surfaces
 
 __all__ = ["build_patch_bank"]
@@ -70,9 +76,23 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
     if not isinstance(psd, xr.DataArray):
         raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.self_affine_psd(q, ...)) "
                         f"so the cache can key on its values, got {type(psd).__name__}")
+    shape = tuple(int(v) for v in shape)
+    groups = expected_surface_groups(psd, shape=shape, spacing=float(spacing),
+                                     relative_humidity=list(rh))
+    corr = float(groups["corr_over_L"]) * shape[1] * float(spacing)
+    patch = min(shape) * float(spacing)
+    if patch < 4 * corr:
+        warnings.warn(
+            f"patches of {patch:.3g} m are shorter than 4 correlation lengths of the PSD "
+            f"({corr:.3g} m, 1/e of the autocorrelation): neighbouring patches of a real "
+            "interface would not be independent, as the beam model assumes. Use a larger shape "
+            "or spacing (a patch >= 4 correlation lengths).", UserWarning, stacklevel=2)
+    if model == "modified_dmt":
+        # once for the bank (expected groups of the PSD), not once per law
+        warn_if_outside_validity(None, relative_humidity=list(rh), groups=groups)
     path = None
     if cache_dir is not None:
-        key = _key(psd, rh, n_law, tuple(shape), spacing, seed, model)
+        key = _key(psd, rh, n_law, shape, spacing, seed, model)
         path = Path(cache_dir) / f"patch_bank_{key}.nc"
         if path.exists():
             out = xr.load_dataarray(path)
@@ -83,12 +103,16 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
     values = np.empty((int(n_law), len(rh)))
     for k in range(int(n_law)):
         curves = rough_contact_curves(surf.isel(realization=k).load(), relative_humidity=list(rh),
-                                      model=model)
+                                      model=model, check_validity=False)
         values[k] = adhesion_summary(curves)["adhesive_energy"].transpose("rh").values
     out = xr.DataArray(values, {"law": np.arange(int(n_law)), "rh": rh}, ("law", "rh"),
                        name="adhesive_energy",
                        attrs={"units": "J m-2", "long_name": "adhesive energy of a patch (Eq. 13)",
-                              "contact_model": model, "seed": int(seed)})
+                              "contact_model": model, "seed": int(seed),
+                              "correlation_length": corr,
+                              "independence": "patch laws drawn independently; checked: patch "
+                                              f"{patch:.3g} m vs 4 correlation lengths "
+                                              f"{4 * corr:.3g} m"})
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(".tmp")

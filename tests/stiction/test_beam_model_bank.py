@@ -37,3 +37,19 @@ def test_bank_bad_input():
         build_patch_bank(_psd(), relative_humidity=60, spacing=1e-8)
     with pytest.raises(TypeError, match="DataArray"):
         build_patch_bank(lambda q: q, relative_humidity=0.5, spacing=1e-8)
+
+
+def test_patches_shorter_than_four_correlation_lengths_are_flagged():
+    """The independence assumption is checked against the PSD's correlation length (expected
+    from the PSD, no surface needed) and recorded in the bank's attributes."""
+    kw = dict(relative_humidity=[0.5], n_law=1, seed=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        with pytest.warns(UserWarning, match="shorter than 4 correlation lengths"):
+            small = build_patch_bank(_psd(), shape=(8, 8), spacing=5e-9, **kw)
+        warnings.simplefilter("error", UserWarning)
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        large = build_patch_bank(_psd(), shape=(32, 32), spacing=40e-9, **kw)
+    corr = small.attrs["correlation_length"]
+    assert 8 * 5e-9 < 4 * corr <= 32 * 40e-9
+    assert "independent" in large.attrs["independence"]
