@@ -53,3 +53,25 @@ def test_patches_shorter_than_four_correlation_lengths_are_flagged():
     corr = small.attrs["correlation_length"]
     assert 8 * 5e-9 < 4 * corr <= 32 * 40e-9
     assert "independent" in large.attrs["independence"]
+
+
+def test_bank_parts_independent_and_resumed(tmp_path):
+    """A law is the same whatever the parts (25 laws per dask task); an interrupted cached bank
+    resumes from its finished parts (here a finished part planted on disk is read, not redone)."""
+    from roughstick.stiction import patch_bank as pb
+
+    kw = dict(relative_humidity=[0.5], n_law=27, shape=(16, 16), spacing=40e-9, seed=3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        plain = build_patch_bank(_psd(), **kw)
+        # law 26 alone, computed as its own part
+        alone = pb._part(_psd(), 26, 27, np.array([0.5]), (16, 16), 40e-9, 3, "modified_dmt", None)
+        np.testing.assert_array_equal(plain.values[26:], alone)
+        key = pb._key(_psd(), np.array([0.5]), 27, (16, 16), 40e-9, 3, "modified_dmt")
+        parts = tmp_path / f"patch_bank_{key}.parts"
+        parts.mkdir()
+        np.save(parts / "laws_0000000_0000025.npy", np.full((25, 1), 7.0))  # "finished" part
+        resumed = build_patch_bank(_psd(), cache_dir=tmp_path, **kw)
+    np.testing.assert_array_equal(resumed.values[:25], 7.0)
+    np.testing.assert_array_equal(resumed.values[25:], plain.values[25:])
+    assert not parts.exists()  # parts removed once the bank file is complete
