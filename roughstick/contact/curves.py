@@ -148,10 +148,11 @@ def rough_contact_curves(
     _check_tolerance(tolerance)
     if getattr(height, "chunks", None) is None and hasattr(height, "dims"):
         values = np.asarray(height)
-        if values.dtype.kind == "f" and np.isinf(values).any():
-            iy, ix = (int(i[0]) for i in np.nonzero(np.isinf(values))[-2:])
+        infinite = np.isinf(values) if values.dtype.kind == "f" else None
+        if infinite is not None and infinite.any():
+            iy, ix = (int(i[0]) for i in np.nonzero(infinite)[-2:])
             raise ValueError(
-                f"height has {int(np.isinf(values).sum())} infinite pixel(s) (the first at "
+                f"height has {int(infinite.sum())} infinite pixel(s) (the first at "
                 f"y index {iy}, x index {ix}): an infinite height is not a surface (one +inf "
                 "summit moved Γ by 16 %). Set them to NaN (missing pixels are skipped by the "
                 "modified DMT) or crop them away."
