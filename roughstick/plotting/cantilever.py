@@ -94,7 +94,7 @@ def plot_stiction_probability(risk: xr.Dataset, *, ax=None, level=None, layer=No
             if np.isfinite(c):
                 ax.plot([c * 100], [level], marker="x", color=line.get_color(), ms=8)
     if level is not None:
-        ax.axhline(level, color="0.5", lw=0.8, ls="--")
+        ax.axhline(level, color="0.5", lw=0.8, ls="--", label=f"P = {level:g} (× where it is crossed)")
     conf = ds.attrs.get("confidence_level", 0.95)
     ax.set(xlabel="relative humidity [%]", ylabel="P(beam stays stuck)", ylim=(-0.02, 1.02),
            title=f"stiction probability (bands: {conf:.0%} Monte-Carlo interval)")

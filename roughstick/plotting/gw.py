@@ -70,7 +70,7 @@ def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
         ax.set_xlabel("distance d [nm]")
         ax.set_ylabel("pressure [MPa]")
         ax.set_title(f"RH = {100 * r:.0f} %" if np.isfinite(r) else "")
-    axes[0].legend(fontsize="small", title="h_max")
+    axes[0].legend(fontsize="small", title=r"$h_\mathrm{max}$")
     ax = axes[-1]
     gamma = _adhesive_energy(p)
     finite = np.isfinite(cuts)
@@ -81,12 +81,11 @@ def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
         if (~finite).any() and g[~finite][0] > 0:
             no_cut, shown = g[~finite][0], np.nanmin(np.where(g[finite] > 0, g[finite], np.nan))
             if no_cut >= 1e-3 * shown:  # within the plotted decades: a dashed reference line
-                ax.axhline(no_cut, color=line.get_color(), ls="--", lw=0.8)
-            else:  # far below (e.g. 1e-22 at RH 30 %): say so instead of stretching the axis
-                ax.text(0.98, 0.03, f"RH {100 * r:.0f} %, no cutoff: Γ = {no_cut:.1e} mJ m⁻²",
-                        transform=ax.transAxes, ha="right", va="bottom", fontsize="x-small",
-                        color=line.get_color())
-    ax.set_xlabel("height cutoff h_max / √m0")
+                ax.axhline(no_cut, color=line.get_color(), ls="--", lw=0.8,
+                           label=f"RH {100 * r:.0f} %, no cutoff")
+            else:  # far below (e.g. 1e-22 at RH 30 %): say so in the legend instead of stretching the axis
+                ax.plot([], [], ls="none", label=f"RH {100 * r:.0f} %, no cutoff: Γ = {no_cut:.1e} mJ m⁻²")
+    ax.set_xlabel(r"height cutoff $h_\mathrm{max}\,/\,\sqrt{m_0}$")
     ax.set_ylabel("Γ [mJ m⁻²]")
     ax.legend(fontsize="small")
     ax.set_title("GW adhesive energy (Eq. 13)")
