@@ -13,6 +13,8 @@ dims) or a DataArray with ``units``; DataArrays broadcast and dask-backed inputs
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import xarray as xr
 
@@ -24,6 +26,7 @@ from .._core.validate import positive
 from . import _sphere_energy
 from . import _sphere_kernels as K_
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
+from .validity import ValidityWarning, _external_stacklevel
 
 __all__ = [
     "SPHERE_MODELS",
@@ -117,6 +120,39 @@ def _adhesion(model, relative_humidity, work_of_adhesion, adhesive_stress, adsor
         )
     s0 = positive(adhesive_stress, "pressure", "adhesive_stress", "Pass sigma0 in Pa, e.g. 1e8.")
     return s0, w / s0, "given"
+
+
+#: contact radius / sphere radius beyond which the small-strain models are not trusted: Hertz,
+#: JKR, DMT and Maugis neglect terms of order (a/R)^2, about 10 % at a = 0.3 R
+SMALL_STRAIN_LIMIT = 0.3
+
+
+def _warn_if_large_strain(R, Kmod, s0, h0, kind, contact_radius=None):
+    r"""ValidityWarning when the adhesion alone (the JKR contact radius at zero load,
+    :math:`a_0^3 = 6\pi w R^2/K`) or the given interferences deform the sphere beyond
+    ``SMALL_STRAIN_LIMIT`` of its radius: a soft material, or a modulus typed in the wrong unit."""
+    R, Kmod = _as_da(R), _as_da(Kmod)
+    if any(x.chunks is not None for x in (R, Kmod, _as_da(s0), _as_da(h0))):
+        return  # lazy inputs: checked nowhere rather than computed twice
+    ratio = 0.0
+    if kind != "none":
+        a0 = np.cbrt(6.0 * np.pi * (_as_da(s0) * _as_da(h0)) * R**2 / Kmod)
+        ratio = float((a0 / R).max(skipna=True).fillna(0.0)) if a0.size else 0.0
+    source = "the adhesion alone (zero-load JKR contact radius)"
+    if contact_radius is not None and contact_radius.chunks is None and contact_radius.size:
+        loaded = float((contact_radius / R).max(skipna=True).fillna(0.0))
+        if loaded > ratio:
+            ratio, source = loaded, "the given interferences"
+    if ratio > SMALL_STRAIN_LIMIT:
+        warnings.warn(
+            f"{source} give a contact radius of {ratio:.2g} sphere radii on E* = "
+            f"{0.75 * float(Kmod.min()):.3g} Pa: the sphere models assume small strain "
+            f"(a < {SMALL_STRAIN_LIMIT} R; errors of order (a/R)^2), so these forces, interferences "
+            "and energies are not trustworthy. Check that the modulus is in Pa (two poly-silicon "
+            "bodies: E* = 86.6e9) and the radius in m; for a soft material use a finite-deformation "
+            "model.",
+            ValidityWarning, stacklevel=_external_stacklevel(),
+        )
 
 
 def _prepare(model, radius, relative_humidity, work_of_adhesion, adhesive_stress, material,
@@ -280,6 +316,7 @@ def sphere_contact(
     for cname in ds.coords:
         if cname in ATTRS:
             ds[cname].attrs = dict(ATTRS[cname])
+    _warn_if_large_strain(R, Kmod, s0, h0, kind, ds["contact_radius"])
     return ds
 
 
@@ -444,6 +481,7 @@ def sphere_adhesive_energy(
         model, radius, relative_humidity, work_of_adhesion, adhesive_stress, material, material2,
         reduced_modulus, adsorbed_layer, meniscus_kwargs,
     )
+    _warn_if_large_strain(R, Kmod, s0, h0, kind)
     out = xr.apply_ufunc(
         _energy_block, _strip(R), _strip(Kmod), _strip(s0), _strip(h0),
         kwargs={"model": model, "dmt_outer": dmt_outer}, dask="parallelized", output_dtypes=[float],

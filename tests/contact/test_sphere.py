@@ -351,3 +351,30 @@ def test_demo_step_writes_figures_curves_and_table1(tmp_path):
     assert curves.force.dims == ("model", "interference", "radius", "rh")
     t1.close()
     curves.close()
+
+
+@pytest.mark.parametrize("model", ["jkr", "dmt", "maugis", "modified_dmt"])
+def test_soft_material_warns_small_strain_is_violated(model, recwarn):
+    """Issue 16 item 11: on E* = 1 MPa the capillary adhesion alone gives a zero-load JKR contact
+    radius a0 = (6 pi w R^2 / K)^(1/3) of 2.7 R (w = 2 gamma at RH 50 %), far outside the
+    small-strain theory; on silicon a0 = 0.06 R and nothing is said."""
+    delta = np.array([-2e-9, 0.0, 1e-9])
+    kw = dict(model=model, radius=100e-9, relative_humidity=0.5)
+    with pytest.warns(rs.ValidityWarning, match=r"contact radius of 2\.7 sphere radii on E\* = 1e\+06 Pa"):
+        rs.sphere_force(delta, reduced_modulus=1e6, **kw)
+    with pytest.warns(rs.ValidityWarning, match="modulus is in Pa") as record:
+        rs.sphere_adhesive_energy(reduced_modulus=1e6, **kw)
+    assert record[0].filename == __file__  # the user's line, not roughstick's
+    w = 2 * 0.0728 * 1.0  # the paper's water on a wetting surface, upper bound of the capillary w
+    a0 = np.cbrt(6 * np.pi * w * (100e-9) ** 2 / (4 / 3 * 86.6e9))
+    assert a0 < 0.1 * 100e-9
+    recwarn.clear()
+    rs.sphere_force(delta, reduced_modulus=86.6e9, **kw)
+    rs.sphere_adhesive_energy(reduced_modulus=86.6e9, **kw)
+    assert not [r for r in recwarn if issubclass(r.category, rs.ValidityWarning)]
+
+
+def test_deep_interference_warns_even_without_adhesion():
+    """Hertz on silicon at delta = R/2: a = sqrt(R delta) = 0.71 R, beyond small strain."""
+    with pytest.warns(rs.ValidityWarning, match=r"given interferences give a contact radius of 0\.71"):
+        rs.sphere_force([1e-9, 50e-9], model="hertz", radius=100e-9)
