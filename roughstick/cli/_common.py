@@ -81,8 +81,13 @@ def setup_logging(*, quiet: bool = False, verbose: bool = False) -> None:
     LOG.setLevel(logging.WARNING if quiet else logging.DEBUG if verbose else logging.INFO)
     LOG.propagate = False
 
+    shown = set()
+
     def show(message, category, filename, lineno, file=None, line=None):
-        LOG.warning("warning: %s: %s", category.__name__, message)
+        text = f"warning: {category.__name__}: {message}"
+        if text not in shown:  # the same advice once per command, not once per call site
+            shown.add(text)
+            LOG.warning("%s", text)
 
     warnings.showwarning = show
 

@@ -255,3 +255,23 @@ def test_demo_says_the_validity_note_once_without_warnings(tmp_path, capsys):
     assert len(notes) <= 1
     if notes:
         assert "--model auto" in notes[0] and "docs/accuracy.md" in notes[0]
+
+
+def test_the_same_warning_is_printed_once_per_command(capsys):
+    """The demo's cantilever step met the same ValidityWarning once per adsorbed-layer model and
+    printed it twice; a different warning is still printed."""
+    import warnings
+
+    from roughstick.cli._common import setup_logging, teardown_logging
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        setup_logging()
+        try:
+            for _ in range(3):
+                warnings.warn("same advice", rs.ValidityWarning, stacklevel=1)
+            warnings.warn("other advice", rs.ValidityWarning, stacklevel=1)
+        finally:
+            teardown_logging()
+    err = capsys.readouterr().err
+    assert err.count("same advice") == 1 and err.count("other advice") == 1
