@@ -102,7 +102,11 @@ ATTRS: dict[str, dict[str, str]] = {
     "max_interference": {"units": "m", "long_name": "interference of the highest asperity"},
     "surface_adhesive_energy": {"units": "J m-2", "long_name": "apparent adhesive energy (Eq. 13)"},
     "pull_off_pressure": {"units": "Pa", "long_name": "largest tensile mean pressure (pull-off)"},
-    "equilibrium_distance": {"units": "m", "long_name": "distance at which the mean pressure vanishes"},
+    "equilibrium_distance": {"units": "m", "long_name": "distance at which the mean pressure vanishes",
+                             "comment": "outermost stable zero crossing (repulsive below, attractive "
+                                        "above); NaN where the pressure is attractive down to the "
+                                        "bottom of the grid (no equilibrium: the surfaces collapse "
+                                        "into contact, adhesive_energy is then a lower bound)"},
     "attraction_below_equilibrium": {"units": "J m-2", "long_name": "attractive work below the equilibrium distance (excluded from the adhesive energy)"},
     "wet_fraction_at_equilibrium": {"units": "1", "long_name": "wetted area fraction at the equilibrium distance"},
     "distance_offset": {"units": "m", "long_name": "isolated-contact distance minus periodic (mean-gap) distance of the BEM"},

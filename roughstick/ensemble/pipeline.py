@@ -30,6 +30,7 @@ from .._core.conventions import ATTRS, dataset_attrs
 from .._core.references import PAPER, cite
 from .._core.validate import relative_humidity_array
 from .._core.version import __version__
+from ..contact.adhesion import adhesion_summary
 from ..contact.curves import rough_contact_curves
 from ..contact.meniscus import as_relative_humidity, water_height
 from ..surface.generate import ExtrapolatedPSDWarning
@@ -285,7 +286,7 @@ def _crossing(p):
     return np.any((p[..., :-1] >= 0) & (p[..., 1:] < 0), axis=-1)
 
 
-def _curves_self_extending(spec, hk, rh, grid, top, bottom, index):
+def _curves_self_extending(spec, hk, rh, grid, top, bottom, *, extend=True):
     """Curves of one realization on the common grid, extended where that grid is too short.
 
     Above: if the highest point plus the water height pokes above the grid's top, levels are added
@@ -293,10 +294,15 @@ def _curves_self_extending(spec, hk, rh, grid, top, bottom, index):
     no stable zero crossing (repulsive below, attractive above) on the grid, levels are added down
     to the lowest pixel. Equilibrium and Γ are then decided on the separation path (the outermost
     stable crossing, :func:`roughstick.adhesion_summary`); a curve attractive again deep in
-    contact is reported (``attractive_at_floor``), not an error. Returns ``(curves, flag)`` with
-    flag bit 1 = extended below, bit 2 = extended above.
+    contact is reported (``attractive_at_floor``), not an error; so is a curve that never turns
+    repulsive even at the lowest pixel (the surfaces would collapse into full contact: no
+    equilibrium, ``equilibrium_distance`` NaN, Γ a lower bound). With ``extend=False`` (summaries
+    on each map's own grid, which need nothing from this one) the common grid is used as it is.
+    Returns ``(curves, flag)`` with flag bit 1 = extended below, bit 2 = extended above.
     """
     flag = 0
+    if not extend:
+        grid, top, bottom = np.asarray(grid), -np.inf, np.inf
     step = float(np.min(np.diff(grid))) if grid.size > 1 else max(abs(top - bottom) / 100, 1e-12)
     d = grid
     if top > grid[-1] * (1 + 1e-12):
@@ -323,13 +329,6 @@ def _curves_self_extending(spec, hk, rh, grid, top, bottom, index):
         flag |= 1
         curves = run(d)
         p = np.asarray(curves["pressure"].transpose(..., "distance").values)
-    if not np.all(_crossing(p)):
-        raise ValueError(
-            f"realization {index}: the mean pressure never turns repulsive, even with the distance "
-            f"grid extended down to the lowest pixel ({d[0] * 1e9:.3f} nm), so there is no "
-            "equilibrium and Γ (Eq. 13) is undefined; check the material (hertz modulus) and units "
-            "of the heights."
-        )
     return curves, flag
 
 
@@ -354,7 +353,9 @@ def _own_grid_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dat
     for r in np.atleast_1d(rh.values):
         c = spec.curves(h2d, relative_humidity=[float(r)], distance=None, material=spec.material,
                         adsorbed_layer=spec.adsorbed_layer, **spec.curves_kwargs)
-        s = spec.summary(c)
+        # the automatic grid reaches the lowest pixel: a curve that is attractive there has no
+        # equilibrium (equilibrium_distance NaN, Γ a lower bound), which the grid cannot fix
+        s = spec.summary(c, check_grid=False) if spec.summary is adhesion_summary else spec.summary(c)
         parts.append(s.drop_vars([v for v in s.coords if v != "rh"], errors="ignore"))
     return parts[0] if len(parts) == 1 else xr.concat(parts, "rh", combine_attrs="drop_conflicts")
 
@@ -373,7 +374,7 @@ def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> 
         # one realization at a time: its numbers cannot depend on which block it falls in
         hk = h.isel(realization=[k])
         curves, flag = _curves_self_extending(spec, hk, rh, grid, float(top[k]) + hw, float(bottom[k]),
-                                              start + k)
+                                              extend=not own_grid)
         if own_grid:
             # each humidity alone on this map's own automatic grid (OWN_GRID_NOTE)
             own = _own_grid_summary(spec, h.isel(realization=k, drop=True), rh)
