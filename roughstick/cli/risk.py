@@ -17,7 +17,7 @@ import xarray as xr
 
 import roughstick as rs
 
-from .._core.conventions import ATTRS, append_history, set_attrs
+from .._core.conventions import ATTRS, append_history, coord_attrs, set_attrs
 from ..paper import cantilever as figures
 from ..plotting.save import save_figure
 from ..stiction.interaction_zone import TABLE4
@@ -204,7 +204,7 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
     risk = xr.concat(per_layer, dim=xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer",
                                                  name="adsorbed_layer"))
     risk["beam_length"].attrs = dict(ATTRS["beam_length"])
-    risk["adsorbed_layer"].attrs = {"units": "1", "long_name": "adsorbed water layer model"}
+    risk["adsorbed_layer"].attrs = coord_attrs("adsorbed_layer", risk["adsorbed_layer"])
     cross = [rs.crossing_humidity(risk, level=lev) for lev in r["levels"]]
     cross = xr.concat(cross, dim=xr.DataArray(r["levels"], dims="probability_level", name="probability_level"))
     cross["probability_level"].attrs = dict(ATTRS["probability_level"])
@@ -282,7 +282,7 @@ def _run(args):
     risk["adhesive_energy"] = g
     for name in ("adsorbed_layer", "realization"):
         if name in risk.coords:
-            risk[name].attrs = dict(ATTRS[name]) if name in ATTRS else risk[name].attrs
+            risk[name].attrs = coord_attrs(name, risk[name]) if name in ATTRS else risk[name].attrs
     risk.attrs["configuration"] = cfg_path.read_text()
     append_history(risk, f"roughstick risk {cfg_path.name}")
     files = [rs.io.netcdf.write(risk, out / "risk.nc", compute=True)]

@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 from scipy import special, stats
 
-from .._core.conventions import ATTRS, append_history
+from .._core.conventions import ATTRS, append_history, coord_attrs
 from .._core.dask import as_seed_sequence
 
 __all__ = [
@@ -301,7 +301,7 @@ def confidence_band(
     res["quantile"] = ("quantile", probs, dict(ATTRS["quantile"]))
     for c in res.coords:
         if c in ATTRS:
-            res[c].attrs = dict(ATTRS[c])
+            res[c].attrs = coord_attrs(c, res[c])
     # the run's parameters (seed, shape, spacing, PSD source, auto-n state ...) travel with the band
     res.attrs = {k: v for k, v in ds.attrs.items()
                  if isinstance(v, (str, int, float, np.integer, np.floating)) and k != "incomplete"}
@@ -558,7 +558,7 @@ def ensemble_histogram(da: xr.DataArray, *, dim: str = "realization", bins=30, r
     }
     for c in out.coords:
         if c in ATTRS and c not in ("bin",):
-            out[c].attrs = dict(ATTRS[c])
+            out[c].attrs = coord_attrs(c, out[c])
     return out
 
 

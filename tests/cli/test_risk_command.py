@@ -36,6 +36,8 @@ def test_cli_risk_from_given_sample(tmp_path, capsys):
               "adhesive_energy_bands.png", "crack_length.png"):
         assert (out / f).stat().st_size > 1000, f
     got = rs.open_dataset(out / "risk.nc").load()
+    # issue 16 item 6: the string coordinate is the layer model, not a thickness in metres
+    assert got["adsorbed_layer"].attrs == {"long_name": "adsorbed water layer model"}
     ref = rs.stiction_risk(sample, length=[250e-6, 350e-6, 500e-6], levels=[0.1, 0.5])
     np.testing.assert_allclose(got.stiction_probability.transpose(*ref.stiction_probability.dims),
                                ref.stiction_probability)

@@ -138,3 +138,13 @@ def test_plain_numpy_input_gets_the_fix_not_an_attribute_error():
         rs.confidence_band(np.ones((10, 2)))
     with pytest.raises(TypeError, match="labelled xarray DataArray"):
         rs.quantile_interval(np.ones(10), [0.5])
+
+
+def test_string_layer_coordinate_keeps_cf_attrs_through_band_and_histogram():
+    """Issue 16 item 6: the ``adsorbed_layer`` labels ("none"/"paper") came out of the band and
+    the histogram with the thickness attributes (long_name '... thickness', units 'm')."""
+    g = xr.concat([_sample(), 2 * _sample()], dim=xr.DataArray(["none", "paper"], dims="adsorbed_layer"))
+    band = rs.confidence_band(g)
+    hist = rs.ensemble_histogram(g, bins=10)
+    for out in (band, hist):
+        assert out["adsorbed_layer"].attrs == {"long_name": "adsorbed water layer model"}
