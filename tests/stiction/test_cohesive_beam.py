@@ -156,6 +156,23 @@ def test_bit_identical_across_chunkings():
     assert whole.attrs["model"] == "cohesive"
 
 
+def test_bit_identical_across_thread_counts(monkeypatch):
+    """Realizations are solved on one thread per core; the result must not depend on how many."""
+    rng = np.random.default_rng(5)
+    low = 10 ** rng.uniform(-3.5, -2.5, 30)
+    bank = xr.DataArray(np.stack([low, 3 * low], axis=1), dims=("law", "rh"),
+                        coords={"rh": [0.5, 0.8]})
+    kw = dict(beam_length=[300e-6, 600e-6], n_realization=5, seed=3, model="cohesive",
+              element_size=1e-6)
+    runs = {}
+    for n in (1, 2, 3):
+        monkeypatch.setattr(CB.os, "cpu_count", lambda n=n: n)
+        runs[n] = simulate_beams(bank, **kw)
+    for n in (2, 3):
+        for v in ["crack_length", "stuck", "solver_failed", "attached_length", "arc"]:
+            np.testing.assert_array_equal(runs[1][v].values, runs[n][v].values)
+
+
 def test_failed_solves_are_recorded_not_dropped(monkeypatch):
     bank = _energy_bank([1e-3, 2e-3, 3e-3])
     original = CB.release_cohesive_beam
@@ -168,6 +185,7 @@ def test_failed_solves_are_recorded_not_dropped(monkeypatch):
         return original(*args, **kwargs)
 
     monkeypatch.setattr(CB, "release_cohesive_beam", flaky)
+    monkeypatch.setattr(CB.os, "cpu_count", lambda: 1)  # the call counter needs one thread
     ds = simulate_beams(bank, beam_length=[600e-6], n_realization=4, seed=1, model="cohesive",
                         element_size=1e-6)
     assert ds.sizes["realization"] == 4
