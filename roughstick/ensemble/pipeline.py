@@ -18,7 +18,6 @@ import hashlib
 import inspect
 import json
 import math
-import warnings
 from collections.abc import Callable
 
 import dask.array as dsa
@@ -33,7 +32,7 @@ from .._core.version import __version__
 from ..contact.adhesion import adhesion_summary
 from ..contact.curves import rough_contact_curves
 from ..contact.meniscus import as_relative_humidity, water_height
-from ..surface.generate import ExtrapolatedPSDWarning
+from ..surface.generate import extrapolation_said_once
 from ..surface.moments import psd_moments
 from ..testing import make_topography
 
@@ -257,9 +256,7 @@ def _surfaces(spec: Spec, start: int, stop: int) -> xr.DataArray:
     except (TypeError, ValueError):  # pragma: no cover
         params = {}
     kw = dict(spec.generate_kwargs)
-    with warnings.catch_warnings():
-        # said once by run_ensemble before the graph was built, not once per block
-        warnings.simplefilter("ignore", ExtrapolatedPSDWarning)
+    with extrapolation_said_once():  # said by run_ensemble before the graph, not once per block
         h = _generate(gen, params, spec, start, stop, kw)
     if h.chunks is not None:
         h = h.compute(scheduler="sync")

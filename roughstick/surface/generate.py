@@ -27,6 +27,8 @@ representation. Appl. Mech. Rev. 44, 191-204. https://doi.org/10.1115/1.3119501
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import numbers
 import os
 import warnings
@@ -262,9 +264,26 @@ class ExtrapolatedPSDWarning(UserWarning):
     lowest measured wave number (the longest wavelengths of the surfaces) is extrapolated."""
 
 
+#: set (per thread, per task) by :func:`extrapolation_said_once`
+_EXTRAPOLATION_SAID = contextvars.ContextVar("roughstick_extrapolation_said", default=False)
+
+
+@contextlib.contextmanager
+def extrapolation_said_once():
+    """Inside, :class:`ExtrapolatedPSDWarning` is not raised: for callers that said it once
+    already (an ensemble, before its graph). Unlike ``warnings.catch_warnings``, which swaps the
+    process-wide filters and is not thread-safe, this is a context variable: dask's threads
+    running other blocks, and the user's own filters, are untouched."""
+    token = _EXTRAPOLATION_SAID.set(True)
+    try:
+        yield
+    finally:
+        _EXTRAPOLATION_SAID.reset(token)
+
+
 def _warn_if_extrapolated(needed_length: float, measured_length: float, how: str) -> None:
     """Issue 16 item 5: say when the surfaces outgrow the scan behind the PSD (Python API too)."""
-    if needed_length > measured_length * (1 + 1e-6):
+    if needed_length > measured_length * (1 + 1e-6) and not _EXTRAPOLATION_SAID.get():
         warnings.warn(
             f"the generated surfaces ({needed_length * 1e6:.3g} µm) are larger than the scan the "
             f"PSD was measured on ({measured_length * 1e6:.3g} µm, {how}): their low-q PSD (the "

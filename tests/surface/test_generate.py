@@ -474,3 +474,38 @@ def test_an_analytic_psd_flat_below_its_first_q_does_not_warn():
     with warnings.catch_warnings():
         warnings.simplefilter("error", rs.ExtrapolatedPSDWarning)
         generate_surfaces(psd, n=1, shape=(16, 2048), spacing=5e-9, seed=1)  # 10 µm > 2π/1e6 = 6 µm
+
+
+def test_extrapolation_said_once_is_per_thread_and_leaves_the_filters_alone():
+    """run_ensemble silences the per-block ExtrapolatedPSDWarning with a context variable, not
+    with warnings.catch_warnings (which swaps the process-wide filters: not thread-safe under
+    dask's threads)."""
+    import threading
+    import warnings
+
+    from roughstick.surface.generate import extrapolation_said_once
+
+    z = generate_surfaces(S2, n=1, shape=(32, 32), spacing=10e-9, seed=8).values[0]
+    psd = _psd_2d(z, 10e-9)
+    filters = list(warnings.filters)
+    inside, outside = threading.Event(), threading.Event()
+
+    def quiet_thread():
+        with extrapolation_said_once():
+            with warnings.catch_warnings(record=True) as caught:  # this thread's view only
+                warnings.simplefilter("always")
+                surface_filter(psd, shape=(128, 128), spacing=10e-9)
+            assert not [w for w in caught if issubclass(w.category, rs.ExtrapolatedPSDWarning)]
+            inside.set()
+            outside.wait(10)
+
+    t = threading.Thread(target=quiet_thread)
+    t.start()
+    assert inside.wait(10)
+    try:  # while the other thread is still inside its quiet block, this one warns
+        with pytest.warns(rs.ExtrapolatedPSDWarning):
+            surface_filter(psd, shape=(128, 128), spacing=10e-9)
+    finally:
+        outside.set()
+        t.join()
+    assert warnings.filters == filters
