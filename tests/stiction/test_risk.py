@@ -98,14 +98,20 @@ def test_probability_backends_lazy(backend):
     xr.testing.assert_allclose(p.compute(), rs.stiction_probability(g, length=[200e-6, 500e-6]))
 
 
-def test_crossing_humidity_linear_and_edges():
+def _logit(x):
+    return np.log(x / (1 - x))
+
+
+def test_crossing_humidity_interpolation_and_edges():
     rh = [0.3, 0.4, 0.5, 0.6]
     p = xr.DataArray(
         [[0.0, 0.2, 0.6, 1.0], [0.6, 0.7, 0.8, 0.9], [0.0, 0.1, 0.1, 0.2], [0.0, 0.7, 0.2, 0.9]],
         dims=("beam_length", "rh"), coords={"rh": rh, "beam_length": [1, 2, 3, 4]},
     )
     c = rs.crossing_humidity(p, level=0.5).crossing_humidity.values
-    np.testing.assert_allclose(c, [0.475, -np.inf, np.inf, 0.3 + 0.1 * 0.5 / 0.7])
+    # between 0.2 and 0.6: linear in logit(p); next to a counted 0: linear in p
+    logit_cross = 0.4 + 0.1 * (_logit(0.5) - _logit(0.2)) / (_logit(0.6) - _logit(0.2))
+    np.testing.assert_allclose(c, [logit_cross, -np.inf, np.inf, 0.3 + 0.1 * 0.5 / 0.7])
     assert rs.crossing_humidity(p, level=0.5).crossing_humidity.attrs["units"] == "1"
     with pytest.raises(ValueError, match="strictly increasing"):
         rs.crossing_humidity(p.isel(rh=[1, 0, 2]))
@@ -126,7 +132,23 @@ def test_crossing_humidity_bounds_order_and_consistency():
         x = float(c.crossing_humidity.sel(beam_length=bl))
         if np.isfinite(x):
             pp = p.stiction_probability.sel(beam_length=bl)
-            assert np.interp(x, pp.rh.values, pp.values) == pytest.approx(0.5)
+            # logit-linear between the bracketing humidities (or linear next to a 0 or a 1)
+            j = int(np.searchsorted(pp.rh.values, x))
+            r0, r1 = pp.rh.values[j - 1], pp.rh.values[j]
+            p0, p1 = float(pp[j - 1]), float(pp[j])
+            t = (x - r0) / (r1 - r0)
+            back = (1 / (1 + np.exp(-(_logit(p0) + t * (_logit(p1) - _logit(p0)))))
+                    if 0 < p0 and p1 < 1 else p0 + t * (p1 - p0))
+            assert back == pytest.approx(0.5)
+
+
+def test_small_probabilities_cross_where_the_log_plot_shows():
+    """1e-4 at RH 60 % and 0.1 at 70 %: 1e-3 is a third of the way on a log axis (≈ 63.3 %);
+    linear interpolation in p put it at 60.09 %, next to the point 10× below the level."""
+    p = xr.DataArray([1e-4, 0.1], dims="rh", coords={"rh": [0.6, 0.7]})
+    x = float(rs.crossing_humidity(p, level=1e-3).crossing_humidity)
+    assert x == pytest.approx(0.6 + 0.1 * (_logit(1e-3) - _logit(1e-4)) / (_logit(0.1) - _logit(1e-4)))
+    assert 0.632 < x < 0.634
 
 
 def test_crossing_length_is_quantile_and_consistent_with_probability():
