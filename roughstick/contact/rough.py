@@ -105,10 +105,12 @@ def contact_distance_grid(
     within a tolerance of the curve's scale), bisects the sign changes of the mean pressure and
     stops a margin below the outermost stable zero crossing (equilibrium) of every humidity, or
     at the lowest pixel; then it refines around the pull-off (the most tensile point) and the
-    wetting/contact events next to it. Every level is evaluated once (one union-find over the top
-    tail of the heights, moving both ways), and a level's values do not depend on the other
-    levels. Γ (Eq. 13), pull-off and d_eq agree within 0.5 % with a 4× finer grid on the
-    S1/S2/Table-4/smooth families (``tests/contact/test_rough_grid.py``).
+    wetting/contact events next to it: every interval near the most tensile point, or that a
+    tie of pixels drying at one height could make deeper than it, is split until resolved. Every
+    level is evaluated once (one union-find over the top tail of the heights, moving both ways),
+    and a level's values do not depend on the other levels. Γ (Eq. 13), pull-off and d_eq agree
+    within 0.5 % with a 4× finer grid on the S1/S2/Table-4/smooth families and the measured
+    S1A/S2A maps (``tests/contact/test_rough_kernels.py``).
 
     Parameters
     ----------
