@@ -60,8 +60,8 @@ __all__ = ["OUTPUTS", "DEFAULT_PARAMS", "auto_pass", "curves", "curves_kernel", 
 OUTPUTS = CURVE_VARIABLES
 
 # parameters (index in the params array)
-EPS, ETA, FINE, ZERO_BAND, PULL_BAND, PULL_STOP, MARGIN, WFLOOR_REL, MAXP, DEQ_TOL, PULL_FINE, PULL_SMOOTH, TIE = range(13)
-DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.005, 0.0, 0.03, 1e-5, 4000.0, 0.004, 2.0, 0.002, 1.0])
+EPS, ETA, FINE, ZERO_BAND, PULL_BAND, PULL_STOP, MARGIN, WFLOOR_REL, MAXP, DEQ_TOL, PULL_FINE, PULL_SMOOTH, TIE, ZCAP, DEQ_EST, DEQ_MAXW = range(16)
+DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.005, 0.0, 0.03, 1e-5, 4000.0, 0.004, 2.0, 0.002, 1.0, 3.0, 0.25, 2.0])
 
 
 @nb.njit(**_NJ)
@@ -140,6 +140,9 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
     pull_fine = params[PULL_FINE]
     pull_smooth = params[PULL_SMOOTH]
     tie_factor = params[TIE]
+    zcap = params[ZCAP]
+    deq_est = params[DEQ_EST]
+    deq_maxw = params[DEQ_MAXW]
     zero_band = params[ZERO_BAND]
     pull_band = params[PULL_BAND]
     pull_stop = params[PULL_STOP]
@@ -276,16 +279,30 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                             lo3 = min(min(va, vb), vm)
                             hi3 = max(max(va, vb), vm)
                             f = 1.0
+                            cap = eta * sigma
                             if np.isnan(crossed[c, j]):
                                 if hi3 > 0.0 and lo3 < 0.0:
-                                    # the crossing: a finer grid moves d_eq within its interval only
-                                    if w > deq_tol * max(abs(a), sigma):
-                                        ok = False
-                                        break
+                                    # the crossing: a finer grid moves d_eq within its interval only;
+                                    # wider intervals pass when the root of the chord and that of
+                                    # the half holding the (stable) crossing agree
+                                    tol_d = deq_tol * max(abs(a), sigma)
+                                    if w > tol_d:
+                                        if not (w <= deq_maxw * tol_d and va >= 0.0 and vb < 0.0):
+                                            ok = False
+                                            break
+                                        r_ab = a + w * va / (va - vb)
+                                        if vm >= 0.0:
+                                            r_h = m + 0.5 * w * vm / (vm - vb)
+                                        else:
+                                            r_h = a + 0.5 * w * va / (va - vm)
+                                        if not (abs(r_ab - r_h) <= deq_est * tol_d):
+                                            ok = False
+                                            break
                                     continue
                                 if min(min(abs(va), abs(vb)), abs(vm)) <= zero_band * S[c, j]:
                                     f = fine
-                            fl = min(eta * max(dtop[j] - a, 0.0), eta * sigma)
+                                    cap = zcap * eta * sigma
+                            fl = min(eta * max(dtop[j] - a, 0.0), cap)
                             if not (err <= f * eps * S[c, j] or w <= f * fl):
                                 ok = False
                                 break
