@@ -65,6 +65,32 @@ DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.005, 0.0, 0.03, 1e-5, 4000.0
 
 
 @nb.njit(**_NJ)
+def _level(d, li, Dv, HZ, WET, hw, start, idx, zb, zmin, scale, scal, order, ztail, pos, P, Cc, live, LOG,
+           logstart, pooltop, pi, px, py, pz, nx, ny, periodic, connectivity, nbuf, dx, dy, K, xs, ys, hs, wt,
+           M):  # pragma: no cover - compiled
+    """Move the union-find to level d (growing the log and pixel pool as needed), evaluate it
+    into slot li; returns the (possibly grown) log and pool arrays."""
+    _sort_until(start, idx, zb, zmin, scale, scal, order, ztail, pos, d)
+    k = _n_above(ztail, scal[_NSORTED], d)
+    while True:
+        r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
+                  periodic, connectivity, nbuf)
+        if r == 0:
+            break
+        if r == 1:
+            LOG = _grow2(LOG, 2 * LOG.shape[0])
+        else:
+            n2 = 2 * pi.size
+            pi, px, py, pz = _grow1(pi, n2), _grow1(px, n2), _grow1(py, n2), _grow1(pz, n2)
+    f, ha, fa, e2, nc, nw = eval_level(Cc, live, scal, px, py, pz, d, dx, dy, K, xs, ys, hs, wt, M)
+    Dv[li] = d
+    HZ[li, 0], HZ[li, 1], HZ[li, 2], HZ[li, 3], HZ[li, 4], HZ[li, 5] = f, ha, fa, e2, nc, nw
+    for j in range(hw.size):
+        WET[li, j] = count_ge(start, zb, zmin, scale, d - hw[j])
+    return LOG, pi, px, py, pz
+
+
+@nb.njit(**_NJ)
 def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, params, fixed, ws_start, ws_idx, ws_zb,
               ws_pos, P, Cc, live, order, ztail, logstart, pooltop, LOG, pi, px, py, pz, xs, ys, hs, wt):  # pragma: no cover
     """Evaluate the levels of the adaptive grids (or the ``fixed`` levels if given, any order).
@@ -104,33 +130,9 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
         desc = np.argsort(-fixed)
         for t in range(fixed.size):
             d = fixed[desc[t]]
-            _sort_until(start, idx, zb, zmin, scale, scal, order, ztail, pos, d)
-            k = _n_above(ztail, scal[_NSORTED], d)
-            r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
-                      periodic, connectivity, nbuf)
-            while r != 0:
-                if r == 1:
-                    LOG = _grow2(LOG, 2 * LOG.shape[0])
-                else:
-                    n2 = 2 * pi.size
-                    pi = _grow1(pi, n2)
-                    px = _grow1(px, n2)
-                    py = _grow1(py, n2)
-                    pz = _grow1(pz, n2)
-                r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx,
-                          ny, periodic, connectivity, nbuf)
-            f, ha, fa, e2, nc, nw = eval_level(Cc, live, scal, px, py, pz, d, dx, dy, K, xs, ys, hs,
-                                                         wt, M)
-            li = desc[t]
-            Dv[li] = d
-            HZ[li, 0] = f
-            HZ[li, 1] = ha
-            HZ[li, 2] = fa
-            HZ[li, 3] = e2
-            HZ[li, 4] = nc
-            HZ[li, 5] = nw
-            for j in range(R):
-                WET[li, j] = count_ge(start, zb, zmin, scale, d - hw[j])
+            LOG, pi, px, py, pz = _level(d, desc[t], Dv, HZ, WET, hw, start, idx, zb, zmin, scale, scal, order,
+                                         ztail, pos, P, Cc, live, LOG, logstart, pooltop, pi, px, py, pz, nx,
+                                         ny, periodic, connectivity, nbuf, dx, dy, K, xs, ys, hs, wt, M)
         return Dv, HZ, WET, MEM, fixed.size, np.full((C, R), np.nan), LOG, pi, px, py, pz, scal, np.zeros(maxp, np.int64)
 
     eps = params[EPS]
@@ -500,33 +502,11 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                     rnd[c] = 99
                     jj[c] = R
             continue
-        _sort_until(start, idx, zb, zmin, scale, scal, order, ztail, pos, d)
-        k = _n_above(ztail, scal[_NSORTED], d)
-        r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
-                  periodic, connectivity, nbuf)
-        while r != 0:
-            if r == 1:
-                LOG = _grow2(LOG, 2 * LOG.shape[0])
-            else:
-                n2 = 2 * pi.size
-                pi = _grow1(pi, n2)
-                px = _grow1(px, n2)
-                py = _grow1(py, n2)
-                pz = _grow1(pz, n2)
-            r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
-                      periodic, connectivity, nbuf)
-        f, ha, fa, e2, nc, nw = eval_level(Cc, live, scal, px, py, pz, d, dx, dy, K, xs, ys, hs, wt, M)
         li = nlev
         PH[li] = wantph
-        Dv[li] = d
-        HZ[li, 0] = f
-        HZ[li, 1] = ha
-        HZ[li, 2] = fa
-        HZ[li, 3] = e2
-        HZ[li, 4] = nc
-        HZ[li, 5] = nw
-        for j in range(R):
-            WET[li, j] = count_ge(start, zb, zmin, scale, d - hw[j])
+        LOG, pi, px, py, pz = _level(d, li, Dv, HZ, WET, hw, start, idx, zb, zmin, scale, scal, order, ztail, pos,
+                                     P, Cc, live, LOG, logstart, pooltop, pi, px, py, pz, nx, ny, periodic,
+                                     connectivity, nbuf, dx, dy, K, xs, ys, hs, wt, M)
         # insert into the sorted order
         q = nlev
         while q > 0 and Dv[ordd[q - 1]] > d:

@@ -597,12 +597,13 @@ def _contact_event_above(x, ztail, nsorted):  # pragma: no cover - compiled
 
 def prepare_heights(z):
     """Mean-referred float64 heights (NaN kept) and the number of valid pixels."""
-    z = np.asarray(z, dtype=np.float64)
+    z = np.ascontiguousarray(z, dtype=np.float64)
+    mean = z.ravel().mean()
+    if np.isfinite(mean):  # then every pixel is finite
+        return z - mean, z.size
     valid = np.isfinite(z)
     nvalid = int(valid.sum())
     if nvalid == 0:
         raise ValueError("the height map has no finite pixel (all NaN/inf).")
-    if nvalid == z.size:
-        return np.ascontiguousarray(z - np.ascontiguousarray(z).ravel().mean()), nvalid
     mean = z[valid].mean()
     return np.ascontiguousarray(np.where(valid, z - mean, np.nan)), nvalid
