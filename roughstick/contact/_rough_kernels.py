@@ -51,8 +51,8 @@ from ._rough_tail import (
     bucket_sort,
     count_ge,
     eval_level,
+    max_tie_bound,
     prepare_heights,
-    successor,
 )
 
 __all__ = ["OUTPUTS", "DEFAULT_PARAMS", "auto_pass", "curves", "curves_kernel", "hertz_levels", "prepare_heights", "grid_params"]
@@ -60,8 +60,34 @@ __all__ = ["OUTPUTS", "DEFAULT_PARAMS", "auto_pass", "curves", "curves_kernel", 
 OUTPUTS = CURVE_VARIABLES
 
 # parameters (index in the params array)
-EPS, ETA, FINE, ZERO_BAND, PULL_BAND, PULL_STOP, MARGIN, WFLOOR_REL, MAXP, DEQ_TOL, PULL_FINE, PULL_SMOOTH = range(12)
-DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.005, 0.0, 0.03, 1e-5, 4000.0, 0.004, 0.25, 0.002])
+EPS, ETA, FINE, ZERO_BAND, PULL_BAND, PULL_STOP, MARGIN, WFLOOR_REL, MAXP, DEQ_TOL, PULL_FINE, PULL_SMOOTH, TIE, ZCAP, DEQ_EST, DEQ_MAXW = range(16)
+DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.005, 0.0, 0.03, 1e-5, 4000.0, 0.004, 2.0, 0.002, 1.0, 3.0, 0.25, 2.0])
+
+
+@nb.njit(**_NJ)
+def _level(d, li, Dv, HZ, WET, hw, start, idx, zb, zmin, scale, scal, order, ztail, pos, P, Cc, live, LOG,
+           logstart, pooltop, pi, px, py, pz, nx, ny, periodic, connectivity, nbuf, dx, dy, K, xs, ys, hs, wt,
+           M):  # pragma: no cover - compiled
+    """Move the union-find to level d (growing the log and pixel pool as needed), evaluate it
+    into slot li; returns the (possibly grown) log and pool arrays."""
+    _sort_until(start, idx, zb, zmin, scale, scal, order, ztail, pos, d)
+    k = _n_above(ztail, scal[_NSORTED], d)
+    while True:
+        r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
+                  periodic, connectivity, nbuf)
+        if r == 0:
+            break
+        if r == 1:
+            LOG = _grow2(LOG, 2 * LOG.shape[0])
+        else:
+            n2 = 2 * pi.size
+            pi, px, py, pz = _grow1(pi, n2), _grow1(px, n2), _grow1(py, n2), _grow1(pz, n2)
+    f, ha, fa, e2, nc, nw = eval_level(Cc, live, scal, px, py, pz, d, dx, dy, K, xs, ys, hs, wt, M)
+    Dv[li] = d
+    HZ[li, 0], HZ[li, 1], HZ[li, 2], HZ[li, 3], HZ[li, 4], HZ[li, 5] = f, ha, fa, e2, nc, nw
+    for j in range(hw.size):
+        WET[li, j] = count_ge(start, zb, zmin, scale, d - hw[j])
+    return LOG, pi, px, py, pz
 
 
 @nb.njit(**_NJ)
@@ -104,33 +130,9 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
         desc = np.argsort(-fixed)
         for t in range(fixed.size):
             d = fixed[desc[t]]
-            _sort_until(start, idx, zb, zmin, scale, scal, order, ztail, pos, d)
-            k = _n_above(ztail, scal[_NSORTED], d)
-            r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
-                      periodic, connectivity, nbuf)
-            while r != 0:
-                if r == 1:
-                    LOG = _grow2(LOG, 2 * LOG.shape[0])
-                else:
-                    n2 = 2 * pi.size
-                    pi = _grow1(pi, n2)
-                    px = _grow1(px, n2)
-                    py = _grow1(py, n2)
-                    pz = _grow1(pz, n2)
-                r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx,
-                          ny, periodic, connectivity, nbuf)
-            f, ha, fa, e2, nc, nw = eval_level(Cc, live, scal, px, py, pz, d, dx, dy, K, xs, ys, hs,
-                                                         wt, M)
-            li = desc[t]
-            Dv[li] = d
-            HZ[li, 0] = f
-            HZ[li, 1] = ha
-            HZ[li, 2] = fa
-            HZ[li, 3] = e2
-            HZ[li, 4] = nc
-            HZ[li, 5] = nw
-            for j in range(R):
-                WET[li, j] = count_ge(start, zb, zmin, scale, d - hw[j])
+            LOG, pi, px, py, pz = _level(d, desc[t], Dv, HZ, WET, hw, start, idx, zb, zmin, scale, scal, order,
+                                         ztail, pos, P, Cc, live, LOG, logstart, pooltop, pi, px, py, pz, nx,
+                                         ny, periodic, connectivity, nbuf, dx, dy, K, xs, ys, hs, wt, M)
         return Dv, HZ, WET, MEM, fixed.size, np.full((C, R), np.nan), LOG, pi, px, py, pz, scal, np.zeros(maxp, np.int64)
 
     eps = params[EPS]
@@ -139,6 +141,10 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
     deq_tol = params[DEQ_TOL]
     pull_fine = params[PULL_FINE]
     pull_smooth = params[PULL_SMOOTH]
+    tie_factor = params[TIE]
+    zcap = params[ZCAP]
+    deq_est = params[DEQ_EST]
+    deq_maxw = params[DEQ_MAXW]
     zero_band = params[ZERO_BAND]
     pull_band = params[PULL_BAND]
     pull_stop = params[PULL_STOP]
@@ -178,12 +184,11 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
     # pull refinement state
     jj = np.zeros(C, np.int64)
     rnd = np.zeros(C, np.int64)
-    band = np.zeros(C)
     best = np.zeros(C)
     REQ = np.empty((C, maxp))
     SREQ = np.zeros((C, maxp), np.int64)
-    SDEPTH = np.zeros(maxp, np.int64)
-    SRC = np.zeros(maxp, np.bool_)
+    SDEPTH = np.zeros((maxp, R), np.int64)
+    SRC = np.zeros((maxp, R), np.bool_)
     PH = np.zeros(maxp, np.int64)
     wantph = 0
     nreq = np.zeros(C, np.int64)
@@ -276,16 +281,30 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                             lo3 = min(min(va, vb), vm)
                             hi3 = max(max(va, vb), vm)
                             f = 1.0
+                            cap = eta * sigma
                             if np.isnan(crossed[c, j]):
                                 if hi3 > 0.0 and lo3 < 0.0:
-                                    # the crossing: a finer grid moves d_eq within its interval only
-                                    if w > deq_tol * max(abs(a), sigma):
-                                        ok = False
-                                        break
+                                    # the crossing: a finer grid moves d_eq within its interval only;
+                                    # wider intervals pass when the root of the chord and that of
+                                    # the half holding the (stable) crossing agree
+                                    tol_d = deq_tol * max(abs(a), sigma)
+                                    if w > tol_d:
+                                        if not (w <= deq_maxw * tol_d and va >= 0.0 and vb < 0.0):
+                                            ok = False
+                                            break
+                                        r_ab = a + w * va / (va - vb)
+                                        if vm >= 0.0:
+                                            r_h = m + 0.5 * w * vm / (vm - vb)
+                                        else:
+                                            r_h = a + 0.5 * w * va / (va - vm)
+                                        if not (abs(r_ab - r_h) <= deq_est * tol_d):
+                                            ok = False
+                                            break
                                     continue
                                 if min(min(abs(va), abs(vb)), abs(vm)) <= zero_band * S[c, j]:
                                     f = fine
-                            fl = min(eta * max(dtop[j] - a, 0.0), eta * sigma)
+                                    cap = zcap * eta * sigma
+                            fl = min(eta * max(dtop[j] - a, 0.0), cap)
                             if not (err <= f * eps * S[c, j] or w <= f * fl):
                                 ok = False
                                 break
@@ -344,8 +363,8 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                     for q in range(nreq[c]):
                         il = _find(Dv, ordd, nlev, REQ[c, q])
                         MEM[il, c] = True
-                        if SREQ[c, q] > 0 and SDEPTH[il] == 0:
-                            SDEPTH[il] = SREQ[c, q]
+                        if SREQ[c, q] > 0 and SDEPTH[il, j] == 0:
+                            SDEPTH[il, j] = SREQ[c, q]
                         after = min(after, (HZ[il, 0] + dp[j] * (WET[il, j] * pix - HZ[il, 1])) / apparent)
                     nreq[c] = 0
                     if pull_stop > 0.0 and not (after < best[c] * (1.0 + pull_stop)):
@@ -389,13 +408,6 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                         progressed = True
                         continue
                     best[c] = bv
-                    if rnd[c] == 0:
-                        thr = Dv[gl[bi]] - hw[j]
-                        ze = successor(start, zb, zmin, scale, thr)
-                        nm = count_ge(start, zb, zmin, scale, ze) - count_ge(
-                            start, zb, zmin, scale, np.nextafter(ze, np.inf))
-                        jump = abs(dp[j]) * nm * pix / apparent
-                        band[c] = min(0.1, max(pull_band, 1.5 * jump / abs(bv)))
                     rnd[c] += 1
                     nr = 0
                     for q in range(cnt - 1):
@@ -405,7 +417,15 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                             continue
                         v0 = (HZ[gl[q], 0] + dp[j] * (WET[gl[q], j] * pix - HZ[gl[q], 1])) / apparent
                         v1 = (HZ[gl[q + 1], 0] + dp[j] * (WET[gl[q + 1], j] * pix - HZ[gl[q + 1], 1])) / apparent
-                        if not (min(v0, v1) <= bv * (1.0 - band[c])):
+                        # a tooth can hide inside the interval: the pixels drying at one height
+                        # in it (at most the fullest bucket, at most those drying in it) drop
+                        # the curve by up to their water term below its ends
+                        ndry = WET[gl[q], j] - WET[gl[q + 1], j]
+                        tie = 0.0
+                        if ndry > 0:
+                            tie = abs(dp[j]) * pix / apparent * min(
+                                ndry, max_tie_bound(start, zmin, scale, d0 - hw[j], d1 - hw[j]))
+                        if not (min(v0, v1 - tie_factor * tie) <= bv * (1.0 - pull_band)):
                             continue
                         L = min(max(dtop[j] - d0, 0.0), sigma)
                         if d1 - d0 <= max(pull_fine * eta * L, 2 * wfloor):
@@ -414,18 +434,18 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                             # (each point is the source of these snaps once, and snapped points
                             # up to depth 2: the chain of events stops)
                             src = gl[q]
-                            if SRC[src] or SDEPTH[src] >= 2:
+                            if SRC[src, j] or SDEPTH[src, j] >= 2:
                                 continue
-                            SRC[src] = True
+                            SRC[src, j] = True
                             de = _wet_event_above(d0, hw[j], start, zb, zmin, scale)
                             if d0 < de < d1 and nr < maxp:
                                 REQ[c, nr] = de
-                                SREQ[c, nr] = SDEPTH[src] + 1
+                                SREQ[c, nr] = SDEPTH[src, j] + 1
                                 nr += 1
                             dcx = _contact_event_above(d0, ztail, scal[_NSORTED])
                             if d0 < dcx < d1 and dcx != de and nr < maxp:
                                 REQ[c, nr] = dcx
-                                SREQ[c, nr] = SDEPTH[src] + 1
+                                SREQ[c, nr] = SDEPTH[src, j] + 1
                                 nr += 1
                             continue
                         # smooth here (each end on the chord of its neighbours within
@@ -445,7 +465,7 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                             d2 = Dv[gl[qb]]
                             e0 = abs(v0 - (vm1 + (v1 - vm1) * (d0 - dm1) / (d1 - dm1)))
                             e1 = abs(v1 - (v0 + (v2 - v0) * (d1 - d0) / (d2 - d0)))
-                            if max(e0, e1) <= pull_smooth * abs(bv):
+                            if max(e0, e1) <= pull_smooth * abs(bv) and tie <= pull_smooth * abs(bv):
                                 continue
                         m = 0.5 * (d0 + d1)
                         if nr < maxp:
@@ -482,33 +502,11 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                     rnd[c] = 99
                     jj[c] = R
             continue
-        _sort_until(start, idx, zb, zmin, scale, scal, order, ztail, pos, d)
-        k = _n_above(ztail, scal[_NSORTED], d)
-        r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
-                  periodic, connectivity, nbuf)
-        while r != 0:
-            if r == 1:
-                LOG = _grow2(LOG, 2 * LOG.shape[0])
-            else:
-                n2 = 2 * pi.size
-                pi = _grow1(pi, n2)
-                px = _grow1(px, n2)
-                py = _grow1(py, n2)
-                pz = _grow1(pz, n2)
-            r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
-                      periodic, connectivity, nbuf)
-        f, ha, fa, e2, nc, nw = eval_level(Cc, live, scal, px, py, pz, d, dx, dy, K, xs, ys, hs, wt, M)
         li = nlev
         PH[li] = wantph
-        Dv[li] = d
-        HZ[li, 0] = f
-        HZ[li, 1] = ha
-        HZ[li, 2] = fa
-        HZ[li, 3] = e2
-        HZ[li, 4] = nc
-        HZ[li, 5] = nw
-        for j in range(R):
-            WET[li, j] = count_ge(start, zb, zmin, scale, d - hw[j])
+        LOG, pi, px, py, pz = _level(d, li, Dv, HZ, WET, hw, start, idx, zb, zmin, scale, scal, order, ztail, pos,
+                                     P, Cc, live, LOG, logstart, pooltop, pi, px, py, pz, nx, ny, periodic,
+                                     connectivity, nbuf, dx, dy, K, xs, ys, hs, wt, M)
         # insert into the sorted order
         q = nlev
         while q > 0 and Dv[ordd[q - 1]] > d:

@@ -574,6 +574,19 @@ def _wet_event_above(x, hwj, start, zb, zmin, scale):  # pragma: no cover - comp
 
 
 @nb.njit(**_NJ0)
+def max_tie_bound(start, zmin, scale, lo, hi):  # pragma: no cover - compiled
+    """Upper bound on the number of valid pixels sharing one height in ``(lo, hi]``: the fullest
+    bucket overlapping that range (equal heights share a bucket)."""
+    nbuck = start.size - 1
+    b0 = max(_bucket_of(lo, zmin, scale, nbuck), 0)
+    b1 = _bucket_of(hi, zmin, scale, nbuck)
+    best = 0
+    for b in range(b0, b1 + 1):
+        best = max(best, start[b + 1] - start[b])
+    return best
+
+
+@nb.njit(**_NJ0)
 def _contact_event_above(x, ztail, nsorted):  # pragma: no cover - compiled
     """Smallest tail height > x (a pixel enters contact at d = z); inf if none."""
     k = _n_above(ztail, nsorted, np.nextafter(x, np.inf))
@@ -584,12 +597,13 @@ def _contact_event_above(x, ztail, nsorted):  # pragma: no cover - compiled
 
 def prepare_heights(z):
     """Mean-referred float64 heights (NaN kept) and the number of valid pixels."""
-    z = np.asarray(z, dtype=np.float64)
+    z = np.ascontiguousarray(z, dtype=np.float64)
+    mean = z.ravel().mean()
+    if np.isfinite(mean):  # then every pixel is finite
+        return z - mean, z.size
     valid = np.isfinite(z)
     nvalid = int(valid.sum())
     if nvalid == 0:
         raise ValueError("the height map has no finite pixel (all NaN/inf).")
-    if nvalid == z.size:
-        return np.ascontiguousarray(z - np.ascontiguousarray(z).ravel().mean()), nvalid
     mean = z[valid].mean()
     return np.ascontiguousarray(np.where(valid, z - mean, np.nan)), nvalid

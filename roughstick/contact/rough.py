@@ -105,10 +105,12 @@ def contact_distance_grid(
     within a tolerance of the curve's scale), bisects the sign changes of the mean pressure and
     stops a margin below the outermost stable zero crossing (equilibrium) of every humidity, or
     at the lowest pixel; then it refines around the pull-off (the most tensile point) and the
-    wetting/contact events next to it. Every level is evaluated once (one union-find over the top
-    tail of the heights, moving both ways), and a level's values do not depend on the other
-    levels. Γ (Eq. 13), pull-off and d_eq agree within 0.5 % with a 4× finer grid on the
-    S1/S2/Table-4/smooth families (``tests/contact/test_rough_grid.py``).
+    wetting/contact events next to it: every interval near the most tensile point, or that a
+    tie of pixels drying at one height could make deeper than it, is split until resolved. Every
+    level is evaluated once (one union-find over the top tail of the heights, moving both ways),
+    and a level's values do not depend on the other levels. Γ (Eq. 13), pull-off and d_eq agree
+    within 0.5 % with a 4× finer grid on the S1/S2/Table-4/smooth families and the measured
+    S1A/S2A maps (``tests/contact/test_rough_kernels.py``).
 
     Parameters
     ----------
@@ -127,30 +129,30 @@ def contact_distance_grid(
     xarray.DataArray
         ``distance`` [m], ascending, dims ``("distance",)``.
     """
-    d, _ = _prepare_auto(
-        height, relative_humidity, n, material, material2, adsorbed_layer, connectivity, periodic
+    height = require(height, "length", name="height")
+    _check_eager_map(height)
+    rh = relative_humidity_coordinate(relative_humidity)
+    d, _ = _auto_curves(
+        _map_values(height), np.atleast_1d(water_height(rh, adsorbed_layer=adsorbed_layer).values),
+        np.atleast_1d(laplace_pressure(rh).values), dx=_spacing(height, "x"),
+        dy=_spacing(height, "y"), K=hertz_modulus(material, material2),
+        periodic=bool(height.attrs.get("periodic", 0)) if periodic is None else bool(periodic),
+        connectivity=_connectivity(connectivity), n=n,
     )
     return set_attrs(xr.DataArray(d, dims=("distance",), coords={"distance": d}), "distance")
 
 
-def _prepare_auto(height, relative_humidity, n, material, material2, adsorbed_layer, connectivity, periodic):
-    height = require(height, "length", name="height")
+def _check_eager_map(height):
     if height.ndim != 2 or is_lazy(height):
         raise ValueError(
             "the automatic distance grid needs one eager (y, x) map; for stacks or dask arrays pass "
             "distance= explicitly, e.g. distance=roughstick.contact_distance_grid(height.isel("
             "realization=0).compute(), relative_humidity=...)."
         )
-    dx, dy = _spacing(height, "x"), _spacing(height, "y")
-    rh = relative_humidity_coordinate(relative_humidity)
-    hw = np.atleast_1d(water_height(rh, adsorbed_layer=adsorbed_layer).values)
-    dp = np.atleast_1d(laplace_pressure(rh).values)
-    per = bool(height.attrs.get("periodic", 0)) if periodic is None else bool(periodic)
-    z = np.asarray(height.transpose("y", "x").values, dtype=float)  # eager, checked above
-    return _auto_curves(
-        z, hw, dp, dx=dx, dy=dy, K=hertz_modulus(material, material2), periodic=per,
-        connectivity=_connectivity(connectivity), n=n,
-    )
+
+
+def _map_values(height):
+    return np.asarray(height.transpose("y", "x").values, dtype=float)  # eager, checked
 
 
 # --------------------------------------------------------------------------------------------
@@ -261,10 +263,10 @@ def modified_dmt_curves(
     dp = np.atleast_1d(dp_da.values)
 
     if distance is None:
-        d, outs = _prepare_auto(height, rh, n_distance, material, material2, adsorbed_layer,
-                                connectivity, per)
+        _check_eager_map(height)
+        d, data = _auto_curves(_map_values(height), hw, dp, dx=dx, dy=dy, K=K, periodic=per,
+                               connectivity=connectivity, n=n_distance)
         lead: tuple = ()
-        data = [o for o in outs]
     else:
         d = distance_array(distance)
         lead = tuple(dim for dim in height.dims if dim not in ("y", "x"))

@@ -87,9 +87,19 @@ class ErrorBound(NamedTuple):
 # dimensionless groups
 
 
-@nb.njit(cache=True, nogil=True, error_model="numpy")
-def _centred(z):  # pragma: no cover - compiled
-    """Heights minus their mean over the finite pixels, NaN pixels set to the mean (0 here)."""
+@nb.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _c(z, i, j, mean, dense):  # pragma: no cover - compiled
+    return z[i, j] - mean if dense or np.isfinite(z[i, j]) else 0.0
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc"})
+def _centred_moments_kernel(z, dy, dx):  # pragma: no cover - compiled
+    """``(mean, sigma, rms slope, m4)`` of one map (mean NaN: no finite pixel), two passes.
+
+    Heights minus their mean over the finite pixels (NaN pixels: the mean); forward differences;
+    m4 the mean of the squared second differences along x and y (halved sum); sigma the
+    population rms. Sums reassociated (vectorised): the last bits may differ across CPUs.
+    """
     ny, nx = z.shape
     total = 0.0
     count = 0
@@ -98,50 +108,38 @@ def _centred(z):  # pragma: no cover - compiled
             if np.isfinite(z[i, j]):
                 total += z[i, j]
                 count += 1
-    out = np.zeros((ny, nx))
     if count == 0:
-        return out, False
+        return np.nan, 0.0, 0.0, 0.0
     mean = total / count
+    if count == ny * nx:
+        return _moments_pass(z, mean, dy, dx, True)
+    return _moments_pass(z, mean, dy, dx, False)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc"})
+def _moments_pass(z, mean, dy, dx, dense):  # pragma: no cover - compiled
+    ny, nx = z.shape
+    s2 = gx2 = gy2 = cx2 = cy2 = 0.0
     for i in range(ny):
         for j in range(nx):
-            if np.isfinite(z[i, j]):
-                out[i, j] = z[i, j] - mean
-    return out, True
-
-
-@nb.njit(cache=True, nogil=True, error_model="numpy")
-def _moments_kernel(zc, dy, dx):  # pragma: no cover - compiled
-    """(sigma, rms slope, m4) of one centred map in one pass.
-
-    Forward differences as in :func:`surface_groups`; m4 is the mean of the squared second
-    differences along x and y (halved sum), sigma the population rms about the mean.
-    """
-    ny, nx = zc.shape
-    s2 = 0.0
-    gx2 = 0.0
-    gy2 = 0.0
-    cx2 = 0.0
-    cy2 = 0.0
-    for i in range(ny):
-        for j in range(nx):
-            a = zc[i, j]
+            a = _c(z, i, j, mean, dense)
             s2 += a * a
             if j + 1 < nx:
-                d = zc[i, j + 1] - a
-                gx2 += d * d
+                b = _c(z, i, j + 1, mean, dense)
+                gx2 += (b - a) * (b - a)
                 if j + 2 < nx:
-                    c = zc[i, j + 2] - 2.0 * zc[i, j + 1] + a
+                    c = _c(z, i, j + 2, mean, dense) - 2.0 * b + a
                     cx2 += c * c
             if i + 1 < ny:
-                d = zc[i + 1, j] - a
-                gy2 += d * d
+                b = _c(z, i + 1, j, mean, dense)
+                gy2 += (b - a) * (b - a)
                 if i + 2 < ny:
-                    c = zc[i + 2, j] - 2.0 * zc[i + 1, j] + a
+                    c = _c(z, i + 2, j, mean, dense) - 2.0 * b + a
                     cy2 += c * c
     sigma = np.sqrt(s2 / (ny * nx))
     slope = np.sqrt(gx2 / (ny * (nx - 1)) / dx**2 + gy2 / ((ny - 1) * nx) / dy**2)
     m4 = 0.5 * (cx2 / (ny * (nx - 2)) / dx**4 + cy2 / ((ny - 2) * nx) / dy**4)
-    return sigma, slope, m4
+    return mean, sigma, slope, m4
 
 
 def _groups_kernel(z, dy, dx):
@@ -151,10 +149,11 @@ def _groups_kernel(z, dy, dx):
     sum over rows of each row's circular autocorrelation: one batch of 1-D real FFTs along x
     instead of a 2-D transform pair (same numbers, about a third of the cost).
     """
-    zc, any_finite = _centred(np.ascontiguousarray(z, dtype=float))
-    if not any_finite:
+    z = np.ascontiguousarray(z, dtype=float)
+    mean, sigma, slope, m4 = _centred_moments_kernel(z, dy, dx)
+    if np.isnan(mean):
         raise ValueError("height has no finite pixel; the surface groups need heights.")
-    sigma, slope, m4 = _moments_kernel(zc, dy, dx)
+    zc = np.where(np.isfinite(z), z - mean, 0.0)
     power = (np.abs(np.fft.rfft(zc, axis=1)) ** 2).sum(axis=0)
     row = np.fft.irfft(power, n=z.shape[1])
     row = row / row[0] if row[0] > 0 else row
@@ -162,6 +161,26 @@ def _groups_kernel(z, dy, dx):
     below = np.nonzero(row < np.exp(-1))[0]
     corr = (below[0] if below.size else row.size) * dx
     return float(sigma), float(slope), float(m4), corr
+
+
+def _maps(height):
+    """Checked height, its (lead..., y, x) view (first map of a lazy stack), values, maps, lead
+    dims and spacings."""
+    height = require(height, "length", name="height")
+    for dim in ("y", "x"):
+        if dim not in height.dims or dim not in height.coords or height.sizes[dim] < 3:
+            raise ValueError(
+                f"height needs a coordinate {dim!r} with at least 3 pixels (uniform spacing in m)."
+            )
+    dy, dx = (float(np.diff(np.asarray(height[c].values, dtype=float))[0]) for c in ("y", "x"))
+    lead = [d for d in height.dims if d not in ("y", "x")]
+    h = height.transpose(*lead, "y", "x")
+    if h.chunks is not None:
+        # a lazy stack: the groups of its first map stand for the stack (one map is computed)
+        h = h.isel({d: [0] for d in lead}).compute()
+    vals = np.asarray(h.values, dtype=float)
+    flat = vals.reshape((-1, *vals.shape[-2:]))
+    return height, h, vals, flat, lead, dy, dx
 
 
 def surface_groups(
@@ -203,20 +222,7 @@ def surface_groups(
     >>> sorted(g.data_vars)[:3]
     ['corr_over_L', 'dp_over_E', 'hw_over_sigma']
     """
-    height = require(height, "length", name="height")
-    for dim in ("y", "x"):
-        if dim not in height.dims or dim not in height.coords or height.sizes[dim] < 3:
-            raise ValueError(
-                f"height needs a coordinate {dim!r} with at least 3 pixels (uniform spacing in m)."
-            )
-    dy, dx = (float(np.diff(np.asarray(height[c].values, dtype=float))[0]) for c in ("y", "x"))
-    lead = [d for d in height.dims if d not in ("y", "x")]
-    h = height.transpose(*lead, "y", "x")
-    if h.chunks is not None:
-        # a lazy stack: the groups of its first map stand for the stack (one map is computed)
-        h = h.isel({d: [0] for d in lead}).compute()
-    vals = np.asarray(h.values, dtype=float)
-    flat = vals.reshape((-1, *vals.shape[-2:]))
+    height, h, vals, flat, lead, dy, dx = _maps(height)
     per = np.array([_groups_kernel(m, dy, dx) for m in flat])
     shape = vals.shape[:-2]
     sigma, slope, m4, corr = (per[:, i].reshape(shape) for i in range(4))
@@ -225,11 +231,8 @@ def surface_groups(
                            relative_humidity, material, material2, adsorbed_layer)
 
 
-def _groups_dataset(sigma, slope, m4, corr_over_L, lead, coords, relative_humidity, material,
-                    material2, adsorbed_layer) -> xr.Dataset:
-    """The groups Dataset from per-map (sigma, rms slope, m4, correlation length / side)."""
-    rh = as_relative_humidity(relative_humidity)
-    rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
+def _group_arrays(sigma, slope, m4, rh1, material, material2, adsorbed_layer):
+    """hw, |dP|, E*, pressure ratio and Maugis lambda over (maps..., rh)."""
     hw = np.asarray(water_height(rh1, adsorbed_layer=adsorbed_layer).values, dtype=float)
     dp = np.abs(np.asarray(laplace_pressure(rh1).values, dtype=float))
     e_star = reduced_modulus(material, material2)
@@ -237,6 +240,17 @@ def _groups_dataset(sigma, slope, m4, corr_over_L, lead, coords, relative_humidi
     K = 4.0 / 3.0 * e_star
     ex = (...,) + (None,)
     lam = 2 * dp / (np.pi * dp * hw * K**2 / radius[ex]) ** (1 / 3)
+    return hw, dp, e_star, dp / (e_star * slope[ex]), lam
+
+
+def _groups_dataset(sigma, slope, m4, corr_over_L, lead, coords, relative_humidity, material,
+                    material2, adsorbed_layer) -> xr.Dataset:
+    """The groups Dataset from per-map (sigma, rms slope, m4, correlation length / side)."""
+    rh = as_relative_humidity(relative_humidity)
+    rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
+    hw, dp, e_star, pressure_ratio, lam = _group_arrays(sigma, slope, m4, rh1, material, material2,
+                                                    adsorbed_layer)
+    ex = (...,) + (None,)
     dims = (*lead, "rh")
     coords = dict(coords)
     coords["rh"] = np.asarray(rh1.values, dtype=float)
@@ -246,7 +260,7 @@ def _groups_dataset(sigma, slope, m4, corr_over_L, lead, coords, relative_humidi
             "rms_slope": (lead, slope),
             "corr_over_L": (lead, corr_over_L),
             "dp_over_E": (("rh",), dp / e_star),
-            "pressure_ratio": (dims, dp / (e_star * slope[ex])),
+            "pressure_ratio": (dims, pressure_ratio),
             "maugis_lambda": (dims, lam),
             "sigma": (lead, sigma, {"units": "m", "long_name": "rms height"}),
         },
@@ -454,20 +468,34 @@ def model_error(method: str, groups, *, quantity: str = "adhesive_energy") -> Er
 
 
 def _group_points(height, relative_humidity, material, material2, adsorbed_layer, groups=None):
-    """Per-humidity list of group dicts, worst map of a stack first-class (all maps checked)."""
-    g = groups if groups is not None else surface_groups(
-        height, relative_humidity=relative_humidity, material=material, material2=material2,
-        adsorbed_layer=adsorbed_layer)
-    if "rh" not in g.dims:
-        g = g.expand_dims(rh=[float(g["rh"])] if "rh" in g.coords else [np.nan])
-    arrs = xr.broadcast(*(g[f] for f in GROUP_FEATURES))
-    lead = [d for d in arrs[0].dims if d != "rh"]
-    n_rh = g.sizes["rh"]
-    table = [np.asarray(a.transpose(*lead, "rh").values, dtype=float).reshape(-1, n_rh)
-             for a in arrs]
+    """Per-humidity list of group dicts, worst map of a stack first-class (all maps checked).
+    Without ``groups``: the features of :func:`surface_groups` (same kernel and formulas, same
+    bits) without its correlation length (not a feature) nor a Dataset."""
+    if groups is None:
+        _, _, vals, flat, _, dy, dx = _maps(height)
+        per = np.array([_centred_moments_kernel(np.ascontiguousarray(m), dy, dx) for m in flat])
+        if np.isnan(per[:, 0]).any():
+            raise ValueError("height has no finite pixel; the surface groups need heights.")
+        sigma, slope, m4 = (per[:, i].reshape(vals.shape[:-2]) for i in (1, 2, 3))
+        rh = as_relative_humidity(relative_humidity)
+        rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
+        hw, _, _, ratio, lam = _group_arrays(sigma, slope, m4, rh1, material, material2,
+                                             adsorbed_layer)
+        feats = {"pressure_ratio": ratio, "maugis_lambda": lam, "hw_over_sigma": hw / sigma[..., None]}
+        table = [np.asarray(feats[f], dtype=float).reshape(-1, hw.size) for f in GROUP_FEATURES]
+        rh_values = np.asarray(rh1.values, dtype=float)
+    else:
+        g = groups
+        if "rh" not in g.dims:
+            g = g.expand_dims(rh=[float(g["rh"])] if "rh" in g.coords else [np.nan])
+        arrs = xr.broadcast(*(g[f] for f in GROUP_FEATURES))
+        lead = [d for d in arrs[0].dims if d != "rh"]
+        table = [np.asarray(a.transpose(*lead, "rh").values, dtype=float).reshape(-1, g.sizes["rh"])
+                 for a in arrs]
+        rh_values = g["rh"].values
     return [(float(r), [{f: float(t[i, j]) for f, t in zip(GROUP_FEATURES, table)}
                         for i in range(table[0].shape[0])])
-            for j, r in enumerate(g["rh"].values)]
+            for j, r in enumerate(rh_values)]
 
 
 def select_model(

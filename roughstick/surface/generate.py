@@ -29,8 +29,10 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import hashlib
 import numbers
 import os
+import threading
 import warnings
 from collections.abc import Sequence
 
@@ -303,14 +305,32 @@ def _values_checked(s: np.ndarray, what: str) -> np.ndarray:
     return s
 
 
+_ON_GRID: dict = {}  # the last few interpolated PSDs, by content (an ensemble asks once per block)
+_ON_GRID_LOCK = threading.Lock()
+
+
 def _psd_2d_on_grid(values, qy_c, qx_c, ny, nx, dy, dx, factor):
     """A centred 2D PSD interpolated onto the rfft half-plane of the target grid
-    (``roughstick.surface.spectrum.interpolate_psd``: bilinear, periodic extension by one row/column)."""
-    values = _values_checked(np.asarray(values, dtype=float) * factor, "PSD")
+    (``roughstick.surface.spectrum.interpolate_psd``: bilinear, periodic extension by one row/column).
+    Read-only; kept for the next call with the same PSD values, coordinates and grid."""
+    values = np.ascontiguousarray(values, dtype=float)
+    key = (*(hashlib.sha1(np.ascontiguousarray(a, dtype=float)).hexdigest() for a in (values, qy_c, qx_c)),
+           ny, nx, dy, dx, factor)
+    with _ON_GRID_LOCK:
+        hit = _ON_GRID.get(key)
+    if hit is not None:
+        return hit
+    values = _values_checked(values * factor, "PSD")
     src = xr.DataArray(values, dims=("qy", "qx"), coords={"qy": qy_c, "qx": qx_c},
                        attrs={"units": "m4", "spacing_x": dx, "spacing_y": dy})
     full = np.fft.ifftshift(np.asarray(interpolate_psd(src, shape=(ny, nx)).values))
-    return full[:, : nx // 2 + 1]
+    out = np.ascontiguousarray(full[:, : nx // 2 + 1])
+    out.flags.writeable = False
+    with _ON_GRID_LOCK:
+        _ON_GRID[key] = out
+        while len(_ON_GRID) > 4:
+            _ON_GRID.pop(next(iter(_ON_GRID)))
+    return out
 
 
 def _psd_iso_on_grid(values, q_c, qy, qx, factor):

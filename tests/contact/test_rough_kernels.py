@@ -132,18 +132,28 @@ def _four_x(z, kw):
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_automatic_grid_converged_small_maps(family, seed):
     # Gamma (Eq. 13), pull-off and d_eq on the automatic grid against the same grid with every
-    # interval split in four. Measured at 256^2 (seeds 1-6 of five families): worst Gamma 0.27 %,
-    # d_eq 0.18 %, pull-off 0.65 % (smooth, seed 3; the curves of small maps are staircases)
+    # interval split in four: the 0.5 %. Measured at 256^2 (seeds 1-6 of the four
+    # families): worst Gamma 0.29 %, d_eq 0.20 %, pull-off 0.15 % (the pull-off is the tip of a
+    # tooth of the staircase: the grid refines every interval that a tie of drying pixels could
+    # make deeper than the best point, then snaps to the wetting and contact events there)
     h = family_surface(family, shape=(256, 256), seed=seed)
     eg, ep, ed = _four_x(h.values, dict(KW, periodic=True))
-    assert eg < 5e-3 and ed < 5e-3
-    assert ep < 1e-2
+    assert max(eg, ep, ed) < 5e-3, (eg, ep, ed)
 
 
-@pytest.mark.slow
+@pytest.mark.parametrize("sample", ["S1A", "S2A"])
+def test_automatic_grid_converged_measured_samples(sample):
+    # measured maps have quantised heights: ties of tens of pixels dry at once, so the pull-off
+    # hides at the tip of a tall tooth between two grid points (S1A had 0.95 %, S2A 0.69 %
+    # before the per-interval tie bound). Whole 1024^2 maps (the benchmark's; ~2 s each)
+    h = rs.read_afm(DATA / f"{sample}.nc").isel(y=slice(0, 1024), x=slice(0, 1024)).load()
+    eg, ep, ed = _four_x(h.values, dict(KW, periodic=False))
+    assert max(eg, ep, ed) < 5e-3, (eg, ep, ed)
+
+
 @pytest.mark.parametrize("family", ["S1", "S2", "table4", "smooth"])
 def test_automatic_grid_converged_1024(family):
-    # the 0.5 % on 1024^2 maps (measured on seeds 1-3: worst 0.33 %)
+    # the 0.5 % on 1024^2 maps (~1 s each)
     h = family_surface(family, shape=(1024, 1024), seed=1)
     eg, ep, ed = _four_x(h.values, dict(KW, periodic=True))
     assert max(eg, ep, ed) < 5e-3, (eg, ep, ed)

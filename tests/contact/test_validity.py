@@ -56,6 +56,21 @@ def test_surface_groups_over_a_stack_and_humidities():
                                rtol=1e-12)
 
 
+@pytest.mark.parametrize("rh", [0.6, [0.3, 0.9]])
+def test_the_warning_reads_the_same_groups_as_surface_groups(rh):
+    # warn_if_outside_validity computes its three features without surface_groups' Dataset and
+    # correlation length (the cost of the default rough_contact_curves call): same numbers,
+    # for one map, a stack and a map with NaN pixels
+    one = family_map("S2")
+    holes = one.copy(data=np.where(np.arange(one.size).reshape(one.shape) % 97 == 0, np.nan, one.values))
+    stack = xr.concat([one, family_map("table4")], dim="realization")
+    for h in (one, holes, stack):
+        fast = validity._group_points(h, rh, rs.POLYSILICON, None, "paper")
+        ref = validity._group_points(None, rh, rs.POLYSILICON, None, "paper",
+                                     groups=rs.surface_groups(h, relative_humidity=rh))
+        assert fast == ref
+
+
 def test_the_reference_has_no_error_and_the_bound_covers_the_measured_cases():
     t = rs.validity_map()
     assert validity.model_error("bem", {}).upper == 0.0

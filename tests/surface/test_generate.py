@@ -296,6 +296,24 @@ def test_same_grid_2d_psd_is_used_exactly_and_larger_maps_interpolate():
     np.testing.assert_allclose((hb.values**2).mean(axis=(1, 2)), m0_big, rtol=1e-10)
 
 
+def test_interpolated_psd_is_reused_by_content_only():
+    # an ensemble asks for the same interpolated PSD once per block: it is kept, keyed by the
+    # PSD's values, coordinates and the target grid, so a changed PSD is never served stale
+    z = generate_surfaces(S2, n=1, shape=(32, 32), spacing=10e-9, seed=8).values[0]
+    psd = _psd_2d(z, 10e-9)
+    kw = dict(shape=(64, 64), spacing=10e-9, amplitude="fixed")
+    with pytest.warns(rs.ExtrapolatedPSDWarning):
+        a = generate_surfaces(psd, n=2, seed=1, **kw).values
+        b = generate_surfaces(psd, realizations=[1], seed=1, **kw).values
+        np.testing.assert_array_equal(a[1:], b)
+        twice = psd.copy(data=2 * psd.values)
+        c = generate_surfaces(twice, n=2, seed=1, **kw).values
+        np.testing.assert_allclose(c, np.sqrt(2) * a, rtol=0, atol=1e-12 * np.abs(c).max())
+        psd.values[...] *= 2  # in place: same object, new content
+        d = generate_surfaces(psd, n=2, seed=1, **kw).values
+    np.testing.assert_array_equal(c, d)
+
+
 def test_isotropic_dataarray_matches_callable():
     q = np.linspace(0, 1.5 * np.pi / 5e-9, 4000)
     fit = rs.fit_self_affine(**TABLE3["S1"], qmax=289e6)
