@@ -61,7 +61,7 @@ OUTPUTS = CURVE_VARIABLES
 
 # parameters (index in the params array)
 EPS, ETA, FINE, ZERO_BAND, PULL_BAND, PULL_STOP, MARGIN, WFLOOR_REL, MAXP, DEQ_TOL, PULL_FINE, PULL_SMOOTH, TIE, ZCAP, DEQ_EST, DEQ_MAXW = range(16)
-DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.005, 0.0, 0.03, 1e-5, 4000.0, 0.004, 2.0, 0.002, 1.0, 3.0, 0.25, 2.0])
+DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.003, 0.0, 0.03, 1e-5, 4000.0, 0.004, 2.0, 0.002, 1.0, 3.0, 0.25, 2.0])
 
 
 @nb.njit(**_NJ)
