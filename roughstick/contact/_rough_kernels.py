@@ -244,6 +244,14 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                     a = stk[c, sp[c] - 1, 0]
                     b = stk[c, sp[c] - 1, 1]
                     m = 0.5 * (a + b)
+                    below = True  # wholly below every humidity's crossing: nothing to test there
+                    for j in range(R):
+                        if mask[c, j] and (np.isnan(crossed[c, j]) or b > crossed[c, j]):
+                            below = False
+                    if below and _find(Dv, ordd, nlev, a) >= 0 and _find(Dv, ordd, nlev, b) >= 0:
+                        sp[c] -= 1
+                        progressed = True
+                        continue
                     ia = _find(Dv, ordd, nlev, a)
                     ib = _find(Dv, ordd, nlev, b)
                     im = _find(Dv, ordd, nlev, m)
