@@ -61,7 +61,7 @@ OUTPUTS = CURVE_VARIABLES
 
 # parameters (index in the params array)
 EPS, ETA, FINE, ZERO_BAND, PULL_BAND, PULL_STOP, MARGIN, WFLOOR_REL, MAXP, DEQ_TOL, PULL_FINE, PULL_SMOOTH, TIE, ZCAP, DEQ_EST, DEQ_MAXW = range(16)
-DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.005, 0.0, 0.03, 1e-5, 4000.0, 0.004, 2.0, 0.002, 1.0, 3.0, 0.25, 2.0])
+DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.003, 0.0, 0.03, 1e-5, 4000.0, 0.004, 2.0, 0.002, 1.0, 3.0, 0.25, 2.0])
 
 
 @nb.njit(**_NJ)
@@ -244,6 +244,14 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                     a = stk[c, sp[c] - 1, 0]
                     b = stk[c, sp[c] - 1, 1]
                     m = 0.5 * (a + b)
+                    below = True  # wholly below every humidity's crossing: nothing to test there
+                    for j in range(R):
+                        if mask[c, j] and (np.isnan(crossed[c, j]) or b > crossed[c, j]):
+                            below = False
+                    if below and _find(Dv, ordd, nlev, a) >= 0 and _find(Dv, ordd, nlev, b) >= 0:
+                        sp[c] -= 1
+                        progressed = True
+                        continue
                     ia = _find(Dv, ordd, nlev, a)
                     ib = _find(Dv, ordd, nlev, b)
                     im = _find(Dv, ordd, nlev, m)

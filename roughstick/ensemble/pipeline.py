@@ -360,8 +360,9 @@ def _own_grid_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dat
 def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> xr.Dataset:
     """Compute realizations [start, stop) at humidities rh[rh_lo:rh_hi] (numpy in, numpy out)."""
     h = _surfaces(spec, start, stop)
-    top = h.max(("y", "x")) - h.mean(("y", "x"))  # d is measured from the mean plane (Eq. 16)
-    bottom = h.min(("y", "x")) - h.mean(("y", "x"))
+    mean = h.mean(("y", "x"))
+    top = h.max(("y", "x")) - mean  # d is measured from the mean plane (Eq. 16)
+    bottom = h.min(("y", "x")) - mean
     hw = spec.water_max
     rh = as_relative_humidity(spec.rh[rh_lo:rh_hi])
     grid = np.asarray(spec.distance, dtype=float)

@@ -66,14 +66,36 @@ def valid_block(path, *, params_hash: str, block: tuple[int, int]) -> bool:
         return False
     try:
         with xr.open_dataset(path, engine="netcdf4") as ds:
-            return (
-                ds.attrs.get("roughstick_params_hash") == params_hash
-                and int(ds.attrs.get("roughstick_block_realization", -1)) == block[0]
-                and int(ds.attrs.get("roughstick_block_rh", -1)) == block[1]
-                and int(ds.attrs.get("roughstick_block_complete", 0)) == 1
-            )
+            return _block_attrs_ok(ds.attrs, params_hash, block)
     except (OSError, ValueError, KeyError, RuntimeError):
         return False
+
+
+def _block_attrs_ok(attrs, params_hash, block) -> bool:
+    return (
+        attrs.get("roughstick_params_hash") == params_hash
+        and int(attrs.get("roughstick_block_realization", -1)) == block[0]
+        and int(attrs.get("roughstick_block_rh", -1)) == block[1]
+        and int(attrs.get("roughstick_block_complete", 0)) == 1
+    )
+
+
+def _open_block(path, params_hash, block, chunks):
+    """The block opened once and checked on its own attributes (None: missing or not a complete
+    block of this run)."""
+    if not path.exists():
+        return None
+    try:
+        ds = xr.open_dataset(path, engine="netcdf4", chunks=chunks)
+    except (OSError, ValueError, KeyError, RuntimeError):
+        return None
+    try:
+        if _block_attrs_ok(ds.attrs, params_hash, block):
+            return ds
+    except (ValueError, KeyError):
+        pass
+    ds.close()
+    return None
 
 
 def open_ensemble(folder, *, chunks=None, allow_incomplete: bool = False) -> xr.Dataset:
@@ -115,12 +137,14 @@ def open_ensemble(folder, *, chunks=None, allow_incomplete: bool = False) -> xr.
         row = []
         for j in range(n_h):
             p = folder / block_name(i, j)
-            if valid_block(p, params_hash=m["params_hash"], block=(i, j)):
-                row.append(p)
-            else:  # missing, or not a complete block of this run: never used
+            ds = _open_block(p, m["params_hash"], (i, j), chunks)
+            if ds is None:  # missing, or not a complete block of this run: never used
                 missing.append(p.name)
+                for other in row:
+                    other.close()
                 row = None
                 break
+            row.append(ds)
         if row is not None:
             rows.append(row)
     if missing and not allow_incomplete:
@@ -131,9 +155,8 @@ def open_ensemble(folder, *, chunks=None, allow_incomplete: bool = False) -> xr.
         )
     if not rows:
         raise ValueError(f"ensemble in {str(folder)!r} has no completed realization chunk yet.")
-    grid = [[xr.open_dataset(p, engine="netcdf4", chunks=chunks) for p in row] for row in rows]
     ds = xr.combine_nested(
-        grid,
+        rows,
         concat_dim=["realization", "rh"],
         data_vars="minimal",
         coords="minimal",
