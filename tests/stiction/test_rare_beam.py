@@ -121,3 +121,11 @@ def test_interval_coverage_over_seeds():
                                                  seed=100 + seed).squeeze()
         hits += float(ds.stiction_probability_lower) <= exact <= float(ds.stiction_probability_upper)
     assert hits >= 33
+
+
+def test_bit_identical_across_chunks_and_threads():
+    bank = lognormal_bank(n_law=1000)
+    kw = dict(beam_length=[140e-6], samples_per_level=200, target_cv=None, seed=4)
+    a = rs.beam_stiction_probability_subset(bank, **kw)
+    b = rs.beam_stiction_probability_subset(bank, chunks=7, scheduler="threads", **kw)
+    xr.testing.assert_identical(a.drop_attrs(), b.drop_attrs())
