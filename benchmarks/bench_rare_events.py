@@ -23,6 +23,29 @@ from _yardstick import ifft_seconds
 import roughstick as rs
 
 
+def _lineages(ds, r):
+    """Distinct level-0 ancestors of the seeds kept at each level and of the final failures, and
+    the effective number of final lineages 1 / sum_i (n_i / n_F)^2 (the genealogical cv is about
+    its inverse square root): where the estimator's variance comes from (docs/rare_events.md)."""
+    from roughstick.stiction import _rare_kernels as _k
+
+    nl = int(ds.run_levels[r])
+    chains, kept = [], []
+    for j in range(nl):
+        y = ds.response.values[r, j]
+        ok = np.isfinite(y)
+        chains.append(ds.chain.values[r, j][ok].astype(np.int64))
+        kept.append(np.flatnonzero(y[ok] > ds.next_threshold.values[r, j]))
+    roots = _k.root_ancestors(chains, kept)
+    per_level = [len(np.unique(roots[j][kept[j]])) for j in range(nl)]
+    final = roots[-1][kept[-1]]
+    if final.size == 0:
+        return f"kept seeds descend from {per_level} level-0 samples; no failure"
+    n_i = np.unique(final, return_counts=True)[1] / final.size
+    return (f"kept states descend from {per_level} level-0 samples; effective number of final "
+            f"lineages {1 / np.sum(n_i**2):.1f}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--threshold", type=float, default=0.036)
@@ -66,6 +89,8 @@ def main():
               f"{np.round(ds.conditional_probability.values[r], 3)}, gamma "
               f"{np.round(ds.correlation_factor.values[r], 2)}, acceptance "
               f"{np.round(ds.acceptance_rate.values[r], 2)}")
+    for r in range(ds.sizes["run"]):
+        print(f"  run {r} lineages: {_lineages(ds, r)}")
     print(f"wall {wall:.1f} s = {wall / n * 1e3:.2f} ms per evaluation = {wall / n / unit:.1f} x one "
           f"1024^2 complex iFFT ({unit * 1e3:.1f} ms in this process)")
     if p > 0:

@@ -67,6 +67,10 @@ class Field:
 
 
 F = Field
+_SMALL_P = {  # the small-probability methods' stopping rule: [risk] of risk, [ensemble] of beam
+    "target_cv": F("fraction", "method 'subset'/'monte_carlo': stop when the cv of P(stuck) is at most this", default=0.3),
+    "max_evaluations": F("int", "method 'subset'/'monte_carlo': evaluations allowed per length, RH (and layer)", default=20000, minimum=10),
+    "samples_per_level": F("int", "method 'subset': samples per level (a multiple of 5: p0 = 0.2)", default=1000, minimum=10)}
 _COMMON = {
     "surface": {
         "spacing": F("length", "pixel size of the generated surfaces", required=True),
@@ -166,13 +170,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "method": F("choice", "'count': count stuck surfaces of [ensemble]; 'subset': subset "
                                   "simulation of P(stuck) on zones of [surface] shape (small "
                                   "probabilities); 'monte_carlo': crude Monte Carlo on those zones",
-                        default="count", choices=("count", "subset", "monte_carlo")),
-            "target_cv": F("fraction", "method 'subset'/'monte_carlo': stop when the cv of P(stuck) is "
-                                       "at most this", default=0.3),
-            "max_evaluations": F("int", "method 'subset'/'monte_carlo': model evaluations allowed per "
-                                        "length, RH and layer", default=20000, minimum=10),
-            "samples_per_level": F("int", "method 'subset': samples per level (a multiple of 5: "
-                                          "p0 = 0.2)", default=1000, minimum=10),
+                        default="count", choices=("count", "subset", "monte_carlo")), **_SMALL_P,
         },
         "measured": {  # an array of tables: [[measured]]
             "label": F("str", "legend label", default="measured"),
@@ -209,6 +207,8 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                             "cohesive Euler-Bernoulli beam on each patch's law (~0.5 s per beam)",
                             default="sharp_front", choices=("sharp_front", "cohesive")),
             "seed": F("int", "root seed of the beams", default=0, minimum=0),
+            "method": F("choice", "'count': count stuck beams among n; 'subset'/'monte_carlo': P(stuck) on the bank to target_cv (sharp front; down to 1/laws)",
+                        default="count", choices=("count", "subset", "monte_carlo")), **_SMALL_P,
         },
         "bank": {
             "laws": F("int", "patch laws in the bank (surfaces computed once per RH)", default=1000,

@@ -3,8 +3,12 @@
 Builds (or reads back from its on-disk cache) a bank of patch laws for the PSD and RH of the file,
 runs the crack-front model of :mod:`roughstick.stiction.beam_model` on ``n`` beams per length and
 RH, and writes ``beam.nc`` (crack length, stuck flag, apparent Γ by Eq. 36, P(stuck) with its
-Wilson interval over (realization, rh, beam_length)). The file follows the one configuration
-schema of every command (docs/configuration.md); see ``examples/beam.toml``.
+Wilson interval over (realization, rh, beam_length)). With ``method = "subset"`` in [ensemble]
+(sharp front only) it estimates P(stuck) on the bank by subset simulation to ``target_cv``
+instead (:func:`roughstick.beam_stiction_probability_subset`; ``beam.nc`` over (rh,
+beam_length) with interval, cv, evaluations and the bank's closed-form value). The file follows
+the one configuration schema of every command (docs/configuration.md); see
+``examples/beam.toml`` and ``examples/beam_subset.toml``.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ import roughstick as rs
 
 from ..io.netcdf import write as write_netcdf
 from ._common import LOG, claim_folder, finish_folder
-from ._config import check_memory, parse, read_toml
+from ._config import ConfigError, check_memory, parse, read_toml
 
 __all__ = ["register"]
 
@@ -58,6 +62,7 @@ def _run(args) -> int:
     beam = rs.Cantilever(width=b["width"], thickness=b["thickness"], gap=b["gap"],
                          youngs_modulus=b["youngs_modulus"])
     rh = np.asarray(ens["relative_humidity"], dtype=float)
+    _check_method(ens, path.name)
     out = pathlib.Path(args.out) if args.out else _beside(path, o.get("folder") or "beam-output")
     claim_folder(out, command="beam", params={"config": path.read_text()},
                  overwrite=args.overwrite or o["overwrite"])
@@ -66,6 +71,8 @@ def _run(args) -> int:
                                spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["model"],
                                cache_dir=_beside(path, bank_cfg["cache"]))
     t1 = time.perf_counter()
+    if ens["method"] != "count":
+        return _run_subset(bank, b, ens, beam, out, t0, t1, overwrite=args.overwrite or o["overwrite"])
     ds = rs.simulate_beams(bank, beam_length=np.asarray(b["lengths"], dtype=float), n_realization=ens["n"],
                            seed=ens["seed"], protocol=ens["protocol"], beam=beam,
                            patch_length=b.get("patch_length"), model=ens["beam_model"])
@@ -85,5 +92,56 @@ def _run(args) -> int:
                      f"[{float(ds.stuck_probability_lower.sel(sel)):.3f}, "
                      f"{float(ds.stuck_probability_upper.sel(sel)):.3f}] "
                      f"(95 % Wilson interval, n = {ds.sizes['realization']})")
+    LOG.info(f"wrote {out / 'beam.nc'}")
+    return 0
+
+
+def _check_method(ens: dict, source: str) -> None:
+    """[ensemble] method settings, checked before anything is computed."""
+    if ens["method"] == "count":
+        return
+    problems = []
+    if ens["beam_model"] != "sharp_front":
+        problems.append(f"[ensemble] method = {ens['method']!r} needs beam_model = 'sharp_front' (the cohesive "
+                        "beam has no stuck margin to condition on; use method = 'count' for it)")
+    if ens["method"] == "subset" and ens["samples_per_level"] % 5:
+        problems.append(f"[ensemble] samples_per_level = {ens['samples_per_level']}: must be a multiple of 5 "
+                        "(20 % of each level seed the chains), e.g. 1000")
+    if ens["max_evaluations"] < ens["samples_per_level"]:
+        problems.append(f"[ensemble] max_evaluations = {ens['max_evaluations']} is below samples_per_level = "
+                        f"{ens['samples_per_level']}: raise it (e.g. 20000)")
+    if problems:
+        raise ConfigError(f"{source}: " + "; ".join(problems) + ".")
+
+
+def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite) -> int:
+    """P(stuck)(rh, beam_length) on the bank by subset simulation (or crude Monte Carlo)."""
+    method = ens["method"]
+    ds = rs.beam_stiction_probability_subset(
+        bank, beam_length=np.asarray(b["lengths"], dtype=float), protocol=ens["protocol"], beam=beam,
+        patch_length=b.get("patch_length"), method=method, target_cv=ens["target_cv"],
+        max_evaluations=ens["max_evaluations"], samples_per_level=ens["samples_per_level"],
+        seed=ens["seed"], output=out / "levels", overwrite=overwrite)
+    t2 = time.perf_counter()
+    write_netcdf(ds, out / "beam.nc", compute=True)
+    finish_folder(out)
+    src = "read from cache" if bank.attrs.get("from_cache") else "computed"
+    n_law = int(ds.attrs["n_law"])
+    LOG.info(f"bank: {n_law} laws x {bank.sizes['rh']} RH {src} in {t1 - t0:.1f} s "
+             f"({bank.attrs.get('cache_file')})")
+    LOG.info(f"{method}: P(stuck) [95 % interval], cv, beams evaluated, in {t2 - t1:.2f} s; "
+             "'bank' = closed form on the same bank")
+    for r in ds.rh.values:
+        for length in ds.beam_length.values:
+            d = ds.sel(rh=r, beam_length=length)
+            LOG.info(f"RH {r:.2f}  l {length * 1e6:7.1f} um  P(stuck) {float(d.stiction_probability):.3g} "
+                     f"[{float(d.stiction_probability_lower):.3g}, {float(d.stiction_probability_upper):.3g}] "
+                     f"cv {float(d.coefficient_of_variation):.2f}, {int(d.n_evaluations)} beams"
+                     + ("" if int(d.converged) else " (target cv not met)")
+                     + f"; bank {float(d.bank_stiction_probability):.3g}")
+    if float(ds.bank_stiction_probability.min()) < 1.0 / n_law:
+        LOG.info(f"note: P(stuck) below 1/{n_law} is not resolved by a bank of {n_law} laws (0 on the bank "
+                 "means no law holds the beam's last patch); for smaller risks use `roughstick risk` "
+                 "with method = 'subset' (zone model) or a larger bank (docs/rare_events.md)")
     LOG.info(f"wrote {out / 'beam.nc'}")
     return 0

@@ -216,7 +216,7 @@ class _Level:
 
     def to_dataset(self, rattrs):
         n = self.response.size
-        kn = self.keep_noise.reshape(self.keep_noise.shape[0], -1)
+        kn = self.keep_noise.reshape(self.keep_noise.shape[0], self.spread.size)  # 0 kept: (0, n)
         ds = xr.Dataset(
             {
                 "response": ("sample", self.response),

@@ -34,14 +34,17 @@ from roughstick._core.conventions import append_history
 from roughstick._core.dask import as_seed_sequence
 from roughstick.contact import water_height
 
+from . import _rare_beam as _b
 from . import _rare_engine as _e
 from . import _rare_surface as _s
 from .beam import PAPER_CANTILEVER, Cantilever, critical_adhesive_energy
+from .beam_model import PROTOCOLS, _check_patch_length, _n_patches
 
 __all__ = [
     "subset_simulation",
     "failure_probability",
     "stiction_probability_subset",
+    "beam_stiction_probability_subset",
     "weakest_link",
     "surface_from_noise",
 ]
@@ -500,3 +503,129 @@ def stiction_probability_subset(
                      "beam_length": float(beam.length if length is None else length)})
     append_history(ds, f"stiction_probability_subset(length={ds.attrs['beam_length']:.4g} m, method={method!r})")
     return ds
+
+
+_BEAM_VARS = ("failure_probability", "failure_probability_lower", "failure_probability_upper",
+              "coefficient_of_variation", "au_beck_cv", "n_evaluations", "converged")
+
+
+def beam_stiction_probability_subset(
+    bank: xr.DataArray,
+    *,
+    beam_length,
+    protocol: str = "release",
+    beam: Cantilever = PAPER_CANTILEVER,
+    patch_length: float | None = None,
+    method: str = "subset",
+    target_cv: float | None = 0.3,
+    max_evaluations: int | None = 20_000,
+    samples_per_level: int = 1000,
+    seed=0,
+    output=None,
+    overwrite: bool = False,
+    **options,
+) -> xr.Dataset:
+    r"""P(stuck) of the beam-scale model (sharp front on a patch bank) by subset simulation.
+
+    The rare-event counterpart of :func:`roughstick.simulate_beams` (``model="sharp_front"``):
+    patch :math:`j` of a beam takes law :math:`\lfloor\Phi(z_j) n_{law}\rfloor` of ``bank``
+    for standard-normal :math:`z_j` (uniform, independent laws, as ``simulate_beams`` draws
+    them), and a released beam is stuck exactly when
+    :math:`R = \max_j \Gamma_j x_{j+1}^4/K > 1` (the front stops at the first patch whose
+    Eq. 36 equilibrium lies before its far edge; :math:`K = \tfrac32 E h^2 t^3`). One model
+    evaluation is one beam (microseconds), so the cost is the sampler's.
+
+    On a bank the same probability has a closed form, :math:`1-\prod_j(1-q_j)` with
+    :math:`q_j` the fraction of laws above :math:`K/x_{j+1}^4`, returned as
+    ``bank_stiction_probability``: the subset estimate is checked against it (tests). Both are
+    probabilities *given the bank*: a bank of :math:`n` laws cannot give a non-zero P(stuck)
+    below :math:`1/n` (one law able to hold the beam's last patch already gives :math:`1/n`),
+    so smaller risks need the zone model (:func:`stiction_probability_subset`, the pull-out
+    proxy on surfaces) or a larger bank. ``protocol="step_up"``: a beam stuck at the first RH
+    stays stuck and a free one stays free (the front only closes), so P(stuck) at every RH is
+    that of the first.
+
+    Parameters
+    ----------
+    bank : xarray.DataArray
+        Adhesive energy [J m-2] over ``(law, rh)`` (:func:`roughstick.build_patch_bank`).
+    beam_length : float or sequence
+        Beam lengths [m].
+    protocol : {"release", "step_up"}
+    beam : Cantilever
+        Thickness, gap, width and modulus (its length is replaced by ``beam_length``).
+    patch_length : float, optional
+        Patch length [m]; default the beam thickness (paper §5.2).
+    method, target_cv, max_evaluations, samples_per_level, seed
+        As in :func:`subset_simulation` (the same seed at every RH and length: common random
+        numbers).
+    output : path, optional
+        Folder; one sub-folder per (rh, length) with one file per completed level (resume).
+    **options
+        Further keywords of :func:`subset_simulation`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``(rh, beam_length)``: ``stiction_probability`` with
+        ``stiction_probability_lower``/``_upper``, ``coefficient_of_variation``,
+        ``au_beck_cv``, ``n_evaluations``, ``converged`` and ``bank_stiction_probability``.
+    """
+    if protocol not in PROTOCOLS:
+        raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
+    if set(bank.dims) != {"law", "rh"}:
+        raise ValueError(f"bank must have dims ('law', 'rh') (an energy bank of build_patch_bank), got "
+                         f"{bank.dims}; method='subset' works on the sharp-front model only")
+    bank = bank.transpose("law", "rh")
+    energy = np.asarray(bank.values, dtype=float)
+    if np.isnan(energy).any():
+        raise ValueError("bank has NaN adhesive energies: drop those laws (bank.dropna('law'))")
+    rh = bank["rh"].values if "rh" in bank.coords else np.arange(bank.sizes["rh"])
+    if protocol == "step_up" and np.any(np.diff(rh) <= 0):
+        raise ValueError("protocol='step_up' needs the bank's rh coordinate increasing")
+    lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
+    if lengths.ndim != 1 or np.any(~np.isfinite(lengths)) or np.any(lengths <= 0):
+        raise ValueError(f"beam_length must be positive lengths in m, got {beam_length!r}")
+    patch_length = _check_patch_length(beam.interaction_zone_length if patch_length is None else patch_length)
+    kterm = beam.stiffness_term  # K does not depend on the length
+    options.setdefault("scheduler", "sync")  # microseconds per beam: dask tasks would cost more
+    options.setdefault("chunks", 100_000)
+    rows = []
+    for k in range(len(rh)):
+        kk = 0 if protocol == "step_up" else k
+        row = []
+        for length in lengths:
+            w = _b.edge_weights(_n_patches(length, patch_length), patch_length, float(length), kterm)
+            model = _b.BeamMargin(energy[:, kk], w)
+            sub = None if output is None else pathlib.Path(output) / f"rh-{rh[kk]:.4f}-l-{length * 1e6:.4g}um"
+            ds = subset_simulation(model, noise_shape=model.noise_shape, threshold=1.0, method=method,
+                                   samples_per_level=samples_per_level, target_cv=target_cv,
+                                   max_evaluations=max_evaluations, seed=seed, output=sub,
+                                   overwrite=overwrite, token=model.token(),
+                                   response_attrs={"long_name": "stuck margin max_j Gamma_j x_j+1^4 / K"},
+                                   **options)
+            d = ds[list(_BEAM_VARS)].drop_vars([c for c in ds.coords], errors="ignore")
+            d["bank_stiction_probability"] = xr.DataArray(model.exact(), attrs={
+                "units": "1", "long_name": "P(stuck) on the bank, closed form 1 - prod_j (1 - q_j)"})
+            row.append(d)
+        rows.append(xr.concat(row, dim="beam_length"))
+    res = xr.concat(rows, dim="rh")
+    res = res.rename({"failure_probability": "stiction_probability",
+                      "failure_probability_lower": "stiction_probability_lower",
+                      "failure_probability_upper": "stiction_probability_upper"})
+    res["stiction_probability"].attrs["long_name"] = "probability that the beam stays stuck"
+    res = res.assign_coords(rh=("rh", np.asarray(rh, dtype=float), {
+        "units": "1", "long_name": "relative humidity", "standard_name": "relative_humidity"}),
+        beam_length=("beam_length", lengths, {"units": "m", "long_name": "beam length"}))
+    for name in ("coefficient_of_variation", "au_beck_cv", "n_evaluations", "converged"):
+        res[name].attrs.setdefault("units", "1")
+    if np.ndim(beam_length) == 0:
+        res = res.squeeze("beam_length")
+    res.attrs.update({"method": method, "protocol": protocol, "patch_length": patch_length,
+                      "n_law": int(energy.shape[0]), "bank_resolution": 1.0 / energy.shape[0],
+                      "target_cv": float("nan") if target_cv is None else float(target_cv),
+                      "probability_model": "sharp-front beam on the patch bank (beam_model), laws drawn "
+                                           "uniformly by white noise; P given the bank"})
+    append_history(res, f"beam_stiction_probability_subset(method={method!r}, protocol={protocol!r}, "
+                        f"n_law={energy.shape[0]})")
+    return res
