@@ -4,7 +4,8 @@ Unknowns ``(x0, y0, t)``, ``t = delta / a_f`` in ``[0, 1]`` (see :mod:`._rough_k
 conventions shared with :mod:`._rough_reference`); a projected Levenberg-Marquardt iteration with
 an analytic Jacobian, started from the least-squares paraboloid of the footprint (five pixels or
 more) and the centroid, keeping the better. Two safeguards keep it from stopping where the
-literal reference finds a better fit: a fit ending on the plateau ``t = 0`` is restarted from
+literal reference finds a better fit: a fit ending on the plateau ``t = 0`` (or below
+``t = 1e-6``, where the cost cannot tell them apart) is restarted from
 the h-weighted centroid when a cap there fits better (:func:`plateau_escape`; without it 2.0e-2
 relative pressure differences on S2A crops, issue 12), and a fit leaving pixels outside its
 sphere or its centre on the bound, where Eq. 21's cost is not smooth and has several minima, is
@@ -19,8 +20,9 @@ from __future__ import annotations
 import math
 
 import numba as nb
+import numpy as np
 
-__all__ = ["fit_sphere", "small_fit", "cost_at", "derivs_at", "paraboloid_start", "plateau_escape", "outside", "grid_search", "lm"]
+__all__ = ["fit_footprint", "fit_sphere", "small_fit", "cost_at", "derivs_at", "paraboloid_start", "plateau_escape", "over_plateau", "outside", "grid_search", "lm"]
 
 
 _FASTMATH = {"reassoc", "contract"}
@@ -33,6 +35,7 @@ _PARABOLOID_RCOND = 1e-10
 _STOP = 1e-9
 _STOP_LAMBDA = 1e-2
 _SAME = 1e-7
+_T_PLATEAU = 1e-6  # below this cap height the fit has stopped on the plateau (its centre free)
 _GRID_CENTRES = 7  # the search where a fit leaves pixels outside its sphere: 7 x 7 centres,
 _GRID_CAPS = 8  # 8 cap heights, the 5 best polished (M's 4 x 5 entries hold them)
 
@@ -417,12 +420,13 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
             t2, cost2, x2, y2, st = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, x0, y0, t, True)
             if st != 1 and cost2 < cost:
                 t, cost, x0, y0 = t2, cost2, x2, y2
-    if t <= 0.0:
+    if t < _T_PLATEAU:  # on (or indistinguishably near) the plateau, where the centre is free
         ok, px, py, pt = plateau_escape(xs, ys, hs, wt)
         if ok:
             t2, cost2, x2, y2, _s = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, 0.0, 0.0, 0.0,
                                        False)
-            if cost2 < cost:
+            here = over_plateau(xs, ys, hs, wt, x0, y0, t) if t > 0.0 else 0.0
+            if t2 > 0.0 and over_plateau(xs, ys, hs, wt, x2, y2, t2) < here:
                 t, cost, x0, y0 = t2, cost2, x2, y2
     if t > 0.0:
         on_bound = x0 <= lo0 or x0 >= hi0 or y0 <= lo1 or y0 >= hi1
@@ -432,9 +436,35 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
         R = (1.0 + t * t) / (2.0 * t)
         if on_bound or (R * R < ex * ex + ey * ey and outside(xs, ys, wt, x0, y0, t)):
             t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M)
-    if plateau < cost:  # the plateau is always admissible
+    # the plateau is always admissible; near it the two costs differ by less than their rounding,
+    # so the difference is summed directly
+    if t > 0.0 and plateau <= cost * (1.0 + 1e-9) and not over_plateau(xs, ys, hs, wt, x0, y0, t) < 0.0:
         return 0.0, cost_at(xs, ys, hs, wt, 0.0, 0.0, 0.0), 0.0, 0.0
     return t, cost, x0, y0
+
+
+@nb.njit(cache=True, nogil=True, fastmath=_FASTMATH, error_model="numpy", _nrt=False)
+def over_plateau(xs, ys, hs, wt, x0, y0, t):  # pragma: no cover - compiled
+    """Cost of the cap (x0, y0, t) minus the plateau's, ``sum Hm (Hm - 2 h)``, without the
+    cancellation of two nearly equal sums of squares (a cap of t ~ 1e-6 gains ~1e-12 of them)."""
+    Q = 1.0 + t * t
+    QQ = Q * Q
+    ft2 = 4.0 * t * t
+    t2 = 2.0 * t
+    omt2 = 1.0 - t * t
+    out = -omt2 / t2
+    diff = 0.0
+    for p in range(xs.size):
+        dx = xs[p] - x0
+        dy = ys[p] - y0
+        rho2 = dx * dx + dy * dy
+        W2 = QQ - ft2 * rho2
+        if W2 > 0.0:
+            Hm = t2 * (1.0 - rho2) / (math.sqrt(W2) + omt2)
+        else:
+            Hm = out
+        diff += Hm * (Hm - 2.0 * hs[p]) * wt[p]
+    return diff
 
 
 @nb.njit(cache=True, nogil=True, fastmath=_FASTMATH, error_model="numpy", _nrt=False)
@@ -491,3 +521,23 @@ def grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M):  # prag
             t, cost, x0, y0 = t2, cost2, x2, y2
     return t, cost, x0, y0
 
+
+
+def fit_footprint(x, y, z, d, dx, dy):
+    """The fast fit of one footprint in physical units, as the kernel fits it (tests, benchmarks).
+
+    Same contract as :func:`roughstick.contact._rough_reference.fit_asperity`: ``x, y`` unwrapped
+    pixel centres [m], ``z`` heights [m] (all ``>= d``), ``d`` the level, ``dx, dy`` the pixel
+    size; returns ``(R, E)`` [m] (radius, inf for the plateau, and Eq. 23's rms fit error).
+    """
+    n = len(x)
+    af = math.sqrt(n * dx * dy / math.pi)
+    m = (n + _SIMD - 1) // _SIMD * _SIMD
+    xs, ys, hs, wt = (np.zeros(m) for _ in range(4))
+    xs[:n] = (x - np.mean(x)) / af
+    ys[:n] = (y - np.mean(y)) / af
+    hs[:n] = (np.asarray(z) - d) / af
+    wt[:n] = 1.0
+    t, cost, _x0, _y0 = fit_sphere(xs, ys, hs, wt, n, 0.5 * dx / af, 0.5 * dy / af, np.zeros((4, 5)))
+    R = af * (1.0 + t * t) / (2.0 * t) if t > 0 else math.inf
+    return R, math.sqrt(cost / n) * af

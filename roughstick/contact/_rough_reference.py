@@ -112,6 +112,19 @@ def _unwrap(mask_component, connectivity, periodic):
     return pix, rows, cols, wraps
 
 
+def footprints(z, d, *, dx, dy, periodic, connectivity):
+    """The asperities of ``z`` (heights as given: refer them to the mean plane first) at level d.
+
+    Yields ``(x, y, h)`` per asperity, in label order: unwrapped pixel centres [m] and heights [m].
+    """
+    with np.errstate(invalid="ignore"):
+        mask = z >= d
+    labels, n = _label(mask, connectivity, periodic)
+    for lab in range(1, n + 1):
+        pix, rows, cols, _wraps = _unwrap(labels == lab, connectivity, periodic)
+        yield cols * dx, rows * dy, z[pix[:, 0], pix[:, 1]]
+
+
 def sphere_profile(x, y, x0, y0, R, d, area):
     """Height of the constrained sphere of Eqs. 20-21 at (x, y), literally.
 
@@ -120,15 +133,20 @@ def sphere_profile(x, y, x0, y0, R, d, area):
     ``d + (A/pi - r^2) / (sqrt(R^2 - r^2) + sqrt(R^2 - A/pi))``, the same number without the
     cancellation of two nearly equal square roots when R is large.
     """
+    return d + above_level(x, y, x0, y0, R, area)
+
+
+def above_level(x, y, x0, y0, R, area):
+    """The sphere's height above the level d, ``sphere_profile - d``, without adding d."""
     if math.isinf(R):
-        return np.full(np.shape(x), float(d))
+        return np.zeros(np.shape(x))
     r2 = np.minimum((x - x0) ** 2 + (y - y0) ** 2, R * R)
     a2 = area / math.pi
     s = np.sqrt(R * R - r2)
     c = math.sqrt(max(R * R - a2, 0.0))
     if s.size and np.any(s + c == 0):
-        return np.where(s + c == 0, d, d + (a2 - r2) / np.where(s + c == 0, 1.0, s + c))
-    return d + (a2 - r2) / (s + c)
+        return np.where(s + c == 0, 0.0, (a2 - r2) / np.where(s + c == 0, 1.0, s + c))
+    return (a2 - r2) / (s + c)
 
 
 def radius_from_cap(t, af):
@@ -182,6 +200,12 @@ def fit_asperity(x, y, z, d, area, dx, dy):
         if third is not None:  # tried always here (the fast path: only when it ends on t = 0)
             starts.append(third)
 
+        def excess(p):
+            # cost minus the plateau's, sum Hm (Hm - 2 h): near the plateau the two costs differ
+            # by less than their rounding (t ~ 1e-6), this difference does not
+            hm = above_level(x, y, p[0] * af, p[1] * af, radius_from_cap(p[2], af), area) / af
+            return float(np.sum(hm * (hm - 2 * h / af)))
+
         def solve(x0, best):
             sol = optimize.least_squares(
                 residual,
@@ -194,7 +218,7 @@ def fit_asperity(x, y, z, d, area, dx, dy):
                 gtol=1e-15,
                 max_nfev=2000,
             )
-            cost = float(np.sum(residual(sol.x) ** 2))
+            cost = excess(sol.x)
             return (cost, sol.x) if best is None or cost < best[0] else best
 
         best = None
@@ -212,10 +236,7 @@ def fit_asperity(x, y, z, d, area, dx, dy):
             grid.sort(key=lambda g: g[0])
             for _c, x0 in grid[:5]:
                 best = solve(x0, best)
-        plateau = float(np.sum(residual((0.0, 0.0, 0.0)) ** 2))
-        if plateau < best[0]:  # the plateau is always admissible
-            best = (plateau, np.zeros(3))
-        p = best[1]
+        p = best[1] if best[0] < 0 else np.zeros(3)  # the plateau is always admissible
     E = math.sqrt(np.mean(residual(p) ** 2)) * af
     return radius_from_cap(p[2], af), E
 
@@ -287,15 +308,12 @@ def reference_curves(z, distance, water_height, laplace_pressure, *, dx, dy, K, 
     D, NR = distance.size, hw.size
     out = {k: np.zeros((NR, D)) for k in ("p", "rep", "wet", "cf", "nc", "fe", "dm")}
     for j, d in enumerate(distance):
-        with np.errstate(invalid="ignore"):
-            mask = z >= d
-        labels, n = _label(mask, connectivity, periodic)
+        n = 0
         F = Ah = Af = E2A = 0.0
-        for lab in range(1, n + 1):
-            comp = labels == lab
-            pix, rows, cols, _wraps = _unwrap(comp, connectivity, periodic)
-            area = len(pix) * dx * dy
-            R, E = fit_asperity(cols * dx, rows * dy, z[pix[:, 0], pix[:, 1]], d, area, dx, dy)
+        for x, y, h in footprints(z, d, dx=dx, dy=dy, periodic=periodic, connectivity=connectivity):
+            n += 1
+            area = x.size * dx * dy
+            R, E = fit_asperity(x, y, h, d, area, dx, dy)
             f, a = hertz(R, area, K)
             F += f
             Ah += a
