@@ -3,7 +3,15 @@
 Unknowns ``(x0, y0, t)``, ``t = delta / a_f`` in ``[0, 1]`` (see :mod:`._rough_kernels` for the
 conventions shared with :mod:`._rough_reference`); a projected Levenberg-Marquardt iteration with
 an analytic Jacobian, started from the least-squares paraboloid of the footprint (five pixels or
-more) or the centroid. Per-pixel sums are vectorised over blocks of ``_SIMD`` pixels (the
+more) and the centroid, keeping the better. Two safeguards keep it from stopping where the
+literal reference finds a better fit: a fit ending on the plateau ``t = 0`` (or below
+``t = 1e-6``, where the cost cannot tell them apart) is restarted from
+the h-weighted centroid when a cap there fits better (:func:`plateau_escape`; without it 2.0e-2
+relative pressure differences on S2A crops, issue 12), and a fit leaving pixels outside its
+sphere or its centre on the bound, where Eq. 21's cost is not smooth and has several minima, is
+compared with a grid search (:func:`grid_search`; never triggered on the five surface families,
+it is for steep asperities cut by the edge of a measured map). The plateau is always a
+candidate. Per-pixel sums are vectorised over blocks of ``_SIMD`` pixels (the
 footprint arrays are zero-padded with zero weight to a multiple of it).
 """
 
@@ -12,8 +20,9 @@ from __future__ import annotations
 import math
 
 import numba as nb
+import numpy as np
 
-__all__ = ["fit_sphere", "small_fit", "cost_at", "derivs_at", "paraboloid_start", "lm"]
+__all__ = ["fit_footprint", "fit_sphere", "small_fit", "cost_at", "derivs_at", "paraboloid_start", "plateau_escape", "over_plateau", "outside", "grid_search", "lm"]
 
 
 _FASTMATH = {"reassoc", "contract"}
@@ -26,6 +35,9 @@ _PARABOLOID_RCOND = 1e-10
 _STOP = 1e-9
 _STOP_LAMBDA = 1e-2
 _SAME = 1e-7
+_T_PLATEAU = 1e-6  # below this cap height the fit has stopped on the plateau (its centre free)
+_GRID_CENTRES = 7  # the search where a fit leaves pixels outside its sphere: 7 x 7 centres,
+_GRID_CAPS = 8  # 8 cap heights, the 5 best polished (M's 4 x 5 entries hold them)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
@@ -326,6 +338,41 @@ def lm(xs, ys, hs, wt, x0, y0, t, lo0, lo1, lo2, hi0, hi1, hi2, r0_, r1_, r2_, u
     return p2, cost, p0, p1, 2
 
 
+@nb.njit(cache=True, nogil=True, fastmath=_FASTMATH, error_model="numpy", _nrt=False)
+def plateau_escape(xs, ys, hs, wt):  # pragma: no cover - compiled
+    """Start leaving the plateau ``t = 0`` if the plateau is not a minimum of Eq. 21.
+
+    At ``t = 0`` the profile is the plane ``h = 0`` whatever the centre, so the iteration has no
+    gradient in (x0, y0) there and can stop on the plateau with its centre where a cap would fit
+    worse, while a cap centred elsewhere fits better. Near the plateau the cost is
+    ``sum h^2 - 2 t g(c) + O(t^2)`` with ``g(c) = sum h (1 - |x - c|^2)``, largest at the
+    h-weighted centroid ``c`` (inside the footprint's box, as ``h >= 0``). If ``g(c) > 0`` the
+    plateau is not a minimum: returns ``(True, cx, cy, t)`` with the Gauss-Newton cap height
+    ``t = g(c) / sum (1 - |x - c|^2)^2`` (at most the start cap limit); ``(False, ...)`` otherwise.
+    """
+    s = sx = sy = 0.0
+    for p in range(xs.size):
+        h = hs[p] * wt[p]
+        s += h
+        sx += h * xs[p]
+        sy += h * ys[p]
+    if not (s > 0.0):
+        return False, 0.0, 0.0, 0.0
+    cx = sx / s
+    cy = sy / s
+    g = 0.0
+    a = 0.0
+    for p in range(xs.size):
+        ex = xs[p] - cx
+        ey = ys[p] - cy
+        j = (1.0 - ex * ex - ey * ey) * wt[p]
+        g += j * hs[p]
+        a += j * j
+    if not (g > 0.0) or not (a > 0.0):
+        return False, 0.0, 0.0, 0.0
+    return True, cx, cy, min(g / a, _T_MAX_START)
+
+
 @nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
 def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
     """Eq. 21 fit of one asperity (dimensionless data, as the base kernel's ``_fit_sphere``).
@@ -342,10 +389,12 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
         t = small_fit(hs[:n], rho)
         return t, cost_at(xs, ys, hs, wt, 0.0, 0.0, t), 0.0, 0.0
     H = 0.0
+    plateau = 0.0  # the cost of the plateau t = 0
     xmin = xmax = xs[0]
     ymin = ymax = ys[0]
     for p in range(n):
         H += hs[p]
+        plateau += hs[p] * hs[p]
         v = xs[p]
         if v < xmin:
             xmin = v
@@ -370,9 +419,125 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
         if ok:
             t2, cost2, x2, y2, st = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, x0, y0, t, True)
             if st != 1 and cost2 < cost:
-                return t2, cost2, x2, y2
+                t, cost, x0, y0 = t2, cost2, x2, y2
+    if t < _T_PLATEAU:  # on (or indistinguishably near) the plateau, where the centre is free
+        ok, px, py, pt = plateau_escape(xs, ys, hs, wt)
+        if ok:
+            t2, cost2, x2, y2, _s = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, 0.0, 0.0, 0.0,
+                                       False)
+            here = over_plateau(xs, ys, hs, wt, x0, y0, t) if t > 0.0 else 0.0
+            if t2 > 0.0 and over_plateau(xs, ys, hs, wt, x2, y2, t2) < here:
+                t, cost, x0, y0 = t2, cost2, x2, y2
+    if t > 0.0:
+        on_bound = x0 <= lo0 or x0 >= hi0 or y0 <= lo1 or y0 >= hi1
+        # no pixel can be outside a sphere wider than the box seen from its centre (most fits)
+        ex = max(x0 - lo0, hi0 - x0)
+        ey = max(y0 - lo1, hi1 - y0)
+        R = (1.0 + t * t) / (2.0 * t)
+        if on_bound or (R * R < ex * ex + ey * ey and outside(xs, ys, wt, x0, y0, t)):
+            t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M)
+    # the plateau is always admissible; near it the two costs differ by less than their rounding,
+    # so the difference is summed directly
+    if t > 0.0 and plateau <= cost * (1.0 + 1e-9) and not over_plateau(xs, ys, hs, wt, x0, y0, t) < 0.0:
+        return 0.0, cost_at(xs, ys, hs, wt, 0.0, 0.0, 0.0), 0.0, 0.0
     return t, cost, x0, y0
 
-# ------------------------------------------------------------------------------------------
-# heights: buckets (counting sort), exact counts above a threshold, the lazily sorted top tail
 
+@nb.njit(cache=True, nogil=True, fastmath=_FASTMATH, error_model="numpy", _nrt=False)
+def over_plateau(xs, ys, hs, wt, x0, y0, t):  # pragma: no cover - compiled
+    """Cost of the cap (x0, y0, t) minus the plateau's, ``sum Hm (Hm - 2 h)``, without the
+    cancellation of two nearly equal sums of squares (a cap of t ~ 1e-6 gains ~1e-12 of them)."""
+    Q = 1.0 + t * t
+    QQ = Q * Q
+    ft2 = 4.0 * t * t
+    t2 = 2.0 * t
+    omt2 = 1.0 - t * t
+    out = -omt2 / t2
+    diff = 0.0
+    for p in range(xs.size):
+        dx = xs[p] - x0
+        dy = ys[p] - y0
+        rho2 = dx * dx + dy * dy
+        W2 = QQ - ft2 * rho2
+        if W2 > 0.0:
+            Hm = t2 * (1.0 - rho2) / (math.sqrt(W2) + omt2)
+        else:
+            Hm = out
+        diff += Hm * (Hm - 2.0 * hs[p]) * wt[p]
+    return diff
+
+
+@nb.njit(cache=True, nogil=True, fastmath=_FASTMATH, error_model="numpy", _nrt=False)
+def outside(xs, ys, wt, x0, y0, t):  # pragma: no cover - compiled
+    """Whether some pixel lies outside the projection of the sphere (r > R, profile clamped)."""
+    Q = 1.0 + t * t
+    QQ = Q * Q
+    ft2 = 4.0 * t * t
+    out = 0.0
+    for p in range(xs.size):
+        dx = xs[p] - x0
+        dy = ys[p] - y0
+        if QQ - ft2 * (dx * dx + dy * dy) <= 0.0:
+            out += wt[p]
+    return out > 0.0
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+def grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M):  # pragma: no cover - compiled
+    """Global search for fits that leave pixels outside their sphere or end on the centre's bound.
+
+    There the cost of Eq. 21 is not smooth (a pixel entering the sphere's projection meets its
+    vertical tangent) and has several local minima, typically on asperities cut by the edge of a
+    measured map, so the iteration from the documented starts can stop in a poor one. The cost
+    is evaluated on a grid of centres over the footprint's box and cap heights, and the
+    iteration restarted from the best grid points; returns the best of those and the given fit.
+    """
+    nb_ = M.shape[1]
+    for k in range(nb_):
+        M[0, k] = math.inf
+    for i in range(_GRID_CENTRES):
+        gx = lo0 + (hi0 - lo0) * i / (_GRID_CENTRES - 1)
+        for j in range(_GRID_CENTRES):
+            gy = lo1 + (hi1 - lo1) * j / (_GRID_CENTRES - 1)
+            for m in range(_GRID_CAPS):
+                gt = (m + 1.0) / _GRID_CAPS
+                c = cost_at(xs, ys, hs, wt, gx, gy, gt)
+                if c < M[0, nb_ - 1]:  # insert into the sorted list of the best
+                    k = nb_ - 1
+                    while k > 0 and M[0, k - 1] > c:
+                        for r in range(4):
+                            M[r, k] = M[r, k - 1]
+                        k -= 1
+                    M[0, k] = c
+                    M[1, k] = gx
+                    M[2, k] = gy
+                    M[3, k] = gt
+    for k in range(nb_):
+        if not math.isfinite(M[0, k]):
+            break
+        t2, cost2, x2, y2, _s = lm(xs, ys, hs, wt, M[1, k], M[2, k], M[3, k], lo0, lo1, 0.0, hi0, hi1, 1.0,
+                                   0.0, 0.0, 0.0, False)
+        if cost2 < cost:
+            t, cost, x0, y0 = t2, cost2, x2, y2
+    return t, cost, x0, y0
+
+
+
+def fit_footprint(x, y, z, d, dx, dy):
+    """The fast fit of one footprint in physical units, as the kernel fits it (tests, benchmarks).
+
+    Same contract as :func:`roughstick.contact._rough_reference.fit_asperity`: ``x, y`` unwrapped
+    pixel centres [m], ``z`` heights [m] (all ``>= d``), ``d`` the level, ``dx, dy`` the pixel
+    size; returns ``(R, E)`` [m] (radius, inf for the plateau, and Eq. 23's rms fit error).
+    """
+    n = len(x)
+    af = math.sqrt(n * dx * dy / math.pi)
+    m = (n + _SIMD - 1) // _SIMD * _SIMD
+    xs, ys, hs, wt = (np.zeros(m) for _ in range(4))
+    xs[:n] = (x - np.mean(x)) / af
+    ys[:n] = (y - np.mean(y)) / af
+    hs[:n] = (np.asarray(z) - d) / af
+    wt[:n] = 1.0
+    t, cost, _x0, _y0 = fit_sphere(xs, ys, hs, wt, n, 0.5 * dx / af, 0.5 * dy / af, np.zeros((4, 5)))
+    R = af * (1.0 + t * t) / (2.0 * t) if t > 0 else math.inf
+    return R, math.sqrt(cost / n) * af

@@ -9,7 +9,12 @@ cleverness, so that the fast path in :mod:`roughstick.contact._rough_kernels` ca
 2. fit every asperity with the constrained sphere of Eqs. 19-21 using the generic optimiser
    ``scipy.optimize.least_squares`` (finite-difference Jacobian, bounds), from the same
    documented starts as the fast path (footprint centroid with the cap of twice the mean height,
-   and the least-squares paraboloid), keeping the better; one- and
+   and the least-squares paraboloid) and from the fast path's plateau escape (a cap centred at
+   the h-weighted centroid; the fast path tries it only when it has stopped on the plateau
+   t = 0, the reference always, so it is the stricter yardstick), keeping the best; where that
+   fit leaves pixels outside its sphere or puts its centre on the bound, from the 5 best points
+   of the fast path's grid too (the cost is not smooth there and has several minima); the
+   plateau t = 0 is always a candidate; one- and
    two-pixel footprints use the same rule as the fast path but solved by ``scipy.optimize.brentq``;
 3. Hertz force and contact area of each sphere (Eqs. 10-11), fit error (Eq. 23), and Eq. 16 with
    the wetted area ``(z >= d - h_water).sum()`` counted directly.
@@ -107,6 +112,19 @@ def _unwrap(mask_component, connectivity, periodic):
     return pix, rows, cols, wraps
 
 
+def footprints(z, d, *, dx, dy, periodic, connectivity):
+    """The asperities of ``z`` (heights as given: refer them to the mean plane first) at level d.
+
+    Yields ``(x, y, h)`` per asperity, in label order: unwrapped pixel centres [m] and heights [m].
+    """
+    with np.errstate(invalid="ignore"):
+        mask = z >= d
+    labels, n = _label(mask, connectivity, periodic)
+    for lab in range(1, n + 1):
+        pix, rows, cols, _wraps = _unwrap(labels == lab, connectivity, periodic)
+        yield cols * dx, rows * dy, z[pix[:, 0], pix[:, 1]]
+
+
 def sphere_profile(x, y, x0, y0, R, d, area):
     """Height of the constrained sphere of Eqs. 20-21 at (x, y), literally.
 
@@ -115,15 +133,20 @@ def sphere_profile(x, y, x0, y0, R, d, area):
     ``d + (A/pi - r^2) / (sqrt(R^2 - r^2) + sqrt(R^2 - A/pi))``, the same number without the
     cancellation of two nearly equal square roots when R is large.
     """
+    return d + above_level(x, y, x0, y0, R, area)
+
+
+def above_level(x, y, x0, y0, R, area):
+    """The sphere's height above the level d, ``sphere_profile - d``, without adding d."""
     if math.isinf(R):
-        return np.full(np.shape(x), float(d))
+        return np.zeros(np.shape(x))
     r2 = np.minimum((x - x0) ** 2 + (y - y0) ** 2, R * R)
     a2 = area / math.pi
     s = np.sqrt(R * R - r2)
     c = math.sqrt(max(R * R - a2, 0.0))
     if s.size and np.any(s + c == 0):
-        return np.where(s + c == 0, d, d + (a2 - r2) / np.where(s + c == 0, 1.0, s + c))
-    return d + (a2 - r2) / (s + c)
+        return np.where(s + c == 0, 0.0, (a2 - r2) / np.where(s + c == 0, 1.0, s + c))
+    return (a2 - r2) / (s + c)
 
 
 def radius_from_cap(t, af):
@@ -157,7 +180,9 @@ def fit_asperity(x, y, z, d, area, dx, dy):
         elif _cap(1.0, rho) <= H:
             t = 1.0
         else:
-            t = optimize.brentq(lambda t: H - _cap(t, rho), 0.0, 1.0, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+            # the root can be as small as H ~ 1e-15 (a pixel just above the level): a relative
+            # tolerance only (an absolute 1e-15 made R 1e6 times too small there)
+            t = optimize.brentq(lambda t: H - _cap(t, rho), 0.0, 1.0, xtol=1e-300, rtol=4 * np.finfo(float).eps)
         p = (0.0, 0.0, t)
     else:
         H = 2.0 * h.mean() / af
@@ -171,12 +196,20 @@ def fit_asperity(x, y, z, d, area, dx, dy):
             second = _paraboloid_start(x / af, y / af, h / af)
             if second is not None:
                 starts.append(second)
-        best = None
-        for x0 in starts:
-            x0 = np.clip(x0, lo, hi)
+        third = _plateau_start(x / af, y / af, h / af)
+        if third is not None:  # tried always here (the fast path: only when it ends on t = 0)
+            starts.append(third)
+
+        def excess(p):
+            # cost minus the plateau's, sum Hm (Hm - 2 h): near the plateau the two costs differ
+            # by less than their rounding (t ~ 1e-6), this difference does not
+            hm = above_level(x, y, p[0] * af, p[1] * af, radius_from_cap(p[2], af), area) / af
+            return float(np.sum(hm * (hm - 2 * h / af)))
+
+        def solve(x0, best):
             sol = optimize.least_squares(
                 residual,
-                x0=x0,
+                x0=np.clip(x0, lo, hi),
                 bounds=(lo, hi),
                 jac="3-point",
                 method="trf",
@@ -185,10 +218,25 @@ def fit_asperity(x, y, z, d, area, dx, dy):
                 gtol=1e-15,
                 max_nfev=2000,
             )
-            cost = float(np.sum(residual(sol.x) ** 2))
-            if best is None or cost < best[0]:
-                best = (cost, sol.x)
+            cost = excess(sol.x)
+            return (cost, sol.x) if best is None or cost < best[0] else best
+
+        best = None
+        for x0 in starts:
+            best = solve(x0, best)
         p = best[1]
+        R = radius_from_cap(p[2], 1.0)
+        on_bound = p[0] <= lo[0] or p[0] >= hi[0] or p[1] <= lo[1] or p[1] >= hi[1]
+        if p[2] > 0 and (np.any(np.hypot(x / af - p[0], y / af - p[1]) > R) or on_bound):
+            # a pixel outside the sphere or the centre on its bound: the grid search of the
+            # fast path (7 x 7 centres over the box, 8 cap heights, the 5 best polished)
+            grid = [(float(np.sum(residual((gx, gy, gt)) ** 2)), (gx, gy, gt))
+                    for gx in np.linspace(lo[0], hi[0], 7) for gy in np.linspace(lo[1], hi[1], 7)
+                    for gt in np.arange(1, 9) / 8]
+            grid.sort(key=lambda g: g[0])
+            for _c, x0 in grid[:5]:
+                best = solve(x0, best)
+        p = best[1] if best[0] < 0 else np.zeros(3)  # the plateau is always admissible
     E = math.sqrt(np.mean(residual(p) ** 2)) * af
     return radius_from_cap(p[2], af), E
 
@@ -208,12 +256,36 @@ def _paraboloid_start(x, y, h):
     return [float(u / (2 * q)), float(v / (2 * q)), min(t0, 0.999)]
 
 
+def _plateau_start(x, y, h):
+    """The plateau-escape start (the fast path's ``plateau_escape``), or None.
+
+    Near t = 0 the cost is ``sum h^2 - 2 t g(c) + O(t^2)`` with ``g(c) = sum h (1 - |x - c|^2)``,
+    largest at the h-weighted centroid; if ``g > 0`` there, start at that centre with the
+    Gauss-Newton cap height ``g / sum (1 - |x - c|^2)^2`` (the fast path's third start).
+    """
+    s = h.sum()
+    if not s > 0:
+        return None
+    cx, cy = (h * x).sum() / s, (h * y).sum() / s
+    j = 1.0 - (x - cx) ** 2 - (y - cy) ** 2
+    g, a = float((j * h).sum()), float((j * j).sum())
+    if not (g > 0 and a > 0):
+        return None
+    return [float(cx), float(cy), min(g / a, 0.999)]
+
+
 def _cap(t, rho):
-    """Dimensionless height above the plane, at distance rho from the centre, of the cap t."""
+    """Dimensionless height above the plane, at distance rho from the centre, of the cap t.
+
+    ``sqrt(R^2 - rho^2) - sqrt(R^2 - 1)``, written without the cancellation of the two square
+    roots (R ~ 1e15 for a pixel just above the level).
+    """
     if t == 0:
         return 0.0
     R = (1.0 + t * t) / (2.0 * t)
-    return math.sqrt(max(R * R - rho * rho, 0.0)) - math.sqrt(max(R * R - 1.0, 0.0))
+    if rho > R:
+        return -math.sqrt(max(R * R - 1.0, 0.0))
+    return (1.0 - rho * rho) / (math.sqrt(R * R - rho * rho) + math.sqrt(max(R * R - 1.0, 0.0)))
 
 
 def hertz(R, area, K):
@@ -236,15 +308,12 @@ def reference_curves(z, distance, water_height, laplace_pressure, *, dx, dy, K, 
     D, NR = distance.size, hw.size
     out = {k: np.zeros((NR, D)) for k in ("p", "rep", "wet", "cf", "nc", "fe", "dm")}
     for j, d in enumerate(distance):
-        with np.errstate(invalid="ignore"):
-            mask = z >= d
-        labels, n = _label(mask, connectivity, periodic)
+        n = 0
         F = Ah = Af = E2A = 0.0
-        for lab in range(1, n + 1):
-            comp = labels == lab
-            pix, rows, cols, _wraps = _unwrap(comp, connectivity, periodic)
-            area = len(pix) * dx * dy
-            R, E = fit_asperity(cols * dx, rows * dy, z[pix[:, 0], pix[:, 1]], d, area, dx, dy)
+        for x, y, h in footprints(z, d, dx=dx, dy=dy, periodic=periodic, connectivity=connectivity):
+            n += 1
+            area = x.size * dx * dy
+            R, E = fit_asperity(x, y, h, d, area, dx, dy)
             f, a = hertz(R, area, K)
             F += f
             Ah += a

@@ -4,6 +4,12 @@ The reference (`roughstick.contact._rough_reference`) relabels the map at every 
 scipy.ndimage.label, unwraps each asperity by a breadth-first walk and fits it with
 scipy.optimize.least_squares; the test asks the pressure to agree to 1e-6 (relative) wherever
 |p| > 1e-3 max|p|, and every other output to agree closely, on small maps with the hard cases.
+
+Per asperity (the same footprint, from the reference's labelling), the fast fit's rms error of
+Eq. 23 must not exceed the reference's by more than FIT_RTOL relative plus FIT_ATOL times the
+footprint radius a_f: the fast iteration stops when its step is below 1e-9 (in units of a_f,
+relative to 1 + |centre|), which moves the residuals by ~1e-9 a_f, and its sums are reassociated
+(fastmath), ~1e-13 relative; the misses this guards against were 1e-5 to 3e-2 relative.
 """
 
 from __future__ import annotations
@@ -14,9 +20,10 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from roughstick import hertz_modulus, laplace_pressure, water_height
-from roughstick.contact._rough_kernels import curves_kernel, hertz_levels, prepare_heights
-from roughstick.contact._rough_reference import reference_curves
+from roughstick import datasets, hertz_modulus, laplace_pressure, water_height
+from roughstick.contact._rough_fit import fit_footprint
+from roughstick.contact._rough_kernels import curves, curves_kernel, hertz_levels, prepare_heights
+from roughstick.contact._rough_reference import fit_asperity, footprints, reference_curves
 
 K = hertz_modulus()
 RH = np.array([0.3, 0.7, 0.9])
@@ -38,6 +45,47 @@ def levels_without_percolation(z, d, periodic, connectivity=4):
     return np.sort(np.asarray(d)[hz[:, 5] == 0])
 
 
+FIT_RTOL = 1e-9
+FIT_ATOL = 1e-9  # times a_f
+
+
+def fits_per_asperity(z, d, *, periodic, connectivity=4, dx=DX, dy=DX):
+    """(E fast, E reference, a_f) [m] of every asperity at level d (reference footprints)."""
+    zc, _ = prepare_heights(z)
+    rows = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # scipy's LinAlgWarning on singular paraboloid systems
+        for x, y, h in footprints(zc, d, dx=dx, dy=dy, periodic=periodic, connectivity=connectivity):
+            area = x.size * dx * dy
+            _, e_ref = fit_asperity(x, y, h, d, area, dx, dy)
+            _, e_fast = fit_footprint(x, y, h, d, dx, dy)
+            rows.append((e_fast, e_ref, np.sqrt(area / np.pi), x.size))
+    return np.array(rows).reshape(-1, 4)
+
+
+def assert_fits_no_worse(z, d, *, allow_small=False, **kw):
+    """No asperity fitted worse by the fast path; returns, per level, whether every asperity's
+    fit has the reference's residual (within the tolerance: the same minimum), the number of
+    worse fits and of asperities.
+
+    ``allow_small``: footprints of 3 or 4 pixels may be worse (fitted from one start, no
+    paraboloid: see test_fits_no_worse_than_reference_on_families_sweep), the caller counts them.
+    """
+    same = np.zeros(len(d), bool)
+    n_worse_small = n_total = 0
+    for j, level in enumerate(d):
+        e = fits_per_asperity(z, level, **kw)
+        tol = FIT_RTOL * e[:, 1] + FIT_ATOL * e[:, 2]
+        worse = e[:, 0] > e[:, 1] + tol
+        small = (e[:, 3] >= 3) & (e[:, 3] <= 4)
+        assert not (worse & ~small).any(), (level, e[worse])
+        assert allow_small or not worse.any(), (level, e[worse])
+        n_worse_small += int(worse.sum())
+        n_total += len(e)
+        same[j] = np.all(np.abs(e[:, 0] - e[:, 1]) <= tol)
+    return same, n_worse_small, n_total
+
+
 def compare(z, d, *, periodic, connectivity=4, hw=HW, dp=DP, dy=DX):
     kw = dict(dx=DX, dy=dy, K=K, periodic=periodic, connectivity=connectivity)
     fast = curves_kernel(z, d, hw, dp, **kw)
@@ -54,6 +102,7 @@ def compare(z, d, *, periodic, connectivity=4, hw=HW, dp=DP, dy=DX):
     np.testing.assert_allclose(fast[3], ref[3], rtol=1e-6, atol=1e-12)  # contact fraction
     np.testing.assert_allclose(fast[5], ref[5], rtol=1e-5, atol=1e-15)  # E^S (NaN alike)
     np.testing.assert_allclose(fast[6], ref[6], rtol=0, atol=1e-20)
+    assert assert_fits_no_worse(z, d, periodic=periodic, connectivity=connectivity, dy=dy)[0].all()
     return fast
 
 
@@ -85,7 +134,10 @@ def test_measured_random_map(connectivity):
     # non-periodic, odd non-square random map: asperities are cut by the edges. Eq. 21 can have
     # several local minima for steep asperities cut by the edge, where two optimisers from the
     # same starts may settle in different ones: at most 1 level in 14 is allowed to differ
-    # (measured: 0 with 8-connectivity, 1 with 4), and the others must agree to 1e-6.
+    # (measured: 1 with either connectivity: an 18-pixel asperity in the map's corner, where
+    # least_squares reaches an Eq. 23 residual 5 % below the fast path's even after its grid
+    # search; a dense grid search finds one 2.5 % below the reference's), and the others must
+    # agree to 1e-6.
     z = smooth_field((37, 52), sigma_px=4, rms=4e-9, seed=2, wrap=False)
     zc = z - z.mean()
     d = np.linspace(zc.max() + 2e-9, zc.max() - 8e-9, 14)
@@ -196,3 +248,66 @@ def test_extreme_humidity(rh):
         assert out[0][0, j] == pytest.approx(dp[0], rel=1e-12)
     else:  # h_water = 0.23 nm: dry just before contact
         assert out[0][0, j] == 0.0
+
+
+def family_map(family, n, seed=0):
+    """A crop of a bundled sample (measured, not periodic) or a periodic surface of a family."""
+    if family in ("S1A", "S2A"):
+        off = 128 * seed
+        h = datasets.load_sample(family).isel(y=slice(off, off + n), x=slice(off, off + n))
+        return h.values, False
+    return datasets.surface_family(family, shape=(n, n), seed=seed).values, True
+
+
+def family_levels(z, periodic, count):
+    """``count`` levels of the automatic grid spread over the levels with asperities."""
+    d, out = curves(z, HW, DP, dx=DX, dy=DX, K=K, periodic=periodic, connectivity=4)
+    with_contact = np.flatnonzero(out[4][0] > 0)
+    return d[with_contact[np.linspace(0, with_contact.size - 1, count).astype(int)]]
+
+
+def check_family(family, n, seed, count, quantum=0.0, allow_small=False):
+    z, periodic = family_map(family, n, seed)
+    if quantum:
+        z = np.round(z / quantum) * quantum
+    d = family_levels(z, periodic, count)
+    same, n_worse, n_total = assert_fits_no_worse(z, d, periodic=periodic, allow_small=allow_small)
+    # measured: every asperity at the same minimum on these maps but the one noted in the
+    # sweep (before the plateau escape, 10 of 2,500 asperities on the families were not, and
+    # pressures differed by up to 2e-2); the pressure is compared where all are
+    if not allow_small:
+        assert same.all(), d[~same]
+    d = d[same]
+    kw = dict(dx=DX, dy=DX, K=K, periodic=periodic, connectivity=4)
+    fast = curves_kernel(z, d, HW, DP, **kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = reference_curves(z, d, HW, DP, **kw)
+    big = np.abs(ref[0]) > 1e-3 * np.max(np.abs(ref[0]))
+    rel = np.abs(fast[0] - ref[0])[big] / np.abs(ref[0])[big]
+    assert rel.max(initial=0) < 1e-6, rel.max()
+    np.testing.assert_array_equal(fast[4], ref[4])
+    return n_worse, n_total
+
+
+@pytest.mark.parametrize("family", ["S1A", "S2A", "table4", "smooth", "rough"])
+def test_fits_no_worse_than_reference_on_families(family):
+    # 256^2 crops, 8 levels of the automatic grid: the sphere fits of the fast path against
+    # scipy's least_squares. Without the plateau escape this failed on S2A, Table 4 and smooth
+    # (one asperity each stopped on the plateau t = 0 with a 1e-4..3e-2 larger residual)
+    assert check_family(family, 256, 1, 8)[1] > 0
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("quantum", [0.0, 0.3e-9])
+@pytest.mark.parametrize("family", ["S1A", "S2A", "table4", "smooth", "rough"])
+def test_fits_no_worse_than_reference_on_families_sweep(family, quantum):
+    # 256^2, three crops / seeds, 16 levels; and heights quantised to 0.3 nm (ties). Measured:
+    # 4,562 asperities, the fast fit worse on one (S1A quantised, crop 2: a straight line of 4
+    # pixels, residual 3.0 % above the reference's, whose least_squares from the same centroid
+    # start reaches a steeper cap centred off the line). Footprints of 3 or 4 pixels have one
+    # start (the paraboloid needs 5), and Eq. 21 has several minima there; a grid search for them
+    # would cost ~40 % on S2A (2.5 % of its fits are straight lines). So 3-4 pixel footprints may
+    # be worse on at most 1 % of a family's asperities (measured: 1 of 188), others never.
+    counts = np.array([check_family(family, 256, seed, 16, quantum, allow_small=True) for seed in range(3)])
+    assert counts[:, 0].sum() <= 0.01 * counts[:, 1].sum(), counts
