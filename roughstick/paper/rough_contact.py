@@ -54,15 +54,16 @@ def fig08_rough_curves(curves: xr.Dataset, *, name: str, relative_humidity):
     fig, axes = plt.subplots(2, 2, figsize=(10, 7.5), constrained_layout=True)
     plot_rough_curves(curves, rh=rh[:half], ax=axes[0, 0])
     plot_rough_curves(curves, rh=rh[half:], ax=axes[0, 1])
-    # the fit error is drawn where the pressure is attractive: at low RH that is a handful of
-    # distances (a near-empty panel), so the left panel shows the lowest RH with at least 10
-    attractive = (curves["pressure"] < 0).sum("distance")
+    # the fit error is drawn where the pressure is attractive and asperities touch (the mask of
+    # plot_fit_error): at low RH that is a handful of distances (a near-empty panel), so the left
+    # panel shows the lowest RH with at least 20 such states
+    attractive = ((curves["pressure"] < 0) & (curves["n_contacts"] > 0)).sum("distance")
     counts = {r: int(attractive.sel(rh=r, method="nearest")) for r in rh}
-    low = next((r for r in rh if counts[r] >= 10), max(rh, key=lambda r: counts[r]))
+    low = next((r for r in rh if counts[r] >= 20), max(rh, key=lambda r: counts[r]))
     plot_fit_error(curves, rh=low, ax=axes[1, 0])
     plot_fit_error(curves, rh=rh[-1], ax=axes[1, 1])
     if low != rh[0]:
-        axes[1, 0].set_title(axes[1, 0].get_title() + f" (lowest RH with ≥ 10 attractive states;"
+        axes[1, 0].set_title(axes[1, 0].get_title() + f" (lowest RH with ≥ 20 attractive states in contact;"
                              f" RH {rh[0]:.0%} has {counts[rh[0]]})", fontsize="small")
     fig.suptitle(f"Fig. 8: modified DMT on {name}")
     return curves, fig
