@@ -10,10 +10,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 import xarray as xr  # noqa: E402
+from _figure_lint import figure_problems  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 import roughstick as rs  # noqa: E402
-from _figure_lint import figure_problems  # noqa: E402
 from roughstick.paper import ensemble, rough_contact  # noqa: E402
 
 RH = [0.3, 0.7, 0.9]
