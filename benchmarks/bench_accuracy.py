@@ -34,6 +34,7 @@ import warnings
 
 import numpy as np
 import xarray as xr
+from _yardstick import ifft_seconds
 
 import roughstick as rs
 
@@ -121,16 +122,6 @@ def cache_key(z, spacing, rh, E, d, layer="paper"):
     return h.hexdigest()[:20]
 
 
-def fft_reference_seconds(n=3):
-    a = np.random.default_rng(0).standard_normal((1024, 1024)) + 0j
-    best = np.inf
-    for _ in range(n):
-        t = time.perf_counter()
-        np.fft.ifft2(a)
-        best = min(best, time.perf_counter() - t)
-    return best
-
-
 _CURVE_VARS = ("pressure", "wet_fraction", "contact_fraction", "solver_residual", "n_contacts")
 
 
@@ -176,7 +167,7 @@ def run_bem(job, *, verbose=True):
                 except (OSError, ValueError):
                     claim.unlink(missing_ok=True)  # stale claim of a killed run: redo
                     return run_bem(job, verbose=verbose)
-            fft0 = fft_reference_seconds()
+            fft0 = ifft_seconds()
             t0, c0 = time.perf_counter(), time.process_time()
             ds = rs.bem_contact_curves(h, relative_humidity=rh, distance=d,
                                        material=material_for(E), tolerance=TOL)
@@ -184,7 +175,7 @@ def run_bem(job, *, verbose=True):
             meta = dict(family=job["family"], seed=job["seed"], map_index=job["map_index"],
                         pixels=job["shape"], spacing=SPACING, rh=rh, reduced_modulus=E,
                         grid_extend=extend, cache_key=key, wall_seconds=wall, cpu_seconds=cpu,
-                        fft1024_seconds=min(fft0, fft_reference_seconds()),
+                        fft1024_seconds=min(fft0, ifft_seconds()),
                         loadavg=os.getloadavg()[0],
                         started=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%MZ"))
             save_curve(path, ds, meta)
@@ -463,7 +454,7 @@ def cmd_timing(args):
             ("auto", lambda h=h, kw=kw: rs.rough_contact_curves(h, model="auto", tolerance=0.1,
                                                                 **kw)),
         ]
-        fft = fft_reference_seconds()
+        fft = ifft_seconds()
         best = {}
         for _rep in range(3):  # fast models interleaved, min of 3
             for name, fn in calls:
@@ -477,7 +468,7 @@ def cmd_timing(args):
         t0, c0 = time.perf_counter(), time.process_time()
         rs.bem_contact_curves(h, **kw)
         bem = (time.perf_counter() - t0, time.process_time() - c0)
-        fft = min(fft, fft_reference_seconds())
+        fft = min(fft, ifft_seconds())
         rows = [dict(family=fam, pixels=n, reduced_modulus=float(E), rh=rh, method="bem",
                      wall=bem[0], cpu=bem[1], fft1024=fft, chosen="bem",
                      loadavg=os.getloadavg()[0])]
@@ -523,7 +514,7 @@ def cmd_resolution(args):
                                           grid_extend=0, cache_key=key,
                                           wall_seconds=time.perf_counter() - t0,
                                           cpu_seconds=time.process_time() - c0,
-                                          fft1024_seconds=fft_reference_seconds(),
+                                          fft1024_seconds=ifft_seconds(),
                                           loadavg=os.getloadavg()[0], started="",
                                           block="resolution"))
             ds10, _ = load_curve(path)

@@ -55,6 +55,16 @@ def small_fit(h, rho):  # pragma: no cover - compiled
     return 1.0 / (math.sqrt(1.0 + c * c) + c)
 
 
+@nb.njit(cache=True, nogil=True, fastmath=_FASTMATH, error_model="numpy", _nrt=False, inline="always")
+def _cap_height(rho2, QQ, ft2, t2, omt2, out):  # pragma: no cover - compiled
+    """Height of the Eq. 21 cap at squared distance ``rho2`` from its centre (dimensionless,
+    constants of the cap height t precomputed: Q^2, 4t^2, 2t, 1 - t^2); ``out`` outside it."""
+    W2 = QQ - ft2 * rho2
+    if W2 > 0.0:
+        return t2 * (1.0 - rho2) / (math.sqrt(W2) + omt2)
+    return out
+
+
 @nb.njit(cache=True, nogil=True, fastmath=_FASTMATH, error_model="numpy", _nrt=False)
 def cost_at(xs, ys, hs, wt, x0, y0, t):  # pragma: no cover - compiled
     """Sum of squared residuals of Eq. 21 (dimensionless), the base kernel's profile."""
@@ -69,11 +79,7 @@ def cost_at(xs, ys, hs, wt, x0, y0, t):  # pragma: no cover - compiled
         dx = xs[p] - x0
         dy = ys[p] - y0
         rho2 = dx * dx + dy * dy
-        W2 = QQ - ft2 * rho2
-        if W2 > 0.0:
-            Hm = t2 * (1.0 - rho2) / (math.sqrt(W2) + omt2)
-        else:
-            Hm = out
+        Hm = _cap_height(rho2, QQ, ft2, t2, omt2, out)
         r = (hs[p] - Hm) * wt[p]
         cost += r * r
     return cost
@@ -458,11 +464,7 @@ def over_plateau(xs, ys, hs, wt, x0, y0, t):  # pragma: no cover - compiled
         dx = xs[p] - x0
         dy = ys[p] - y0
         rho2 = dx * dx + dy * dy
-        W2 = QQ - ft2 * rho2
-        if W2 > 0.0:
-            Hm = t2 * (1.0 - rho2) / (math.sqrt(W2) + omt2)
-        else:
-            Hm = out
+        Hm = _cap_height(rho2, QQ, ft2, t2, omt2, out)
         diff += Hm * (Hm - 2.0 * hs[p]) * wt[p]
     return diff
 

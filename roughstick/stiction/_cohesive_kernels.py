@@ -229,19 +229,23 @@ def ldl_solve(band, b, out):
 
 
 @njit(cache=True, nogil=True)
-def point_interp(u, xnode, x):
-    """(v, v', v'') at position x (µm) from the Hermite field."""
-    ne = xnode.shape[0] - 1
-    # binary search for the element
+def element_of(xnode, x):
+    """Index of the element of the sorted node positions ``xnode`` that holds ``x``."""
     lo = 0
-    hi = ne - 1
+    hi = xnode.shape[0] - 2
     while lo < hi:
         mid = (lo + hi + 1) // 2
         if xnode[mid] <= x:
             lo = mid
         else:
             hi = mid - 1
-    e = lo
+    return lo
+
+
+@njit(cache=True, nogil=True)
+def point_interp(u, xnode, x):
+    """(v, v', v'') at position x (µm) from the Hermite field."""
+    e = element_of(xnode, x)
     L = xnode[e + 1] - xnode[e]
     xi = (x - xnode[e]) / L
     dofs = np.empty(4, np.int64)
@@ -272,16 +276,7 @@ def point_interp(u, xnode, x):
 @njit(cache=True, nogil=True)
 def marker_vector(xnode, x, ndof):
     """Row vector e with e.u = v(x) (the constraint of the front-controlled continuation)."""
-    ne = xnode.shape[0] - 1
-    lo = 0
-    hi = ne - 1
-    while lo < hi:
-        mid = (lo + hi + 1) // 2
-        if xnode[mid] <= x:
-            lo = mid
-        else:
-            hi = mid - 1
-    e = lo
+    e = element_of(xnode, x)
     L = xnode[e + 1] - xnode[e]
     xi = (x - xnode[e]) / L
     N = np.empty(4)
