@@ -26,7 +26,7 @@ import warnings
 from ..io.netcdf import remove_partial_files, write_text_atomic
 
 __all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
-           "user_message", "MARKER"]
+           "user_message", "MARKER", "small_p_problems"]
 
 LOG = logging.getLogger("roughstick")
 
@@ -191,3 +191,16 @@ def user_message(exc: BaseException) -> str | None:
             msg = msg.replace(py, flag)
         return msg
     return None
+
+
+def small_p_problems(section: str, settings: dict) -> list[str]:
+    """What is wrong with the subset-simulation stopping rule of ``[section]`` (the keys
+    ``method``, ``samples_per_level``, ``max_evaluations``), shared by ``risk`` and ``beam``."""
+    problems = []
+    if settings["method"] == "subset" and settings["samples_per_level"] % 5:
+        problems.append(f"[{section}] samples_per_level = {settings['samples_per_level']}: must be a "
+                        "multiple of 5 (20 % of each level seed the chains), e.g. 1000")
+    if settings["max_evaluations"] < settings["samples_per_level"]:
+        problems.append(f"[{section}] max_evaluations = {settings['max_evaluations']} is below "
+                        f"samples_per_level = {settings['samples_per_level']}: raise it (e.g. 20000)")
+    return problems

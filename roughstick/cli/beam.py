@@ -21,7 +21,7 @@ import numpy as np
 import roughstick as rs
 
 from ..io.netcdf import write as write_netcdf
-from ._common import LOG, claim_folder, finish_folder
+from ._common import LOG, claim_folder, finish_folder, small_p_problems
 from ._config import ConfigError, check_memory, parse, read_toml
 
 __all__ = ["register"]
@@ -104,12 +104,7 @@ def _check_method(ens: dict, source: str) -> None:
     if ens["beam_model"] != "sharp_front":
         problems.append(f"[ensemble] method = {ens['method']!r} needs beam_model = 'sharp_front' (the cohesive "
                         "beam has no stuck margin to condition on; use method = 'count' for it)")
-    if ens["method"] == "subset" and ens["samples_per_level"] % 5:
-        problems.append(f"[ensemble] samples_per_level = {ens['samples_per_level']}: must be a multiple of 5 "
-                        "(20 % of each level seed the chains), e.g. 1000")
-    if ens["max_evaluations"] < ens["samples_per_level"]:
-        problems.append(f"[ensemble] max_evaluations = {ens['max_evaluations']} is below samples_per_level = "
-                        f"{ens['samples_per_level']}: raise it (e.g. 20000)")
+    problems += small_p_problems("ensemble", ens)
     if problems:
         raise ConfigError(f"{source}: " + "; ".join(problems) + ".")
 

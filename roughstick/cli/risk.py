@@ -21,7 +21,7 @@ from .._core.conventions import ATTRS, append_history, coord_attrs, set_attrs
 from ..paper import cantilever as figures
 from ..plotting.save import save_figure
 from ..stiction.interaction_zone import TABLE4
-from ._common import LOG, claim_folder, finish_folder, run_status
+from ._common import LOG, claim_folder, finish_folder, run_status, small_p_problems
 from ._config import ConfigError, Field, check_memory, parse, read_toml
 
 
@@ -74,12 +74,7 @@ def load_risk_config(path) -> dict:
         if "adhesive_energy" in c["ensemble"]:
             problems.append(f"[risk] method = {r['method']!r} simulates its own zones: remove "
                             "[ensemble] adhesive_energy, or use method = 'count' to read that sample")
-        if r["method"] == "subset" and r["samples_per_level"] % 5:
-            problems.append(f"[risk] samples_per_level = {r['samples_per_level']}: must be a multiple "
-                            "of 5 (20 % of each level seed the chains), e.g. 1000")
-        if r["max_evaluations"] < r["samples_per_level"]:
-            problems.append(f"[risk] max_evaluations = {r['max_evaluations']} is below samples_per_level "
-                            f"= {r['samples_per_level']}: raise it (e.g. 20000)")
+        problems += small_p_problems("risk", r)
     if problems:
         raise ConfigError(f"{path.name}: " + "; ".join(problems) + ".")
     if "shape" in c["surface"]:
