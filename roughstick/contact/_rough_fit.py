@@ -23,7 +23,7 @@ import numba as nb
 import numpy as np
 
 from ._rough_lm import cost_at, lm, over_plateau
-from ._rough_search import grid_search, outside
+from ._rough_search import GRID_KEEP, awry, grid_search, pattern_search
 
 __all__ = ["fit_footprint", "fit_sphere", "small_fit", "paraboloid_start", "plateau_escape"]
 
@@ -173,7 +173,7 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
     ``xs, ys, hs, wt`` hold the ``n`` pixels (weight 1) followed by padding pixels of weight 0
     (and x = y = h = 0) up to a multiple of the SIMD width, so the per-pixel sums run as whole
     vectors (a scalar remainder loop cost ~20 ns per pixel, a full vector ~1 ns).
-    Returns ``(t, cost, x0, y0)``. ``M`` is a (4, 5) work array.
+    Returns ``(t, cost, x0, y0)``. ``M`` is a (4, GRID_KEEP) work array.
     """
     if n <= 2:
         rho = 0.0
@@ -207,12 +207,18 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
     hi1 = ymax + hy
     t, cost, x0, y0, _s = lm(xs, ys, hs, wt, 0.0, 0.0, min(H, _T_MAX_START), lo0, lo1, 0.0, hi0, hi1, 1.0,
                              0.0, 0.0, 0.0, False)
+    tA, xA, yA = t, x0, y0  # the fit from each start is kept to search on from, if awry
+    awry_A = awry(xs, ys, wt, lo0, lo1, hi0, hi1, xA, yA, tA)
+    awry_B = False
+    tB = cB = xB = yB = 0.0
     if n >= _PARABOLOID_MIN_PIXELS:
         ok, px, py, pt = paraboloid_start(xs[:n], ys[:n], hs[:n], M)
         if ok:
-            t2, cost2, x2, y2, st = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, x0, y0, t, True)
-            if st != 1 and cost2 < cost:
-                t, cost, x0, y0 = t2, cost2, x2, y2
+            tB, cB, xB, yB, st = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, x0, y0, t, True)
+            if st != 1:
+                awry_B = awry(xs, ys, wt, lo0, lo1, hi0, hi1, xB, yB, tB)
+                if cB < cost:
+                    t, cost, x0, y0 = tB, cB, xB, yB
     if t < _T_PLATEAU:  # on (or indistinguishably near) the plateau, where the centre is free
         ok, px, py, pt = plateau_escape(xs, ys, hs, wt)
         if ok:
@@ -221,13 +227,28 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
             here = over_plateau(xs, ys, hs, wt, x0, y0, t) if t > 0.0 else 0.0
             if t2 > 0.0 and over_plateau(xs, ys, hs, wt, x2, y2, t2) < here:
                 t, cost, x0, y0 = t2, cost2, x2, y2
-    if t > 0.0:
-        on_bound = x0 <= lo0 or x0 >= hi0 or y0 <= lo1 or y0 >= hi1
-        # no pixel can be outside a sphere wider than the box seen from its centre (most fits)
-        ex = max(x0 - lo0, hi0 - x0)
-        ey = max(y0 - lo1, hi1 - y0)
-        R = (1.0 + t * t) / (2.0 * t)
-        if on_bound or (R * R < ex * ex + ey * ey and outside(xs, ys, wt, x0, y0, t)):
+    if awry_A or awry_B or awry(xs, ys, wt, lo0, lo1, hi0, hi1, x0, y0, t):
+        # Eq. 21 has several minima here: the plateau-escape start too, and every fit that left
+        # pixels outside its sphere (or ended on the bound) searched on from by compass steps
+        ok, px, py, pt = plateau_escape(xs, ys, hs, wt)
+        if ok:
+            t2, cost2, x2, y2, _s = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, 0.0, 0.0, 0.0,
+                                       False)
+            if cost2 < cost:
+                t, cost, x0, y0 = t2, cost2, x2, y2
+            if awry(xs, ys, wt, lo0, lo1, hi0, hi1, x2, y2, t2):
+                t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, x2, y2, t2, lo0, lo1, hi0, hi1)
+                if cost2 < cost:
+                    t, cost, x0, y0 = t2, cost2, x2, y2
+        if awry_A:
+            t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xA, yA, tA, lo0, lo1, hi0, hi1)
+            if cost2 < cost:
+                t, cost, x0, y0 = t2, cost2, x2, y2
+        if awry_B:
+            t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xB, yB, tB, lo0, lo1, hi0, hi1)
+            if cost2 < cost:
+                t, cost, x0, y0 = t2, cost2, x2, y2
+        if awry(xs, ys, wt, lo0, lo1, hi0, hi1, x0, y0, t):  # the best still awry: a global search
             t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M)
     # the plateau is always admissible; near it the two costs differ by less than their rounding,
     # so the difference is summed directly
@@ -252,6 +273,6 @@ def fit_footprint(x, y, z, d, dx, dy):
     ys[:n] = (y - np.mean(y)) / af
     hs[:n] = (np.asarray(z) - d) / af
     wt[:n] = 1.0
-    t, cost, _x0, _y0 = fit_sphere(xs, ys, hs, wt, n, 0.5 * dx / af, 0.5 * dy / af, np.zeros((4, 5)))
+    t, cost, _x0, _y0 = fit_sphere(xs, ys, hs, wt, n, 0.5 * dx / af, 0.5 * dy / af, np.zeros((4, GRID_KEEP)))
     R = af * (1.0 + t * t) / (2.0 * t) if t > 0 else math.inf
     return R, math.sqrt(cost / n) * af

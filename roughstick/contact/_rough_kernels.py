@@ -36,6 +36,7 @@ import numba as nb
 import numpy as np
 
 from .._core.conventions import CURVE_VARIABLES
+from ._rough_search import GRID_KEEP
 from ._rough_tail import (
     _NEXTB,
     _NJ,
@@ -116,7 +117,7 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
     scal = np.zeros(8, np.int64)
     scal[_NEXTB] = nbuck - 1
     nbuf = np.empty((4, 8), np.int64)
-    M = np.zeros((4, 5))
+    M = np.zeros((4, GRID_KEEP))  # the sphere fits' work array
     # levels
     maxp = int(params[MAXP]) if fixed.size == 0 else fixed.size
     Dv = np.empty(maxp)

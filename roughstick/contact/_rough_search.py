@@ -15,12 +15,18 @@ import numba as nb
 
 from ._rough_lm import cost_at, lm
 
-__all__ = ["outside", "grid_search"]
+__all__ = ["outside", "awry", "pattern_search", "grid_search", "GRID_KEEP"]
 
 
 _FASTMATH = {"reassoc", "contract"}
-_GRID_CENTRES = 7  # the search where a fit leaves pixels outside its sphere: 7 x 7 centres,
-_GRID_CAPS = 8  # 8 cap heights, the 5 best polished (M's 4 x 5 entries hold them)
+_GRID_CENTRES = 11  # the global search: 11 x 11 centres over the footprint's box,
+_GRID_CAPS = 12  # 12 cap heights,
+GRID_KEEP = 20  # the 20 best grid points polished (the columns of the (4, GRID_KEEP) work array)
+_PATTERN_STEP = 0.05  # compass search: first step (units of a_f), halved down to
+_PATTERN_STOP = 1e-6  # this, then the local iteration
+# its directions: the three axes, and the diagonals of the three coordinate planes
+_DIRECTIONS = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (1.0, 1.0, 0.0), (1.0, -1.0, 0.0),
+               (1.0, 0.0, 1.0), (0.0, 1.0, 1.0), (1.0, 0.0, -1.0), (0.0, 1.0, -1.0))
 
 
 @nb.njit(cache=True, nogil=True, fastmath=_FASTMATH, error_model="numpy", _nrt=False)
@@ -39,14 +45,57 @@ def outside(xs, ys, wt, x0, y0, t):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
-def grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M):  # pragma: no cover - compiled
-    """Global search for fits that leave pixels outside their sphere or end on the centre's bound.
+def awry(xs, ys, wt, lo0, lo1, hi0, hi1, x0, y0, t):  # pragma: no cover - compiled
+    """Whether the fit (x0, y0, t) ends with its centre on the bound or leaves pixels outside its
+    sphere: there Eq. 21's cost is not smooth and has several local minima."""
+    if not (t > 0.0):
+        return False
+    if x0 <= lo0 or x0 >= hi0 or y0 <= lo1 or y0 >= hi1:
+        return True
+    # no pixel can be outside a sphere wider than the box seen from its centre (most fits)
+    ex = max(x0 - lo0, hi0 - x0)
+    ey = max(y0 - lo1, hi1 - y0)
+    R = (1.0 + t * t) / (2.0 * t)
+    return R * R < ex * ex + ey * ey and outside(xs, ys, wt, x0, y0, t)
 
-    There the cost of Eq. 21 is not smooth (a pixel entering the sphere's projection meets its
-    vertical tangent) and has several local minima, typically on asperities cut by the edge of a
-    measured map, so the iteration from the documented starts can stop in a poor one. The cost
-    is evaluated on a grid of centres over the footprint's box and cap heights, and the
-    iteration restarted from the best grid points; returns the best of those and the given fit.
+
+@nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+def pattern_search(xs, ys, hs, wt, x0, y0, t, lo0, lo1, hi0, hi1):  # pragma: no cover - compiled
+    """Compass search from (x0, y0, t), then the local iteration; returns ``(t, cost, x0, y0)``.
+
+    Steps of 0.05 a_f along the axes and the planes' diagonals, halved when none lowers the cost,
+    down to 1e-6: the first steps cross from one local minimum of Eq. 21 to a lower neighbour
+    (where pixels leave the sphere the minima lie ~0.05-0.3 a_f apart), which the iteration,
+    following the local gradient, cannot.
+    """
+    cost = cost_at(xs, ys, hs, wt, x0, y0, t)
+    step = _PATTERN_STEP
+    while step > _PATTERN_STOP:
+        moved = False
+        for k in range(len(_DIRECTIONS)):
+            u = _DIRECTIONS[k]
+            for sign in (1.0, -1.0):
+                s = sign * step
+                q0 = min(max(x0 + s * u[0], lo0), hi0)
+                q1 = min(max(y0 + s * u[1], lo1), hi1)
+                q2 = min(max(t + s * u[2], 0.0), 1.0)
+                c = cost_at(xs, ys, hs, wt, q0, q1, q2)
+                if c < cost:
+                    x0, y0, t, cost = q0, q1, q2, c
+                    moved = True
+        if not moved:
+            step *= 0.5
+    t, cost, x0, y0, _s = lm(xs, ys, hs, wt, x0, y0, t, lo0, lo1, 0.0, hi0, hi1, 1.0, 0.0, 0.0, 0.0, False)
+    return t, cost, x0, y0
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+def grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M):  # pragma: no cover - compiled
+    """Global search where the best fit from the starts is still awry (:func:`awry`).
+
+    The cost is evaluated on a grid of centres over the footprint's box and cap heights; the
+    ``M.shape[1]`` best grid points and the given fit are polished by the local iteration and then
+    by :func:`pattern_search`; returns the best of all (never worse than the given fit).
     """
     nb_ = M.shape[1]
     for k in range(nb_):
@@ -68,11 +117,17 @@ def grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M):  # prag
                     M[1, k] = gx
                     M[2, k] = gy
                     M[3, k] = gt
+    t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, x0, y0, t, lo0, lo1, hi0, hi1)
+    if cost2 < cost:
+        t, cost, x0, y0 = t2, cost2, x2, y2
     for k in range(nb_):
         if not math.isfinite(M[0, k]):
             break
         t2, cost2, x2, y2, _s = lm(xs, ys, hs, wt, M[1, k], M[2, k], M[3, k], lo0, lo1, 0.0, hi0, hi1, 1.0,
                                    0.0, 0.0, 0.0, False)
+        if cost2 < cost:
+            t, cost, x0, y0 = t2, cost2, x2, y2
+        t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, x2, y2, t2, lo0, lo1, hi0, hi1)
         if cost2 < cost:
             t, cost, x0, y0 = t2, cost2, x2, y2
     return t, cost, x0, y0

@@ -63,27 +63,20 @@ def fits_per_asperity(z, d, *, periodic, connectivity=4, dx=DX, dy=DX):
     return np.array(rows).reshape(-1, 4)
 
 
-def assert_fits_no_worse(z, d, *, allow_small=False, **kw):
+def assert_fits_no_worse(z, d, **kw):
     """No asperity fitted worse by the fast path; returns, per level, whether every asperity's
-    fit has the reference's residual (within the tolerance: the same minimum), the number of
-    worse fits and of asperities.
-
-    ``allow_small``: footprints of 3 or 4 pixels may be worse (fitted from one start, no
-    paraboloid: see test_fits_no_worse_than_reference_on_families_sweep), the caller counts them.
-    """
+    fit has the reference's residual (within the tolerance: the same minimum), and the number of
+    asperities."""
     same = np.zeros(len(d), bool)
-    n_worse_small = n_total = 0
+    n_total = 0
     for j, level in enumerate(d):
         e = fits_per_asperity(z, level, **kw)
         tol = FIT_RTOL * e[:, 1] + FIT_ATOL * e[:, 2]
         worse = e[:, 0] > e[:, 1] + tol
-        small = (e[:, 3] >= 3) & (e[:, 3] <= 4)
-        assert not (worse & ~small).any(), (level, e[worse])
-        assert allow_small or not worse.any(), (level, e[worse])
-        n_worse_small += int(worse.sum())
+        assert not worse.any(), (level, e[worse])
         n_total += len(e)
         same[j] = np.all(np.abs(e[:, 0] - e[:, 1]) <= tol)
-    return same, n_worse_small, n_total
+    return same, n_total
 
 
 def compare(z, d, *, periodic, connectivity=4, hw=HW, dp=DP, dy=DX):
@@ -131,29 +124,27 @@ def test_measured_map_edge_bump():
 
 @pytest.mark.parametrize("connectivity", [4, 8])
 def test_measured_random_map(connectivity):
-    # non-periodic, odd non-square random map: asperities are cut by the edges. Eq. 21 can have
-    # several local minima for steep asperities cut by the edge, where two optimisers from the
-    # same starts may settle in different ones: at most 1 level in 14 is allowed to differ
-    # (measured: 1 with either connectivity: an 18-pixel asperity in the map's corner, where
-    # least_squares reaches an Eq. 23 residual 5 % below the fast path's even after its grid
-    # search; a dense grid search finds one 2.5 % below the reference's), and the others must
-    # agree to 1e-6.
+    # non-periodic, odd non-square random map: asperities are cut by the edges. Eq. 21 has several
+    # local minima for steep asperities cut by the edge. Before the compass search
+    # (roughstick.contact._rough_search) an 18-pixel asperity in the map's corner was fitted 5 %
+    # worse than by the reference (whose least_squares reached a lower minimum from the same
+    # start); now no asperity is fitted worse, and at levels where every asperity reaches the
+    # reference's minimum the pressures agree to 1e-6 (measured: 13 of 14 levels; at the other
+    # the fast fit of that asperity is 2.5 % better, the best minimum a dense grid finds)
     z = smooth_field((37, 52), sigma_px=4, rms=4e-9, seed=2, wrap=False)
     zc = z - z.mean()
     d = np.linspace(zc.max() + 2e-9, zc.max() - 8e-9, 14)
+    same, _ = assert_fits_no_worse(z, d, periodic=False, connectivity=connectivity)
     kw = dict(dx=DX, dy=DX, K=K, periodic=False, connectivity=connectivity)
-    fast = curves_kernel(z, d, HW, DP, **kw)
+    fast = curves_kernel(z, d[same], HW, DP, **kw)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ref = reference_curves(z, d, HW, DP, **kw)
+        ref = reference_curves(z, d[same], HW, DP, **kw)
     big = np.abs(ref[0]) > 1e-3 * np.max(np.abs(ref[0]))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        rel = np.where(big, np.abs(fast[0] - ref[0]) / np.abs(ref[0]), 0.0).max(axis=0)
-    assert np.sum(rel >= 1e-6) <= 1, rel
+    assert np.max(np.abs(fast[0] - ref[0])[big] / np.abs(ref[0])[big]) < 1e-6
     np.testing.assert_array_equal(fast[4], ref[4])
-    ok = rel < 1e-6
-    np.testing.assert_allclose(fast[2][:, ok], ref[2][:, ok], rtol=1e-6, atol=1e-12)
-    np.testing.assert_allclose(fast[3][:, ok], ref[3][:, ok], rtol=1e-6, atol=1e-12)
+    np.testing.assert_allclose(fast[2], ref[2], rtol=1e-6, atol=1e-12)
+    np.testing.assert_allclose(fast[3], ref[3], rtol=1e-6, atol=1e-12)
 
 
 def test_asperity_wrapping_round_periodic_edges():
@@ -266,18 +257,15 @@ def family_levels(z, periodic, count):
     return d[with_contact[np.linspace(0, with_contact.size - 1, count).astype(int)]]
 
 
-def check_family(family, n, seed, count, quantum=0.0, allow_small=False):
+def check_family(family, n, seed, count, quantum=0.0):
     z, periodic = family_map(family, n, seed)
     if quantum:
         z = np.round(z / quantum) * quantum
     d = family_levels(z, periodic, count)
-    same, n_worse, n_total = assert_fits_no_worse(z, d, periodic=periodic, allow_small=allow_small)
-    # measured: every asperity at the same minimum on these maps but the one noted in the
-    # sweep (before the plateau escape, 10 of 2,500 asperities on the families were not, and
-    # pressures differed by up to 2e-2); the pressure is compared where all are
-    if not allow_small:
-        assert same.all(), d[~same]
-    d = d[same]
+    same, n_total = assert_fits_no_worse(z, d, periodic=periodic)
+    # every asperity at the same minimum on these maps (before the plateau escape, 10 of 2,500
+    # asperities on the families were not, and pressures differed by up to 2e-2)
+    assert same.all(), d[~same]
     kw = dict(dx=DX, dy=DX, K=K, periodic=periodic, connectivity=4)
     fast = curves_kernel(z, d, HW, DP, **kw)
     with warnings.catch_warnings():
@@ -287,7 +275,7 @@ def check_family(family, n, seed, count, quantum=0.0, allow_small=False):
     rel = np.abs(fast[0] - ref[0])[big] / np.abs(ref[0])[big]
     assert rel.max(initial=0) < 1e-6, rel.max()
     np.testing.assert_array_equal(fast[4], ref[4])
-    return n_worse, n_total
+    return n_total
 
 
 @pytest.mark.parametrize("family", ["S1A", "S2A", "table4", "smooth", "rough"])
@@ -295,19 +283,13 @@ def test_fits_no_worse_than_reference_on_families(family):
     # 256^2 crops, 8 levels of the automatic grid: the sphere fits of the fast path against
     # scipy's least_squares. Without the plateau escape this failed on S2A, Table 4 and smooth
     # (one asperity each stopped on the plateau t = 0 with a 1e-4..3e-2 larger residual)
-    assert check_family(family, 256, 1, 8)[1] > 0
+    assert check_family(family, 256, 1, 8) > 0
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("quantum", [0.0, 0.3e-9])
 @pytest.mark.parametrize("family", ["S1A", "S2A", "table4", "smooth", "rough"])
 def test_fits_no_worse_than_reference_on_families_sweep(family, quantum):
-    # 256^2, three crops / seeds, 16 levels; and heights quantised to 0.3 nm (ties). Measured:
-    # 4,562 asperities, the fast fit worse on one (S1A quantised, crop 2: a straight line of 4
-    # pixels, residual 3.0 % above the reference's, whose least_squares from the same centroid
-    # start reaches a steeper cap centred off the line). Footprints of 3 or 4 pixels have one
-    # start (the paraboloid needs 5), and Eq. 21 has several minima there; a grid search for them
-    # would cost ~40 % on S2A (2.5 % of its fits are straight lines). So 3-4 pixel footprints may
-    # be worse on at most 1 % of a family's asperities (measured: 1 of 188), others never.
-    counts = np.array([check_family(family, 256, seed, 16, quantum, allow_small=True) for seed in range(3)])
-    assert counts[:, 0].sum() <= 0.01 * counts[:, 1].sum(), counts
+    # 256^2, three crops / seeds, 16 levels; and heights quantised to 0.3 nm (ties): no asperity
+    # fitted worse than the reference, and the pressure within 1e-6 at every level
+    assert sum(check_family(family, 256, seed, 16, quantum) for seed in range(3)) > 0
