@@ -35,6 +35,7 @@ _T_MAX_START = 0.999
 _PARABOLOID_MIN_PIXELS = 5
 _PARABOLOID_RCOND = 1e-10
 _T_PLATEAU = 1e-6  # below this cap height the fit has stopped on the plateau (its centre free)
+_T_STEEP = 0.3  # above this cap height (R < 1.8 a_f) the plateau-escape start is tried too
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
@@ -219,27 +220,38 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
                 awry_B = awry(xs, ys, wt, lo0, lo1, hi0, hi1, xB, yB, tB)
                 if cB < cost:
                     t, cost, x0, y0 = tB, cB, xB, yB
-    if t < _T_PLATEAU:  # on (or indistinguishably near) the plateau, where the centre is free
+    # the plateau-escape start (the reference's third): where the fit stopped on (or
+    # indistinguishably near) the plateau, where the centre is free; and where the sphere is steep
+    # enough for other minima, with pixels outside it, to lie near (0.2 % of the families' fits)
+    awry_E = escaped = False
+    tE = xE = yE = 0.0
+    if t < _T_PLATEAU or t > _T_STEEP:
+        escaped = True
         ok, px, py, pt = plateau_escape(xs, ys, hs, wt)
         if ok:
-            t2, cost2, x2, y2, _s = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, 0.0, 0.0, 0.0,
-                                       False)
-            here = over_plateau(xs, ys, hs, wt, x0, y0, t) if t > 0.0 else 0.0
-            if t2 > 0.0 and over_plateau(xs, ys, hs, wt, x2, y2, t2) < here:
-                t, cost, x0, y0 = t2, cost2, x2, y2
-    if awry_A or awry_B or awry(xs, ys, wt, lo0, lo1, hi0, hi1, x0, y0, t):
-        # Eq. 21 has several minima here: the plateau-escape start too, and every fit that left
-        # pixels outside its sphere (or ended on the bound) searched on from by compass steps
-        ok, px, py, pt = plateau_escape(xs, ys, hs, wt)
-        if ok:
-            t2, cost2, x2, y2, _s = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, 0.0, 0.0, 0.0,
-                                       False)
+            tE, cE, xE, yE, _s = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, 0.0, 0.0, 0.0, False)
+            awry_E = awry(xs, ys, wt, lo0, lo1, hi0, hi1, xE, yE, tE)
+            if t < _T_PLATEAU:
+                here = over_plateau(xs, ys, hs, wt, x0, y0, t) if t > 0.0 else 0.0
+                if tE > 0.0 and over_plateau(xs, ys, hs, wt, xE, yE, tE) < here:
+                    t, cost, x0, y0 = tE, cE, xE, yE
+            elif cE < cost:
+                t, cost, x0, y0 = tE, cE, xE, yE
+    if awry_A or awry_B or awry_E or awry(xs, ys, wt, lo0, lo1, hi0, hi1, x0, y0, t):
+        # Eq. 21 has several minima here: the plateau-escape start too, and every fit that is
+        # awry searched on from by compass steps
+        if not escaped:
+            ok, px, py, pt = plateau_escape(xs, ys, hs, wt)
+            if ok:
+                tE, cE, xE, yE, _s = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, 0.0, 0.0, 0.0,
+                                        False)
+                awry_E = awry(xs, ys, wt, lo0, lo1, hi0, hi1, xE, yE, tE)
+                if cE < cost:
+                    t, cost, x0, y0 = tE, cE, xE, yE
+        if awry_E:
+            t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xE, yE, tE, lo0, lo1, hi0, hi1)
             if cost2 < cost:
                 t, cost, x0, y0 = t2, cost2, x2, y2
-            if awry(xs, ys, wt, lo0, lo1, hi0, hi1, x2, y2, t2):
-                t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, x2, y2, t2, lo0, lo1, hi0, hi1)
-                if cost2 < cost:
-                    t, cost, x0, y0 = t2, cost2, x2, y2
         if awry_A:
             t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xA, yA, tA, lo0, lo1, hi0, hi1)
             if cost2 < cost:

@@ -22,6 +22,7 @@ _FASTMATH = {"reassoc", "contract"}
 _GRID_CENTRES = 11  # the global search: 11 x 11 centres over the footprint's box,
 _GRID_CAPS = 12  # 12 cap heights,
 GRID_KEEP = 20  # the 20 best grid points polished (the columns of the (4, GRID_KEEP) work array)
+_RIM = 1e-2  # a pixel at r^2 > (1 - _RIM) R^2 is on the sphere's rim (see awry)
 _PATTERN_STEP = 0.05  # compass search: first step (units of a_f), halved down to
 _PATTERN_STOP = 1e-6  # this, then the local iteration
 # its directions: the three axes, and the diagonals of the three coordinate planes
@@ -30,33 +31,38 @@ _DIRECTIONS = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (1.0, 1.0, 0.0
 
 
 @nb.njit(cache=True, nogil=True, fastmath=_FASTMATH, error_model="numpy", _nrt=False)
-def outside(xs, ys, wt, x0, y0, t):  # pragma: no cover - compiled
-    """Whether some pixel lies outside the projection of the sphere (r > R, profile clamped)."""
+def outside(xs, ys, wt, x0, y0, t, margin):  # pragma: no cover - compiled
+    """Whether some pixel lies outside the projection of the sphere (r > R, profile clamped) or
+    within ``r^2 > (1 - margin) R^2`` of its rim."""
     Q = 1.0 + t * t
     QQ = Q * Q
     ft2 = 4.0 * t * t
+    lim = margin * QQ
     out = 0.0
     for p in range(xs.size):
         dx = xs[p] - x0
         dy = ys[p] - y0
-        if QQ - ft2 * (dx * dx + dy * dy) <= 0.0:
+        if QQ - ft2 * (dx * dx + dy * dy) <= lim:
             out += wt[p]
     return out > 0.0
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
 def awry(xs, ys, wt, lo0, lo1, hi0, hi1, x0, y0, t):  # pragma: no cover - compiled
-    """Whether the fit (x0, y0, t) ends with its centre on the bound or leaves pixels outside its
-    sphere: there Eq. 21's cost is not smooth and has several local minima."""
+    """Whether the fit (x0, y0, t) ends with its centre on the bound, leaves pixels outside its
+    sphere or has one on its rim: there the cost of Eq. 21 is not smooth (at the rim the profile
+    has a vertical tangent, where the iteration's steps shrink to nothing: a 5-pixel asperity
+    stopped with a pixel at r^2 = 0.995 R^2 and 3.2 times the residual of the minimum beyond)
+    and has several local minima."""
     if not (t > 0.0):
         return False
     if x0 <= lo0 or x0 >= hi0 or y0 <= lo1 or y0 >= hi1:
         return True
-    # no pixel can be outside a sphere wider than the box seen from its centre (most fits)
+    # no pixel can be near the rim of a sphere wider than the box seen from its centre (most fits)
     ex = max(x0 - lo0, hi0 - x0)
     ey = max(y0 - lo1, hi1 - y0)
     R = (1.0 + t * t) / (2.0 * t)
-    return R * R < ex * ex + ey * ey and outside(xs, ys, wt, x0, y0, t)
+    return (1.0 - _RIM) * R * R < ex * ex + ey * ey and outside(xs, ys, wt, x0, y0, t, _RIM)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
