@@ -260,8 +260,10 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
             t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xB, yB, tB, lo0, lo1, hi0, hi1)
             if cost2 < cost:
                 t, cost, x0, y0 = t2, cost2, x2, y2
-        if awry(xs, ys, wt, lo0, lo1, hi0, hi1, x0, y0, t):  # the best still awry: a global search
-            t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M)
+        # and a global search: the reference's grid (7 x 7 centres, 8 caps, its 5 best points) and
+        # a finer one (11 x 11 x 12, 20 best), so the fast path has every start the reference has
+        t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, 7, 8, 5)
+        t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, 11, 12, GRID_KEEP)
     # the plateau is always admissible; near it the two costs differ by less than their rounding,
     # so the difference is summed directly
     if t > 0.0 and plateau <= cost * (1.0 + 1e-9) and not over_plateau(xs, ys, hs, wt, x0, y0, t) < 0.0:

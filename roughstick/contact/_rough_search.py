@@ -19,9 +19,7 @@ __all__ = ["outside", "awry", "pattern_search", "grid_search", "GRID_KEEP"]
 
 
 _FASTMATH = {"reassoc", "contract"}
-_GRID_CENTRES = 11  # the global search: 11 x 11 centres over the footprint's box,
-_GRID_CAPS = 12  # 12 cap heights,
-GRID_KEEP = 20  # the 20 best grid points polished (the columns of the (4, GRID_KEEP) work array)
+GRID_KEEP = 20  # at most this many grid points polished (the columns of the (4, GRID_KEEP) work array)
 _RIM = 1e-2  # a pixel at r^2 > (1 - _RIM) R^2 is on the sphere's rim (see awry)
 _PATTERN_STEP = 0.05  # compass search: first step (units of a_f), halved down to
 _PATTERN_STOP = 1e-6  # this, then the local iteration
@@ -96,22 +94,23 @@ def pattern_search(xs, ys, hs, wt, x0, y0, t, lo0, lo1, hi0, hi1):  # pragma: no
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
-def grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M):  # pragma: no cover - compiled
-    """Global search where the best fit from the starts is still awry (:func:`awry`).
+def grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, centres, caps, keep):  # pragma: no cover
+    """Global search where a fit from the starts was awry (:func:`awry`).
 
-    The cost is evaluated on a grid of centres over the footprint's box and cap heights; the
-    ``M.shape[1]`` best grid points and the given fit are polished by the local iteration and then
-    by :func:`pattern_search`; returns the best of all (never worse than the given fit).
+    The cost is evaluated on a grid of ``centres x centres`` centres over the footprint's box and
+    ``caps`` cap heights ``1/caps .. 1``; the ``keep`` best grid points (at most ``M.shape[1]``)
+    and the given fit are polished by the local iteration and by :func:`pattern_search`; returns
+    the best of all (never worse than the given fit).
     """
-    nb_ = M.shape[1]
+    nb_ = keep
     for k in range(nb_):
         M[0, k] = math.inf
-    for i in range(_GRID_CENTRES):
-        gx = lo0 + (hi0 - lo0) * i / (_GRID_CENTRES - 1)
-        for j in range(_GRID_CENTRES):
-            gy = lo1 + (hi1 - lo1) * j / (_GRID_CENTRES - 1)
-            for m in range(_GRID_CAPS):
-                gt = (m + 1.0) / _GRID_CAPS
+    for i in range(centres):
+        gx = lo0 + (hi0 - lo0) * i / (centres - 1)
+        for j in range(centres):
+            gy = lo1 + (hi1 - lo1) * j / (centres - 1)
+            for m in range(caps):
+                gt = (m + 1.0) / caps
                 c = cost_at(xs, ys, hs, wt, gx, gy, gt)
                 if c < M[0, nb_ - 1]:  # insert into the sorted list of the best
                     k = nb_ - 1
