@@ -168,6 +168,41 @@ def plateau_escape(xs, ys, hs, wt):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+def _search_on(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, escaped, tA, xA, yA, awry_A, tB, xB, yB,
+               awry_B, tE, xE, yE, awry_E):  # pragma: no cover - compiled
+    """Where a fit from the starts is awry: the searches between Eq. 21's minima (fit_sphere)."""
+    # Eq. 21 has several minima here: the plateau-escape start too, and every fit that is
+    # awry searched on from by compass steps
+    if not escaped:
+        ok, px, py, pt = plateau_escape(xs, ys, hs, wt)
+        if ok:
+            tE, cE, xE, yE, _s = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, 0.0, 0.0, 0.0,
+                                    False)
+            awry_E = awry(xs, ys, wt, lo0, lo1, hi0, hi1, xE, yE, tE)
+            if cE < cost:
+                t, cost, x0, y0 = tE, cE, xE, yE
+    if awry_E:
+        t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xE, yE, tE, lo0, lo1, hi0, hi1)
+        if cost2 < cost:
+            t, cost, x0, y0 = t2, cost2, x2, y2
+    if awry_A:
+        t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xA, yA, tA, lo0, lo1, hi0, hi1)
+        if cost2 < cost:
+            t, cost, x0, y0 = t2, cost2, x2, y2
+    if awry_B:
+        t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xB, yB, tB, lo0, lo1, hi0, hi1)
+        if cost2 < cost:
+            t, cost, x0, y0 = t2, cost2, x2, y2
+    # and a global search: the reference's grid (7 x 7 centres, 8 caps, its 5 best points), so
+    # the fast path has every start the reference has, and finer ones (11 x 11 x 12 and
+    # 15 x 15 x 16, 20 best points each) for minima in basins narrower than its spacing
+    t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, 7, 8, 5)
+    t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, 11, 12, GRID_KEEP)
+    t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, 15, 16, GRID_KEEP)
+    return t, cost, x0, y0
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
 def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
     """Eq. 21 fit of one asperity (dimensionless data, as the base kernel's ``_fit_sphere``).
 
@@ -237,33 +272,9 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
                     t, cost, x0, y0 = tE, cE, xE, yE
             elif cE < cost:
                 t, cost, x0, y0 = tE, cE, xE, yE
-    if awry_A or awry_B or awry_E or awry(xs, ys, wt, lo0, lo1, hi0, hi1, x0, y0, t):
-        # Eq. 21 has several minima here: the plateau-escape start too, and every fit that is
-        # awry searched on from by compass steps
-        if not escaped:
-            ok, px, py, pt = plateau_escape(xs, ys, hs, wt)
-            if ok:
-                tE, cE, xE, yE, _s = lm(xs, ys, hs, wt, px, py, pt, lo0, lo1, 0.0, hi0, hi1, 1.0, 0.0, 0.0, 0.0,
-                                        False)
-                awry_E = awry(xs, ys, wt, lo0, lo1, hi0, hi1, xE, yE, tE)
-                if cE < cost:
-                    t, cost, x0, y0 = tE, cE, xE, yE
-        if awry_E:
-            t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xE, yE, tE, lo0, lo1, hi0, hi1)
-            if cost2 < cost:
-                t, cost, x0, y0 = t2, cost2, x2, y2
-        if awry_A:
-            t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xA, yA, tA, lo0, lo1, hi0, hi1)
-            if cost2 < cost:
-                t, cost, x0, y0 = t2, cost2, x2, y2
-        if awry_B:
-            t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xB, yB, tB, lo0, lo1, hi0, hi1)
-            if cost2 < cost:
-                t, cost, x0, y0 = t2, cost2, x2, y2
-        # and a global search: the reference's grid (7 x 7 centres, 8 caps, its 5 best points) and
-        # a finer one (11 x 11 x 12, 20 best), so the fast path has every start the reference has
-        t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, 7, 8, 5)
-        t, cost, x0, y0 = grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, 11, 12, GRID_KEEP)
+    if awry_A or awry_B or awry_E:  # (the best is one of these fits)
+        t, cost, x0, y0 = _search_on(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, escaped, tA, xA, yA,
+                                     awry_A, tB, xB, yB, awry_B, tE, xE, yE, awry_E)
     # the plateau is always admissible; near it the two costs differ by less than their rounding,
     # so the difference is summed directly
     if t > 0.0 and plateau <= cost * (1.0 + 1e-9) and not over_plateau(xs, ys, hs, wt, x0, y0, t) < 0.0:

@@ -21,6 +21,7 @@ __all__ = ["outside", "awry", "pattern_search", "grid_search", "GRID_KEEP"]
 _FASTMATH = {"reassoc", "contract"}
 GRID_KEEP = 20  # at most this many grid points polished (the columns of the (4, GRID_KEEP) work array)
 _RIM = 1e-2  # a pixel at r^2 > (1 - _RIM) R^2 is on the sphere's rim (see awry)
+_SAME_MINIMUM = 1e-6  # two local iterations ending this close (units of a_f) reached one minimum
 _PATTERN_STEP = 0.05  # compass search: first step (units of a_f), halved down to
 _PATTERN_STOP = 1e-6  # this, then the local iteration
 # its directions: the three axes, and the diagonals of the three coordinate planes
@@ -45,7 +46,7 @@ def outside(xs, ys, wt, x0, y0, t, margin):  # pragma: no cover - compiled
     return out > 0.0
 
 
-@nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+@nb.njit(cache=True, nogil=True, error_model="numpy", _nrt=False, inline="always")
 def awry(xs, ys, wt, lo0, lo1, hi0, hi1, x0, y0, t):  # pragma: no cover - compiled
     """Whether the fit (x0, y0, t) ends with its centre on the bound, leaves pixels outside its
     sphere or has one on its rim: there the cost of Eq. 21 is not smooth (at the rim the profile
@@ -132,7 +133,15 @@ def grid_search(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, centres,
                                    0.0, 0.0, 0.0, False)
         if cost2 < cost:
             t, cost, x0, y0 = t2, cost2, x2, y2
-        t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, x2, y2, t2, lo0, lo1, hi0, hi1)
-        if cost2 < cost:
-            t, cost, x0, y0 = t2, cost2, x2, y2
+        M[0, k], M[1, k], M[2, k], M[3, k] = cost2, x2, y2, t2  # the minimum it reached
+        seen = False  # grid points in one basin reach one minimum: searched on from once
+        for j in range(k):
+            if (abs(M[1, j] - x2) <= _SAME_MINIMUM and abs(M[2, j] - y2) <= _SAME_MINIMUM
+                    and abs(M[3, j] - t2) <= _SAME_MINIMUM):
+                seen = True
+                break
+        if not seen:
+            t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, x2, y2, t2, lo0, lo1, hi0, hi1)
+            if cost2 < cost:
+                t, cost, x0, y0 = t2, cost2, x2, y2
     return t, cost, x0, y0
