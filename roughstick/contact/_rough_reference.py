@@ -13,7 +13,8 @@ cleverness, so that the fast path in :mod:`roughstick.contact._rough_kernels` ca
    the h-weighted centroid; the fast path tries it only when it has stopped on the plateau
    t = 0, the reference always, so it is the stricter yardstick), keeping the best; where that
    fit leaves pixels outside its sphere or puts its centre on the bound, from the 5 best points
-   of the fast path's grid too (the cost is not smooth there and has several minima); the
+   of a 7 x 7 x 8 grid too (the first of the fast path's three grids; the cost is not smooth
+   there and has several minima); the
    plateau t = 0 is always a candidate; one- and
    two-pixel footprints use the same rule as the fast path but solved by ``scipy.optimize.brentq``;
 3. Hertz force and contact area of each sphere (Eqs. 10-11), fit error (Eq. 23), and Eq. 16 with
@@ -228,8 +229,8 @@ def fit_asperity(x, y, z, d, area, dx, dy):
         R = radius_from_cap(p[2], 1.0)
         on_bound = p[0] <= lo[0] or p[0] >= hi[0] or p[1] <= lo[1] or p[1] >= hi[1]
         if p[2] > 0 and (np.any(np.hypot(x / af - p[0], y / af - p[1]) > R) or on_bound):
-            # a pixel outside the sphere or the centre on its bound: the grid search of the
-            # fast path (7 x 7 centres over the box, 8 cap heights, the 5 best polished)
+            # a pixel outside the sphere or the centre on its bound: the first grid search of
+            # the fast path (7 x 7 centres over the box, 8 cap heights, the 5 best polished)
             grid = [(float(np.sum(residual((gx, gy, gt)) ** 2)), (gx, gy, gt))
                     for gx in np.linspace(lo[0], hi[0], 7) for gy in np.linspace(lo[1], hi[1], 7)
                     for gt in np.arange(1, 9) / 8]
@@ -249,7 +250,7 @@ def _paraboloid_start(x, y, h):
     if np.min(np.abs(np.diag(lu))) <= 1e-10 * np.max(np.diag(M)):
         return None
     w, u, v, q = linalg.lu_solve((lu, _piv), G.T @ h)
-    if not q > 0:
+    if not q > 1e-9 * abs(h.mean()):  # flat (as the fast path: a curvature at rounding level)
         return None
     R = 1.0 / (2.0 * q)
     t0 = 1.0 if R <= 1.0 else 1.0 / (R + math.sqrt(R * R - 1.0))
