@@ -13,12 +13,13 @@ centre on the bound (:func:`._rough_search.awry`), Eq. 21's cost is not smooth a
 local minima, and the literal reference's ``least_squares`` can end in a lower one than LM from
 the same start. There every awry fit is searched on from by compass steps, and three grids of
 centres and caps (the reference's 7 x 7 x 8 and finer 11 x 11 x 12 and 15 x 15 x 16) are
-polished the same way (:mod:`._rough_search`). Measured (reference footprints, Eq. 23
-residuals; ``python`` on the sets of /work/scratch/fits12 described in docs/rough_contact.md):
-fast fit worse than the reference on 0 of 9,802 footprints of the five families' sweep, small
-footprints of S1A/S2A/smooth and Gaussian-filtered measured maps of 1.2-4 px correlation
-(main: 23), on 2 of 4,187 footprints of two further steep sets (main: 36). On S2A the searches
-run for about 10 of ~50,000 fits; the default call costs 4 % more than without them. The
+polished the same way (:mod:`._rough_search`). Measured (Eq. 23 residuals per asperity, the
+reference's footprints): no asperity worse than the reference on the five families
+(``pytest -m slow -k families_sweep``) and the hard cases of the tests; on steep measured maps
+of 1.2-4 px correlation (``python benchmarks/bench_rough_fits.py``) 2 of 8,301 (main: 58). On
+the 1024^2 default calls the searches run for 6 of 35,471 fits of S2A, 5 of 49,247 of smooth,
+none on S1A and Table 4; S2A's default call costs 4.7 % more than main's (A/B in one process),
+smooth's 0.7 %. The
 plateau is always a candidate. Per-pixel sums are vectorised over blocks of ``_SIMD`` pixels
 (the footprint arrays are zero-padded with zero weight to a multiple of it).
 """

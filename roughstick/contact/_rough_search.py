@@ -1,10 +1,12 @@
 """The search between the local minima of Eq. 21 for one asperity footprint (compiled).
 
-Where a fit leaves pixels outside its sphere or ends with its centre on the bound, the cost of
-Eq. 21 is not smooth (a pixel entering the sphere's projection meets its vertical tangent) and
-has several local minima, typically on steep asperities cut by the edge of a measured map; the
-local iteration (:func:`._rough_lm.lm`) from the documented starts can stop in a poor one. The
-functions here decide when that is the case and search further (see :func:`._rough_fit.fit_sphere`).
+Where a fit leaves pixels outside its sphere, has one on its rim or ends with its centre on the
+bound (:func:`awry`), the cost of Eq. 21 is not smooth (a pixel entering the sphere's projection
+meets its vertical tangent) and has several local minima, typically on steep asperities cut by
+the edge of a measured map; the local iteration (:func:`._rough_lm.lm`) from the documented
+starts can stop in a poorer one than the reference's ``least_squares``. The compass search
+(:func:`pattern_search`) and the grids (:func:`grid_search`) search on from there; see
+:func:`._rough_fit.fit_sphere` for when, and docs/rough_contact.md for what it was measured on.
 """
 
 from __future__ import annotations
