@@ -24,6 +24,10 @@ __all__: list[str] = []
 
 #: pCN step sigma of the shell-direction rounds of ``proposal="shell"`` (docs/rare_events.md)
 SHELL_SCALE = 1.0
+#: None: every shell moves; K: one shell, drawn uniformly among the K of lowest |q| (experiment)
+SHELL_ONE_OF = None
+#: "direction": keep each shell's norm, move its direction; "radius": the converse (experiment)
+SHELL_MODE = "direction"
 
 
 def check_proposal(proposal, model):
@@ -36,7 +40,7 @@ def round_move(proposal, k, model, noise_shape, spread, scale):
     """The move of round ``k`` of a level: with ``proposal="shell"`` even rounds are a
     :class:`ShellMove` and odd rounds the adaptive pCN; otherwise pCN in every round."""
     if proposal == "shell" and k % 2 == 0:
-        return ShellMove(model.shell_labels, noise_shape, SHELL_SCALE)
+        return ShellMove(model.shell_labels, noise_shape, SHELL_SCALE, one_of=SHELL_ONE_OF, mode=SHELL_MODE)
     return PCNMove(*proposal_scales(spread, scale))
 
 
@@ -105,7 +109,7 @@ class ShellMove:
     the old one: a symmetric kernel, reversible for the uniform direction.
     """
 
-    def __init__(self, labels, shape, sigma):
+    def __init__(self, labels, shape, sigma, one_of=None, mode="direction"):
         ny, nx = (int(v) for v in shape)
         self.labels = np.asarray(labels, dtype=np.int64)
         if self.labels.shape != (ny, nx // 2 + 1):
@@ -118,6 +122,8 @@ class ShellMove:
         self.lab = self.labels[self.on]
         self.w = _weights(ny, nx, nx // 2 + 1)[self.on]
         self.n = int(self.lab.max()) + 1 if self.lab.size else 0
+        self.mode = mode
+        self.one_of = None if one_of is None else min(int(one_of), self.n)
 
     def _norm2(self, c):
         return np.bincount(self.lab, weights=self.w * (c.real**2 + c.imag**2), minlength=self.n)
@@ -128,9 +134,15 @@ class ShellMove:
         X = scipy.fft.rfft2(np.reshape(xi, self.shape), norm="ortho", workers=1)
         wg = W[self.on]
         v = self.rho * wg + self.sigma * X[self.on]
-        nv = self._norm2(v)
-        f = np.sqrt(np.divide(self._norm2(wg), nv, out=np.zeros(self.n), where=nv > 0))
-        W[self.on] = f[self.lab] * v
+        if self.one_of is not None:  # only one shell moves (labels are sorted by |q|)
+            v = np.where(self.lab == rng.integers(self.one_of), v, wg)
+        nv, nw = self._norm2(v), self._norm2(wg)
+        if self.mode == "radius":  # keep the direction, take the norm of the pCN proposal
+            f = np.sqrt(np.divide(nv, nw, out=np.zeros(self.n), where=nw > 0))
+            W[self.on] = f[self.lab] * wg
+        else:
+            f = np.sqrt(np.divide(nw, nv, out=np.zeros(self.n), where=nv > 0))
+            W[self.on] = f[self.lab] * v
         out = scipy.fft.irfft2(W, s=self.shape, norm="ortho", workers=1)
         return out.reshape(np.shape(z))
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import scipy.fft
 import xarray as xr
-from scipy.stats import kstest, norm
+from scipy.stats import chi2, kstest, norm
 
 import roughstick as rs
 from roughstick.stiction import _rare_moves as _m
@@ -62,16 +62,36 @@ def test_shell_move_keeps_every_shell_norm_and_moves_the_direction(shape, sigma)
     np.testing.assert_allclose(rest1, rest, atol=1e-12)  # modes of no shell are untouched
 
 
-@pytest.mark.parametrize("shape", [(16, 16), (15, 12)])
-@pytest.mark.parametrize("sigma", [1.0, 0.3])
-def test_shell_move_leaves_the_prior_invariant_and_is_reversible(shape, sigma):
+def test_radius_and_one_shell_variants():
+    """mode="radius" keeps each shell's direction (new norm); one_of=K moves one shell only."""
+    shape = (16, 16)
+    lab = labels_of(shape)
+    rng = np.random.default_rng(5)
+    z = rng.standard_normal(shape)
+    z1 = _m.ShellMove(lab, shape, 0.5, mode="radius")(z, rng)
+    z2 = _m.ShellMove(lab, shape, 1.0, one_of=3)(z, rng)
+    moved = 0
+    for g in range(lab.max() + 1):
+        a, b, c = project(z, lab, g), project(z1, lab, g), project(z2, lab, g)
+        k = np.sum(a * b) / np.sum(a * a)
+        assert k > 0 and np.allclose(b, k * a, atol=1e-12)
+        moved += not np.allclose(c, a, atol=1e-12)
+        assert math.isclose(np.sum(c * c), np.sum(a * a), rel_tol=1e-10)
+    assert moved == 1
+
+
+@pytest.mark.parametrize(("shape", "sigma", "mode", "one_of"), [
+    ((16, 16), 1.0, "direction", None), ((16, 16), 0.3, "direction", None), ((15, 12), 1.0, "direction", None),
+    ((15, 12), 0.3, "direction", None), ((16, 16), 0.5, "radius", None), ((15, 12), 1.0, "radius", None),
+    ((16, 16), 1.0, "direction", 4)])
+def test_shell_move_leaves_the_prior_invariant_and_is_reversible(shape, sigma, mode, one_of):
     """z ~ N(0, I) -> z' = move(z): z' is N(0, I) again (per-coordinate mean/variance, a KS test,
     the empirical covariance), and (z, z') is exchangeable: E[z z'^T] is symmetric (a reversible
     kernel; a fixed rotation inside a shell would keep the prior but fail this)."""
     lab = labels_of(shape)
     n = 4000
     rng = np.random.default_rng(11)
-    move = _m.ShellMove(lab, shape, sigma)
+    move = _m.ShellMove(lab, shape, sigma, mode=mode, one_of=one_of)
     z = rng.standard_normal((n,) + shape)
     z1 = np.stack([move(zi, rng) for zi in z])
     a, b = z.reshape(n, -1), z1.reshape(n, -1)
@@ -82,7 +102,11 @@ def test_shell_move_leaves_the_prior_invariant_and_is_reversible(shape, sigma):
     cov = b.T @ b / n
     assert np.max(np.abs(cov - np.eye(cov.shape[0]))) < 6 * math.sqrt(2) * se
     assert np.max(np.abs(asymmetry(a, b))) < 6 * math.sqrt(2) * se
-    assert np.abs(np.trace(a.T @ b / n) / a.shape[1] - 1) > 0.01  # the move moved
+    assert np.abs(np.trace(a.T @ b / n) / a.shape[1] - 1) > 0.005  # the move moved
+    dims = np.bincount(lab[lab >= 0], weights=_m._weights(*shape, shape[1] // 2 + 1)[lab >= 0])
+    energies = np.array([_m.shell_energies(zi, lab) for zi in z1])
+    pvalues = [kstest(energies[:, g], chi2(dims[g]).cdf).pvalue for g in range(dims.size)]
+    assert min(pvalues) > 1e-3 / dims.size  # each shell's squared norm stays chi2 (Bonferroni)
     # the same check catches a move that keeps the prior but is not reversible: a quarter turn of
     # the interior Fourier coefficients (orthogonal, so N(0, I) is kept)
     quarter = [scipy.fft.irfft2(_quarter_turn(scipy.fft.rfft2(zi, norm="ortho"), shape[1]), s=shape,
