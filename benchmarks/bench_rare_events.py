@@ -58,13 +58,15 @@ def main():
     ap.add_argument("--samples-per-level", type=int, default=900)
     ap.add_argument("--save", default=None, help="write the result Dataset to this NetCDF file")
     ap.add_argument("--level-probability", type=float, default=None)
+    ap.add_argument("--target-acceptance", type=float, default=None)
     args = ap.parse_args()
     # the modified DMT is outside its measured validity on these zones (docs/rare_events.md,
     # Limits): one warning per evaluation would drown the figures
     warnings.filterwarnings("ignore", category=rs.ValidityWarning)
     psd = rs.datasets.family_psd("table4")
     settings = {k: v for k, v in (("samples_per_level", args.samples_per_level),
-                                  ("level_probability", args.level_probability)) if v is not None}
+                                  ("level_probability", args.level_probability),
+                                  ("target_acceptance", args.target_acceptance)) if v is not None}
     unit0 = ifft_seconds(7)
     t0 = time.perf_counter()
     ds = rs.failure_probability(

@@ -22,6 +22,7 @@ from roughstick.io.netcdf import write
 
 from .._core.dask import resolve_scheduler
 from . import _rare_kernels as _k
+from . import _rare_moves as _m
 
 __all__: list[str] = []
 
@@ -30,7 +31,7 @@ REFERENCES = cite(("au2001", "subset simulation, cv with the chain correlation f
                   ("papaioannou2015", "MCMC in subset simulation, adaptive spread"))
 
 _METHODS = ("subset", "monte_carlo")
-_PROPOSALS = ("adaptive", "pcn")
+_PROPOSALS = ("adaptive", "pcn", "shell")
 _FORMAT = "roughstick-rare-events/1"
 
 #: CF attributes of the variables written here (phase 2: move into the conventions table)
@@ -284,11 +285,11 @@ def _level0_block(model, indices, *, entropy, spawn_key, noise_shape):
     return _k.evaluate_samples(model, indices, entropy=entropy, spawn_key=spawn_key, noise_shape=noise_shape)
 
 
-def _round_block(model, block, *, entropy, spawn_key, run, level, step, threshold, rho, sigma):
+def _round_block(model, block, *, entropy, spawn_key, run, level, step, threshold, move):
     out = []
     for c, z, y in block:
         rng = _k.step_rng(entropy, spawn_key, run, level, c, step)
-        out.append(_k.chain_step(model, z, y, threshold=threshold, rho=rho, sigma=sigma, rng=rng))
+        out.append(_k.chain_step(model, z, y, threshold=threshold, move=move, rng=rng))
     return out
 
 
@@ -308,6 +309,7 @@ class _Engine:
         self.chunks = int(chunks)
         self.scheduler = scheduler
         self.store = store
+        _m.check_proposal(settings.proposal, model)
 
     # -- level 0: independent samples ------------------------------------------------------
     def level0(self, run, offset, n):
@@ -334,10 +336,8 @@ class _Engine:
         m = seeds_y.size
         lengths = _k.chain_lengths(n, m)
         b = prev.next_threshold
-        if self.s.proposal == "adaptive" and m > 1:
-            spread = seeds_z.std(axis=0, ddof=1)
-        else:
-            spread = np.ones(self.noise_shape)
+        adaptive = self.s.proposal in ("adaptive", "shell")
+        spread = seeds_z.std(axis=0, ddof=1) if adaptive and m > 1 else np.ones(self.noise_shape)
         L = int(lengths.max())
         ys = np.full((m, L), np.nan)
         yps = np.full((m, L), np.nan)
@@ -346,20 +346,21 @@ class _Engine:
         accs[:, 0] = 1
         zs = [np.array(z, dtype=float) for z in seeds_z]
         scales = np.full(L, np.nan)
+        moves = [None] * L
         per_task = max(1, self.chunks)
         for k in range(1, L):
-            scales[k] = scale
-            rho, sigma = _k.proposal_scales(spread, scale)
+            moves[k] = _m.round_move(self.s.proposal, k, self.model, self.noise_shape, spread, scale)
+            scales[k] = np.nan if isinstance(moves[k], _m.ShellMove) else scale
             active = [c for c in range(m) if lengths[c] > k]
             items = [(c, zs[c], ys[c, k - 1]) for c in active]
             parts = _compute(_round_block, self.model, _blocks(items, per_task), self.scheduler,
                              entropy=self.entropy, spawn_key=self.spawn_key, run=run, level=j, step=k,
-                             threshold=b, rho=rho, sigma=sigma)
+                             threshold=b, move=moves[k])
             results = [r for part in parts for r in part]
             for c, (z_new, y_new, yp, a) in zip(active, results, strict=True):
                 zs[c] = z_new
                 ys[c, k], yps[c, k], accs[c, k] = y_new, yp, a
-            if self.s.proposal == "adaptive":
+            if adaptive and np.isfinite(scales[k]):
                 scale = _k.adapt_scale(scale, float(np.mean([r[3] for r in results])),
                                        self.s.target_acceptance, k)
         keep = np.arange(L)[None, :] < lengths[:, None]
@@ -368,7 +369,6 @@ class _Engine:
         lev = self._finish(y, yp, acc, chain, threshold=b, evaluations=int(n - m), scales=scales,
                            spread=spread, last=j >= self.s.max_levels - 1)
         starts = np.concatenate([[0], np.cumsum(lengths)[:-1]])
-        rhos_sigmas = [(None, None)] + [_k.proposal_scales(spread, scales[k]) for k in range(1, L)]
 
         def noise_of(sel):
             out = []
@@ -377,7 +377,7 @@ class _Engine:
                 steps = sel[chain[sel] == c] - starts[c]
                 a = acc[starts[c]:starts[c] + lengths[c]]
                 out.extend(_k.replay_chain(
-                    seeds_z[c], a, steps, rhos=[r for r, _ in rhos_sigmas], sigmas=[s for _, s in rhos_sigmas],
+                    seeds_z[c], a, steps, moves=moves,
                     rng_of_step=lambda k, c=int(c): _k.step_rng(self.entropy, self.spawn_key, run, j, c, k)))
             return np.stack(out) if out else np.empty((0,) + self.noise_shape)
 
@@ -422,7 +422,7 @@ class _Engine:
         scale = self.s.scale
         while not lev.final:
             j = len(levels)
-            if j > 1 and self.s.proposal == "adaptive":  # carry the scale the last level ended with
+            if j > 1 and self.s.proposal != "pcn":  # carry the scale the last level ended with
                 scale = _last_scale(levels[-1], self.s)
             prev = lev
             lev = self._load_or(r, j, lambda j=j, prev=prev, scale=scale: self.level(r, j, prev, scale))

@@ -76,25 +76,24 @@ def sample_noise(index, *, entropy, spawn_key, noise_shape):
     return sample_rng(entropy, spawn_key, index).standard_normal(noise_shape)
 
 
-def chain_step(model, z, y, *, threshold, rho, sigma, rng):
+def chain_step(model, z, y, *, threshold, move, rng):
     """One conditional move: ``(z_new, y_new, proposal_response, accepted)``.
 
-    Accepted iff the proposal's response is strictly above ``threshold`` (NaN: rejected); the
-    pCN move needs no Metropolis ratio since it is reversible for the N(0, I) prior.
+    ``move(z, rng)`` is a proposal reversible for the N(0, I) prior (``_rare_moves``), so the
+    proposal is accepted iff its response is strictly above ``threshold`` (NaN: rejected).
     """
-    cand = pcn_move(z, rng.standard_normal(np.shape(z)), rho, sigma)
+    cand = move(z, rng)
     yc = float(model(cand))
     if yc > threshold:
         return cand, yc, yc, 1
     return z, y, yc, 0
 
 
-def replay_chain(z0, accepted, steps, *, rhos, sigmas, rng_of_step):
+def replay_chain(z0, accepted, steps, *, moves, rng_of_step):
     """States of a chain at ``steps`` from its seed and acceptance flags (no model evaluation).
 
-    ``rhos[k]``, ``sigmas[k]`` are the move parameters of step ``k`` and ``rng_of_step(k)`` its
-    generator: the same normals combined by the same :func:`pcn_move`, so the states are
-    bit-identical to those the chain visited.
+    ``moves[k]`` is the move of step ``k`` and ``rng_of_step(k)`` its generator: the same normals
+    combined by the same move, so the states are bit-identical to those the chain visited.
     """
     want = sorted(set(int(s) for s in steps))
     out = {}
@@ -102,7 +101,7 @@ def replay_chain(z0, accepted, steps, *, rhos, sigmas, rng_of_step):
     last = want[-1] if want else 0
     for k in range(0, last + 1):
         if k > 0 and accepted[k]:
-            z = pcn_move(z, rng_of_step(k).standard_normal(z.shape), rhos[k], sigmas[k])
+            z = moves[k](z, rng_of_step(k))
         if k in want:
             out[k] = z.copy()
     return [out[int(s)] for s in steps]

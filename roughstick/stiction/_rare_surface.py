@@ -17,6 +17,8 @@ import xarray as xr
 from roughstick.contact import adhesion_summary, rough_contact_curves
 from roughstick.surface import surface_filter
 
+from ._rare_moves import shell_labels
+
 __all__: list[str] = []
 
 QUANTITIES = ("adhesive_energy", "pull_off_pressure")
@@ -44,6 +46,8 @@ class NoiseToSurface:
         self.ny, self.nx, self.dy, self.dx = ny, nx, dy, dx
         self.noise_shape = (ny, nx)
         self.variance = float(power.sum())
+        #: shells of equal |q| and amplitude on the rfft2 grid (``proposal="shell"``)
+        self.shell_labels = shell_labels(self.amplitude, shape=(ny, nx), spacing=(dy, dx))
 
     def __call__(self, noise) -> np.ndarray:
         w = np.reshape(np.asarray(noise, dtype=float), self.noise_shape)
@@ -72,6 +76,7 @@ class SurfaceResponse:
             raise ValueError(f"quantity must be one of {QUANTITIES}, got {quantity!r}.")
         self.to_surface = to_surface
         self.noise_shape = to_surface.noise_shape
+        self.shell_labels = to_surface.shell_labels
         self.rh = float(relative_humidity)
         self.hw = float(water_height)
         self.sigma = math.sqrt(to_surface.variance)

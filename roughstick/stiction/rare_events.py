@@ -102,13 +102,17 @@ def subset_simulation(
         P = 1e-4, 100 seeds each: rms error 0.25 at 4,539 evaluations with p0 = 0.2, N = 900,
         against 0.34 at 4,205 with p0 = 0.1, N = 1000 and 0.29 at 4,960 with p0 = 0.1,
         N = 1200).
-    proposal : {"adaptive", "pcn"}, default "adaptive"
+    proposal : {"adaptive", "pcn", "shell"}, default "adaptive"
         ``"pcn"``: every coordinate moves as :math:`\rho z + \sigma\xi`,
         :math:`\sigma` = ``proposal_scale``, :math:`\rho = \sqrt{1-\sigma^2}`, fixed.
         ``"adaptive"``: adaptive conditional sampling (Papaioannou et al. 2015): coordinate
         :math:`i` moves with :math:`\sigma_i = \min(1, \lambda s_i)`, :math:`s_i` the spread of
         the level's seeds in that coordinate, :math:`\lambda` updated after every round of the
-        chains towards ``target_acceptance``. Both keep the Gaussian prior exactly.
+        chains towards ``target_acceptance``. ``"shell"`` (experimental; limit states with a
+        ``shell_labels`` attribute, e.g. the surface ones): every second round keeps the noise's
+        norm in each shell of equal |q| and PSD amplitude and moves its direction; measured
+        *worse* than ``"adaptive"`` on the surface model (docs/rare_events.md). All keep the
+        Gaussian prior exactly.
     proposal_scale : float, default 0.6
         :math:`\sigma` (``"pcn"``) or the first level's :math:`\lambda` (``"adaptive"``).
     target_acceptance : float, default 0.44
