@@ -38,42 +38,42 @@ def field(shape, sigma_px, seed, wrap):
     return z / z.std() * 4e-9
 
 
+def below_top(z, first, last, n):
+    """n levels from ``first`` to ``last`` [m] below the highest point of the centred map."""
+    top = float((z - z.mean()).max())
+    return np.linspace(top - first, top - last, n)
+
+
 def maps(name):
     """(z, levels, periodic, connectivity) of each map of a set."""
     if name == "2 px":
         for wrap in (False, True):
             for seed in range(6):
                 z = field((48, 56), 2, seed, wrap)
-                zc = z - z.mean()
-                yield z, np.linspace(zc.max() - 0.2e-9, zc.max() - 8e-9, 10), wrap, 4
+                yield z, below_top(z, 0.2e-9, 8e-9, 10), wrap, 4
         for conn in (4, 8):
             z = field((37, 52), 4, 2, False)
-            zc = z - z.mean()
-            yield z, np.linspace(zc.max() + 2e-9, zc.max() - 8e-9, 14), False, conn
+            yield z, below_top(z, -2e-9, 8e-9, 14), False, conn
     elif name == "1.5-3 px":
         for sigma in (1.5, 2.0, 3.0):
             for seed in range(6, 18):
                 z = field((48, 56), sigma, seed, seed % 2 == 0)
-                zc = z - z.mean()
-                yield z, np.linspace(zc.max() - 0.2e-9, zc.max() - 8e-9, 10), seed % 2 == 0, 4
+                yield z, below_top(z, 0.2e-9, 8e-9, 10), seed % 2 == 0, 4
     elif name == "1.2-4 px":
         for sigma in (1.2, 2.5, 4.0):
             for seed in range(20, 30):
                 z = field((40, 47), sigma, seed, seed % 3 == 0)
-                zc = z - z.mean()
-                yield z, np.linspace(zc.max() - 0.1e-9, zc.max() - 8e-9, 12), seed % 3 == 0, 4
+                yield z, below_top(z, 0.1e-9, 8e-9, 12), seed % 3 == 0, 4
     elif name == "1.5-3 px, 4/8-conn.":
         for sigma in (1.5, 2.0, 3.0):
             for seed in range(40, 52):
                 z = field((44, 51), sigma, seed, seed % 4 == 0)
-                zc = z - z.mean()
-                yield z, np.linspace(zc.max() - 0.15e-9, zc.max() - 9e-9, 11), seed % 4 == 0, 8 if seed % 3 == 0 else 4
+                yield z, below_top(z, 0.15e-9, 9e-9, 11), seed % 4 == 0, 8 if seed % 3 == 0 else 4
     elif name == "1.3-2.5 px, 4/8-conn.":
         for sigma in (1.3, 1.8, 2.5):
             for seed in range(60, 72):
                 z = field((50, 43), sigma, seed, seed % 4 == 1)
-                zc = z - z.mean()
-                yield z, np.linspace(zc.max() - 0.12e-9, zc.max() - 8.5e-9, 11), seed % 4 == 1, 8 if seed % 3 == 1 else 4
+                yield z, below_top(z, 0.12e-9, 8.5e-9, 11), seed % 4 == 1, 8 if seed % 3 == 1 else 4
 
 
 def compare(name):

@@ -193,18 +193,11 @@ def _search_on(xs, ys, hs, wt, lo0, lo1, hi0, hi1, t, cost, x0, y0, M, escaped, 
             awry_E = awry(xs, ys, wt, lo0, lo1, hi0, hi1, xE, yE, tE)
             if cE < cost:
                 t, cost, x0, y0 = tE, cE, xE, yE
-    if awry_E:
-        t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xE, yE, tE, lo0, lo1, hi0, hi1)
-        if cost2 < cost:
-            t, cost, x0, y0 = t2, cost2, x2, y2
-    if awry_A:
-        t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xA, yA, tA, lo0, lo1, hi0, hi1)
-        if cost2 < cost:
-            t, cost, x0, y0 = t2, cost2, x2, y2
-    if awry_B:
-        t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xB, yB, tB, lo0, lo1, hi0, hi1)
-        if cost2 < cost:
-            t, cost, x0, y0 = t2, cost2, x2, y2
+    for awry_k, tk, xk, yk in ((awry_E, tE, xE, yE), (awry_A, tA, xA, yA), (awry_B, tB, xB, yB)):
+        if awry_k:
+            t2, cost2, x2, y2 = pattern_search(xs, ys, hs, wt, xk, yk, tk, lo0, lo1, hi0, hi1)
+            if cost2 < cost:
+                t, cost, x0, y0 = t2, cost2, x2, y2
     # and a global search: the reference's grid (7 x 7 centres, 8 caps, its 5 best points), so
     # the fast path has every start the reference has, and finer ones (11 x 11 x 12 and
     # 15 x 15 x 16, 20 best points each) for minima in basins narrower than its spacing

@@ -94,6 +94,12 @@ def _weights(ny, nx, nh):
     return w
 
 
+def _shell_norm2(c, lab, w, n):
+    """Squared norm of the real field in each shell, from its stored rfft2 coefficients ``c``
+    (labels ``lab``, Hermitian weights ``w``; at least ``n`` shells)."""
+    return np.bincount(lab, weights=w * (c.real**2 + c.imag**2), minlength=n)
+
+
 class ShellMove:
     r"""Direction move inside shells of Fourier modes, reversible for N(0, I).
 
@@ -126,7 +132,7 @@ class ShellMove:
         self.one_of = None if one_of is None else min(int(one_of), self.n)
 
     def _norm2(self, c):
-        return np.bincount(self.lab, weights=self.w * (c.real**2 + c.imag**2), minlength=self.n)
+        return _shell_norm2(c, self.lab, self.w, self.n)
 
     def __call__(self, z, rng):
         xi = rng.standard_normal(np.shape(z))
@@ -152,5 +158,4 @@ def shell_energies(z, labels):
     ny, nx = np.shape(z)
     W = scipy.fft.rfft2(z, norm="ortho", workers=1)
     on = labels >= 0
-    w = _weights(ny, nx, nx // 2 + 1)[on]
-    return np.bincount(labels[on], weights=w * np.abs(W[on]) ** 2)
+    return _shell_norm2(W[on], labels[on], _weights(ny, nx, nx // 2 + 1)[on], 0)
