@@ -35,7 +35,7 @@ import roughstick as rs
 from roughstick.contact import _rough_kernels as rk
 from roughstick.contact._rough_fit import fit_footprint
 from roughstick.contact._rough_reference import fit_asperity, footprints, reference_curves
-from roughstick.contact.adhesion import _summary_kernel
+from roughstick.contact.adhesion import adhesion_summary_kernel as _summary_kernel
 
 DATA = pathlib.Path(__file__).resolve().parents[1] / "data_samples"
 

@@ -16,7 +16,7 @@ import xarray as xr
 from .._core.conventions import append_history, set_attrs
 from .._core.validate import check_core_not_chunked
 
-__all__ = ["CurveGridWarning", "adhesion_summary", "adhesive_energy_kernel"]
+__all__ = ["CurveGridWarning", "adhesion_summary", "adhesion_summary_kernel", "adhesive_energy_kernel"]
 
 
 class CurveGridWarning(UserWarning):
@@ -94,9 +94,33 @@ def adhesive_energy_kernel(pressure, distance):
     return np.sum(both + tri, axis=-1)
 
 
-def _summary_kernel(p, wet, d, from_equilibrium=True):
-    """Per curve: (Gamma, pull-off, equilibrium distance, wet fraction there, Gamma below
-    equilibrium); last axis = distance."""
+def adhesion_summary_kernel(p, wet, d, from_equilibrium=True):
+    """:func:`adhesion_summary` on numpy arrays, without checks (for callers that evaluate
+    thousands of curves, e.g. :func:`roughstick.failure_probability`).
+
+    Parameters
+    ----------
+    p, wet : numpy.ndarray
+        Mean pressure [Pa] and wet fraction, last axis along ``d``.
+    d : numpy.ndarray
+        Ascending distances [m], 1-D, at least two.
+    from_equilibrium : bool, default True
+        As in :func:`adhesion_summary`.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Per curve: adhesive energy [J m-2] (Eq. 13), pull-off pressure [Pa], equilibrium
+        distance [m] (NaN if none), wet fraction there, attraction below the equilibrium
+        [J m-2]: the variables of :func:`adhesion_summary`, in that order.
+
+    Examples
+    --------
+    >>> g, pull, deq, weq, below = rs.adhesion_summary_kernel(
+    ...     np.array([1.0, -2.0, 0.0]), np.zeros(3), np.array([0.0, 1.0, 2.0]))
+    >>> float(deq), float(pull), round(float(g), 3)
+    (0.3333333333333333, 2.0, 1.667)
+    """
     # equilibrium: the largest d whose interval goes from repulsive (>= 0) below to attractive above
     lower, upper = p[..., :-1], p[..., 1:]
     cross = (lower >= 0) & (upper < 0)
@@ -192,7 +216,7 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     if d.size < 2:
         raise ValueError("curves need at least two distances to integrate Eq. 13.")
     outs = xr.apply_ufunc(
-        _summary_kernel,
+        adhesion_summary_kernel,
         p,
         wet,
         kwargs={"d": d, "from_equilibrium": bool(from_equilibrium)},

@@ -2,8 +2,9 @@
 
 White noise -> surface (Eqs. 33-34) -> modified-DMT curve (Eq. 16) -> adhesive energy (Eq. 13)
 or pull-off pressure, through the public functions of :mod:`roughstick.surface` and
-:mod:`roughstick.contact` only (``surface_filter``, ``rough_contact_curves``,
-``adhesion_summary``), so a faster contact kernel behind them is picked up unchanged.
+:mod:`roughstick.contact` only (``surface_filter``; the numpy kernels ``modified_dmt_kernel``
+and ``adhesion_summary_kernel`` behind ``rough_contact_curves`` and ``adhesion_summary``, the
+same numbers without a Dataset per evaluation), so a faster contact kernel is picked up unchanged.
 """
 
 from __future__ import annotations
@@ -12,9 +13,10 @@ import math
 
 import numpy as np
 import scipy.fft
-import xarray as xr
 
-from roughstick.contact import adhesion_summary, rough_contact_curves
+from roughstick._core.materials import POLYSILICON, hertz_modulus
+from roughstick.contact import adhesion_summary_kernel, laplace_pressure, modified_dmt_kernel
+from roughstick.contact import water_height as water_height_at
 from roughstick.surface import surface_filter
 
 from ._rare_moves import shell_labels
@@ -22,6 +24,8 @@ from ._rare_moves import shell_labels
 __all__: list[str] = []
 
 QUANTITIES = ("adhesive_energy", "pull_off_pressure")
+#: position of each quantity in the tuple of ``adhesion_summary_kernel``
+_SUMMARY_INDEX = {"adhesive_energy": 0, "pull_off_pressure": 1}
 
 
 class NoiseToSurface:
@@ -81,10 +85,12 @@ class SurfaceResponse:
         self.hw = float(water_height)
         self.sigma = math.sqrt(to_surface.variance)
         self.quantity = quantity
-        self.kw = {"material": material, "material2": material2, "adsorbed_layer": adsorbed_layer,
+        # the inputs modified_dmt_curves would derive from (rh, materials, adsorbed layer)
+        self.kw = {"water_height": np.atleast_1d(water_height_at(self.rh, adsorbed_layer=adsorbed_layer).values),
+                   "laplace_pressure": np.atleast_1d(laplace_pressure(self.rh).values),
+                   "spacing": (to_surface.dy, to_surface.dx),
+                   "hertz_modulus": hertz_modulus(POLYSILICON if material is None else material, material2),
                    "connectivity": int(connectivity)}
-        if material is None:
-            del self.kw["material"]
         self.step = self.hw / float(points_per_water_height)
         self.lower, self.extend = float(lower), float(extend)
         self.periodic, self.patches = bool(periodic), int(patches)
@@ -93,15 +99,11 @@ class SurfaceResponse:
                              "of the zone; choose a shape whose rows are a multiple of patches.")
 
     def _curves(self, z, d, periodic):
-        ny, nx = z.shape
-        h = xr.DataArray(z, dims=("y", "x"), attrs={"units": "m", "periodic": int(periodic)},
-                         coords={"y": (np.arange(ny) + 0.5) * self.to_surface.dy,
-                                 "x": (np.arange(nx) + 0.5) * self.to_surface.dx})
-        # thousands of evaluations per run: the validity of the model is the caller's to check
-        # once (docs/rare_events.md), not once per evaluation
-        return rough_contact_curves(h, relative_humidity=self.rh, distance=d, periodic=periodic,
-                                    check_validity=False,
-                                    **self.kw)
+        """Pressure and wet fraction of ``z`` at the ascending distances ``d`` (Eq. 16). The
+        validity of the model is the caller's to check once (docs/rare_events.md), not once per
+        evaluation."""
+        out = modified_dmt_kernel(z, d, periodic=periodic, **self.kw)
+        return out[0][0], out[2][0]  # pressure, wet_fraction at the one RH
 
     def map_response(self, z, *, periodic) -> float:
         """Response of one height map [m] (its own distance grid, see the class notes)."""
@@ -110,18 +112,19 @@ class SurfaceResponse:
         zmin = float(zc.min())
         k_end = max(int(math.ceil((top - self.lower * self.sigma) / self.step)), 8)
         d = top - self.step * np.arange(k_end + 1)[::-1]
-        curves = self._curves(zc, d, periodic)
+        p, wet = self._curves(zc, d, periodic)
         block = max(int(math.ceil(self.extend * self.sigma / self.step)), 1)
         while True:
             # this loop extends the grid until the curve has its equilibrium
-            s = adhesion_summary(curves, check_grid=False)
-            if np.isfinite(float(s["equilibrium_distance"])) or d[0] < zmin - self.step:
+            s = adhesion_summary_kernel(p, wet, d)
+            if np.isfinite(float(s[2])) or d[0] < zmin - self.step:
                 break
             more = top - self.step * np.arange(k_end + 1, k_end + block + 1)[::-1]
             k_end += block
             d = np.concatenate([more, d])
-            curves = xr.concat([self._curves(zc, more, periodic), curves], dim="distance")
-        return float(s[self.quantity])
+            pm, wm = self._curves(zc, more, periodic)
+            p, wet = np.concatenate([pm, p]), np.concatenate([wm, wet])
+        return float(s[_SUMMARY_INDEX[self.quantity]])
 
     def __call__(self, noise) -> float:
         z = self.to_surface(noise)

@@ -71,6 +71,37 @@ def test_noise_map_has_the_psd(shape):
     assert out.dims == ("y", "x") and out.attrs["units"] == "m"
 
 
+@pytest.mark.parametrize(("quantity", "periodic", "material2"), [
+    ("adhesive_energy", True, None), ("pull_off_pressure", True, None),
+    ("adhesive_energy", False, rs.Material(name="soft", youngs_modulus=20e9, poisson_ratio=0.3))])
+def test_numpy_response_is_the_public_xarray_path(quantity, periodic, material2):
+    """One evaluation of the surface limit state (numpy kernels, no Dataset per map) gives the
+    numbers of rough_contact_curves + adhesion_summary on the same grid, for rare (flat-topped)
+    and typical maps, both quantities, a softer counter-body and a measured (non-periodic) zone."""
+    psd = table4()
+    f = _s.NoiseToSurface(psd, shape=(48, 40), spacing=SPACING)
+    hw = float(rs.water_height(0.4).values)
+    model = _s.SurfaceResponse(f, relative_humidity=0.4, water_height=hw, quantity=quantity,
+                               material2=material2, periodic=periodic)
+    rng = np.random.default_rng(3)
+    for k in range(6):
+        z = f(rng.standard_normal(f.noise_shape)) * (0.3 if k % 3 == 0 else 1.0)  # some flat
+        zc = z - z.mean()
+        # the distance grid the limit state settles on, rebuilt from its own rule
+        top = float(zc.max()) + hw
+        d = top - model.step * np.arange(400)[::-1]
+        d = d[d > zc.min() - 2 * model.step]
+        h = xr.DataArray(zc, dims=("y", "x"), attrs={"units": "m", "periodic": int(periodic)},
+                         coords={"y": (np.arange(48) + 0.5) * SPACING, "x": (np.arange(40) + 0.5) * SPACING})
+        c = rs.rough_contact_curves(h, relative_humidity=0.4, distance=d, material2=material2,
+                                    check_validity=False)
+        ref = rs.adhesion_summary(c, check_grid=False)
+        g = rs.adhesion_summary_kernel(*model._curves(zc, d, periodic), d)
+        assert float(g[0]) == float(ref.adhesive_energy) and float(g[1]) == float(ref.pull_off_pressure)
+        assert float(g[2]) == float(ref.equilibrium_distance)
+        assert np.isfinite(model.map_response(z, periodic=periodic))
+
+
 def test_pcn_moves_keep_the_prior():
     """A long unconditioned pCN chain (threshold -inf) keeps N(0, 1) in every coordinate."""
     rng = np.random.default_rng(0)
