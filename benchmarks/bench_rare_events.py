@@ -1,6 +1,7 @@
 """Benchmark: a stiction probability of about 1e-4 with subset simulation (issue 15, must-be-true 2).
 
     nice -n 10 python benchmarks/bench_rare_events.py [--threshold 0.0205] [--seed 0] [--analytic-runs 50]
+        [--repeat K] [--monte-carlo N]
 
 Case: the paper's cantilever surface (Table 4 -> Eq. 37 PSD), 128 x 128 pixel zones at 5 nm
 (0.64 um, about two roll-off wavelengths 2 pi / q0), 50 % RH with the paper's adsorbed-layer model,
@@ -9,6 +10,11 @@ the model evaluations, the wall time and the cost per evaluation as a multiple o
 complex iFFT timed in the same process (RULES.md: ratios, not seconds), and the crude Monte Carlo
 sample that the same cv would need. Then the analytic check: the spread of 50 runs of the estimator
 on a linear limit state with P = 1e-4 exactly (the estimator's own cv against the true one).
+
+One run's cv is its own estimate and can be far off (docs/rare_events.md): ``--repeat K`` runs
+seeds ``seed .. seed+K-1`` and prints the spread of their estimates (the true cv of one run, with
+a chi-square interval), and ``--monte-carlo N`` prints crude Monte Carlo of N evaluations of the
+same case with its (Wilson) interval, the independent reference.
 """
 
 from __future__ import annotations
@@ -46,6 +52,50 @@ def _lineages(ds, r):
             f"lineages {1 / np.sum(n_i**2):.1f}")
 
 
+def _case(args):
+    return dict(threshold=args.threshold, relative_humidity=args.rh, shape=tuple(args.shape), spacing=5e-9)
+
+
+def _repeat(psd, args, settings, unit, first):
+    """K runs with the settings of the first one (``first``: its P, cv, evaluations, wall) on
+    seeds seed .. seed+K-1: their spread."""
+    from scipy.stats import chi2
+
+    ps, cvs, ns, walls = ([v] for v in first)
+    for s in range(args.seed + 1, args.seed + args.repeat):
+        t0 = time.perf_counter()
+        d = rs.failure_probability(psd, **_case(args), seed=s, target_cv=args.target_cv or None,
+                                   max_evaluations=args.max_evaluations, **settings)
+        walls.append(time.perf_counter() - t0)
+        ps.append(float(d.failure_probability))
+        cvs.append(float(d.coefficient_of_variation))
+        ns.append(int(d.n_evaluations))
+        print(f"  seed {s}: P = {ps[-1]:.3e}  reported cv {cvs[-1]:.2f}  evaluations {ns[-1]}  "
+              f"wall {walls[-1]:.1f} s", flush=True)
+    ps = np.array(ps)
+    k = ps.size
+    sd = ps.std(ddof=1) / ps.mean()
+    lo, hi = sd * np.sqrt((k - 1) / chi2.ppf([0.975, 0.025], k - 1))
+    print(f"{k} runs: mean P = {ps.mean():.3e} (95% [{ps.mean() - 1.96 * ps.std(ddof=1) / np.sqrt(k):.2e}, "
+          f"{ps.mean() + 1.96 * ps.std(ddof=1) / np.sqrt(k):.2e}]); spread of one run (its true cv) "
+          f"{sd:.2f}, 95% [{lo:.2f}, {hi:.2f}] (chi-square, normal approximation); mean reported cv "
+          f"{np.mean(cvs):.2f}; mean evaluations {np.mean(ns):.0f}; mean wall {np.mean(walls):.1f} s = "
+          f"{np.mean(walls) / unit:.0f} x one 1024^2 iFFT")
+
+
+def _monte_carlo(psd, args, unit):
+    """Crude Monte Carlo of the same case: the independent reference."""
+    t0 = time.perf_counter()
+    d = rs.failure_probability(psd, **_case(args), method="monte_carlo", samples_per_level=args.monte_carlo,
+                               seed=10_000 + args.seed)
+    wall = time.perf_counter() - t0
+    n = int(d.n_evaluations)
+    print(f"crude Monte Carlo: P = {float(d.failure_probability):.3e}  95% "
+          f"[{float(d.failure_probability_lower):.3e}, {float(d.failure_probability_upper):.3e}]  "
+          f"evaluations {n}  wall {wall:.1f} s = {wall / n * 1e3:.2f} ms per evaluation = "
+          f"{wall / n / unit:.2f} x one 1024^2 iFFT")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--threshold", type=float, default=0.036)
@@ -59,6 +109,8 @@ def main():
     ap.add_argument("--save", default=None, help="write the result Dataset to this NetCDF file")
     ap.add_argument("--level-probability", type=float, default=None)
     ap.add_argument("--target-acceptance", type=float, default=None)
+    ap.add_argument("--repeat", type=int, default=0, help="K runs in all, on seeds seed.. (true cv)")
+    ap.add_argument("--monte-carlo", type=int, default=0, help="N crude Monte Carlo evaluations")
     args = ap.parse_args()
     # the modified DMT is outside its measured validity on these zones (docs/rare_events.md,
     # Limits): one warning per evaluation would drown the figures
@@ -99,6 +151,10 @@ def main():
         n_mc = (1 - p) / (p * cv * cv)
         print(f"crude Monte Carlo for the same cv: {n_mc:.3g} evaluations ({n_mc / n:.0f} x more)")
 
+    if args.repeat > 1:
+        _repeat(psd, args, settings, unit, (p, cv, n, wall))
+    if args.monte_carlo:
+        _monte_carlo(psd, args, unit)
     if args.analytic_runs == 0:
         return
     # the estimator on an exact case: same settings, P = 1e-4
