@@ -321,6 +321,26 @@ def test_bad_surface_input():
         re_.failure_probability(psd, **{**kw, "threshold": -1.0})
     with pytest.raises(ValueError, match="patches"):
         re_.failure_probability(psd, patches=5, **kw)
+    with pytest.raises(ValueError, match="contact_model must be one of"):
+        re_.failure_probability(psd, contact_model="bem", **kw)
+    with pytest.raises(ValueError, match="periodic zones only"):
+        re_.failure_probability(psd, contact_model="fft_bem", patches=2, **kw)
+
+
+def test_fft_bem_limit_state_is_the_public_model():
+    """contact_model="fft_bem": every failure sample's stored response is the boundary-element
+    Γ of its surface computed by the public functions (noise -> surface -> fft_bem_contact_curves
+    -> adhesion_summary), and the result says which model it used."""
+    psd = table4()
+    ds = re_.failure_probability(psd, threshold=0.04, relative_humidity=0.5, shape=(24, 24),
+                                 spacing=SPACING, contact_model="fft_bem", method="monte_carlo",
+                                 samples_per_level=40, seed=2, scheduler="sync")
+    assert ds.attrs["contact_model"] == "fft_bem"
+    assert 0 < ds.failure_noise.shape[0] < 40  # a threshold inside the distribution
+    for w, y in zip(ds.failure_noise.values[:3], ds.failure_response.values[:3], strict=False):
+        h = re_.surface_from_noise(w.reshape(24, 24), psd, shape=(24, 24), spacing=SPACING)
+        c = rs.fft_bem_contact_curves(h - h.mean(), relative_humidity=0.5, progress=False)
+        assert float(rs.adhesion_summary(c, check_grid=False).adhesive_energy) == y > 0.04
 
 
 # ------------------------------------------------------------------------------ weakest link
