@@ -53,7 +53,8 @@ def _lineages(ds, r):
 
 
 def _case(args):
-    return dict(threshold=args.threshold, relative_humidity=args.rh, shape=tuple(args.shape), spacing=5e-9)
+    return dict(threshold=args.threshold, relative_humidity=args.rh, shape=tuple(args.shape), spacing=5e-9,
+                contact_model=args.contact_model)
 
 
 def _repeat(psd, args, settings, unit, first):
@@ -109,6 +110,7 @@ def main():
     ap.add_argument("--save", default=None, help="write the result Dataset to this NetCDF file")
     ap.add_argument("--level-probability", type=float, default=None)
     ap.add_argument("--target-acceptance", type=float, default=None)
+    ap.add_argument("--contact-model", default="modified_dmt", choices=("modified_dmt", "fft_bem"))
     ap.add_argument("--repeat", type=int, default=0, help="K runs in all, on seeds seed.. (true cv)")
     ap.add_argument("--monte-carlo", type=int, default=0, help="N crude Monte Carlo evaluations")
     args = ap.parse_args()
@@ -122,15 +124,17 @@ def main():
     unit0 = ifft_seconds(7)
     t0 = time.perf_counter()
     ds = rs.failure_probability(
-        psd, threshold=args.threshold, relative_humidity=args.rh, shape=tuple(args.shape), spacing=5e-9,
-        seed=args.seed, target_cv=args.target_cv or None, max_evaluations=args.max_evaluations, **settings)
+        psd, **_case(args), seed=args.seed, target_cv=args.target_cv or None, max_evaluations=args.max_evaluations, **settings)
     wall = time.perf_counter() - t0
     unit = min(unit0, ifft_seconds(7))
     p = float(ds.failure_probability)
     cv = float(ds.coefficient_of_variation)
     n = int(ds.n_evaluations)
     print(f"case: Table 4 PSD, {args.shape[0]}x{args.shape[1]} px at 5 nm, RH {args.rh}, "
-          f"P(Gamma > {args.threshold * 1e3:.2f} mJ/m2)")
+          f"P(Gamma > {args.threshold * 1e3:.2f} mJ/m2), contact model {args.contact_model}")
+    if "failures_confirmed_by_bem" in ds:
+        print(f"failure states confirmed by the FFT-BEM: {float(ds.failures_confirmed_by_bem):.2f} of "
+              f"{ds.failures_confirmed_by_bem.attrs['checked']} checked")
     print(f"subset simulation: P = {p:.3e}  95% [{float(ds.failure_probability_lower):.3e}, "
           f"{float(ds.failure_probability_upper):.3e}]  cv = {cv:.3f}  evaluations = {n}  "
           f"runs = {ds.sizes['run']}  converged = {int(ds.converged)}  (Au-Beck cv "

@@ -286,6 +286,7 @@ def failure_probability(
     scheduler=None,
     output=None,
     overwrite: bool = False,
+    check_failures: int = 8,
 ) -> xr.Dataset:
     r"""Probability that a zone's adhesive energy (or pull-off pressure) exceeds a threshold.
 
@@ -335,6 +336,10 @@ def failure_probability(
         structure.
     output : path, optional
         Folder; one sub-folder per humidity with one file per completed level (resume).
+    check_failures : int, default 8
+        With ``contact_model="modified_dmt"``, re-evaluate this many failure samples with the
+        FFT-BEM (``failures_confirmed_by_bem``; a ValidityWarning when fewer than half stay
+        failures). 0: no check.
 
     Returns
     -------
@@ -379,6 +384,8 @@ def failure_probability(
             confidence=confidence, seed=seed, chunks=chunks, scheduler=scheduler, output=sub,
             overwrite=overwrite, token=token,
             response_attrs={"units": units, "quantity": quantity})
+        if contact_model == "modified_dmt":  # rare states are where Eq. 16 may fail: measure it
+            ds = _s.bem_check(ds, model, float(threshold), check_failures)
         # index every dim so humidities with different level/run/failure counts align (outer join)
         out.append(ds.assign_coords({d: np.arange(n) for d, n in ds.sizes.items() if d not in ds.coords}))
     fill = {"accepted": np.int8(-1), "chain": np.int32(-1)}

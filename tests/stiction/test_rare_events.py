@@ -327,6 +327,29 @@ def test_bad_surface_input():
         re_.failure_probability(psd, contact_model="fft_bem", patches=2, **kw)
 
 
+def test_bem_check_confirms_or_flags_the_failure_states():
+    """The FFT-BEM re-check of an Eq. 16 result: failure states whose boundary-element Γ is also
+    above the threshold are confirmed; when fewer than half are, a ValidityWarning names the remedy."""
+    psd = table4()
+    f = _s.NoiseToSurface(psd, shape=(24, 24), spacing=SPACING)
+    model = _s.SurfaceResponse(f, relative_humidity=0.5, water_height=float(rs.water_height(0.5).values))
+    bem = _s.SurfaceResponse(f, relative_humidity=0.5, water_height=model.hw, contact_model="fft_bem")
+    rng = np.random.default_rng(4)
+    noise = rng.standard_normal((5, 24 * 24))
+    g = np.array([bem(w) for w in noise])
+    ds = xr.Dataset({"failure_noise": (("failure", "noise"), noise)})
+    low = _s.bem_check(ds.copy(), model, 0.5 * g.min(), 8)
+    assert float(low.failures_confirmed_by_bem) == 1.0 and low.failures_confirmed_by_bem.attrs["checked"] == 5
+    with pytest.warns(rs.ValidityWarning, match="contact_model='fft_bem'"):
+        high = _s.bem_check(ds.copy(), model, 2 * g.max(), 3)
+    assert float(high.failures_confirmed_by_bem) == 0.0 and high.failures_confirmed_by_bem.attrs["checked"] == 3
+    with pytest.warns(rs.ValidityWarning, match="only 2 of 5"):  # strictly above the median: 2 of 5
+        mid = _s.bem_check(ds.copy(), model, float(np.median(g)), 8)
+    assert float(mid.failures_confirmed_by_bem) == pytest.approx(0.4)
+    none = _s.bem_check(ds.copy(), model, 0.01, 0)
+    assert np.isnan(float(none.failures_confirmed_by_bem))
+
+
 def test_fft_bem_limit_state_is_the_public_model():
     """contact_model="fft_bem": every failure sample's stored response is the boundary-element
     Γ of its surface computed by the public functions (noise -> surface -> fft_bem_contact_curves
