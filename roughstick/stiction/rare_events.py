@@ -312,8 +312,8 @@ def failure_probability(
     quantity : {"adhesive_energy", "pull_off_pressure"}
     contact_model : {"modified_dmt", "fft_bem"}, default "modified_dmt"
         Eq. 16 (2 ms per 128 x 128 zone) or the fast boundary-element model (~40 ms; periodic
-        zones only). On Table-4 zones the Eq. 16 tail above ~20 mJ/m² is made of states whose
-        boundary-element Γ is typical (docs/rare_events.md): use ``"fft_bem"`` for small P there.
+        zones only). On 128² Table-4 zones the Eq. 16 tail below P ~ 1e-2 is made of states
+        whose boundary-element Γ is typical (docs/rare_events.md): use ``"fft_bem"`` there.
     method, samples_per_level, level_probability, independent_runs, proposal, proposal_scale,
     target_acceptance,
     target_cv, max_evaluations, max_levels, confidence, seed, chunks, scheduler

@@ -166,12 +166,14 @@ def stiction_probability(
     return ds
 
 
-def _first_crossing_kernel(p, coord, level):
+def _first_crossing_kernel(p, coord, level, late=False):
     """First upward crossing of ``level`` along the last axis, interpolated in logit(p).
 
     Linear in logit(p) = log(p / (1 - p)) between grid points with 0 < p < 1 (log-linear for small
     p: 1e-4 at one RH and 0.1 at the next cross 1e-3 a third of the way, not at 0.1 %), linear in
-    p where a neighbour is 0 or 1 (counted probabilities). -inf: already >= level at the first grid
+    p where a neighbour is 0 or 1 (counted probabilities), or, with ``late``, at the grid point
+    where the level is reached (the latest the crossing can be: the rule for the upper end of an
+    interval, from a lower probability bound of 0). -inf: already >= level at the first grid
     point; +inf: never reaches it; NaN: NaN data.
     """
     p = np.asarray(p, dtype=float)
@@ -197,7 +199,7 @@ def _first_crossing_kernel(p, coord, level):
                 return math.log(x / (1.0 - x))
             t = (logit(level) - logit(p0)) / (logit(p1) - logit(p0))
         else:
-            t = (level - p0) / (p1 - p0)
+            t = 1.0 if late else (level - p0) / (p1 - p0)
         res[i] = c[j - 1] + t * (c[j] - c[j - 1])
     return out
 
@@ -221,7 +223,9 @@ def crossing_humidity(probability: xr.Dataset | xr.DataArray, *, level: float = 
         ``crossing_humidity_lower`` (where the upper bound of the probability crosses) and
         ``crossing_humidity_upper`` (where the lower bound crosses), over the remaining dims
         (e.g. ``beam_length``). Interpolation between grid humidities linear in logit(p) (in p
-        next to a 0 or a 1), so that small probabilities cross where a log plot shows; ``-inf`` means the
+        next to a 0 or a 1; the upper end next to a 0 of the lower bound: the grid point where that
+        bound reaches the level, and the estimate is kept inside its interval), so that small
+        probabilities cross where a log plot shows; ``-inf`` means the
         level is already reached at the lowest RH of the grid, ``+inf`` that it is not reached at
         the highest.
 
@@ -262,13 +266,18 @@ def crossing_humidity(probability: xr.Dataset | xr.DataArray, *, level: float = 
         da = xr.apply_ufunc(
             _first_crossing_kernel,
             p,
-            kwargs={"coord": rh, "level": float(level)},
+            kwargs={"coord": rh, "level": float(level), "late": name == "crossing_humidity_upper"},
             input_core_dims=[["rh"]],
             dask="parallelized",
             output_dtypes=[float],
         )
         out[name] = set_attrs(da, "crossing_humidity")
     if len(out) == 3:
+        # next to a 0 the estimate is interpolated linearly in p, the bounds in logit(p): keep it
+        # inside its interval (a 0 of subset simulation, below its resolution, crossed 1e-3 early)
+        attrs = out["crossing_humidity"].attrs
+        out["crossing_humidity"] = out["crossing_humidity"].clip(
+            out["crossing_humidity_lower"], out["crossing_humidity_upper"]).assign_attrs(attrs)
         out["crossing_humidity_lower"].attrs["long_name"] += " (from the upper probability bound)"
         out["crossing_humidity_upper"].attrs["long_name"] += " (from the lower probability bound)"
     ds = xr.Dataset(out)

@@ -248,3 +248,22 @@ def test_plots_smoke():
     with pytest.raises(ValueError, match="stiction_risk"):
         plotting.plot_adhesive_energy_band(xr.Dataset({"a": 1.0}))
     plt.close("all")
+
+
+def test_a_zero_estimate_next_to_the_crossing_keeps_the_interval_ordered():
+    """Subset simulation's 0 (below its resolution, upper bound 2e-10) at 65 % and 0.09 at 70 %:
+    the upper probability bound crosses 1e-3 log-linearly (68.8 %), the lower bound (0 too) can
+    only say 'by 70 %', and the estimate, linear in p next to its 0 (65.05 %), is kept inside
+    that interval instead of before it (a run of session 6 printed [0.688, 0.651])."""
+    rh = [0.6, 0.65, 0.7]
+    ds = xr.Dataset({
+        "stiction_probability": ("rh", [0.0, 0.0, 0.092]),
+        "stiction_probability_lower": ("rh", [0.0, 0.0, 0.069]),
+        "stiction_probability_upper": ("rh", [2.5e-10, 1.9e-10, 0.126]),
+    }, coords={"rh": rh})
+    c = rs.crossing_humidity(ds, level=1e-3)
+    lo = 0.65 + 0.05 * (_logit(1e-3) - _logit(1.9e-10)) / (_logit(0.126) - _logit(1.9e-10))
+    assert float(c.crossing_humidity_lower) == pytest.approx(lo)
+    assert float(c.crossing_humidity_upper) == 0.7
+    assert float(c.crossing_humidity_lower) <= float(c.crossing_humidity) <= float(c.crossing_humidity_upper)
+    assert c.crossing_humidity.attrs["units"] == "1"
