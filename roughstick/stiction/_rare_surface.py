@@ -191,5 +191,5 @@ def bem_check(ds, model, threshold, n_check):
         warnings.warn(
             f"only {ok} of {n} failure samples at RH {model.rh:g} stay above the threshold with the "
             "FFT-BEM: this probability is made of modified-DMT (Eq. 16) artefacts. Rerun with "
-            "contact_model='fft_bem' (docs/rare_events.md).", ValidityWarning, stacklevel=4)
+            "contact_model='fft_bem' (docs/rare_events.md).", ValidityWarning, stacklevel=3)
     return ds
