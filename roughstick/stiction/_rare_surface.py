@@ -16,6 +16,7 @@ import numpy as np
 import scipy.fft
 import xarray as xr
 
+from roughstick._core.conventions import CURVE_VARIABLES
 from roughstick._core.materials import POLYSILICON, hertz_modulus
 from roughstick.contact import (
     ValidityWarning,
@@ -37,6 +38,8 @@ QUANTITIES = ("adhesive_energy", "pull_off_pressure")
 CONTACT_MODELS = ("modified_dmt", "fft_bem")
 #: position of each quantity in the tuple of ``adhesion_summary_kernel``
 _SUMMARY_INDEX = {"adhesive_energy": 0, "pull_off_pressure": 1}
+#: positions of the pressure and the wet fraction in the outputs of ``modified_dmt_kernel``
+_PRESSURE, _WET = CURVE_VARIABLES.index("pressure"), CURVE_VARIABLES.index("wet_fraction")
 
 
 class NoiseToSurface:
@@ -125,7 +128,7 @@ class SurfaceResponse:
         validity of the model is the caller's to check once (docs/rare_events.md), not once per
         evaluation."""
         out = modified_dmt_kernel(z, d, periodic=periodic, **self.kw)
-        return out[0][0], out[2][0]  # pressure, wet_fraction at the one RH
+        return out[_PRESSURE][0], out[_WET][0]  # at the one RH
 
     def _bem_response(self, zc) -> float:
         ny, nx = zc.shape
