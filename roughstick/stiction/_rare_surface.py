@@ -26,7 +26,6 @@ from roughstick.contact import (
     laplace_pressure,
     modified_dmt_kernel,
 )
-from roughstick.contact import water_height as water_height_at
 from roughstick.surface import surface_filter
 
 from ._rare_moves import shell_labels
@@ -37,7 +36,7 @@ QUANTITIES = ("adhesive_energy", "pull_off_pressure")
 #: contact models of a rare-event evaluation (docs/rare_events.md: why the tail needs "fft_bem")
 CONTACT_MODELS = ("modified_dmt", "fft_bem")
 #: position of each quantity in the tuple of ``adhesion_summary_kernel``
-_SUMMARY_INDEX = {"adhesive_energy": 0, "pull_off_pressure": 1}
+_SUMMARY_INDEX = {"adhesive_energy": 0, "pull_off_pressure": 1, "equilibrium_distance": 2}
 #: positions of the pressure and the wet fraction in the outputs of ``modified_dmt_kernel``
 _PRESSURE, _WET = CURVE_VARIABLES.index("pressure"), CURVE_VARIABLES.index("wet_fraction")
 
@@ -67,6 +66,12 @@ class NoiseToSurface:
         #: shells of equal |q| and amplitude on the rfft2 grid (``proposal="shell"``)
         self.shell_labels = shell_labels(self.amplitude, shape=(ny, nx), spacing=(dy, dx))
 
+    def height_array(self, z) -> xr.DataArray:
+        """A height map [m] of this grid as the labelled, periodic DataArray the models take."""
+        return xr.DataArray(z, dims=("y", "x"), coords={"y": (np.arange(self.ny) + 0.5) * self.dy,
+                                                        "x": (np.arange(self.nx) + 0.5) * self.dx},
+                            name="height", attrs={"units": "m", "long_name": "surface height", "periodic": 1})
+
     def __call__(self, noise) -> np.ndarray:
         w = np.reshape(np.asarray(noise, dtype=float), self.noise_shape)
         spec = scipy.fft.rfft2(w, norm="ortho", workers=1)
@@ -86,7 +91,8 @@ class SurfaceResponse:
     periodic) and returns the largest response: a weakest-link structure simulated directly.
     ``contact_model="fft_bem"`` evaluates the periodic zone with
     :func:`roughstick.fft_bem_contact_curves` on its own automatic grid instead (about 20 x the
-    cost of Eq. 16 on 128 x 128 zones).
+    cost of Eq. 16 on 128 x 128 zones). ``water_height`` is :math:`h_{water}` at this RH with
+    this ``adsorbed_layer`` (:func:`roughstick.water_height`): Eq. 16 takes it as given.
     """
 
     def __init__(self, to_surface, *, relative_humidity, quantity="adhesive_energy",
@@ -102,11 +108,12 @@ class SurfaceResponse:
         self.hw = float(water_height)
         self.sigma = math.sqrt(to_surface.variance)
         self.quantity = quantity
+        material = POLYSILICON if material is None else material
         # the inputs modified_dmt_curves would derive from (rh, materials, adsorbed layer)
-        self.kw = {"water_height": np.atleast_1d(water_height_at(self.rh, adsorbed_layer=adsorbed_layer).values),
+        self.kw = {"water_height": np.atleast_1d(self.hw),
                    "laplace_pressure": np.atleast_1d(laplace_pressure(self.rh).values),
                    "spacing": (to_surface.dy, to_surface.dx),
-                   "hertz_modulus": hertz_modulus(POLYSILICON if material is None else material, material2),
+                   "hertz_modulus": hertz_modulus(material, material2),
                    "connectivity": int(connectivity)}
         self.step = self.hw / float(points_per_water_height)
         self.lower, self.extend = float(lower), float(extend)
@@ -117,8 +124,7 @@ class SurfaceResponse:
             raise ValueError("contact_model='fft_bem' solves periodic zones only: use periodic=True and "
                              "patches=1, or contact_model='modified_dmt' for pieces and strips.")
         self.contact_model = contact_model
-        self.bem_kw = {"material": POLYSILICON if material is None else material, "material2": material2,
-                       "adsorbed_layer": adsorbed_layer}
+        self.bem_kw = {"material": material, "material2": material2, "adsorbed_layer": adsorbed_layer}
         if self.patches < 1 or to_surface.ny % self.patches:
             raise ValueError(f"patches={patches} must be >= 1 and divide the {to_surface.ny} rows "
                              "of the zone; choose a shape whose rows are a multiple of patches.")
@@ -131,11 +137,8 @@ class SurfaceResponse:
         return out[_PRESSURE][0], out[_WET][0]  # at the one RH
 
     def _bem_response(self, zc) -> float:
-        ny, nx = zc.shape
-        h = xr.DataArray(zc, dims=("y", "x"), attrs={"units": "m", "periodic": 1},
-                         coords={"y": (np.arange(ny) + 0.5) * self.to_surface.dy,
-                                 "x": (np.arange(nx) + 0.5) * self.to_surface.dx})
-        c = fft_bem_contact_curves(h, relative_humidity=self.rh, progress=False, **self.bem_kw)
+        c = fft_bem_contact_curves(self.to_surface.height_array(zc), relative_humidity=self.rh,
+                                   progress=False, **self.bem_kw)
         return float(adhesion_summary(c, check_grid=False)[self.quantity])
 
     def map_response(self, z, *, periodic) -> float:
@@ -152,7 +155,7 @@ class SurfaceResponse:
         while True:
             # this loop extends the grid until the curve has its equilibrium
             s = adhesion_summary_kernel(p, wet, d)
-            if np.isfinite(float(s[2])) or d[0] < zmin - self.step:
+            if np.isfinite(float(s[_SUMMARY_INDEX["equilibrium_distance"]])) or d[0] < zmin - self.step:
                 break
             more = top - self.step * np.arange(k_end + 1, k_end + block + 1)[::-1]
             k_end += block

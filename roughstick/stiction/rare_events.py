@@ -241,11 +241,7 @@ def surface_from_noise(noise, psd, *, shape, spacing):
     or fed to another model (the BEM, a beam model).
     """
     f = _s.NoiseToSurface(psd, shape=shape, spacing=spacing)
-    z = f(noise)
-    ny, nx = z.shape
-    return xr.DataArray(z, dims=("y", "x"), coords={"y": (np.arange(ny) + 0.5) * f.dy,
-                                                    "x": (np.arange(nx) + 0.5) * f.dx},
-                        name="height", attrs={"units": "m", "long_name": "surface height", "periodic": 1})
+    return f.height_array(f(noise))
 
 
 # ============================================================================ public: surfaces
