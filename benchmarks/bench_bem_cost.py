@@ -11,16 +11,12 @@ is ``constant x (that FFT pair timed on the user's machine) x number of solves``
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 import warnings
 
 import numpy as np
 
-sys.path.insert(0, "/work/scratch")
-from families import family_surface  # noqa: E402
-
-import roughstick as rs  # noqa: E402
+import roughstick as rs
 
 
 def fft_pair_seconds(shape, repeats=5):
@@ -42,7 +38,7 @@ def main():
     print("family  N    model    solves  seconds  s/solve   fft_pair_s   solve/fft_pair")
     for fam in families:
         for n in sizes:
-            h = family_surface(fam, shape=(n, n), seed=1)
+            h = rs.datasets.surface_family(fam, shape=(n, n), seed=1)
             for model in ("bem", "fft_bem"):
                 t_fft = fft_pair_seconds((n, n))
                 with warnings.catch_warnings():
