@@ -138,6 +138,11 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                                   "simulation of P(stuck) on zones of [surface] shape (small "
                                   "probabilities); 'monte_carlo': crude Monte Carlo on those zones",
                         default="count", choices=("count", "subset", "monte_carlo")), **_SMALL_P,
+            "contact_model": F("choice", "method 'subset'/'monte_carlo': contact model of each zone: "
+                               "'modified_dmt' (Eq. 16, ~1 ms per 128 x 128 zone; its failure states "
+                               "re-checked by the BEM) or 'fft_bem' (~45 ms; needed where Eq. 16's tail "
+                               "is an artefact, docs/rare_events.md)",
+                               default="modified_dmt", choices=("modified_dmt", "fft_bem")),
         },
         "measured": {  # an array of tables: [[measured]]
             "label": F("str", "legend label", default="measured"),

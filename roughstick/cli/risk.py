@@ -75,6 +75,10 @@ def load_risk_config(path) -> dict:
             problems.append(f"[risk] method = {r['method']!r} simulates its own zones: remove "
                             "[ensemble] adhesive_energy, or use method = 'count' to read that sample")
         problems += small_p_problems("risk", r)
+    elif r["contact_model"] != "modified_dmt":
+        problems.append(f"[risk] contact_model = {r['contact_model']!r} applies to method = 'subset' or "
+                        "'monte_carlo' (method = 'count' reads the ensemble's modified-DMT curves): set "
+                        "method = 'subset', or remove contact_model")
     if problems:
         raise ConfigError(f"{path.name}: " + "; ".join(problems) + ".")
     if "shape" in c["surface"]:
@@ -178,6 +182,7 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
         psd = functools.partial(rs.self_affine_psd, **{k: float(psd[k]) for k in ("s0", "s1", "q0", "qmax")})
     rh = list(ens["relative_humidity"])
     kw = {"scheduler": c["run"]["scheduler"]} if "scheduler" in c["run"] else {}
+    kw["contact_model"] = r["contact_model"]
     if r["method"] == "subset":
         kw["samples_per_level"] = r["samples_per_level"]
     per_layer = []
@@ -185,7 +190,7 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
         per_length = []
         for length in lengths:
             LOG.info(f"[{layer}] l = {length * 1e6:g} um: {r['method']} on {s['shape'][0]} x {s['shape'][1]} px "
-                     f"zones, {len(rh)} humidities, target cv {r['target_cv']:g} ...")
+                     f"zones ({r['contact_model']}), {len(rh)} humidities, target cv {r['target_cv']:g} ...")
             ds = rs.stiction_probability_subset(
                 psd, relative_humidity=rh, shape=s["shape"], spacing=s["spacing"], length=length,
                 beam=beam, method=r["method"], target_cv=r["target_cv"],
@@ -194,7 +199,8 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
                 overwrite=overwrite, **kw)
             if "rh" not in ds.dims:
                 ds = ds.expand_dims("rh")
-            per_length.append(ds[list(_SUBSET_VARS)].drop_vars("water_height", errors="ignore"))
+            keep = list(_SUBSET_VARS) + [v for v in ("failures_confirmed_by_bem",) if v in ds]
+            per_length.append(ds[keep].drop_vars("water_height", errors="ignore"))
         per_layer.append(xr.concat(per_length, dim=xr.DataArray(lengths, dims="beam_length", name="beam_length")))
     risk = xr.concat(per_layer, dim=xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer",
                                                  name="adsorbed_layer"))
@@ -205,7 +211,7 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
     cross["probability_level"].attrs = dict(ATTRS["probability_level"])
     for name in cross.data_vars:
         risk[name] = cross[name]
-    risk.attrs.update({"method": r["method"], "target_cv": r["target_cv"],
+    risk.attrs.update({"method": r["method"], "target_cv": r["target_cv"], "contact_model": r["contact_model"],
                        "zone_shape": list(s["shape"]), "spacing": s["spacing"],
                        "probability_model": "pull-out proxy P(Gamma > Gamma_crit(l)) of paper section 5.2 "
                                             "on zones of zone_shape pixels"})
@@ -315,11 +321,20 @@ def _run_subset(c, beam, lengths, out, *, overwrite):
                 LOG.info(f"  [{layer}] l={bl * 1e6:.0f}um RH {rh * 100:.1f}%: P = {float(d.stiction_probability):.3g} "
                          f"[{float(d.stiction_probability_lower):.3g}, {float(d.stiction_probability_upper):.3g}] "
                          f"cv {float(d.coefficient_of_variation):.2f}, {int(d.n_evaluations)} evaluations"
-                         + ("" if int(d.converged) else " (target cv not met)"))
+                         + ("" if int(d.converged) else " (target cv not met)") + _confirmed(d))
     _crossing_table(risk, r["levels"])
     LOG.info(f"wrote {f} (no figures with method = {r['method']!r}: it has no Γ sample)")
     finish_folder(out)
     return 0
+
+
+def _confirmed(d) -> str:
+    """The BEM re-check of an Eq. 16 point's failure states, when it has one."""
+    if "failures_confirmed_by_bem" not in d or not np.isfinite(float(d.failures_confirmed_by_bem)):
+        return ""
+    f = float(d.failures_confirmed_by_bem)
+    return f", BEM confirms {f:.0%} of its failure states" + (
+        "" if f >= 0.5 else " (an Eq. 16 artefact: use contact_model = 'fft_bem')")
 
 
 def _crossing_table(risk, levels):

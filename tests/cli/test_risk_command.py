@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import xarray as xr
 
 import roughstick as rs
@@ -111,6 +112,13 @@ def test_cli_risk_subset_method_is_checked_before_work(tmp_path, capsys):
     c = load_risk_config(cfg)
     assert c["risk"]["method"] == "subset" and c["risk"]["target_cv"] == 0.2
     assert c["risk"]["samples_per_level"] == 1000 and c["risk"]["max_evaluations"] == 20000
+    assert c["risk"]["contact_model"] == "modified_dmt"
+    cfg.write_text('[risk]\ncontact_model = "fft_bem"\n')  # counting reads Eq. 16 curves
+    with pytest.raises(ConfigError, match="contact_model = 'fft_bem' applies to method = 'subset'"):
+        load_risk_config(cfg)
+    cfg.write_text('[risk]\nmethod = "subset"\ncontact_model = "bem"\n[surface]\nshape = [16, 16]\n')
+    assert main(["risk", str(cfg)]) == 1
+    assert "fft_bem" in capsys.readouterr().err
 
 
 def test_cli_risk_subset_run(tmp_path, capsys):
@@ -142,3 +150,38 @@ def test_cli_risk_subset_run(tmp_path, capsys):
         relative_humidity=[0.5, 0.7], shape=(16, 16), spacing=5e-9, length=400e-6, target_cv=0.5,
         max_evaluations=400, seed=3, samples_per_level=50, scheduler="sync")
     np.testing.assert_array_equal(p[0, 0], ref.stiction_probability.values)
+
+
+def test_cli_risk_subset_on_the_boundary_element_model(tmp_path, capsys):
+    """contact_model = 'fft_bem' runs the estimate on the FFT-BEM (the model to use where Eq. 16's
+    tail is an artefact): the numbers are those of rs.stiction_probability_subset with
+    contact_model='fft_bem', they differ from the Eq. 16 run's, and the Eq. 16 run carries its
+    BEM re-check into risk.nc."""
+    from roughstick.cli import main
+
+    def run(model, folder):
+        cfg = tmp_path / f"{folder}.toml"
+        cfg.write_text(
+            f'[output]\nfolder = "{folder}"\n'
+            '[beam]\nlengths = ["120 um"]\n'
+            '[surface]\nshape = [16, 16]\n'
+            '[ensemble]\nrelative_humidity = [0.5]\nadsorbed_layer = ["paper"]\nseed = 5\n'
+            '[run]\nscheduler = "sync"\n'
+            '[risk]\nmethod = "subset"\nsamples_per_level = 50\ntarget_cv = 0.9\nmax_evaluations = 200\n'
+            f'levels = [0.01]\ncontact_model = "{model}"\n')
+        assert main(["risk", str(cfg), "-q"]) == 0
+        return rs.open_dataset(tmp_path / folder / "risk.nc").load()
+
+    bem = run("fft_bem", "bem")
+    assert bem.attrs["contact_model"] == "fft_bem" and "failures_confirmed_by_bem" not in bem
+    fit = rs.cantilever_psd(**{k: rs.stiction.interaction_zone.TABLE4[k]
+                               for k in ("roughness", "asperity_radius", "asperity_density", "qmax")})
+    ref = rs.stiction_probability_subset(
+        lambda q: rs.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}),
+        relative_humidity=[0.5], shape=(16, 16), spacing=5e-9, length=120e-6, target_cv=0.9,
+        max_evaluations=200, seed=5, samples_per_level=50, scheduler="sync", contact_model="fft_bem")
+    np.testing.assert_array_equal(bem.stiction_probability.values[0, 0], ref.stiction_probability.values)
+    dmt = run("modified_dmt", "dmt")
+    assert dmt.attrs["contact_model"] == "modified_dmt"
+    assert not np.array_equal(dmt.stiction_probability.values, bem.stiction_probability.values)
+    assert "failures_confirmed_by_bem" in dmt
