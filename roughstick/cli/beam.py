@@ -82,6 +82,7 @@ def _run(args) -> int:
     src = "read from cache" if bank.attrs.get("from_cache") else "computed"
     LOG.info(f"bank: {bank.sizes['law']} laws x {bank.sizes['rh']} RH {src} in {t1 - t0:.1f} s "
              f"({bank.attrs.get('cache_file')})")
+    _log_tail_check(bank)
     LOG.info(f"beams: {ds.sizes['realization']} x {ds.sizes['beam_length']} lengths x {len(rh)} RH "
              f"in {t2 - t1:.2f} s")
     for r in ds.rh.values:
@@ -94,6 +95,16 @@ def _run(args) -> int:
                      f"(95 % Wilson interval, n = {ds.sizes['realization']})")
     LOG.info(f"wrote {out / 'beam.nc'}")
     return 0
+
+
+def _log_tail_check(bank) -> None:
+    """The FFT-BEM re-check of the bank's largest Eq. 16 energies (build_patch_bank), per RH (below
+    0.5 build_patch_bank's ValidityWarning, logged as a warning line, names the fix)."""
+    if "tail_bem_ratio" not in bank.attrs:
+        return
+    ratio = np.atleast_1d(bank.attrs["tail_bem_ratio"])
+    LOG.info(f"bank tail: the {int(bank.attrs['tail_checked'])} largest Eq. 16 energies against the FFT-BEM, "
+             "median BEM/Eq. 16 per RH: " + ", ".join(f"{r:g}: {v:.2f}" for r, v in zip(bank.rh.values, ratio)))
 
 
 def _check_method(ens: dict, source: str) -> None:
@@ -124,6 +135,7 @@ def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite) -> int:
     n_law = int(ds.attrs["n_law"])
     LOG.info(f"bank: {n_law} laws x {bank.sizes['rh']} RH {src} in {t1 - t0:.1f} s "
              f"({bank.attrs.get('cache_file')})")
+    _log_tail_check(bank)
     LOG.info(f"{method}: P(stuck) [95 % interval], cv, beams evaluated, in {t2 - t1:.2f} s; "
              "'bank' = closed form on the same bank")
     for r in ds.rh.values:

@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ..contact import (
+    ValidityWarning,
     adhesion_summary,
     expected_surface_groups,
     rough_contact_curves,
@@ -65,9 +66,42 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir):
     return values
 
 
+def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int) -> xr.DataArray:
+    """Re-evaluate the ``n_check`` laws of largest Eq. 16 energy at each RH with the FFT-BEM.
+
+    Sets ``attrs["tail_bem_ratio"]`` (per RH, the median over those laws of BEM Γ / Eq. 16 Γ)
+    and ``attrs["tail_checked"]``, and warns (ValidityWarning) where the ratio is below one half.
+    The largest laws set the beam's small P(stuck) (the front stops at the first patch able to
+    hold it), and the modified DMT's tail is where it is least reliable: on 64² Table-4 patches
+    at 50 % RH the 16 largest of 3,000 Eq. 16 energies (43-133 mJ/m²) have BEM energies of
+    10-33 mJ/m² (benchmarks/bench_bank_tail.py).
+    """
+    values = bank.values
+    k = min(int(n_check), values.shape[0])
+    ratio = np.full(values.shape[1], np.nan)
+    for j, rh in enumerate(bank.rh.values):
+        top = np.argsort(values[:, j], kind="stable")[::-1][:k]
+        surf = generate_surfaces(psd, realizations=top, shape=shape, spacing=spacing,
+                                 seed=seed).compute(scheduler="sync")
+        bem = [adhesion_summary(rough_contact_curves(surf.isel(realization=i), relative_humidity=[float(rh)],
+                                                    model="fft_bem", check_validity=False))
+               ["adhesive_energy"].values.item() for i in range(k)]
+        ratio[j] = np.median(np.asarray(bem) / values[top, j])
+    bank.attrs.update(tail_bem_ratio=ratio, tail_checked=k)
+    low = bank.rh.values[ratio < 0.5]
+    if low.size:
+        warnings.warn(
+            f"the {k} largest patch energies of the modified-DMT bank are more than twice their "
+            f"boundary-element values at RH {', '.join(f'{v:g}' for v in low)} (median BEM/Eq. 16 "
+            f"{np.nanmin(ratio):.2f}): the bank's tail, which sets small P(stuck), is an Eq. 16 "
+            "artefact there, so such P(stuck) is overestimated. Build the bank with "
+            "model='fft_bem' (about 10 x the cost; docs/beam.md).", ValidityWarning, stacklevel=3)
+    return bank
+
+
 def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000, shape=(64, 64),
                spacing: float, seed: int = 0, model: str = "modified_dmt",
-               cache_dir=None) -> xr.DataArray:
+               cache_dir=None, check_tail: int = 8) -> xr.DataArray:
     r"""Adhesive energies of ``n_law`` random patches at each RH: the law bank of the beam model.
 
     Parameters
@@ -91,18 +125,26 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         in parts of 25 by dask's threads (both cores; a law is the same whatever the parts);
         with a cache each finished part is stored, so an interrupted bank resumes where it
         stopped.
+    check_tail : int
+        With ``model="modified_dmt"``: re-evaluate this many laws of largest energy at each RH
+        with the FFT-BEM (``attrs["tail_bem_ratio"]``, the median BEM/Eq. 16 ratio; a
+        ValidityWarning below one half); 0 skips the check.
 
     Returns
     -------
     xarray.DataArray
         ``adhesive_energy`` [J m-2] over ``(law, rh)``; ``attrs["cache_file"]`` when cached and
-        ``attrs["from_cache"]`` telling whether it was read back.
+        ``attrs["from_cache"]`` telling whether it was read back; ``tail_bem_ratio`` and
+        ``tail_checked`` (see ``check_tail``).
     """
     rh = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
     if np.any((rh <= 0) | (rh >= 1)):
         raise ValueError("relative_humidity must be fractions in (0, 1), e.g. 0.6 not 60")
     if int(n_law) < 1:
         raise ValueError("n_law must be at least 1")
+    if int(check_tail) < 0:
+        raise ValueError(f"check_tail must be >= 0 (laws re-checked with the BEM), got {check_tail}")
+    check = int(check_tail) if model == "modified_dmt" else 0
     if not isinstance(psd, xr.DataArray):
         raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.self_affine_psd(q, ...)) "
                         f"so the cache can key on its values, got {type(psd).__name__}")
@@ -126,6 +168,8 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         path = Path(cache_dir) / f"patch_bank_{key}.nc"
         if path.exists():
             out = xr.load_dataarray(path)
+            if check and int(out.attrs.get("tail_checked", -1)) != min(check, int(n_law)):
+                out = _tail_check(out, psd, shape, float(spacing), seed, check)  # an older cache
             out.attrs.update(cache_file=str(path), from_cache=1)
             return out
     parts_dir = None if path is None else path.with_name(path.stem + ".parts")
@@ -141,6 +185,8 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
                               "independence": "patch laws drawn independently; checked: patch "
                                               f"{patch:.3g} m vs 4 correlation lengths "
                                               f"{4 * corr:.3g} m"})
+    if check:
+        out = _tail_check(out, psd, shape, float(spacing), seed, check)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(".tmp")

@@ -75,3 +75,32 @@ def test_bank_parts_independent_and_resumed(tmp_path):
     np.testing.assert_array_equal(resumed.values[:25], 7.0)
     np.testing.assert_array_equal(resumed.values[25:], plain.values[25:])
     assert not parts.exists()  # parts removed once the bank file is complete
+
+
+def test_the_bank_tail_is_rechecked_with_the_boundary_element_model(tmp_path):
+    """The largest Eq. 16 energies of a bank of 64² Table-4 patches at 50 % RH are artefacts: the
+    FFT-BEM gives them less than half (ValidityWarning naming model='fft_bem'), while on typical
+    laws (around the median) the two models agree within a factor 0.6 (independent BEM calls)."""
+    kw = dict(relative_humidity=[0.5], n_law=600, shape=(64, 64), spacing=5e-9, seed=2)
+    with pytest.warns(rs.ValidityWarning, match="model='fft_bem'"):
+        bank = build_patch_bank(_psd(), cache_dir=tmp_path, **kw)
+    assert bank.attrs["tail_checked"] == 8
+    assert np.atleast_1d(bank.attrs["tail_bem_ratio"])[0] < 0.5
+    g = bank.values[:, 0]
+    typical = np.argsort(g, kind="stable")[296:304]
+    surf = rs.generate_surfaces(_psd(), realizations=typical, shape=(64, 64), spacing=5e-9, seed=2).compute()
+    bem = [float(rs.adhesion_summary(rs.rough_contact_curves(surf.isel(realization=i), relative_humidity=[0.5],
+                                                             model="fft_bem", check_validity=False))
+                 ["adhesive_energy"].squeeze()) for i in range(8)]
+    assert np.median(np.asarray(bem) / g[typical]) > 0.6
+    # a bank cached without the check (check_tail=0) gets it when read back; the BEM bank has none
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        plain = build_patch_bank(_psd(), check_tail=0, **{**kw, "n_law": 50, "seed": 3}, cache_dir=tmp_path)
+        assert "tail_bem_ratio" not in plain.attrs
+        again = build_patch_bank(_psd(), **{**kw, "n_law": 50, "seed": 3}, cache_dir=tmp_path)
+        assert again.attrs["from_cache"] == 1 and again.attrs["tail_checked"] == 8
+        bem_bank = build_patch_bank(_psd(), **{**kw, "n_law": 4}, model="fft_bem")
+    assert "tail_bem_ratio" not in bem_bank.attrs
+    with pytest.raises(ValueError, match="check_tail must be >= 0"):
+        build_patch_bank(_psd(), check_tail=-1, **kw)

@@ -1,0 +1,85 @@
+"""Benchmark: is the Eq. 16 tail of a patch-law bank physical? (the beam-scale model, docs/beam.md)
+
+    nice -n 10 python benchmarks/bench_bank_tail.py [--laws 3000] [--shape 32 32] [--spacing 20e-9]
+        [--rh 0.3 0.6 0.9] [--top 16]
+
+A bank of the beam command (``rs.build_patch_bank``, Table-4 PSD of ``roughstick beam``, the
+modified DMT of Eq. 16, the tail check switched off) is ranked at each RH, and its ``--top``
+largest laws plus the laws at P = 1e-2, 0.1, 0.25 and 0.5 are re-evaluated with the FFT
+boundary-element model (``rough_contact_curves(model="fft_bem")``). The largest laws set the beam's
+small P(stuck): a released front stops at the first patch able to hold it. Prints, per RH, each
+rank's Eq. 16 and BEM energies and their ratio, and the median ratio over the top ranks (what
+``build_patch_bank(check_tail=8)`` reports as ``tail_bem_ratio``); and the cost of one law with
+each model, as a multiple of one rfft2 + irfft2 pair of the patch timed in the same process.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+import warnings
+
+import numpy as np
+
+import roughstick as rs
+from roughstick.cli.beam import _psd
+
+
+def fft_pair(shape, repeats=20):
+    z = np.random.default_rng(0).standard_normal(shape)
+    best = np.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        np.fft.irfft2(np.fft.rfft2(z), s=shape)
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--laws", type=int, default=3000)
+    ap.add_argument("--shape", type=int, nargs=2, default=(32, 32))
+    ap.add_argument("--spacing", type=float, default=20e-9)
+    ap.add_argument("--rh", type=float, nargs="+", default=(0.3, 0.6, 0.9))
+    ap.add_argument("--top", type=int, default=16)
+    ap.add_argument("--seed", type=int, default=0)
+    args = ap.parse_args()
+    warnings.filterwarnings("ignore", category=rs.ValidityWarning)  # Eq. 16 outside validity: the point
+    psd, shape = _psd({}), tuple(args.shape)
+    t0 = time.perf_counter()
+    bank = rs.build_patch_bank(psd, relative_humidity=list(args.rh), n_law=args.laws, shape=shape,
+                               spacing=args.spacing, seed=args.seed, check_tail=0)
+    t_dmt = (time.perf_counter() - t0) / args.laws
+    print(f"bank: {args.laws} laws of {shape[0]}x{shape[1]} px at {args.spacing * 1e9:g} nm, Table-4 PSD, "
+          f"RH {list(args.rh)}, Eq. 16, in {t_dmt * args.laws:.1f} s")
+    n = args.laws
+    ranks = list(range(1, args.top + 1)) + [r for r in (n // 100, n // 10, n // 4, n // 2) if r > args.top]
+    t_bem, n_bem = 0.0, 0
+    for j, rh in enumerate(bank.rh.values):
+        g = bank.values[:, j]
+        order = np.argsort(g, kind="stable")[::-1]
+        laws = order[np.asarray(ranks) - 1]
+        surf = rs.generate_surfaces(psd, realizations=laws, shape=shape, spacing=args.spacing,
+                                    seed=args.seed).compute(scheduler="sync")
+        print(f"RH {rh:g}:  rank  P(law above)  Eq.16 Gamma  FFT-BEM Gamma [mJ/m2]  BEM/Eq.16")
+        ratios = []
+        for k, (r, law) in enumerate(zip(ranks, laws)):
+            t1 = time.perf_counter()
+            c = rs.rough_contact_curves(surf.isel(realization=k), relative_humidity=[float(rh)],
+                                        model="fft_bem", check_validity=False)
+            b = float(rs.adhesion_summary(c)["adhesive_energy"].squeeze())
+            t_bem += time.perf_counter() - t1
+            n_bem += 1
+            ratios.append(b / g[law])
+            print(f"       {r:5d}  {r / n:11.1e}  {g[law] * 1e3:11.2f}  {b * 1e3:14.2f}  {ratios[-1]:9.2f}",
+                  flush=True)
+        print(f"RH {rh:g}: median BEM/Eq.16 over the top {args.top}: {np.median(ratios[:args.top]):.2f}; "
+              f"over the top 8: {np.median(ratios[:8]):.2f}")
+    pair = fft_pair(shape)
+    per_rh = t_dmt / len(args.rh)
+    print(f"one law at one RH: Eq. 16 {per_rh * 1e3:.2f} ms = {per_rh / pair:.0f} x one FFT pair of the patch; "
+          f"FFT-BEM {t_bem / n_bem * 1e3:.2f} ms = {t_bem / n_bem / pair:.0f} x ({t_bem / n_bem / per_rh:.1f} x Eq. 16)")
+
+
+if __name__ == "__main__":
+    main()
