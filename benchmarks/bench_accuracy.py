@@ -885,6 +885,11 @@ def write_accuracy_md(vs_bem, vs_fine, timing, table, started, machine):
         A("")
         A(f"The first case above 10 % appears at |ΔP| / (E* slope) = {first_bad:.2g}.")
         A("")
+    A("These errors are those of random maps of each family. A rare-event run or a beam's small "
+      "P(stuck) selects the maps where Eq. 16 is most wrong, and on the table4 and smooth families "
+      "its largest energies are artefacts (a few times the BEM's): docs/rare_events.md, \"Which "
+      "contact model in the tail\", measured per family by `benchmarks/bench_bank_tail.py`.")
+    A("")
     A("## model='auto'")
     A("")
     A("`rough_contact_curves(height, ..., model='auto', tolerance=0.1)` computes the surface's "
