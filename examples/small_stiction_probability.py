@@ -47,8 +47,8 @@ def main():
         print(f"RH {rh:.2f}: P = {float(d.stiction_probability):.3e} 95% [{float(d.stiction_probability_lower):.3e}, "
               f"{float(d.stiction_probability_upper):.3e}] cv {float(d.coefficient_of_variation):.2f} "
               f"evaluations {int(d.n_evaluations)} converged {int(d.converged)}"
-              + (f" confirmed by the FFT-BEM {float(d.failures_confirmed_by_bem):.2f}"
-                 if "failures_confirmed_by_bem" in d else ""))
+              + (f" confirmed by the FFT-BEM {float(d.failures_confirmed_by_bem):.2f}, median BEM/Eq. 16 "
+                 f"{float(d.failure_bem_ratio):.2f}" if "failure_bem_ratio" in d else ""))
     ch = rs.crossing_humidity(ds[["stiction_probability", "stiction_probability_lower",
                                   "stiction_probability_upper"]], level=args.level)
     print(f"P(stuck) reaches {args.level:g} at RH {float(ch.crossing_humidity):.3f} "

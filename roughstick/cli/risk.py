@@ -199,7 +199,7 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
                 overwrite=overwrite, **kw)
             if "rh" not in ds.dims:
                 ds = ds.expand_dims("rh")
-            keep = list(_SUBSET_VARS) + [v for v in ("failures_confirmed_by_bem",) if v in ds]
+            keep = list(_SUBSET_VARS) + [v for v in ("failures_confirmed_by_bem", "failure_bem_ratio") if v in ds]
             per_length.append(ds[keep].drop_vars("water_height", errors="ignore"))
         per_layer.append(xr.concat(per_length, dim=xr.DataArray(lengths, dims="beam_length", name="beam_length")))
     risk = xr.concat(per_layer, dim=xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer",
@@ -330,11 +330,11 @@ def _run_subset(c, beam, lengths, out, *, overwrite):
 
 def _confirmed(d) -> str:
     """The BEM re-check of an Eq. 16 point's failure states, when it has one."""
-    if "failures_confirmed_by_bem" not in d or not np.isfinite(float(d.failures_confirmed_by_bem)):
+    if "failure_bem_ratio" not in d or not np.isfinite(float(d.failure_bem_ratio)):
         return ""
-    f = float(d.failures_confirmed_by_bem)
-    return f", BEM confirms {f:.0%} of its failure states" + (
-        "" if f >= 0.5 else " (an Eq. 16 artefact: use contact_model = 'fft_bem')")
+    f, r = float(d.failures_confirmed_by_bem), float(d.failure_bem_ratio)
+    return f", BEM: {f:.0%} of its failure states confirmed, median BEM/Eq. 16 {r:.2f}" + (
+        " (Eq. 16 artefacts: use contact_model = 'fft_bem')" if r < 0.5 else "")
 
 
 def _crossing_table(risk, levels):

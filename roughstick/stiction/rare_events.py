@@ -334,8 +334,9 @@ def failure_probability(
         Folder; one sub-folder per humidity with one file per completed level (resume).
     check_failures : int, default 8
         With ``contact_model="modified_dmt"``, re-evaluate this many failure samples with the
-        FFT-BEM (``failures_confirmed_by_bem``; a ValidityWarning when fewer than half stay
-        failures). 0: no check.
+        FFT-BEM (``failures_confirmed_by_bem`` and ``failure_bem_ratio``; a ValidityWarning
+        when the ratio is below one half, artefacts, or fewer than half stay failures). 0: no
+        check.
 
     Returns
     -------

@@ -329,7 +329,9 @@ def test_bad_surface_input():
 
 def test_bem_check_confirms_or_flags_the_failure_states():
     """The FFT-BEM re-check of an Eq. 16 result: failure states whose boundary-element Γ is also
-    above the threshold are confirmed; when fewer than half are, a ValidityWarning names the remedy."""
+    above the threshold are confirmed, and the median BEM/Eq. 16 ratio is stored. A ratio below
+    one half (artefacts) and a minority of confirmed states (the model's error moves them across
+    the threshold) each raise a ValidityWarning naming the remedy, with different causes."""
     psd = table4()
     f = _s.NoiseToSurface(psd, shape=(24, 24), spacing=SPACING)
     model = _s.SurfaceResponse(f, relative_humidity=0.5, water_height=float(rs.water_height(0.5).values))
@@ -337,15 +339,34 @@ def test_bem_check_confirms_or_flags_the_failure_states():
     rng = np.random.default_rng(4)
     noise = rng.standard_normal((5, 24 * 24))
     g = np.array([bem(w) for w in noise])
+    ratio = np.median(g / np.array([model(w) for w in noise]))
+    assert 0.5 < ratio < 2  # typical zones: the two models agree to tens of percent
     ds = xr.Dataset({"failure_noise": (("failure", "noise"), noise)})
     low = _s.bem_check(ds.copy(), model, 0.5 * g.min(), 8)
     assert float(low.failures_confirmed_by_bem) == 1.0 and low.failures_confirmed_by_bem.attrs["checked"] == 5
-    with pytest.warns(rs.ValidityWarning, match="contact_model='fft_bem'"):
+    assert float(low.failure_bem_ratio) == pytest.approx(ratio, rel=1e-12)
+    with pytest.warns(rs.ValidityWarning, match="model error moves them") as rec:
         high = _s.bem_check(ds.copy(), model, 2 * g.max(), 3)
+    assert "contact_model='fft_bem'" in str(rec[0].message) and "artefacts" not in str(rec[0].message)
     assert float(high.failures_confirmed_by_bem) == 0.0 and high.failures_confirmed_by_bem.attrs["checked"] == 3
     with pytest.warns(rs.ValidityWarning, match="only 2 of 5"):  # strictly above the median: 2 of 5
         mid = _s.bem_check(ds.copy(), model, float(np.median(g)), 8)
     assert float(mid.failures_confirmed_by_bem) == pytest.approx(0.4)
+
+    class Inflated:  # an Eq. 16 response three times too high: the artefact case
+        def __init__(self, inner):
+            self.inner = inner
+
+        def __getattr__(self, name):
+            return getattr(self.inner, name)
+
+        def __call__(self, z):
+            return 3.0 * self.inner(z)
+
+    with pytest.warns(rs.ValidityWarning, match="made of modified-DMT"):
+        art = _s.bem_check(ds.copy(), Inflated(model), 0.5 * g.min(), 8)
+    assert float(art.failures_confirmed_by_bem) == 1.0  # all above, yet a third of the response
+    assert float(art.failure_bem_ratio) == pytest.approx(ratio / 3, rel=1e-12)
     none = _s.bem_check(ds.copy(), model, 0.01, 0)
     assert np.isnan(float(none.failures_confirmed_by_bem))
 
