@@ -23,17 +23,8 @@ import warnings
 import numpy as np
 
 import roughstick as rs
+from roughstick._core.progress import fft_pair_seconds
 from roughstick.cli.beam import _psd
-
-
-def fft_pair(shape, repeats=20):
-    z = np.random.default_rng(0).standard_normal(shape)
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        np.fft.irfft2(np.fft.rfft2(z), s=shape)
-        best = min(best, time.perf_counter() - t0)
-    return best
 
 
 def main():
@@ -89,7 +80,7 @@ def one_family(psd, args):
                   flush=True)
         print(f"RH {rh:g}: median BEM/Eq.16 over the top {args.top}: {np.median(ratios[:args.top]):.2f}"
               + (f"; over the top 8: {np.median(ratios[:8]):.2f}" if args.top > 8 else ""))
-    pair = fft_pair(shape)
+    pair = fft_pair_seconds(shape, repeats=20)
     per_rh = t_dmt / len(args.rh)
     print(f"one law at one RH: Eq. 16 {per_rh * 1e3:.2f} ms = {per_rh / pair:.0f} x one FFT pair of the patch; "
           f"FFT-BEM {t_bem / n_bem * 1e3:.2f} ms = {t_bem / n_bem / pair:.0f} x ({t_bem / n_bem / per_rh:.1f} x Eq. 16)")

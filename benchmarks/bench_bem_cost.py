@@ -14,19 +14,8 @@ import argparse
 import time
 import warnings
 
-import numpy as np
-
 import roughstick as rs
-
-
-def fft_pair_seconds(shape, repeats=5):
-    z = np.random.default_rng(0).standard_normal(shape)
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        np.fft.irfft2(np.fft.rfft2(z), s=shape)
-        best = min(best, time.perf_counter() - t0)
-    return best
+from roughstick._core.progress import fft_pair_seconds
 
 
 def main():
@@ -40,7 +29,7 @@ def main():
         for n in sizes:
             h = rs.datasets.surface_family(fam, shape=(n, n), seed=1)
             for model in ("bem", "fft_bem"):
-                t_fft = fft_pair_seconds((n, n))
+                t_fft = fft_pair_seconds((n, n), repeats=5)
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
                     t0 = time.perf_counter()
@@ -51,7 +40,7 @@ def main():
                         ds = rs.fft_bem_contact_curves(h, relative_humidity=0.5)
                         solves = int(ds.attrs["states"])
                     dt = time.perf_counter() - t0
-                t_fft = min(t_fft, fft_pair_seconds((n, n)))
+                t_fft = min(t_fft, fft_pair_seconds((n, n), repeats=5))
                 per = dt / max(solves, 1)
                 print(f"{fam:7s} {n:4d} {model:8s} {solves:6d} {dt:8.2f} {per:8.4f} "
                       f"{t_fft:12.2e} {per / t_fft:12.0f}", flush=True)
