@@ -216,7 +216,17 @@ class Spec:
 
 
 def _callable_id(f) -> str:
-    return f"{getattr(f, '__module__', '?')}.{getattr(f, '__qualname__', repr(f))}"
+    """A name of ``f`` that is the same in every process (no memory address): a resumed run in a
+    new process must find the same parameter hash (a ``functools.partial`` has no qualname and
+    its repr holds the address of the wrapped function)."""
+    if isinstance(f, functools.partial):
+        args = ", ".join([repr(a) for a in f.args] + [f"{k}={v!r}" for k, v in sorted(f.keywords.items())])
+        return f"partial({_callable_id(f.func)}, {args})"
+    if hasattr(f, "__qualname__"):
+        return f"{getattr(f, '__module__', '?')}.{f.__qualname__}"
+    # a callable object: its own repr if it has one (its parameters), else its type
+    own = type(f).__repr__ is not object.__repr__
+    return f"{type(f).__module__}.{type(f).__qualname__}" + (f"({f!r})" if own else "")
 
 
 def _hash_params(spec_fields: dict) -> str:

@@ -274,3 +274,22 @@ def test_run_warns_once_before_the_graph(sample_psds):
         ds.adhesive_energy.compute(scheduler="sync")
     assert not [w for w in caught if issubclass(w.category, (rs.ExtrapolatedPSDWarning,
                                                               rs.ValidityWarning))]
+
+
+def test_the_parameter_hash_is_the_same_in_a_new_process():
+    """A run interrupted and resumed in a new process must find the same parameter hash: the
+    ensemble's contact function is a functools.partial, whose repr holds a memory address
+    (the slow Ctrl-C test of `roughstick run` was refused its resume by it)."""
+    import functools
+    import subprocess
+    import sys
+
+    from roughstick.ensemble.pipeline import _callable_id
+
+    code = ("import functools, roughstick as rs; from roughstick.ensemble.pipeline import _callable_id; "
+            "print(_callable_id(functools.partial(rs.rough_contact_curves, check_validity=False)))")
+    here = _callable_id(functools.partial(rs.rough_contact_curves, check_validity=False))
+    there = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert here == there and "0x" not in here and "check_validity=False" in here
+    other = _callable_id(functools.partial(rs.rough_contact_curves, check_validity=True))
+    assert other != here  # different parameters still hash apart
