@@ -127,6 +127,18 @@ def _check_settings(method, samples, level_probability, proposal, scale, target_
         raise ValueError(f"confidence must lie in (0, 1), got {confidence!r}.")
 
 
+def store_token(limit_state, token):
+    """The limit state's name in a stored run's parameter hash: ``token``, else its repr, refused
+    when that holds a memory address (a rerun in a new process could not find the run)."""
+    if token is not None:
+        return token
+    if " at 0x" in repr(limit_state):
+        raise ValueError("output= needs token='...' for this limit state: its repr holds a memory address, so "
+                         "a rerun in a new process could not find the stored run; name the limit state "
+                         "and its parameters, e.g. token='linear beta=3.09'.")
+    return repr(limit_state)
+
+
 class _Store:
     """A folder of one NetCDF file per completed level plus a manifest (resume)."""
 

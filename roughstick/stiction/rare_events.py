@@ -146,7 +146,8 @@ def subset_simulation(
     overwrite : bool
         Replace an output folder holding another run.
     token : str, optional
-        Identifies the limit state in the manifest (the caller's parameter hash).
+        Identifies the limit state in the manifest (the caller's parameter hash); required with
+        ``output`` when the limit state's repr holds a memory address (a lambda, a plain object).
     response_attrs : dict, optional
         ``units`` and ``long_name`` of the response.
 
@@ -191,7 +192,7 @@ def subset_simulation(
         info = {"method": method, "samples_per_level": int(samples_per_level), "threshold": float(threshold),
                 "seed": str(root.entropy)}
         h = hashlib.sha256(json.dumps({
-            "token": token or repr(limit_state), "settings": _e.dataclasses.asdict(settings),
+            "token": _e.store_token(limit_state, token), "settings": _e.dataclasses.asdict(settings),
             "threshold": float(threshold), "entropy": str(root.entropy), "spawn": list(root.spawn_key),
             "noise_shape": list(noise_shape)}, sort_keys=True).encode()).hexdigest()[:16]
         store = _e._Store(output, h, overwrite, info, response_attrs or {})

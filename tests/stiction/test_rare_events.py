@@ -310,6 +310,17 @@ def test_bad_settings(kwargs, match):
         re_.subset_simulation(Linear((3,)), noise_shape=(3,), threshold=1.0, **kwargs)
 
 
+def test_a_stored_run_needs_a_token_that_survives_a_new_process(tmp_path):
+    """With output=, a limit state whose repr holds a memory address (a lambda) is refused
+    without token=, naming the fix; with a token it runs."""
+    kw = dict(noise_shape=(3,), threshold=1.0, samples_per_level=50, scheduler="sync", output=tmp_path / "r")
+    with pytest.raises(ValueError, match="needs token="):
+        re_.subset_simulation(lambda z: float(z.sum()), **kw)
+    assert not (tmp_path / "r").exists()  # refused before anything is written
+    ds = re_.subset_simulation(lambda z: float(z.sum()), token="sum", **kw)
+    assert ds.n_evaluations > 0
+
+
 def test_bad_surface_input():
     psd = table4()
     kw = dict(threshold=0.01, relative_humidity=0.5, shape=(32, 32), spacing=SPACING)
