@@ -2,6 +2,7 @@
 
     nice -n 10 python benchmarks/bench_bank_tail.py [--laws 3000] [--shape 32 32] [--spacing 20e-9]
         [--rh 0.3 0.6 0.9] [--top 16] [--family beam S1 S2 table4 smooth rough]
+        [--beams 1000 --lengths 150 200 250 300]
 
 A bank of the beam command (``rs.build_patch_bank``, Table-4 PSD of ``roughstick beam``, the
 modified DMT of Eq. 16, the tail check switched off; ``--family``: the five surface families of
@@ -12,6 +13,9 @@ small P(stuck): a released front stops at the first patch able to hold it. Print
 rank's Eq. 16 and BEM energies and their ratio, and the median ratio over the top ranks (what
 ``build_patch_bank(check_tail=8)`` reports as ``tail_bem_ratio``); and the cost of one law with
 each model, as a multiple of one rfft2 + irfft2 pair of the patch timed in the same process.
+With ``--beams N``: the whole bank is also computed with the FFT-BEM (the same patches) and
+``rs.simulate_beams`` draws the same N beams per length from both banks: P(stuck) of the
+beam-scale model on each, with 95 % Wilson intervals (what the tail error does to the beams).
 """
 
 from __future__ import annotations
@@ -35,6 +39,8 @@ def main():
     ap.add_argument("--rh", type=float, nargs="+", default=(0.3, 0.6, 0.9))
     ap.add_argument("--top", type=int, default=16)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--beams", type=int, default=0, help="N beams per length on both banks")
+    ap.add_argument("--lengths", type=float, nargs="+", default=(150, 200, 250, 300), help="beam lengths [um]")
     ap.add_argument("--family", nargs="+", default=["beam"],
                     choices=("beam",) + rs.datasets.FAMILIES, help="'beam': the beam command's Table-4 PSD")
     args = ap.parse_args()
@@ -80,10 +86,32 @@ def one_family(psd, args):
                   flush=True)
         print(f"RH {rh:g}: median BEM/Eq.16 over the top {args.top}: {np.median(ratios[:args.top]):.2f}"
               + (f"; over the top 8: {np.median(ratios[:8]):.2f}" if args.top > 8 else ""))
+    if args.beams:
+        compare_beams(bank, psd, shape, args)
     pair = fft_pair_seconds(shape, repeats=20)
     per_rh = t_dmt / len(args.rh)
     print(f"one law at one RH: Eq. 16 {per_rh * 1e3:.2f} ms = {per_rh / pair:.0f} x one FFT pair of the patch; "
           f"FFT-BEM {t_bem / n_bem * 1e3:.2f} ms = {t_bem / n_bem / pair:.0f} x ({t_bem / n_bem / per_rh:.1f} x Eq. 16)")
+
+
+def compare_beams(bank, psd, shape, args):
+    """P(stuck) of the same beams on the Eq. 16 bank and on the BEM bank of the same patches."""
+    t0 = time.perf_counter()
+    bem = rs.build_patch_bank(psd, relative_humidity=list(bank.rh.values), n_law=bank.sizes["law"], shape=shape,
+                              spacing=args.spacing, seed=args.seed, model="fft_bem")
+    print(f"BEM bank of the same {bank.sizes['law']} patches in {time.perf_counter() - t0:.1f} s")
+    lengths = np.asarray(args.lengths) * 1e-6
+    got = {m: rs.simulate_beams(b, beam_length=lengths, n_realization=args.beams, seed=1)
+           for m, b in (("Eq. 16", bank), ("FFT-BEM", bem))}
+    print(f"P(stuck) of {args.beams} beams per length (the same patch draws on both banks), 95 % Wilson:")
+    for rh in bank.rh.values:
+        for length in lengths:
+            row = []
+            for m, ds in got.items():
+                d = ds.sel(rh=rh, beam_length=length)
+                row.append(f"{m} {float(d.stuck_probability):.3f} [{float(d.stuck_probability_lower):.3f}, "
+                           f"{float(d.stuck_probability_upper):.3f}]")
+            print(f"  RH {rh:g} l {length * 1e6:5.0f} um: " + "   ".join(row))
 
 
 if __name__ == "__main__":

@@ -99,7 +99,7 @@ def _run(args) -> int:
 
 def _log_tail_check(bank) -> None:
     """The FFT-BEM re-check of the bank's largest Eq. 16 energies (build_patch_bank), per RH (below
-    0.5 build_patch_bank's ValidityWarning, logged as a warning line, names the fix)."""
+    0.8 build_patch_bank's ValidityWarning, logged as a warning line, names the fix)."""
     if "tail_bem_ratio" not in bank.attrs:
         return
     ratio = np.atleast_1d(bank.attrs["tail_bem_ratio"])
