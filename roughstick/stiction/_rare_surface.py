@@ -197,9 +197,9 @@ def bem_check(ds, model, threshold, n_check):
         pick = np.unique(np.linspace(0, noise.shape[0] - 1, min(int(n_check), noise.shape[0])).astype(int))
         bem = SurfaceResponse(model.to_surface, relative_humidity=model.rh, water_height=model.hw,
                               quantity=model.quantity, contact_model="fft_bem", **model.bem_kw)
-        pairs = np.array([(bem(noise[i]), model(noise[i])) for i in pick])
-        ok, n = int(np.sum(pairs[:, 0] > threshold)), int(pick.size)
-        ratio = float(np.median(pairs[:, 0] / pairs[:, 1]))
+        got = np.array([bem(noise[i]) for i in pick])  # against the stored Eq. 16 responses
+        ok, n = int(np.sum(got > threshold)), int(pick.size)
+        ratio = float(np.median(got / ds["failure_response"].values[pick]))
     ds["failures_confirmed_by_bem"] = xr.DataArray(ok / n if n else np.nan, attrs={
         "units": "1", "checked": n,
         "long_name": "fraction of checked failure samples whose FFT-BEM response is also above the threshold"})

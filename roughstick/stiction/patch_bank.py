@@ -50,19 +50,25 @@ TAIL_RATIO_WARN = 0.8
 _LAWS_PER_PART = 25
 
 
+def _law_energies(psd, laws, rh, shape, spacing, seed, model) -> np.ndarray:
+    """Adhesive energies (Eq. 13) of the patches ``laws`` at the humidities ``rh``: (law, rh)."""
+    # realization k always comes from SeedSequence child k: the same law whatever the parts
+    surf = generate_surfaces(psd, realizations=laws, shape=shape, spacing=spacing,
+                             seed=seed).compute(scheduler="sync")
+    values = np.empty((len(laws), len(rh)))
+    for k in range(len(laws)):
+        curves = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh),
+                                      model=model, check_validity=False)
+        values[k] = adhesion_summary(curves)["adhesive_energy"].transpose("rh").values
+    return values
+
+
 def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir):
     """Adhesive energies of laws [start, stop) (read back from its part file when cached)."""
     file = None if parts_dir is None else parts_dir / f"laws_{start:07d}_{stop:07d}.npy"
     if file is not None and file.exists():
         return np.load(file)
-    # realization k always comes from SeedSequence child k: the same law whatever the parts
-    surf = generate_surfaces(psd, realizations=np.arange(start, stop), shape=shape,
-                             spacing=spacing, seed=seed).compute(scheduler="sync")
-    values = np.empty((stop - start, len(rh)))
-    for k in range(stop - start):
-        curves = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh),
-                                      model=model, check_validity=False)
-        values[k] = adhesion_summary(curves)["adhesive_energy"].transpose("rh").values
+    values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model)
     if file is not None:
         parts_dir.mkdir(parents=True, exist_ok=True)
         tmp = file.with_suffix(".tmp.npy")
@@ -87,12 +93,8 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int) -> 
     ratio = np.full(values.shape[1], np.nan)
     for j, rh in enumerate(bank.rh.values):
         top = np.argsort(values[:, j], kind="stable")[::-1][:k]
-        surf = generate_surfaces(psd, realizations=top, shape=shape, spacing=spacing,
-                                 seed=seed).compute(scheduler="sync")
-        bem = [adhesion_summary(rough_contact_curves(surf.isel(realization=i), relative_humidity=[float(rh)],
-                                                    model="fft_bem", check_validity=False))
-               ["adhesive_energy"].values.item() for i in range(k)]
-        ratio[j] = np.median(np.asarray(bem) / values[top, j])
+        bem = _law_energies(psd, top, [float(rh)], shape, spacing, seed, "fft_bem")[:, 0]
+        ratio[j] = np.median(bem / values[top, j])
     bank.attrs.update(tail_bem_ratio=ratio, tail_checked=k)
     low = bank.rh.values[ratio < TAIL_RATIO_WARN]
     if low.size:
