@@ -20,6 +20,7 @@ import roughstick as rs
 from .._core.conventions import ATTRS, append_history, coord_attrs, set_attrs
 from ..paper import cantilever as figures
 from ..plotting.save import save_figure
+from ..stiction._rare_surface import ARTEFACT_RATIO
 from ..stiction.interaction_zone import TABLE4
 from ._common import LOG, claim_folder, finish_folder, run_status, small_p_problems
 from ._config import ConfigError, Field, check_memory, parse, read_toml
@@ -334,7 +335,7 @@ def _confirmed(d) -> str:
         return ""
     f, r = float(d.failures_confirmed_by_bem), float(d.failure_bem_ratio)
     return f", BEM: {f:.0%} of its failure states confirmed, median BEM/Eq. 16 {r:.2f}" + (
-        " (Eq. 16 artefacts: use contact_model = 'fft_bem')" if r < 0.5 else "")
+        " (Eq. 16 artefacts: use contact_model = 'fft_bem')" if r < ARTEFACT_RATIO else "")
 
 
 def _crossing_table(risk, levels):

@@ -35,6 +35,8 @@ __all__: list[str] = []
 QUANTITIES = ("adhesive_energy", "pull_off_pressure")
 #: contact models of a rare-event evaluation (docs/rare_events.md: why the tail needs "fft_bem")
 CONTACT_MODELS = ("modified_dmt", "fft_bem")
+#: median BEM / Eq. 16 response of the failure states below which they are Eq. 16 artefacts
+ARTEFACT_RATIO = 0.5
 #: position of each quantity in the tuple of ``adhesion_summary_kernel``
 _SUMMARY_INDEX = {"adhesive_energy": 0, "pull_off_pressure": 1, "equilibrium_distance": 2}
 #: positions of the pressure and the wet fraction in the outputs of ``modified_dmt_kernel``
@@ -206,7 +208,7 @@ def bem_check(ds, model, threshold, n_check):
     ds["failure_bem_ratio"] = xr.DataArray(ratio, attrs={
         "units": "1", "checked": n,
         "long_name": "median FFT-BEM / Eq. 16 response of the checked failure samples"})
-    if n and ratio < 0.5:
+    if n and ratio < ARTEFACT_RATIO:
         warnings.warn(
             f"the FFT-BEM gives the failure samples at RH {model.rh:g} a median {ratio:.2f} of their "
             f"Eq. 16 response (only {ok} of {n} stay above the threshold): this probability is made of "
