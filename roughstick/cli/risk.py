@@ -20,8 +20,8 @@ import roughstick as rs
 from .._core.conventions import ATTRS, append_history, coord_attrs, set_attrs
 from ..paper import cantilever as figures
 from ..plotting.save import save_figure
-from ..stiction._rare_surface import ARTEFACT_RATIO
 from ..stiction.interaction_zone import TABLE4
+from ..stiction.rare_events import ARTEFACT_RATIO
 from ._common import LOG, claim_folder, finish_folder, run_status, small_p_problems
 from ._config import ConfigError, Field, check_memory, parse, read_toml
 

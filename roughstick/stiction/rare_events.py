@@ -37,6 +37,7 @@ from roughstick.contact import water_height
 from . import _rare_beam as _b
 from . import _rare_engine as _e
 from . import _rare_surface as _s
+from ._rare_surface import ARTEFACT_RATIO  # noqa: F401  (the BEM re-check's artefact threshold)
 from .beam import PAPER_CANTILEVER, Cantilever, critical_adhesive_energy
 from .beam_model import PROTOCOLS, _check_patch_length, _n_patches
 
