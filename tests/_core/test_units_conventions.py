@@ -101,3 +101,15 @@ def test_make_topography_coords():
     assert h.dims == ("y", "x") and h.attrs["periodic"] == 1
     np.testing.assert_allclose(np.diff(h.x.values), 2e-9)
     rs.testing.assert_units(h, "m")
+
+
+def test_assert_same_result_ignores_only_the_history_time_stamps():
+    a = rs.conventions.append_history(xr.DataArray([1.0], attrs={"units": "m"}), "made")
+    b = a.copy()
+    b.attrs["history"] = "1999-01-01T00:00:00Z made"
+    rs.testing.assert_same_result(a, b)
+    rs.testing.assert_same_result(a.to_dataset(name="v").assign_attrs(history=a.attrs["history"]),
+                                  b.to_dataset(name="v").assign_attrs(history=b.attrs["history"]))
+    for other in (b.assign_attrs(history="1999-01-01T00:00:00Z made twice"), b.assign_attrs(units="nm"), b * 2):
+        with pytest.raises(AssertionError):
+            rs.testing.assert_same_result(a, other)

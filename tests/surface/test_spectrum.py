@@ -198,7 +198,7 @@ def test_submap_psd_accepts_a_single_dim_name():
     )
     by_name = rs.submap_psd(h, n=4, average_dims="map")
     by_list = rs.submap_psd(h, n=4, average_dims=["map"])
-    xr.testing.assert_identical(by_name, by_list)
+    rs.testing.assert_same_result(by_name, by_list)
     assert by_name.attrs["n_averaged"] == 8
 
 
