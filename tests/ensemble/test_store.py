@@ -27,8 +27,13 @@ SCRIPT = textwrap.dedent(
     """
     import sys, time
     sys.path.insert(0, {tests!r})
+    import dask
     import ensemble_toys as T
     import roughstick as rs
+
+    # one block at a time: on a machine with >= 8 cores all 8 blocks would finish together and
+    # the kill could not land midway
+    dask.config.set(num_workers=1)
 
     def slow_curves(height, **kw):
         time.sleep(0.25)
