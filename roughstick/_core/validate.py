@@ -6,7 +6,8 @@
   :func:`relative_humidity_coordinate` (known in advance: it becomes the ``rh`` coordinate),
   :func:`relative_humidity_array` (a 1-D list of distinct humidities, e.g. of an ensemble) and
   :func:`relative_humidity_values` (best-effort values to look up, never computing dask data);
-- grids: :func:`grid_spacing` (uniform ascending pixel-centre coordinates of a map) and
+- grids: :func:`grid_spacing` (uniform ascending pixel-centre coordinates of a map),
+  :func:`check_plausible_height` (pixel size and rms height plausible in m) and
   :func:`distance_array` (a distance grid);
 - dask: :func:`check_core_not_chunked` (core dimensions must be single chunks).
 
@@ -32,6 +33,7 @@ __all__ = [
     "relative_humidity_array",
     "relative_humidity_values",
     "grid_spacing",
+    "check_plausible_height",
     "distance_array",
     "check_core_not_chunked",
 ]
@@ -247,6 +249,36 @@ def grid_spacing(da: xr.DataArray, dim: str, *, min_pixels: int = 8,
             f"height.interp({dim}=np.linspace(first, last, n))."
         )
     return float(step)
+
+
+#: Largest pixel size [m] and rms height [m] taken at face value: above them a map of a MEMS
+#: surface is almost surely in other units than its label says (nm read as m, pixel indices).
+PLAUSIBLE_SPACING = 1e-3
+PLAUSIBLE_RMS = 1e-3
+
+
+def check_plausible_height(h, dx: float, dy: float) -> None:
+    """Refuse a height map (in SI, pixel sizes ``dx``, ``dy`` [m]) whose values are implausible
+    for a MEMS surface: a likely unit mistake (nm labelled m, pixel indices), with the fix.
+    Lazy maps are checked on their pixel sizes only."""
+    for dim, d in (("x", dx), ("y", dy)):
+        if d > PLAUSIBLE_SPACING:
+            has = "units" in h[dim].attrs
+            raise ValueError(
+                f"the pixel size along {dim!r} is {d:.4g} m"
+                + ("" if has else f" (coordinate {dim!r} has no 'units', so it was taken as m)")
+                + ": implausible for an AFM map. Set the coordinate's units, e.g. "
+                f"height[{dim!r}].attrs['units'] = 'nm' (or 'um'), or build the map with "
+                "roughstick.testing.make_topography(values, spacing=5e-9)."
+            )
+    if h.chunks is None and h.size:
+        rms = float(np.nanstd(np.asarray(h.values, dtype=float)))
+        if rms > PLAUSIBLE_RMS:
+            raise ValueError(
+                f"the rms height is {rms:.4g} m: implausible for a MEMS surface; the heights are "
+                "probably in nm or um labelled m. Set height.attrs['units'] = 'nm' (or 'um') "
+                "to what they are."
+            )
 
 
 def distance_array(distance, *, min_size: int = 1) -> np.ndarray:

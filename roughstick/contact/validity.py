@@ -40,6 +40,7 @@ import xarray as xr
 
 from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.units import require
+from .._core.validate import grid_spacing
 from ..datasets import validity_map_path
 from ..surface.generate import surface_filter
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
@@ -167,12 +168,8 @@ def _maps(height):
     """Checked height, its (lead..., y, x) view (first map of a lazy stack), values, maps, lead
     dims and spacings."""
     height = require(height, "length", name="height")
-    for dim in ("y", "x"):
-        if dim not in height.dims or dim not in height.coords or height.sizes[dim] < 3:
-            raise ValueError(
-                f"height needs a coordinate {dim!r} with at least 3 pixels (uniform spacing in m)."
-            )
-    dy, dx = (float(np.diff(np.asarray(height[c].values, dtype=float))[0]) for c in ("y", "x"))
+    # coordinate units other than m are converted (a map with x, y in nm has the same groups)
+    dy, dx = (grid_spacing(height, c, min_pixels=3, purpose="the validity groups") for c in ("y", "x"))
     lead = [d for d in height.dims if d not in ("y", "x")]
     h = height.transpose(*lead, "y", "x")
     if h.chunks is not None:

@@ -15,18 +15,12 @@ from scipy.ndimage import distance_transform_edt
 from .._core import units as _units
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import is_lazy
-from .._core.validate import check_core_not_chunked, grid_spacing
+from .._core.validate import check_core_not_chunked, check_plausible_height, grid_spacing
 
 __all__ = ["validate_height", "level"]
 
 #: Smallest map side (pixels) for roughness statistics and spectra.
 MIN_PIXELS = 8
-
-
-#: Largest pixel size [m] and rms height [m] taken at face value: above them a map of a MEMS
-#: surface is almost surely in other units than its label says (nm read as m, pixel indices).
-PLAUSIBLE_SPACING = 1e-3
-PLAUSIBLE_RMS = 1e-3
 
 
 def _check_dtype(height):
@@ -39,28 +33,6 @@ def _check_dtype(height):
             "heights themselves (e.g. np.abs(...) or .real only if that is what you mean), as "
             "float."
         )
-
-
-def _check_plausible(h, dx, dy):
-    """Values implausible in SI for a MEMS surface: a likely unit mistake, refused with the fix."""
-    for dim, d in (("x", dx), ("y", dy)):
-        if d > PLAUSIBLE_SPACING:
-            has = "units" in h[dim].attrs
-            raise ValueError(
-                f"the pixel size along {dim!r} is {d:.4g} m"
-                + ("" if has else f" (coordinate {dim!r} has no 'units', so it was taken as m)")
-                + ": implausible for an AFM map. Set the coordinate's units, e.g. "
-                f"height[{dim!r}].attrs['units'] = 'nm' (or 'um'), or build the map with "
-                "roughstick.testing.make_topography(values, spacing=5e-9)."
-            )
-    if h.chunks is None and h.size:
-        rms = float(np.nanstd(np.asarray(h.values, dtype=float)))
-        if rms > PLAUSIBLE_RMS:
-            raise ValueError(
-                f"the rms height is {rms:.4g} m: implausible for a MEMS surface; the heights are "
-                "probably in nm or um labelled m. Set height.attrs['units'] = 'nm' (or 'um') "
-                "to what they are."
-            )
 
 
 def validate_height(height: xr.DataArray) -> xr.DataArray:
@@ -99,7 +71,7 @@ def validate_height(height: xr.DataArray) -> xr.DataArray:
     h = _units.require(height, "length", name=height.name or "height")
     dx = grid_spacing(h, "x", min_pixels=MIN_PIXELS)
     dy = grid_spacing(h, "y", min_pixels=MIN_PIXELS)
-    _check_plausible(h, dx, dy)
+    check_plausible_height(h, dx, dy)
     check_core_not_chunked(h, ["x", "y"])
     h = h.transpose(..., "y", "x")
     for dim in ("x", "y"):

@@ -220,3 +220,15 @@ def test_expected_groups_from_the_psd_match_generated_maps():
         e = np.asarray(exp[v].values).reshape(-1)
         assert np.all(np.abs(e - mean) < 4 * se + 0.01 * np.abs(mean)), (v, e, mean, se)
     assert abs(float(exp.corr_over_L) - float(got.corr_over_L.mean())) < 0.05
+
+
+def test_groups_do_not_depend_on_the_units_of_the_map_coordinates():
+    """The same map with x, y in nm (coordinate units 'nm') has the same groups, so the validity
+    warning and model='auto' see the same surface (they used to read the raw coordinate step)."""
+    h = rs.datasets.surface_family("S1", shape=(32, 32), seed=1)
+    hn = h.assign_coords(x=h.x.values * 1e9, y=h.y.values * 1e9)
+    hn.x.attrs["units"] = hn.y.attrs["units"] = "nm"
+    a = rs.surface_groups(h, relative_humidity=[0.3, 0.8])
+    b = rs.surface_groups(hn, relative_humidity=[0.3, 0.8])
+    for v in a.data_vars:
+        np.testing.assert_allclose(b[v].values, a[v].values, rtol=1e-9)
