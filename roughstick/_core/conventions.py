@@ -106,7 +106,10 @@ ATTRS: dict[str, dict[str, str]] = {
                              "comment": "outermost stable zero crossing (repulsive below, attractive "
                                         "above); NaN where the pressure is attractive down to the "
                                         "bottom of the grid (no equilibrium: the surfaces collapse "
-                                        "into contact, adhesive_energy is then a lower bound)"},
+                                        "into contact, adhesive_energy is then a lower bound) or "
+                                        "repulsive up to its top (the equilibrium lies above the "
+                                        "grid: adhesive_energy = 0 then says nothing; a "
+                                        "CurveGridWarning names the fix)"},
     "attraction_below_equilibrium": {"units": "J m-2", "long_name": "attractive work below the equilibrium distance (excluded from the adhesive energy)"},
     "wet_fraction_at_equilibrium": {"units": "1", "long_name": "wetted area fraction at the equilibrium distance"},
     "distance_offset": {"units": "m", "long_name": "isolated-contact distance minus periodic (mean-gap) distance of the BEM"},

@@ -23,37 +23,105 @@ class CurveGridWarning(UserWarning):
     """The distance grid of a curve does not span what Eq. 13 integrates (its Γ is incomplete)."""
 
 
-def _grid_coverage_warning(p, d):
-    """Warn when eager curves are all zero (grid above the surface), still attractive at the
-    largest distance (separation not reached; beyond 1 % of the largest pressure, so a
-    vanishing Gaussian tail does not count) or attractive at the smallest one with no
-    equilibrium (grid entirely inside the adhesive range)."""
-    p = np.asarray(p, dtype=float).reshape(-1, d.size)
-    finite = np.isfinite(p).any(axis=-1)
-    problems = []
-    if np.any(finite & np.all(np.nan_to_num(p) == 0.0, axis=-1)):
-        problems.append(
-            "the pressure is zero at every distance (the grid lies entirely above the surface "
-            f"and its water, from {d[0]:.3g} m up): Γ = 0 there says nothing about adhesion")
+def _rh_label(p: xr.DataArray, bad: np.ndarray) -> str:
+    """' at RH 0.3, 0.9' for the offending curves (``bad`` over the flattened leading dims)."""
+    if "rh" not in p.coords:
+        return ""
+    lead = [dim for dim in p.dims if dim != "distance"]
+    rh = p["rh"].broadcast_like(p.isel(distance=0, drop=True)).transpose(*lead)
+    vals = np.unique(np.asarray(rh.values, dtype=float).reshape(-1)[bad])
+    return " at RH " + ", ".join(f"{v:.3g}" for v in vals) if vals.size else ""
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.3g}"
+
+
+def _grid_coverage_warning(p: xr.DataArray, d: np.ndarray, attrs: dict) -> None:
+    """Warn when eager curves do not span what Eq. 13 integrates, with a fix for the situation.
+
+    Checked per curve: all zero (grid above the surface); still attractive at the largest
+    distance (separation not reached; beyond 1 % of the largest pressure, so a vanishing
+    Gaussian tail does not count); attractive at the smallest one with no equilibrium (grid
+    entirely inside the adhesive range); repulsive at the largest distance, either with no
+    equilibrium (grid entirely below it: Γ = 0 says nothing) or by over 1 % of the largest
+    pressure (still in contact at the top). The remedy depends on whether the distance grid was
+    given or automatic (``attrs["distance_grid"]``, set by the models).
+    """
+    lead = [dim for dim in p.dims if dim != "distance"]
+    v = np.asarray(p.transpose(*lead, "distance").values, dtype=float).reshape(-1, d.size)
+    finite = np.isfinite(v).any(axis=-1)
     with np.errstate(invalid="ignore"):
-        scale = np.nanmax(np.abs(p), axis=-1)
-    if np.any(p[:, -1] < -1e-2 * scale):
+        scale = np.nanmax(np.abs(v), axis=-1)
+    cross = ((v[:, :-1] >= 0) & (v[:, 1:] < 0)).any(axis=-1)
+    grid = attrs.get("distance_grid")
+    model = str(attrs.get("contact_model", "the model"))
+    span = float(d[-1] - d[0])
+    n = d.size
+    higher = f"distance=np.linspace({_fmt(d[0])}, {_fmt(d[-1] + span)}, {2 * n})"
+    lower = f"distance=np.linspace({_fmt(d[0] - span)}, {_fmt(d[-1])}, {2 * n})"
+    problems = []
+
+    def remedy(given: str, automatic: str) -> str:
+        if grid == "given":
+            return given
+        if grid == "automatic":
+            return automatic
+        return f"If the distances were given: {given}. If they were automatic: {automatic}"
+
+    bad = finite & np.all(np.nan_to_num(v) == 0.0, axis=-1)
+    if bad.any():
         problems.append(
-            f"the pressure is still attractive at the largest distance ({d[-1]:.3g} m, over 1 % "
-            "of the curve's largest pressure): the grid stops before separation "
-            "and Γ misses the rest of the curve")
-    cross = (p[:, :-1] >= 0) & (p[:, 1:] < 0)
-    if np.any((p[:, 0] < 0) & ~cross.any(axis=-1)):
+            f"the pressure is zero at every distance{_rh_label(p, bad)} (the grid lies entirely "
+            f"above the surface and its water, from {_fmt(d[0])} m up): Γ = 0 there says nothing "
+            "about adhesion. " + remedy(
+                "Compute the curves on the automatic grid (distance=None), which starts above "
+                "the first water contact, or give distances reaching down to the surface, e.g. "
+                + lower,
+                f"The automatic grid of {model} found no force at all: its water height or "
+                "capillary pressure vanishes at this humidity (or the model has none, e.g. "
+                "sphere_model='hertz'), so the model itself predicts no adhesion there"))
+    bad = p_att = v[:, -1] < -1e-2 * scale
+    if bad.any():
         problems.append(
-            f"the pressure is attractive at the smallest distance ({d[0]:.3g} m) and never "
-            "repulsive: the grid lies inside the adhesive range, no equilibrium, Γ is a lower "
-            "bound")
+            f"the pressure is still attractive at the largest distance ({_fmt(d[-1])} m, over "
+            f"1 % of the curve's largest pressure){_rh_label(p, bad)}: the grid stops before "
+            "separation and Γ misses the rest of the curve. " + remedy(
+                "Compute the curves on the automatic grid (distance=None), which starts above "
+                "the first water contact, or extend the distances upwards, e.g. " + higher,
+                f"The automatic grid of {model} did not reach separation: pass an explicit "
+                "grid reaching higher, e.g. " + higher))
+    bad = (v[:, 0] < 0) & ~cross
+    if bad.any():
+        problems.append(
+            f"the pressure is attractive at the smallest distance ({_fmt(d[0])} m) and never "
+            f"repulsive{_rh_label(p, bad)}: the grid lies inside the adhesive range, no "
+            "equilibrium, Γ is a lower bound. " + remedy(
+                "Compute the curves on the automatic grid (distance=None), which reaches past "
+                "the equilibrium, or extend the distances downwards, e.g. " + lower,
+                f"The automatic grid of {model} already reaches its lowest meaningful distance "
+                "(for the modified DMT the lowest pixel, where the whole map touches) and finds "
+                "no equilibrium: the surfaces collapse into full contact, which a very smooth or "
+                "flat map, a soft material or a very low humidity can cause; the model (rigid "
+                "asperities, Hertz per asperity) is outside its range there"
+                + (": use model='fft_bem'" if model in ("modified_dmt", "greenwood_williamson")
+                   else "") + "; widen the grid only to inspect the curve, e.g. " + lower))
+    with np.errstate(invalid="ignore"):
+        bad = (v[:, -1] > 0) & (~cross | (v[:, -1] > 1e-2 * scale)) & ~p_att
+    if bad.any():
+        problems.append(
+            f"the pressure is still repulsive at the largest distance ({_fmt(d[-1])} m)"
+            f"{_rh_label(p, bad)}: the grid stops in contact, below "
+            + ("the equilibrium (the pressure is never attractive on it), so Γ = 0 and the NaN "
+               "equilibrium distance say nothing about adhesion" if (~cross[bad]).all() else
+               "separation, so Γ and the equilibrium miss the curve above it") + ". " + remedy(
+                "Compute the curves on the automatic grid (distance=None), which starts above "
+                "the first water contact, or extend the distances upwards, e.g. " + higher,
+                f"The automatic grid of {model} stops in contact: pass an explicit grid reaching "
+                "higher, e.g. " + higher + " (or a larger n_distance)"))
     if problems:
-        warnings.warn(
-            "adhesion_summary: " + "; ".join(problems) + ". Fix: compute the curves on the "
-            "automatic grid (distance=None), which spans the surface from above its highest "
-            "summit to the equilibrium.",
-            CurveGridWarning, stacklevel=3)
+        warnings.warn("adhesion_summary: " + "; ".join(problems) + ".", CurveGridWarning,
+                      stacklevel=3)
 
 
 def adhesive_energy_kernel(pressure, distance):
@@ -167,8 +235,11 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
         The pull-off pressure is taken over the same range.
     check_grid : bool, default True
         Warn (:class:`CurveGridWarning`) when an eager grid never reaches the surface, stops
-        before separation or lies inside the adhesive range; ``False`` for callers that extend
-        the grid themselves (a ``warnings.catch_warnings`` block is not thread-safe under dask).
+        before separation (still attractive, or still repulsive, at its largest distance) or
+        lies inside the adhesive range, naming the humidities and a remedy that depends on
+        whether the grid was given or automatic (``curves.attrs["distance_grid"]``, set by the
+        models); ``False`` for callers that extend the grid themselves (a
+        ``warnings.catch_warnings`` block is not thread-safe under dask).
 
     Returns
     -------
@@ -179,8 +250,14 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
           (Eq. 13), >= 0, integrated exactly on the piecewise-linear curve;
         - ``pull_off_pressure`` [Pa], the magnitude of the most tensile pressure, >= 0;
         - ``equilibrium_distance`` [m], the largest ``d`` where the pressure changes from
-          repulsive below to attractive above (linear interpolation); NaN when the grid never
-          reaches a repulsive state (then :math:`\Gamma` is a lower bound);
+          repulsive below to attractive above (linear interpolation); NaN when the grid holds
+          no such change: either it never reaches a repulsive state (attractive down to its
+          smallest distance: the grid lies inside the adhesive range, or the model collapses
+          into full contact; :math:`\Gamma` is then a lower bound), or it never reaches an
+          attractive one (repulsive up to its largest distance: the equilibrium lies above the
+          grid and :math:`\Gamma = 0` says nothing), or the curve has no attraction at all
+          (e.g. ``sphere_model="hertz"``, or zero everywhere). Each grid case warns
+          (:class:`CurveGridWarning`) when ``check_grid``;
         - ``wet_fraction_at_equilibrium``, interpolated at that distance (Fig. 11b);
         - ``attraction_below_equilibrium`` [J m-2], the attractive work below the equilibrium
           distance (0 on a well-behaved curve; large values mean the grid reaches deep into the
@@ -233,7 +310,7 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
         ("attraction_below_equilibrium", "attraction_below_equilibrium"),
     ]
     if check_grid and not hasattr(p.data, "dask"):
-        _grid_coverage_warning(p.values, d)
+        _grid_coverage_warning(p, d, curves.attrs)
     ds = xr.Dataset({name: set_attrs(o, key) for (name, key), o in zip(names, outs, strict=True)})
     drop = [c for c in ds.coords if "distance" in ds[c].dims]
     ds = ds.drop_vars(drop)

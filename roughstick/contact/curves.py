@@ -23,11 +23,16 @@ import xarray as xr
 from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
 from .._core.units import require
-from .._core.validate import distance_array, grid_spacing, relative_humidity_values
+from .._core.validate import (
+    check_plausible_height,
+    distance_array,
+    grid_spacing,
+    relative_humidity_values,
+)
 from .bem import bem_contact_curves
 from .fft_bem import fft_bem_contact_curves
 from .gw import gw_contact_curves
-from .rough import contact_distance_grid, modified_dmt_curves
+from .rough import modified_dmt_curves
 from .validity import (
     MODEL_COST_ORDER,
     VALIDITY_BOUND,
@@ -85,9 +90,11 @@ def rough_contact_curves(
     relative_humidity : float, sequence or xarray.DataArray
         RH as fractions in (0, 1); a sequence gives an ``rh`` dimension.
     distance : array-like or xarray.DataArray, optional
-        Distances ``d`` [m] from the flat to the mean plane of the heights. Default: the automatic
-        grid of :func:`roughstick.contact_distance_grid` (``n_distance`` points; eager 2-D maps
-        only), for every model (the BEM takes ``n_distance`` as its own default count).
+        Distances ``d`` [m] from the flat to the mean plane of the heights. Default: each model's
+        automatic grid: :func:`roughstick.contact_distance_grid` for the modified DMT (eager 2-D
+        maps only), the summit-height grid of :func:`roughstick.gw_contact_curves` for GW (its
+        onset and equilibrium lie in the summits' Gaussian tail, above the highest pixel),
+        fft_bem's own; at least ``n_distance`` points (the BEM's default count).
     model : {"modified_dmt", "gw", "fft_bem", "bem", "auto"}, default "modified_dmt"
         ``"modified_dmt"``: :func:`roughstick.modified_dmt_curves` (Eq. 16). ``"gw"``:
         :func:`roughstick.gw_contact_curves` (Eq. 14) on the moments of the map, estimated as
@@ -157,6 +164,16 @@ def rough_contact_curves(
                 "summit moved Γ by 16 %). Set them to NaN (missing pixels are skipped by the "
                 "modified DMT) or crop them away."
             )
+        if isinstance(height, xr.DataArray) and "units" in height.attrs:
+            # a unit mistake (nm labelled m) is refused before any model or validity lookup;
+            # other problems of the map (coordinates, size) are left to the model's own message
+            si = require(height, "length", name="height")
+            try:
+                steps = [grid_spacing(si, d, min_pixels=2, purpose="a contact map") for d in ("x", "y")]
+            except ValueError:
+                steps = None
+            if steps is not None:
+                check_plausible_height(si, *steps)
     common = dict(relative_humidity=relative_humidity, material=material, material2=material2,
                   adsorbed_layer=adsorbed_layer)
     reason = None
@@ -211,14 +228,18 @@ def rough_contact_curves(
             ds.attrs["validity_check"] = validity_note
     elif model == "gw":
         height = require(height, "length", name="height")
-        if distance is None:
-            distance = contact_distance_grid(height, n=n_distance, connectivity=connectivity,
-                                             periodic=periodic, **common)
         kwargs.setdefault("apparent_area", height.sizes["x"] * height.sizes["y"]
                           * grid_spacing(height, "x", min_pixels=3, purpose="a contact map")
                           * grid_spacing(height, "y", min_pixels=3, purpose="a contact map"))
-        ds = gw_contact_curves(height, distance=distance_array(distance), **common, **kwargs)
+        if distance is None:  # GW's own grid, set by the summit heights, not the pixels
+            ds = gw_contact_curves(height, n_distance=n_distance, **common, **kwargs)
+        else:
+            ds = gw_contact_curves(height, distance=distance_array(distance), **common, **kwargs)
     elif model == "fft_bem":
+        if distance is None and n_distance is not None and not {"n_contact", "n_free"} & set(kwargs):
+            # its automatic grid has n_contact + n_free points plus the refinement's
+            kwargs["n_contact"] = max(4, -(-int(n_distance) // 3))
+            kwargs["n_free"] = max(4, int(n_distance) - kwargs["n_contact"])
         ds = fft_bem_contact_curves(height, distance=distance, **common, **kwargs)
     else:
         ds = bem_contact_curves(height, distance=distance, **common,

@@ -50,6 +50,7 @@ from .._core.validate import distance_array
 from ..surface.moments import moments_si, roughness_moments, summit_density
 from ._gw_kernels import (
     _VARS,
+    _XI_BOTTOM,
     _XI_TOP,
     CURVATURE_MEASURES,
     _check_moments_np,
@@ -134,6 +135,129 @@ def summit_joint_density(height, curvature, *, moments: xr.Dataset, curvature_me
 
 
 # --------------------------------------------------------------------------------------------
+# automatic distance grid
+# --------------------------------------------------------------------------------------------
+
+# Walk step and margin below the equilibrium, in units of the smallest sqrt(m0): 1/16 resolves
+# the narrowest attractive range met (RH 1e-6, water height ~0.1 nm on sqrt(m0) = 0.4 nm).
+_AUTO_STEP = 1.0 / 16.0
+_AUTO_MARGIN = 1.0
+# |p| below this fraction of a curve's largest attraction counts as zero at the top of the grid
+_AUTO_ZERO = 1e-6
+# chord tolerances of the refinement, relative to the curve's largest attraction (intervals with
+# an attractive end: Eq. 13, pull-off, equilibrium) or to its largest |p| (repulsive intervals)
+_AUTO_CHORD = 2e-3
+_AUTO_CHORD_REPULSIVE = 2e-2
+_AUTO_MAX_POINTS = 2000
+
+
+def _gw_pressure(args, distance, kw):
+    """Mean pressure of every (moment set, humidity) at ``distance``: (n_curves, n_distance)."""
+    out = _gw_block(*args, distance=distance, **kw)
+    return out[..., 0].reshape(-1, np.size(distance))
+
+
+def _split_widest(d, n):
+    """Add midpoints of the widest intervals until ``d`` has ``n`` points (strictly increasing)."""
+    while d.size < n:
+        mids = 0.5 * (d[:-1] + d[1:])
+        ok = np.flatnonzero((mids > d[:-1]) & (mids < d[1:]))
+        if ok.size == 0:
+            break
+        pick = ok[np.argsort(-np.diff(d)[ok], kind="stable")[: n - d.size]]
+        d = np.sort(np.concatenate([d, mids[pick]]))
+    return d
+
+
+def _gw_auto_distance(m0, m2, m4, dP, hw, kw, n=None):
+    """Automatic distance grid of :func:`gw_contact_curves` (eager numpy inputs, SI).
+
+    Walks down in steps of ``(sqrt(m0) + h_water)/16`` from ``xi_top sqrt(m0) + h_water`` (no
+    summit is wet above it: the pressure is exactly zero) until every curve has turned repulsive
+    below its attraction (its equilibrium) and ``sqrt(m0)`` further (a curve without attraction:
+    down to the mean plane at least); drops the top points where every
+    curve is still below 1e-6 of its largest attraction (the Gaussian tail of the summit
+    heights); then halves every interval whose midpoint is off the chord of its ends.
+    """
+    args = [np.asarray(v, dtype=float) for v in np.broadcast_arrays(m0, m2, m4, dP, hw)]
+    _check_moments_np(*args[:3])
+    sig = np.sqrt(args[0])
+    hw = np.maximum(args[4], 0.0)
+    # the pressure varies on the scale of the summit heights and of the water height
+    top = kw["xi_top"] * float(sig.max()) + float(hw.max())
+    floor = _XI_BOTTOM * float(sig.max())
+    # (moment sets of very different sqrt(m0): at most _AUTO_MAX_POINTS steps over the range)
+    step = max(_AUTO_STEP * (float(sig.min()) + float(hw.min())), (top - floor) / _AUTO_MAX_POINTS)
+    margin = _AUTO_MARGIN * float(sig.max())
+
+    def bottom(dw, pw):
+        """Lowest distance the grid needs, or None while a curve has not turned repulsive."""
+        rep = pw > 0  # repulsive: below the equilibrium (or in contact without any attraction)
+        if not rep.any(axis=1).all():
+            return None
+        first = np.argmax(rep, axis=1)
+        attracted = np.array([(pw[i, :j] < 0).any() for i, j in enumerate(first)])
+        # past the equilibrium by the margin; a curve with no attraction at all (e.g. "hertz")
+        # down to the mean plane, so that its contact is not only the summits' far tail
+        return float(np.min(np.where(attracted, dw[first] - margin,
+                                     np.minimum(dw[first] - margin, 0.0))))
+
+    d_walk, p_walk, k, batch = [], [], 0, 64
+    while True:
+        dd = top - step * np.arange(k, k + batch)
+        dd = dd[dd >= floor]
+        if dd.size == 0:
+            break
+        d_walk.append(dd)
+        p_walk.append(_gw_pressure(args, dd, kw))
+        k += batch
+        dw, pw = np.concatenate(d_walk), np.concatenate(p_walk, axis=1)
+        low = bottom(dw, pw)
+        if low is not None and dw[-1] <= low:
+            break
+    dw, pw = np.concatenate(d_walk), np.concatenate(p_walk, axis=1)
+    low = bottom(dw, pw)
+    if low is not None:  # drop the walk below what the grid needs
+        last = int(np.searchsorted(-dw, -low, side="right")) + 1
+        dw, pw = dw[: max(last, 2)], pw[:, : max(last, 2)]
+    attraction = np.maximum(-pw.min(axis=1), 0.0)
+    magnitude = np.abs(pw).max(axis=1)
+    scale = np.where(attraction > 0, attraction, magnitude)[:, None]
+    nonzero = (np.abs(pw) > _AUTO_ZERO * scale).any(axis=0)
+    if nonzero.any():
+        start = max(int(np.argmax(nonzero)) - 1, 0)
+        dw, pw = dw[start:], pw[:, start:]
+    d, p = dw[::-1].copy(), pw[:, ::-1].copy()
+    # chord refinement: candidates are the intervals created by the last split
+    cand = np.arange(d.size - 1)
+    tol_att = _AUTO_CHORD * np.where(attraction > 0, attraction, magnitude)[:, None]
+    tol_rep = _AUTO_CHORD_REPULSIVE * magnitude[:, None]
+    while cand.size and d.size < _AUTO_MAX_POINTS:
+        mids = 0.5 * (d[cand] + d[cand + 1])
+        ok = (mids > d[cand]) & (mids < d[cand + 1])
+        cand, mids = cand[ok], mids[ok]
+        cand, mids = cand[: _AUTO_MAX_POINTS - d.size], mids[: _AUTO_MAX_POINTS - d.size]
+        if cand.size == 0:
+            break
+        pm = _gw_pressure(args, mids, kw)
+        pa, pb = p[:, cand], p[:, cand + 1]
+        err = np.abs(pm - 0.5 * (pa + pb))
+        attractive = np.minimum(np.minimum(pa, pb), pm) < 0
+        bad = (err > np.where(attractive, tol_att, tol_rep)).any(axis=0)
+        order = np.argsort(np.concatenate([d, mids]), kind="stable")
+        pos = np.empty(order.size, dtype=int)
+        pos[order] = np.arange(order.size)
+        d = np.concatenate([d, mids])[order]
+        p = np.concatenate([p, pm], axis=1)[:, order]
+        # the two halves of every interval off the chord are the next candidates
+        at = pos[d.size - mids.size:][bad]  # positions of the new midpoints in the merged grid
+        cand = np.sort(np.concatenate([at - 1, at]))
+    if n is not None:
+        d = _split_widest(d, int(n))
+    return d
+
+
+# --------------------------------------------------------------------------------------------
 # public API
 # --------------------------------------------------------------------------------------------
 
@@ -158,7 +282,7 @@ def gw_contact_curves(
     moments,
     *,
     relative_humidity,
-    distance,
+    distance=None,
     sphere_model: str = "modified_dmt",
     curvature_limits=(0.1, 2.5),
     height_cutoff: float | None = None,
@@ -172,6 +296,7 @@ def gw_contact_curves(
     force_table: int | None = None,
     moment_method: str = "spline",
     qmax=None,
+    n_distance: int | None = None,
 ) -> xr.Dataset:
     r"""Greenwood–Williamson force–distance curves of a rough surface on a flat (Eq. 14).
 
@@ -185,8 +310,14 @@ def gw_contact_curves(
         with ``model="gw"`` does the same, so both entry points give the same curves.
     relative_humidity : float, sequence or xarray.DataArray
         RH as a fraction in (0, 1); a sequence becomes the ``rh`` dimension.
-    distance : array-like or xarray.DataArray
-        Distances d from the flat to the mean plane [m], 1-D; stored ascending.
+    distance : array-like or xarray.DataArray, optional
+        Distances d from the flat to the mean plane [m], 1-D; stored ascending. Default (None):
+        an automatic grid set by the summit-height distribution, not by the map's highest pixel
+        (GW integrates summits up to ``xi_top`` √m0, and its contact onset and equilibrium lie
+        in that Gaussian tail, often above the highest pixel): from where the pressure of every
+        curve is below 1e-6 of its largest attraction down to √m0 below the outermost
+        equilibrium, chord-refined where Eq. 13, the pull-off and the equilibrium are decided
+        (eager moments only; ``attrs["distance_grid"]`` is ``"automatic"``, else ``"given"``).
     sphere_model : {"modified_dmt", "dmt", "maugis", "hertz"}, default "modified_dmt"
         Force of one summit (``roughstick.contact._sphere_kernels.sphere_force_kernel``, retraction
         branch) with the Laplace pressure :math:`\sigma_0 = |\Delta P|` acting over the water
@@ -232,6 +363,8 @@ def gw_contact_curves(
         uses 289 rad/µm). Without a cutoff the periodogram of a non-periodic map carries the
         edge discontinuity up to the Nyquist wave number, which inflates m4 (3x on a 256² crop of
         S1A).
+    n_distance : int, optional
+        With ``distance=None``: at least this many distances (the widest intervals are split).
 
     Returns
     -------
@@ -310,7 +443,14 @@ def gw_contact_curves(
         raise ValueError(f"force_table must be 0 (no table) or an integer >= 16, got {force_table!r}.")
     if apparent_area is not None and not (isinstance(apparent_area, numbers.Real) and apparent_area > 0):
         raise ValueError(f"apparent_area must be a positive area in m2 or None, got {apparent_area!r}.")
-    d = distance_array(distance)
+    automatic = distance is None
+    if automatic:
+        if n_distance is not None and not (isinstance(n_distance, numbers.Integral) and n_distance >= 2):
+            raise ValueError(f"n_distance must be an integer >= 2 or None, got {n_distance!r}.")
+    elif n_distance is not None:
+        raise ValueError("n_distance sizes the automatic grid; with distance= given, drop it.")
+    else:
+        d = distance_array(distance)
 
     ds_in = _as_moments(moments, moment_method, qmax)
     m0, m2, m4 = moments_si(ds_in)
@@ -326,6 +466,15 @@ def gw_contact_curves(
         model=sphere_model, K=K, t_nodes=t_nodes, t_weights=t_weights, xi_top=xi_top,
         n_height=int(n_height), measure=curvature_measure, table=int(force_table),
     )
+    if automatic:
+        if any(is_lazy(v) for v in (m0, m2, m4, dP, hw)):
+            raise ValueError(
+                "the automatic distance grid needs eager moments and humidities: pass distance= "
+                "explicitly, e.g. distance=gw_contact_curves(moments.isel(realization=0).compute(), "
+                "relative_humidity=...).distance, or compute the moments first."
+            )
+        d = _gw_auto_distance(*(np.asarray(v.values, dtype=float)
+                                for v in xr.broadcast(m0, m2, m4, dP, hw)), kw, n=n_distance)
     dist_da = xr.DataArray(d, dims=("distance",), coords={"distance": d})
     res = xr.apply_ufunc(
         _gw_block, m0, m2, m4, dP, hw,
@@ -377,6 +526,7 @@ def gw_contact_curves(
         n_height=int(n_height),
         n_curvature=int(n_curvature),
         force_table=int(force_table),
+        distance_grid="automatic" if automatic else "given",
     )
     if "rh" in out.coords:
         out["rh"].attrs = {"units": "1", "long_name": "relative humidity",
@@ -384,7 +534,8 @@ def gw_contact_curves(
     append_history(
         out,
         f"gw_contact_curves(sphere_model={sphere_model!r}, curvature_limits=({k_lo}, {k_hi}), "
-        f"height_cutoff={height_cutoff!r}, n_height={n_height}, n_curvature={n_curvature})",
+        f"height_cutoff={height_cutoff!r}, n_height={n_height}, n_curvature={n_curvature}"
+        + (f", automatic grid of {d.size} distances)" if automatic else ")"),
     )
     return out
 
@@ -399,7 +550,8 @@ def gw_cutoff_study(moments, *, height_cutoffs=(2.5, 3.0, 4.0, 5.0, 6.0, 7.0, No
     height_cutoffs : sequence of float or None
         :math:`h_{\max}/\sqrt{m_0}`; None means no cutoff (stored as ``inf``).
     **kwargs
-        Passed to :func:`gw_contact_curves` (``relative_humidity``, ``distance``, ...).
+        Passed to :func:`gw_contact_curves` (``relative_humidity``, ``distance``, ...). Without
+        ``distance`` the curves share the union of the automatic grids of every cutoff.
 
     Returns
     -------
@@ -411,6 +563,13 @@ def gw_cutoff_study(moments, *, height_cutoffs=(2.5, 3.0, 4.0, 5.0, 6.0, 7.0, No
     cuts = list(height_cutoffs)
     if not cuts:
         raise ValueError("height_cutoffs must list at least one cutoff.")
+    automatic = kwargs.get("distance") is None
+    if automatic:  # one grid for all cutoffs: the union of their automatic grids
+        n_distance = kwargs.pop("n_distance", None)
+        kwargs["distance"] = np.unique(np.concatenate([
+            gw_contact_curves(moments, height_cutoff=c, n_distance=n_distance,
+                              **{k: v for k, v in kwargs.items() if k != "distance"}).distance.values
+            for c in cuts]))
     parts = [gw_contact_curves(moments, height_cutoff=c, **kwargs) for c in cuts]
     coord = np.array([np.inf if c is None else float(c) for c in cuts])
     out = xr.concat(parts, dim="height_cutoff", combine_attrs="drop_conflicts",
@@ -420,4 +579,5 @@ def gw_cutoff_study(moments, *, height_cutoffs=(2.5, 3.0, 4.0, 5.0, 6.0, 7.0, No
     out["summit_density"] = parts[0]["summit_density"]
     out.attrs = dict(parts[0].attrs)
     out.attrs["height_cutoff"] = "see coordinate height_cutoff"
+    out.attrs["distance_grid"] = "automatic" if automatic else "given"
     return out

@@ -66,9 +66,16 @@ def _connectivity(connectivity):
 
 
 def _auto_curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, n):
-    """Distance grid and curves of one eager map (see :func:`contact_distance_grid`)."""
+    """Distance grid and curves of one eager map (see :func:`contact_distance_grid`).
+
+    The grid is strictly increasing: levels the controller placed at one distance are kept
+    once, and an interval is split only if its midpoint is a float strictly between its ends
+    (the controller bisects sign changes down to adjacent floats, whose midpoint is an end).
+    """
     kw = dict(dx=dx, dy=dy, K=K, periodic=periodic, connectivity=connectivity)
     d, out = _k.curves(z, hw, dp, **kw)
+    d, keep = np.unique(np.asarray(d, dtype=float), return_index=True)
+    out = [np.asarray(a)[:, keep] for a in out]
     if n is None or d.size >= int(n):
         return d, list(out)
     # more points on request: split the widest intervals (each level is evaluated on its own, so
@@ -76,8 +83,13 @@ def _auto_curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, n):
     n = int(n)
     while d.size < n:
         widths = np.diff(d)
-        pick = np.sort(np.argsort(-widths, kind="stable")[: n - d.size])
-        new = 0.5 * (d[pick] + d[pick + 1])
+        mids = 0.5 * (d[:-1] + d[1:])
+        splittable = np.flatnonzero((mids > d[:-1]) & (mids < d[1:]))
+        if splittable.size == 0:  # every interval is two adjacent floats: nothing left to split
+            break
+        order = np.argsort(-widths[splittable], kind="stable")
+        pick = np.sort(splittable[order[: n - d.size]])
+        new = mids[pick]
         more = _k.curves_kernel(z, new, hw, dp, **kw)
         d = np.concatenate([d, new])
         srt = np.argsort(d, kind="stable")
@@ -258,7 +270,9 @@ def modified_dmt_curves(
         ``contact_fraction`` (Hertz contact area over apparent area), ``n_contacts``,
         ``fit_error`` [m] (:math:`E^S` of Eq. 23; NaN without contact) and
         ``max_interference`` [m] (:math:`\delta_{max} = \max z - d`, negative before contact).
-        Coordinates ``water_height`` and ``laplace_pressure`` along ``rh``.
+        Coordinates ``water_height`` and ``laplace_pressure`` along ``rh``. ``attrs["distance_grid"]``
+        is ``"automatic"`` (``distance=None``) or ``"given"``; :func:`roughstick.adhesion_summary`
+        words its grid warnings by it.
 
     Raises
     ------
@@ -363,6 +377,7 @@ def modified_dmt_curves(
         periodic=int(per),
         adsorbed_layer=str(getattr(adsorbed_layer, "__name__", adsorbed_layer)),
         missing_pixels=_MISSING_NOTE,
+        distance_grid="automatic" if distance is None else "given",
     )
     append_history(
         ds,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -35,7 +36,9 @@ def test_summary_values_and_equilibrium():
     d = np.array([0.0, 1.0, 2.0, 3.0, 4.0]) * 1e-9
     p = np.array([[3.0, 1.0, -1.0, -0.5, 0.0], [5.0, 4.0, 3.0, 2.0, 1.0]]) * 1e6
     wet = np.array([[0.5, 0.4, 0.2, 0.1, 0.0], [0.1] * 5])
-    s = rs.adhesion_summary(curves_from(p, d, wet))
+    # the second curve is repulsive over the whole grid: its equilibrium lies above it
+    with pytest.warns(rs.CurveGridWarning, match="still repulsive at the largest distance"):
+        s = rs.adhesion_summary(curves_from(p, d, wet))
     np.testing.assert_allclose(s.pull_off_pressure, [1e6, 0.0])
     assert float(s.equilibrium_distance[0]) == pytest.approx(1.5e-9)
     assert float(s.wet_fraction_at_equilibrium[0]) == pytest.approx(0.3)
@@ -44,7 +47,8 @@ def test_summary_values_and_equilibrium():
     assert float(s.adhesive_energy[0]) == pytest.approx(expect)
     assert float(s.adhesive_energy[1]) == 0.0
     # descending distance input gives the same answer
-    s2 = rs.adhesion_summary(curves_from(p[:, ::-1], d[::-1], wet[:, ::-1]))
+    with pytest.warns(rs.CurveGridWarning, match="still repulsive"):
+        s2 = rs.adhesion_summary(curves_from(p[:, ::-1], d[::-1], wet[:, ::-1]))
     xr.testing.assert_allclose(s, s2)
 
 
@@ -125,7 +129,8 @@ def test_gamma_integrates_from_equilibrium_outwards():
 
 def test_gamma_without_equilibrium_is_whole_grid_lower_bound():
     d = np.array([0.0, 1.0, 2.0])
-    sep, whole = _curve([-1.0, -1.0, 0.0], d)
+    with pytest.warns(rs.CurveGridWarning, match="never repulsive"):
+        sep, whole = _curve([-1.0, -1.0, 0.0], d)
     assert np.isnan(float(sep.equilibrium_distance))
     assert float(sep.adhesive_energy) == pytest.approx(float(whole.adhesive_energy)) == pytest.approx(1.5)
 
@@ -178,3 +183,66 @@ def test_infinite_pixels_are_refused_with_the_fix():
     h[5, 7] = -np.inf
     with pytest.raises(ValueError, match="infinite"):
         rs.rough_contact_curves(h, relative_humidity=0.5, model="gw")
+
+
+def test_grid_below_the_equilibrium_warns_that_gamma_zero_means_nothing():
+    # a grid entirely in contact (repulsive everywhere): no equilibrium, Γ = 0, yet the curve
+    # above the grid is adhesive
+    full = _sphere_curves(None)
+    whole = rs.adhesion_summary(full)
+    p = full.pressure.values
+    k_eq = int(np.nonzero((p[:-1] >= 0) & (p[1:] < 0))[0][-1])
+    below = full.isel(distance=slice(0, k_eq))
+    assert float(below.pressure.min()) >= 0.0
+    with pytest.warns(rs.CurveGridWarning, match="still repulsive at the largest distance"):
+        s = rs.adhesion_summary(below)
+    assert np.isnan(float(s.equilibrium_distance)) and float(whole.adhesive_energy) > 0
+
+
+def _grid_warning(curves):
+    with pytest.warns(rs.CurveGridWarning) as record:
+        rs.adhesion_summary(curves)
+    return " ".join(str(w.message) for w in record if issubclass(w.category, rs.CurveGridWarning))
+
+
+_S1 = rs.datasets.surface_family("S1", shape=(64, 64), seed=1)
+
+
+@pytest.mark.parametrize(
+    "height, kwargs",
+    [
+        (_S1 * (0.1e-9 / float(_S1.std())), {}),  # rms 0.1 nm: the flat touches every pixel
+        (_S1.copy(data=np.zeros(_S1.shape)), {}),  # constant map
+        (_S1, dict(material=rs.Material(youngs_modulus=1e9, poisson_ratio=0.3))),  # soft
+    ],
+    ids=["rms_0.1nm", "constant", "soft"],
+)
+def test_grid_warning_on_automatic_grid_does_not_advise_the_automatic_grid(height, kwargs):
+    c = rs.rough_contact_curves(height, relative_humidity=[0.3, 0.9], check_validity=False,
+                                **kwargs)
+    assert c.attrs["distance_grid"] == "automatic"
+    s = rs.adhesion_summary(c, check_grid=False)
+    bad = s.rh.values[np.isnan(s.equilibrium_distance.values)]
+    assert bad.size  # these surfaces collapse into contact at some humidity
+    msg = _grid_warning(c)
+    assert "distance=None" not in msg  # the curves were already on the automatic grid
+    assert "outside its range" in msg and "distance=np.linspace(" in msg
+    named = re.search(r"never repulsive at RH ([0-9.e, -]+):", msg).group(1)
+    assert [float(v) for v in named.split(", ")] == pytest.approx(list(bad))  # only those
+
+
+def test_grid_warning_on_given_grid_advises_the_automatic_grid():
+    h = sphere_topography(200e-9, n=33, spacing=2e-9)
+    full = rs.rough_contact_curves(h, relative_humidity=[0.5, 0.7], check_validity=False)
+    p = full.pressure.sel(rh=0.5).values
+    k_eq = int(np.nonzero((p[:-1] >= 0) & (p[1:] < 0))[0][-1])
+    given = rs.rough_contact_curves(h, relative_humidity=[0.5, 0.7], check_validity=False,
+                                    distance=full.distance.values[k_eq + 2:])
+    assert given.attrs["distance_grid"] == "given"
+    msg = _grid_warning(given)
+    assert "never repulsive at RH 0.5" in msg and "distance=None" in msg
+    # curves of unknown origin (hand-made) get both remedies
+    bare = given.copy()
+    del bare.attrs["distance_grid"]
+    msg = _grid_warning(bare)
+    assert "If the distances were given" in msg and "If they were automatic" in msg

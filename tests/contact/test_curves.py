@@ -75,3 +75,13 @@ def test_dispatcher_names_and_history():
     xr.testing.assert_identical(ds.pressure, direct.pressure)
     assert ds.attrs["history"].splitlines()[-1].endswith("rough_contact_curves(model='modified_dmt')")
     assert np.isfinite(ds.pressure).all()
+
+
+def test_heights_in_nm_labelled_m_are_refused_with_the_fix():
+    """A 32² S1 map whose nm values are labelled m has an rms height of metres: every model is
+    refused before it runs (the modified DMT used to return an equilibrium of 7.9 m)."""
+    h = rs.datasets.surface_family("S1", shape=(32, 32), seed=1)
+    wrong = (h * 1e9).assign_attrs(units="m")
+    for model in ("modified_dmt", "fft_bem", "gw", "auto"):
+        with pytest.raises(ValueError, match=r"rms height .*attrs\['units'\] = 'nm'"):
+            rs.rough_contact_curves(wrong, relative_humidity=0.5, model=model)

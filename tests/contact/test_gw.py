@@ -8,6 +8,8 @@ Gaussian surfaces, and quadrature refinement.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -423,7 +425,8 @@ def test_bad_moments_lazy_raise_at_compute():
         (dict(n_height=1), "n_height"),
         (dict(force_table=5), "force_table"),
         (dict(apparent_area=-1.0), "apparent_area"),
-        (dict(distance=None), "distance is required"),
+        (dict(distance=None, n_distance=1), "n_distance"),
+        (dict(n_distance=50), "drop it"),
         (dict(distance=[0.0, np.nan]), "finite"),
         (dict(distance=[[0.0, 1e-9]]), "1-D"),
         (dict(distance=[1e-9, 1e-9]), "repeated"),
@@ -463,3 +466,104 @@ def test_plot_gw_cutoff_study(cutoff_study):
     plt.close(fig)
     with pytest.raises(ValueError, match="height_cutoff"):
         plot_gw_cutoff_study(cutoff_study.isel(height_cutoff=0))
+
+
+# --------------------------------------------------------------------------------------------
+# automatic distance grid (distance=None)
+# --------------------------------------------------------------------------------------------
+
+
+def _map(family, rms=None, seed=1):
+    h = rs.datasets.surface_family(family, shape=(64, 64), seed=seed)
+    return h if rms is None else h * (rms / float(h.std()))
+
+
+@pytest.mark.parametrize(
+    "family, rms, rh",
+    [("S1", None, [0.6]), ("S1", 10e-9, [0.9]), ("S1", None, [1e-6, 0.3, 0.9]),
+     ("smooth", None, [0.3, 0.9]), ("rough", None, [0.5])],
+)
+def test_automatic_grid_spans_onset_to_repulsion(family, rms, rh):
+    # GW's onset and equilibrium are set by the Gaussian tail of the summit heights, which
+    # reaches above the map's highest pixel (S1 at RH 0.6: equilibrium ~7 sqrt(m0) against a
+    # highest pixel at ~3 sqrt(m0)); the grid of the map's pixels ended in repulsion there
+    h = _map(family, rms)
+    area = h.size * 25e-18
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.CurveGridWarning)
+        c = rs.gw_contact_curves(h, relative_humidity=rh, apparent_area=area)
+        s = rs.adhesion_summary(c)
+    assert c.attrs["distance_grid"] == "automatic"
+    d = c.distance.values
+    assert np.all(np.diff(d) > 0)
+    p = c.pressure.transpose("rh", "distance").values
+    pull = s.pull_off_pressure.values
+    assert np.all(pull > 0) and np.all(s.adhesive_energy.values > 0)
+    assert np.all(np.isfinite(s.equilibrium_distance.values))
+    # the top is where the pressure has vanished, the bottom is repulsive, below the equilibrium
+    assert np.all(np.abs(p[:, -1]) <= 1e-4 * pull)
+    assert np.all(p[:, 0] > 0) and np.all(s.equilibrium_distance.values > d[0])
+    # the same as a dense grid spanning everything from all summits in contact to dry
+    sigma = float(np.sqrt(rs.roughness_moments(h).m0))
+    top = 10.5 * sigma + float(rs.water_height(max(rh)))
+    ref = rs.adhesion_summary(rs.gw_contact_curves(
+        h, relative_humidity=rh, apparent_area=area,
+        distance=np.linspace(min(d[0], -2 * sigma), top, 4000)))
+    np.testing.assert_allclose(s.adhesive_energy, ref.adhesive_energy, rtol=1e-2)
+    np.testing.assert_allclose(s.pull_off_pressure, ref.pull_off_pressure, rtol=1e-2)
+    np.testing.assert_allclose(s.equilibrium_distance, ref.equilibrium_distance, rtol=1e-3)
+
+
+@pytest.mark.parametrize("kwargs", [dict(sphere_model="dmt"), dict(height_cutoff=2.5),
+                                    dict(sphere_model="hertz")])
+def test_automatic_grid_other_models_and_cutoff(kwargs):
+    h = _map("S1")
+    c = rs.gw_contact_curves(h, relative_humidity=[0.3, 0.9], n_distance=300, **kwargs)
+    d, p = c.distance.values, c.pressure.transpose("rh", "distance").values
+    assert d.size >= 300 and np.all(np.diff(d) > 0)
+    assert np.all(p[:, -1] == pytest.approx(0.0, abs=1e-4 * np.abs(p).max()))
+    assert np.all(p[:, 0] > 0)  # reaches contact
+    if kwargs.get("height_cutoff"):  # nothing above the cutoff summits and their water
+        sigma = float(np.sqrt(rs.roughness_moments(h).m0))
+        assert d[-1] <= 2.5 * sigma + float(rs.water_height(0.9)) + 1e-12
+
+
+def test_automatic_grid_needs_eager_moments():
+    lazy = moments([15.7, 16.0], [0.04, 0.04], [5e-4, 5e-4], dims=("realization",)).chunk(
+        {"realization": 1})
+    with pytest.raises(ValueError, match="eager"):
+        rs.gw_contact_curves(lazy, relative_humidity=0.5)
+    both = rs.gw_contact_curves(lazy.compute(), relative_humidity=[0.5, 0.8])
+    assert both.pressure.dims == ("realization", "rh", "distance")
+    assert bool(np.isfinite(rs.adhesion_summary(both).equilibrium_distance).all())
+
+
+def test_cutoff_study_on_one_automatic_grid():
+    # every cutoff's curve on one shared grid (the union of their automatic grids)
+    h = _map("S1")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.CurveGridWarning)
+        st = rs.gw_cutoff_study(h, relative_humidity=[0.3, 0.9], height_cutoffs=(2.5, None))
+        s = rs.adhesion_summary(st)
+    assert bool(np.isfinite(st.pressure).all()) and st.attrs["distance_grid"] == "automatic"
+    assert bool((s.adhesive_energy > 0).all()) and bool(np.isfinite(s.equilibrium_distance).all())
+    # a lower cutoff removes the highest summits: the equilibrium comes closer to the mean plane
+    assert bool((s.equilibrium_distance.sel(height_cutoff=2.5)
+                 < s.equilibrium_distance.sel(height_cutoff=np.inf)).all())
+
+
+@pytest.mark.parametrize("rms, rh", [(None, [0.6]), (10e-9, [0.9])])
+def test_rough_contact_curves_gw_uses_the_summit_grid(rms, rh):
+    # through the dispatcher the GW curves used the modified DMT's pixel grid, which ended in
+    # repulsion below GW's equilibrium: Γ = 0 and a NaN equilibrium, without a warning
+    h = _map("S1", rms)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.CurveGridWarning)
+        c = rs.rough_contact_curves(h, relative_humidity=rh, model="gw")
+        s = rs.adhesion_summary(c)
+    assert c.attrs["distance_grid"] == "automatic"
+    assert np.all(s.adhesive_energy.values > 0)
+    assert np.all(np.isfinite(s.equilibrium_distance.values))
+    direct = rs.adhesion_summary(rs.gw_contact_curves(h, relative_humidity=rh,
+                                                      apparent_area=h.size * 25e-18))
+    np.testing.assert_allclose(s.adhesive_energy, direct.adhesive_energy, rtol=1e-12)

@@ -235,3 +235,28 @@ def test_plots_smoke():
     fig = plot_mdmt_vs_gw({"a": c}, None, rh=(0.3, 0.9))
     assert len(fig.axes) == 2
     plt.close("all")
+
+
+# --- the automatic grid is strictly increasing for every requested size -------------------
+@pytest.mark.parametrize("family", ["S1", "S2", "table4", "smooth", "rough"])
+def test_automatic_grid_strictly_increasing_for_any_n(family):
+    # the controller bisects sign changes down to adjacent floats; splitting such an interval
+    # for n= used to repeat a distance (S1 64x64 seed 1, n=100: 100 values, 99 distinct)
+    for seed in (0, 1):
+        h = rs.datasets.surface_family(family, shape=(64, 64), seed=seed)
+        for n in (None, 10, 64, 100, 101, 257):
+            for rh in ([0.3], [0.3, 0.9]):
+                d = rs.contact_distance_grid(h, relative_humidity=rh, n=n).values
+                assert np.all(np.diff(d) > 0), (family, seed, n, rh)
+                assert n is None or d.size >= n
+
+
+def test_automatic_grid_of_n_points_feeds_every_model():
+    h = rs.datasets.surface_family("S1", shape=(64, 64), seed=1)
+    c = rs.rough_contact_curves(h, relative_humidity=[0.3], n_distance=100, check_validity=False)
+    assert c.sizes["distance"] >= 100 and np.all(np.diff(c.distance.values) > 0)
+    assert c.attrs["distance_grid"] == "automatic"
+    g = rs.rough_contact_curves(h, relative_humidity=[0.3], model="gw", n_distance=100)
+    assert g.sizes["distance"] >= 100 and np.all(np.diff(g.distance.values) > 0)
+    given = rs.modified_dmt_curves(h, relative_humidity=0.3, distance=c.distance.values[::3])
+    assert given.attrs["distance_grid"] == "given"
