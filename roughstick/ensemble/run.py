@@ -16,6 +16,7 @@ import json
 import math
 import pathlib
 import time
+import warnings
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -26,9 +27,15 @@ from .._core.dask import as_seed_sequence
 from .._core.materials import POLYSILICON
 from .._core.validate import distance_array, relative_humidity_array
 from ..contact.adhesion import adhesion_summary
-from ..contact.curves import rough_contact_curves
-from ..contact.validity import expected_surface_groups, warn_if_outside_validity
-from ..surface.generate import generate_surfaces, surface_filter
+from ..contact.curves import CONTACT_MODELS, rough_contact_curves
+from ..contact.validity import (
+    MODEL_COST_ORDER,
+    VALIDITY_BOUND,
+    expected_surface_groups,
+    model_error,
+    warn_if_outside_validity,
+)
+from ..surface.generate import ExtrapolatedPSDWarning, generate_surfaces
 from .execute import auto_ensemble, stream
 from .pipeline import (
     Spec,
@@ -44,18 +51,64 @@ from .store import open_ensemble
 __all__ = ["run_ensemble", "surface_size_study"]
 
 
-def _check_once(psd, shape, spacing, rh, material, adsorbed_layer):
-    """Warn once per run, before the graph and without computing a surface: generated surfaces
-    larger than the PSD's scan (ExtrapolatedPSDWarning) and the modified DMT's measured validity
-    at the groups expected from the PSD (ValidityWarning, docs/accuracy.md). Blocks then
-    generate and compute without warnings."""
-    if rh.size and np.all((rh > 0) & (rh < 1)):
+def _select_once(groups, *, tolerance, quantity) -> tuple[str, str]:
+    """``model="auto"`` for a whole ensemble: the cheapest model whose measured error bound at the
+    groups expected from the PSD meets ``tolerance`` at every humidity (the rule of
+    :func:`roughstick.select_model`, applied once to the expected groups instead of per map), so
+    every realization runs the same model and returns the same variables."""
+    notes = []
+    for method in MODEL_COST_ORDER:
+        bounds = [(float(groups["rh"][j]), model_error(method, groups.isel(rh=j), quantity=quantity))
+                  for j in range(groups.sizes["rh"])]
+        r, worst = max(bounds, key=lambda rb: rb[1].upper)
+        if worst.upper <= tolerance:
+            return method, (
+                f"{method}: upper bound of the {quantity} error {worst.upper:.1%} <= tolerance "
+                f"{tolerance:.0%} at RH {r:.2f} ({worst.reason})"
+                + ("; rejected: " + "; ".join(notes) if notes else ""))
+        notes.append(f"{method} bound "
+                     f"{'unbounded' if np.isinf(worst.upper) else format(worst.upper, '.1%')} "
+                     f"at RH {r:.2f}")
+    return "bem", "no cheaper model meets the tolerance: " + "; ".join(notes)  # pragma: no cover
+
+
+def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs, *, warn=True):
+    """Choose and check the contact model once per run, before the graph and without computing a
+    surface. Returns ``(model, model_selection)``: the model every realization runs
+    (``curves_kwargs["model"]``, default ``"modified_dmt"``; ``"auto"`` resolved by
+    :func:`_select_once` from the groups expected from the PSD) and, for ``"auto"``, why.
+
+    With ``warn`` (the default surfaces): generated surfaces larger than the PSD's scan
+    (ExtrapolatedPSDWarning) and the measured validity of the model actually used at the groups
+    expected from the PSD (ValidityWarning, docs/accuracy.md; none for the reference ``"bem"``
+    nor for ``"auto"``, whose choice meets the tolerance). Blocks then compute without warnings.
+    """
+    model = curves_kwargs.get("model", "modified_dmt")
+    if model not in CONTACT_MODELS:
+        raise ValueError(f"curves_kwargs['model'] must be one of {CONTACT_MODELS}, got {model!r}.")
+    tolerance = curves_kwargs.get("tolerance", VALIDITY_BOUND)
+    quantity = curves_kwargs.get("quantity", "adhesive_energy")
+    if not (isinstance(tolerance, (int, float)) and tolerance > 0):
+        raise ValueError(f"curves_kwargs['tolerance'] must be a positive relative error (e.g. 0.1 "
+                         f"for 10 %), got {tolerance!r}.")
+    if not warn and model != "auto":
+        return model, None
+    with warnings.catch_warnings():
+        if not warn:  # a custom generator: the PSD filter of generate_surfaces is not used
+            warnings.simplefilter("ignore", ExtrapolatedPSDWarning)
         groups = expected_surface_groups(psd, shape=shape, spacing=spacing, relative_humidity=rh,
                                          material=material, adsorbed_layer=adsorbed_layer)
-        warn_if_outside_validity(None, relative_humidity=rh, material=material,
+    if model == "auto":
+        chosen, reason = _select_once(groups, tolerance=tolerance, quantity=quantity)
+        return chosen, (
+            f"auto -> {chosen} for every realization, chosen once for the ensemble from the "
+            f"surface groups expected from the PSD at shape {tuple(shape)} "
+            f"(roughstick.expected_surface_groups), not per map: {reason}")
+    if warn and model != "bem":
+        warn_if_outside_validity(None, relative_humidity=rh, model=model, tolerance=tolerance,
+                                 quantity=quantity, material=material,
                                  adsorbed_layer=adsorbed_layer, groups=groups)
-    else:
-        surface_filter(psd, shape=shape, spacing=spacing)
+    return model, None
 
 
 def run_ensemble(
@@ -91,7 +144,8 @@ def run_ensemble(
 
     For realization :math:`k = 0 … n-1`: a surface from ``psd`` (Eqs. 33-34,
     :func:`roughstick.generate_surfaces`), its pressure–distance curves at every humidity (modified
-    DMT, Eqs. 16-23, :func:`roughstick.rough_contact_curves`) on a distance grid common to all
+    DMT, Eqs. 16-23, or the model of ``curves_kwargs["model"]``,
+    :func:`roughstick.rough_contact_curves`) on a distance grid common to all
     realizations, and their summaries (Γ of Eq. 13, pull-off pressure, equilibrium distance,
     :func:`roughstick.adhesion_summary`).
 
@@ -142,7 +196,16 @@ def run_ensemble(
         Replace :func:`roughstick.generate_surfaces`, :func:`roughstick.rough_contact_curves` and
         :func:`roughstick.adhesion_summary` (same signatures), e.g. to run another contact model.
     generate_kwargs, curves_kwargs : dict, optional
-        Extra keyword arguments for ``generate`` and ``curves``.
+        Extra keyword arguments for ``generate`` and ``curves``. With the default ``curves``,
+        ``curves_kwargs["model"]`` picks the contact model of :func:`roughstick.rough_contact_curves`
+        (``"modified_dmt"`` by default, ``"gw"``, ``"fft_bem"``, ``"bem"`` with the Tamaas extra, or
+        ``"auto"``), with its ``tolerance`` and ``quantity``. Every realization runs the same
+        model, so every realization has the same variables: ``"auto"`` is resolved once for the
+        whole ensemble, before the graph is built, as the cheapest model whose measured error bound
+        at the surface groups expected from the PSD (:func:`roughstick.expected_surface_groups`)
+        meets ``tolerance`` at every humidity -- not map by map as ``rough_contact_curves`` does
+        for one surface. The model run is ``attrs["contact_model"]`` and, for ``"auto"``, the
+        reason is ``attrs["model_selection"]``.
 
     Returns
     -------
@@ -150,11 +213,24 @@ def run_ensemble(
         Curves over ``(realization, rh, distance)`` (``pressure`` … as returned by ``curves``),
         summaries over ``(realization, rh)`` (``adhesive_energy`` …) and ``max_height`` over
         ``(realization)``; dask-backed and chunked over realization and rh unless ``n="auto"``.
+        The variables are those of the contact model run (e.g. ``fft_bem`` adds ``solved``,
+        ``solver_residual``, ``distance_offset``; ``gw`` adds ``summit_density``).
+
+    Warns
+    -----
+    ValidityWarning
+        Once, before the graph: the measured error bound of the model actually run (not for
+        ``"bem"``, the reference, nor for ``"auto"``, whose choice meets the tolerance) exceeds
+        ``tolerance`` at the groups expected from the PSD. Default ``generate`` and ``curves``
+        only.
+    ExtrapolatedPSDWarning
+        The surfaces are larger than the scan the PSD was measured on.
 
     Raises
     ------
     ValueError
-        n < 1, empty or invalid humidities, bad shapes, a grid that does not cover a realization.
+        n < 1, empty or invalid humidities, bad shapes, a grid that does not cover a realization,
+        an unknown ``curves_kwargs["model"]``.
     ConnectionError
         A scheduler address that does not answer within ``connect_timeout``.
     FileExistsError
@@ -194,8 +270,14 @@ def run_ensemble(
     shp = surface_shape(shape=shape, size=size, spacing=spacing)
     rh = relative_humidity_array(relative_humidity)
     material = POLYSILICON if material is None else material
-    if generate is None and curves is None:
-        _check_once(psd, shp, spacing, rh, material, adsorbed_layer)
+    curves_kwargs = dict(curves_kwargs or {})
+    model = selection = None
+    if curves is None:
+        # the model every realization runs ("auto" resolved once): one template, one variable set
+        model, selection = _check_once(psd, shp, spacing, rh, material, adsorbed_layer,
+                                       curves_kwargs, warn=generate is None)
+        if selection is not None:  # "auto": its choice (the parameters of an unchanged run keep their hash)
+            curves_kwargs["model"] = model
     generate = generate_surfaces if generate is None else generate
     # the per-surface validity check would warn once per realization from inside dask: the run is
     # checked once above, on its realization 0, before any graph is built
@@ -227,7 +309,7 @@ def run_ensemble(
         psd=psd.load() if psd.chunks is not None else psd, shape=shp, spacing=spacing, rh=rh,
         distance=dist, chunk=c_r, rh_chunk=min(c_h, rh.size), adsorbed_layer=adsorbed_layer,
         material=material, generate=generate, curves=curves, summary=summary,
-        generate_kwargs=dict(generate_kwargs or {}), curves_kwargs=dict(curves_kwargs or {}),
+        generate_kwargs=dict(generate_kwargs or {}), curves_kwargs=curves_kwargs,
         seed_entropy=str(root.entropy), seed_spawn_key=list(root.spawn_key),
         # summaries on each map's own automatic grid unless the user fixed the distances
         own_grid=distance is None,
@@ -242,6 +324,10 @@ def run_ensemble(
         own_grid=fields["own_grid"],
     )
     attrs = _attrs(spec, n_total)
+    if model is not None:
+        attrs["contact_model"] = model
+    if selection is not None:
+        attrs["model_selection"] = selection
     folder = pathlib.Path(output) if output is not None else None
     if auto:
         ds = auto_ensemble(spec, batch=batch, tolerance=tolerance, n_max=n_total, patience=patience,

@@ -234,6 +234,10 @@ def confidence_band(
     ``dim`` is rechunked to a single chunk first, so the result does not depend on the chunking;
     lazy inputs stay lazy.
 
+    NaN members (e.g. a realization without an equilibrium) are skipped point by point, so the
+    number of members actually used can vary: ``v_n_samples`` holds it at every point of ``v``
+    (over the dims of ``v`` without ``dim``).
+
     Parameters
     ----------
     ds : xarray.Dataset or xarray.DataArray
@@ -251,7 +255,14 @@ def confidence_band(
     Returns
     -------
     xarray.Dataset
-        Attrs ``level``, ``confidence``, ``n_samples``.
+        Per variable ``v``: ``v``, ``v_mean``, ``v_mean_stderr``, ``v_n_samples`` (valid members
+        used at each point) and ``v_ci_lower``/``v_ci_upper``. Attrs ``level``, ``confidence``,
+        ``n_members`` (the size of ``dim``) and, for an in-memory input, ``n_samples``: the
+        fewest valid (non-NaN) members used at any point of any variable, which is ``n_members``
+        when no member is NaN. A lazy input would have to be computed to know it, so its band has
+        no ``n_samples`` attr (read ``v_n_samples``). ``band_edges_bounded`` compares
+        ``n_samples`` (lazy input: ``n_members``) with ``n_samples_to_bound_band_edges``; an edge
+        that its own point's members cannot bound is NaN in ``v_ci_lower``/``v_ci_upper``.
 
     Examples
     --------
@@ -274,6 +285,7 @@ def confidence_band(
         raise ValueError(f"dimension {dim!r} is empty: no realizations to reduce.")
     probs = np.round([(1 - level) / 2, 0.5, (1 + level) / 2], 12)  # exact labels for .sel
     out = {}
+    lazy = False
     for v, da in ds.data_vars.items():
         if dim not in da.dims or da.dtype.kind not in "fiub":
             continue
@@ -290,9 +302,15 @@ def confidence_band(
         mean = da.mean(dim)
         mean.attrs = {**keep, "long_name": f"mean over {dim} of {long}"}
         out[f"{v}_mean"] = mean
-        se = da.std(dim, ddof=1) / np.sqrt(da.count(dim)) if n > 1 else da.isel({dim: 0}) * np.nan
+        count = da.count(dim)
+        se = da.std(dim, ddof=1) / np.sqrt(count) if n > 1 else da.isel({dim: 0}) * np.nan
         se.attrs = {**keep, "long_name": f"standard error of the mean of {long}"}
         out[f"{v}_mean_stderr"] = se.drop_vars(dim, errors="ignore")
+        # the members actually used at each point: NaN members are skipped by every reduction
+        count.attrs = {"units": "1", "long_name": f"number of valid (non-NaN) members over {dim} "
+                                                  f"used for {long}"}
+        out[f"{v}_n_samples"] = count.drop_vars(dim, errors="ignore")
+        lazy = lazy or da.chunks is not None
         if uncertainty is not None:
             lo, hi = quantile_interval(da.rename(v), probs, dim=dim, confidence=confidence,
                                        method=uncertainty, n_bootstrap=n_bootstrap, rng=rng)
@@ -305,14 +323,21 @@ def confidence_band(
     # the run's parameters (seed, shape, spacing, PSD source, auto-n state ...) travel with the band
     res.attrs = {k: v for k, v in ds.attrs.items()
                  if isinstance(v, (str, int, float, np.integer, np.floating)) and k != "incomplete"}
-    res.attrs.update(level=level, confidence=confidence, n_samples=int(n),
+    res.attrs.pop("n_samples", None)  # a count of the input is not a count of this band
+    res.attrs.update(level=level, confidence=confidence, n_members=int(n),
                      uncertainty_method=str(uncertainty))
+    used = n
+    if not lazy:
+        # the fewest members used anywhere (in memory: the counts are already known)
+        counts = [int(res[f"{v}_n_samples"].min()) for v in out if f"{v}_n_samples" in out]
+        used = min(counts, default=n)
+        res.attrs["n_samples"] = int(used)
     if "incomplete" in ds.attrs:
         res.attrs["incomplete"] = str(ds.attrs["incomplete"])
     if uncertainty == "order_statistic":
         need = min_samples_to_bound(float(probs[0]), confidence=confidence)
         res.attrs["n_samples_to_bound_band_edges"] = int(need)
-        res.attrs["band_edges_bounded"] = int(n >= need)
+        res.attrs["band_edges_bounded"] = int(used >= need)
     return append_history(res, f"confidence_band(level={level}, dim={dim!r}, n={n})")
 
 
@@ -326,6 +351,8 @@ def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: 
 
     An edge that the sample cannot bound reads "n too small to bound this edge (needs n >= N)"
     instead of a number, so a band from a few surfaces is never shown as if it were reliable.
+    ``n`` is the number of members used at that humidity (``variable_n_samples``: NaN members
+    are not counted; the fewest over any other dims).
     ``band`` is a :func:`confidence_band` result over ``(quantile, rh)``; values are multiplied by
     ``scale`` and labelled ``units``.
 
@@ -338,7 +365,8 @@ def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: 
     to bound this edge (needs n >= 146), of the upper edge: n too small to bound this edge (needs n >= 146)
     """
     level, conf = float(band.attrs["level"]), float(band.attrs.get("confidence", 0.95))
-    n = int(band.attrs["n_samples"])
+    n = int(band.attrs.get("n_samples", band.attrs.get("n_members", 0)))
+    counts = band.get(f"{variable}_n_samples")  # members used per point (NaN members skipped)
     need = min_samples_to_bound(float(band["quantile"].values[0]), confidence=conf)
     q = band[variable].transpose("quantile", ...).values * scale
     has_ci = f"{variable}_ci_lower" in band
@@ -350,6 +378,9 @@ def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: 
     for k, r in enumerate(rhs):
         col = (slice(None), k) if r is not None else (slice(None),)
         qq = q[col]
+        if counts is not None:
+            c = counts.isel(rh=k) if r is not None and "rh" in counts.dims else counts
+            n = int(c.min())
         head = (f"RH {r:.0%}: " if r is not None else "") + (
             f"median {_fmt(qq[1], fmt)} {units}, {level:.0%} band [{_fmt(qq[0], fmt)}, "
             f"{_fmt(qq[2], fmt)}] from n = {n}")

@@ -30,7 +30,10 @@ def test_confidence_band_values_and_metadata(backend):
     assert b.adhesive_energy.dims == ("quantile", "rh")
     assert b.adhesive_energy.attrs["units"] == "J m-2"
     assert b["quantile"].attrs["units"] == "1"
-    assert b.attrs["n_samples"] == 400 and b.attrs["level"] == 0.9
+    assert b.attrs["n_members"] == 400 and b.attrs["level"] == 0.9
+    # in memory the members used are known; a lazy band would need a computation to count them
+    assert b.attrs.get("n_samples") == (400 if backend.kind == "numpy" else None)
+    assert (b.adhesive_energy_n_samples == 400).all()
     assert (b.adhesive_energy_ci_lower <= b.adhesive_energy).all()
     assert (b.adhesive_energy_ci_upper >= b.adhesive_energy).all()
 
@@ -148,3 +151,26 @@ def test_string_layer_coordinate_keeps_cf_attrs_through_band_and_histogram():
     hist = rs.ensemble_histogram(g, bins=10)
     for out in (band, hist):
         assert out["adsorbed_layer"].attrs == {"long_name": "adsorbed water layer model"}
+
+
+def test_band_counts_only_the_members_it_used(backend):
+    """A NaN member (e.g. a realization without an equilibrium) is skipped by the band, and the
+    counts say so: per point (``v_n_samples``), as the fewest anywhere (attr ``n_samples``, in
+    memory) and in band_summary's "from n = ..."; ``n_members`` keeps the size of the dim."""
+    x = _sample(3)
+    x[1, 1] = np.nan  # realization 1 has no value at RH 0.5
+    band = rs.confidence_band(backend(x)).compute()
+    used = x.count("realization")
+    assert (band.adhesive_energy_n_samples == used).all()
+    assert band.attrs["n_members"] == x.sizes["realization"]
+    if backend.kind == "numpy":
+        assert band.attrs["n_samples"] == int(used.min()) < x.sizes["realization"]
+    else:  # unknown before computing the members: no count that might be wrong
+        assert "n_samples" not in band.attrs
+    # the band at RH 0.5 is the band of the members that have a value there
+    kept = rs.confidence_band(x.sel(rh=[0.5]).dropna("realization"))
+    np.testing.assert_allclose(band.adhesive_energy.sel(rh=[0.5]), kept.adhesive_energy)
+    assert kept.attrs["n_samples"] == int(band.adhesive_energy_n_samples.sel(rh=0.5))
+    lines = rs.band_summary(band)
+    for r, line in zip(x.rh.values, lines, strict=True):
+        assert f"from n = {int(used.sel(rh=r))};" in line, line

@@ -1,0 +1,97 @@
+"""Tests of run_ensemble with every contact model of rough_contact_curves (curves_kwargs["model"]):
+the lazy template matches what the model returns, "auto" is chosen once for the ensemble, and the
+one-time validity check describes the model actually run."""
+
+from __future__ import annotations
+
+import importlib.util
+import warnings
+
+import numpy as np
+import pytest
+
+import roughstick as rs
+
+SHAPE, SPACING, RH = (32, 32), 5e-9, [0.5]
+MODELS = ["modified_dmt", "gw", "fft_bem",
+          pytest.param("bem", marks=pytest.mark.skipif(importlib.util.find_spec("tamaas") is None,
+                                                       reason="model='bem' needs the tamaas extra"))]
+
+
+@pytest.fixture(scope="module")
+def psd():
+    return rs.power_spectrum(rs.datasets.surface_family("S1", shape=(64, 64), seed=1))
+
+
+def _run(psd, model, n=2):
+    """The lazy run and the warnings it emitted (all recorded: which ones is what is tested)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ds = rs.run_ensemble(psd, n=n, shape=SHAPE, spacing=SPACING, relative_humidity=RH,
+                             curves_kwargs={"model": model})
+    return ds, [w for w in caught if issubclass(w.category, rs.ValidityWarning)]
+
+
+def _compute(ds):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.ValidityWarning)  # said before the graph, never per block
+        return ds.compute(scheduler="sync")
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_every_model_runs_with_the_variables_it_returns(psd, model):
+    """The template's variables are those of the model run (fft_bem's solver diagnostics, GW's
+    summit density), so the lazy run computes; GW is not refused for a synthetic probe surface."""
+    ds, _ = _run(psd, model)
+    out = _compute(ds)
+    assert set(out.data_vars) == set(ds.data_vars)
+    assert out.attrs["contact_model"] == model
+    assert np.isfinite(out.pressure).all() and np.isfinite(out.max_height).all()
+    # the same variables as the model returns for one of the run's surfaces on its own
+    h = rs.generate_surfaces(psd, n=1, shape=SHAPE, spacing=SPACING, seed=0).isel(realization=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        direct = rs.rough_contact_curves(h.compute(), relative_humidity=RH, model=model)
+    assert set(direct.data_vars) <= set(out.data_vars)
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_validity_warning_describes_the_model_run(psd, model):
+    """The one-time check looks up the model of curves_kwargs, not always the modified DMT: it
+    warns exactly when that model's measured bound at the PSD's expected groups exceeds the
+    tolerance, and only about that model (never for the reference BEM)."""
+    _, said = _run(psd, model)
+    groups = rs.expected_surface_groups(psd, shape=SHAPE, spacing=SPACING, relative_humidity=RH)
+    bound = max(rs.model_error(model, groups.isel(rh=j)).upper for j in range(len(RH)))
+    assert len(said) == int(bound > rs.VALIDITY_BOUND), [str(w.message) for w in said]
+    assert all(str(w.message).startswith(f"{model} may be off") for w in said)
+
+
+def test_auto_is_chosen_once_meets_the_tolerance_and_is_recorded(psd):
+    """model='auto' (the ValidityWarning's remedy) runs: one model for the whole ensemble, the
+    cheapest one measured within the tolerance at the PSD's expected groups, recorded in attrs;
+    no warning about a model that is not run."""
+    ds, said = _run(psd, "auto")
+    assert not said, [str(w.message) for w in said]
+    chosen = ds.attrs["contact_model"]
+    assert chosen in rs.CONTACT_MODELS and chosen != "auto"
+    assert ds.attrs["model_selection"].startswith(f"auto -> {chosen}")
+    groups = rs.expected_surface_groups(psd, shape=SHAPE, spacing=SPACING, relative_humidity=RH)
+    worst = {m: max(rs.model_error(m, groups.isel(rh=j)).upper for j in range(len(RH)))
+             for m in ("gw", "modified_dmt", "fft_bem", "bem")}
+    assert worst[chosen] <= rs.VALIDITY_BOUND
+    cheaper = list(worst)[:list(worst).index(chosen)]
+    assert all(worst[m] > rs.VALIDITY_BOUND for m in cheaper)
+    out = _compute(ds)
+    # every realization ran the chosen model: the same numbers as naming it explicitly
+    explicit, _ = _run(psd, chosen)
+    explicit = _compute(explicit)
+    assert set(out.data_vars) == set(explicit.data_vars)
+    np.testing.assert_array_equal(out.adhesive_energy.values, explicit.adhesive_energy.values)
+    np.testing.assert_array_equal(out.pressure.values, explicit.pressure.values)
+
+
+def test_unknown_model_is_refused_before_anything_runs(psd):
+    with pytest.raises(ValueError, match="curves_kwargs\\['model'\\] must be one of"):
+        rs.run_ensemble(psd, n=2, shape=SHAPE, spacing=SPACING, relative_humidity=RH,
+                        curves_kwargs={"model": "dmt"})
