@@ -41,6 +41,7 @@ RANK = {
     "paper": 7,        # the figures of the paper, once: (Dataset, Figure) per figure group
     "demos": 8,        # call paper/
     "cli": 9,          # calls demos/ and paper/
+    "__main__": 10,    # python -m roughstick: runs cli
     "roughstick": 10,  # the package's __init__: the facade that re-exports everything
 }
 #: Layers allowed to import the facade ``import roughstick as rs`` (applications of the package).

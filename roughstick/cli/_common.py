@@ -23,6 +23,7 @@ import sys
 import time
 import warnings
 
+from .._core.units import parse_quantity
 from ..io.netcdf import remove_partial_files, write_text_atomic
 
 __all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
@@ -45,6 +46,24 @@ def positive_int(text: str) -> int:
     if v < 1:
         raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {v}")
     return v
+
+
+def length_with_unit(text: str) -> str:
+    """argparse type: a length with its unit (``--spacing 5`` is refused: read as m it made a
+    5 m pixel and a nonsense Γ; the config files refuse a bare number the same way)."""
+    import argparse
+
+    try:
+        float(text)
+    except ValueError:
+        pass
+    else:
+        raise argparse.ArgumentTypeError(f"{text!r} has no unit; write it with one, e.g. '{text} nm'")
+    try:
+        parse_quantity(text, "length", name="the length")
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"{text!r}: {exc}") from None
+    return text
 
 
 def add_common_options(p, *, overwrite: bool = True) -> None:

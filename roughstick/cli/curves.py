@@ -12,7 +12,7 @@ import numpy as np
 import roughstick as rs
 
 from ..io import netcdf
-from ._common import positive_int
+from ._common import length_with_unit, positive_int
 
 MODELS = ("modified_dmt", "gw", "fft_bem", "bem", "auto")
 
@@ -38,11 +38,13 @@ def register(sub):
                    help="output NetCDF file (its folder is created; an existing file is kept "
                    "unless --overwrite)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing --out file")
-    p.add_argument("--spacing", default=None, help="pixel size for .npy/text, e.g. '5 nm'")
+    p.add_argument("--spacing", default=None, type=length_with_unit,
+                   help="pixel size for .npy/text, with its unit, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
     p.add_argument("--n-distance", type=positive_int, default=None,
-                   help="points of the automatic grid (default: 200 for modified_dmt and gw, "
-                   "40 for bem; fft_bem builds its own adaptive grid)")
+                   help="points of the automatic grid, at least (default: 200 for modified_dmt and "
+                   "gw, 40 for bem, about 50 adaptive points for fft_bem, the chosen model's "
+                   "own for auto)")
     p.add_argument("--distance", type=float, nargs=3, metavar=("LOW", "HIGH", "N"), default=None,
                    help="explicit uniform grid: low and high distance [m] and the number of points")
     p.add_argument("--adsorbed-layer", default="paper", choices=["paper", "none"])
@@ -88,8 +90,8 @@ def _run(args):
                               "another --out.")
     h = rs.read_afm(args.map, spacing=args.spacing, units=args.units)
     n_distance = args.n_distance
-    if n_distance is None and args.model in ("modified_dmt", "gw", "auto"):
-        n_distance = 200
+    if n_distance is None and args.model in ("modified_dmt", "gw"):
+        n_distance = 200  # auto: the chosen model's own default, as from Python
     distance = None
     if args.distance is not None:
         lo, hi, n = args.distance

@@ -10,7 +10,7 @@ import roughstick as rs
 
 from ..io import netcdf
 from . import _config
-from ._common import LOG, positive_int
+from ._common import LOG, length_with_unit, positive_int
 
 
 def register(sub):
@@ -30,7 +30,8 @@ def register(sub):
     p.add_argument("maps", nargs="+", help="AFM files (.nc, .npy, text, or vendor formats): all "
                    "2-D maps, or all line scans")
     p.add_argument("--out", required=True, help="output NetCDF file")
-    p.add_argument("--spacing", default=None, help="pixel size for .npy/text, e.g. '5 nm'")
+    p.add_argument("--spacing", default=None, type=length_with_unit,
+                   help="pixel size for .npy/text, with its unit, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
     p.add_argument("--channel", default=None, help="channel name or index (vendor files)")
     p.add_argument("--level", default="plane", choices=["plane", "mean", "line", "none"])

@@ -28,6 +28,29 @@ def test_version(capsys):
     assert e.value.code == 0 and capsys.readouterr().out.strip() == f"roughstick {rs.__version__}"
 
 
+def test_python_dash_m_roughstick_is_the_console_script():
+    import subprocess
+    import sys
+
+    for mod in ("roughstick", "roughstick.cli"):
+        res = subprocess.run([sys.executable, "-m", mod, "--version"], capture_output=True, text=True, timeout=120)
+        assert res.returncode == 0 and res.stdout.strip() == f"roughstick {rs.__version__}", (mod, res.stderr)
+
+
+def test_a_length_flag_without_a_unit_is_refused(tmp_path, capsys):
+    """`--spacing 5` was read as 5 m (Γ 0.47 J/m² and a NaN equilibrium, exit 0); like a bare
+    number in a config file it is refused, naming the flag and the fix."""
+    np.save(tmp_path / "m.npy", rs.datasets.surface_family("S1", shape=(16, 16), seed=1).values * 1e9)
+    for cmd in ("curves", "psd"):
+        extra = ["--rh", "0.3"] if cmd == "curves" else []
+        with pytest.raises(SystemExit) as e:
+            main([cmd, str(tmp_path / "m.npy"), *extra, "--spacing", "5", "--units", "nm",
+                  "--out", str(tmp_path / f"{cmd}.nc")])
+        assert e.value.code == 2
+        assert "argument --spacing: '5' has no unit; write it with one, e.g. '5 nm'" in capsys.readouterr().err
+        assert not (tmp_path / f"{cmd}.nc").exists()
+
+
 def test_every_command_has_quiet_verbose_and_writers_overwrite():
     parser = build_parser()
     sub = next(a for a in parser._actions if a.dest == "command")
