@@ -189,6 +189,8 @@ def user_message(exc: BaseException) -> str | None:
     """One line for an error the user can fix, or None for a bug (which keeps its traceback)."""
     if isinstance(exc, ConnectionError):
         return str(exc)
+    if isinstance(exc, ImportError) and "pip install" in str(exc):
+        return str(exc)  # an optional dependency, named with its install command
     if isinstance(exc, (FileNotFoundError, FileExistsError)) and exc.filename is None:
         return str(exc)  # our own messages
     if isinstance(exc, PermissionError) or getattr(exc, "errno", None) in (errno.EROFS, errno.EACCES):

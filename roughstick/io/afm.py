@@ -205,6 +205,14 @@ def _read_netcdf(path: pathlib.Path, channel, units, spacing, line_scan=False):
     return out
 
 
+#: extensions that are surely not height maps (a config passed where a map is expected)
+_NOT_MAPS = {
+    ".toml": "a configuration file (roughstick run / risk / beam CONFIG.toml)",
+    ".json": "a JSON file", ".yaml": "a YAML file", ".yml": "a YAML file", ".py": "a Python file",
+    ".ipynb": "a notebook", ".md": "a text document",
+}
+
+
 def _read_vendor(path: pathlib.Path, channel, spacing, line_scan=False):
     try:
         from SurfaceTopography import open_topography
@@ -354,6 +362,10 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
     if path.is_dir():
         raise ValueError(f"{str(path)!r} is a folder, not an AFM file; give one of the files in it.")
     suffix = path.suffix.lower()
+    if suffix in _NOT_MAPS:
+        raise ValueError(
+            f"{path.name} is {_NOT_MAPS[suffix]}, not a height map. Height maps: .nc, .npy, text "
+            "grids, or an AFM vendor format (SurfaceTopography).")
     sp = _spacing_pair(spacing)
     if suffix in _NETCDF:
         da = _read_netcdf(path, channel, units, sp, line_scan)

@@ -298,3 +298,9 @@ def test_the_same_warning_is_printed_once_per_command(capsys):
             teardown_logging()
     err = capsys.readouterr().err
     assert err.count("same advice") == 1 and err.count("other advice") == 1
+
+
+def test_a_missing_optional_dependency_is_one_line_with_its_install_command():
+    msg = "reading .spm files needs SurfaceTopography: pip install roughstick[afm]"
+    assert user_message(ImportError(msg)) == msg
+    assert user_message(ImportError("cannot import name 'x' from 'y'")) is None  # a bug: traceback

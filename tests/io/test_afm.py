@@ -248,3 +248,12 @@ def test_surfacetopography_line_scan_netcdf(tmp_path):
     assert h.dims == ("x",) and h.attrs["instrument_name"] == "profiler"
     np.testing.assert_allclose(h.values, z * 1e-9, rtol=1e-12)
     np.testing.assert_allclose(float(h.x[1] - h.x[0]), 2e-9, rtol=1e-12)
+
+
+def test_a_config_file_given_as_a_map_is_named_as_such(tmp_path):
+    """`roughstick curves CONFIG.toml` used to end in a traceback asking to install
+    SurfaceTopography; a .toml is a configuration, refused with what to run instead."""
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[run]\n")
+    with pytest.raises(ValueError, match=r"c.toml is a configuration file \(roughstick run"):
+        rs.read_afm(cfg)
