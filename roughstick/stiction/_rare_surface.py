@@ -209,10 +209,13 @@ def bem_check(ds, model, threshold, n_check):
         "units": "1", "checked": n,
         "long_name": "median FFT-BEM / Eq. 16 response of the checked failure samples"})
     if n and ratio < ARTEFACT_RATIO:
+        what = (f"only {ok} of {n} stay above the threshold): this probability is made of modified-DMT "
+                "(Eq. 16) artefacts" if ok < 0.5 * n else
+                f"{ok} of {n} still exceed the threshold): Eq. 16 overstates their response "
+                f"{1 / ratio:.1f} x, so this probability is likely overestimated")
         warnings.warn(
             f"the FFT-BEM gives the failure samples at RH {model.rh:g} a median {ratio:.2f} of their "
-            f"Eq. 16 response (only {ok} of {n} stay above the threshold): this probability is made of "
-            "modified-DMT (Eq. 16) artefacts. Rerun with contact_model='fft_bem' (docs/rare_events.md).",
+            f"Eq. 16 response ({what}. Rerun with contact_model='fft_bem' (docs/rare_events.md).",
             ValidityWarning, stacklevel=3)
     elif n and ok < 0.5 * n:
         warnings.warn(
