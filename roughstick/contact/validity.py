@@ -505,6 +505,7 @@ def select_model(
     adsorbed_layer="paper",
     quantity: str = "adhesive_energy",
     candidates=MODEL_COST_ORDER,
+    groups: xr.Dataset | None = None,
 ) -> tuple[str, str]:
     """Cheapest model whose measured error bound at this surface meets ``tolerance``.
 
@@ -513,8 +514,8 @@ def select_model(
 
     Parameters
     ----------
-    height : xarray.DataArray
-        The surface (its groups are computed, :func:`surface_groups`).
+    height : xarray.DataArray or None
+        The surface (its groups are computed, :func:`surface_groups`); ``None`` with ``groups``.
     relative_humidity : float or sequence
         RH fractions in (0, 1).
     tolerance : float, default 0.10
@@ -525,6 +526,9 @@ def select_model(
         Summary the tolerance applies to.
     candidates : sequence of str
         Models allowed, in cost order.
+    groups : xarray.Dataset, optional
+        Precomputed groups (e.g. :func:`expected_surface_groups` of a PSD, to choose once for an
+        ensemble) instead of those of ``height``.
 
     Returns
     -------
@@ -533,7 +537,7 @@ def select_model(
     """
     if not tolerance > 0:
         raise ValueError(f"tolerance must be a positive relative error, got {tolerance!r}.")
-    points = _group_points(height, relative_humidity, material, material2, adsorbed_layer)
+    points = _group_points(height, relative_humidity, material, material2, adsorbed_layer, groups)
     notes = []
     for method in [m for m in MODEL_COST_ORDER if m in candidates]:
         worst = None

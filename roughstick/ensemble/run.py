@@ -29,10 +29,9 @@ from .._core.validate import distance_array, relative_humidity_array
 from ..contact.adhesion import adhesion_summary
 from ..contact.curves import CONTACT_MODELS, rough_contact_curves
 from ..contact.validity import (
-    MODEL_COST_ORDER,
     VALIDITY_BOUND,
     expected_surface_groups,
-    model_error,
+    select_model,
     warn_if_outside_validity,
 )
 from ..surface.generate import ExtrapolatedPSDWarning, generate_surfaces
@@ -51,32 +50,11 @@ from .store import open_ensemble
 __all__ = ["run_ensemble", "surface_size_study"]
 
 
-def _select_once(groups, *, tolerance, quantity) -> tuple[str, str]:
-    """``model="auto"`` for a whole ensemble: the cheapest model whose measured error bound at the
-    groups expected from the PSD meets ``tolerance`` at every humidity (the rule of
-    :func:`roughstick.select_model`, applied once to the expected groups instead of per map), so
-    every realization runs the same model and returns the same variables."""
-    notes = []
-    for method in MODEL_COST_ORDER:
-        bounds = [(float(groups["rh"][j]), model_error(method, groups.isel(rh=j), quantity=quantity))
-                  for j in range(groups.sizes["rh"])]
-        r, worst = max(bounds, key=lambda rb: rb[1].upper)
-        if worst.upper <= tolerance:
-            return method, (
-                f"{method}: upper bound of the {quantity} error {worst.upper:.1%} <= tolerance "
-                f"{tolerance:.0%} at RH {r:.2f} ({worst.reason})"
-                + ("; rejected: " + "; ".join(notes) if notes else ""))
-        notes.append(f"{method} bound "
-                     f"{'unbounded' if np.isinf(worst.upper) else format(worst.upper, '.1%')} "
-                     f"at RH {r:.2f}")
-    return "bem", "no cheaper model meets the tolerance: " + "; ".join(notes)  # pragma: no cover
-
-
 def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs, *, warn=True):
     """Choose and check the contact model once per run, before the graph and without computing a
     surface. Returns ``(model, model_selection)``: the model every realization runs
     (``curves_kwargs["model"]``, default ``"modified_dmt"``; ``"auto"`` resolved by
-    :func:`_select_once` from the groups expected from the PSD) and, for ``"auto"``, why.
+    :func:`roughstick.select_model` on the groups expected from the PSD) and, for ``"auto"``, why.
 
     With ``warn`` (the default surfaces): generated surfaces larger than the PSD's scan
     (ExtrapolatedPSDWarning) and the measured validity of the model actually used at the groups
@@ -99,7 +77,8 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
         groups = expected_surface_groups(psd, shape=shape, spacing=spacing, relative_humidity=rh,
                                          material=material, adsorbed_layer=adsorbed_layer)
     if model == "auto":
-        chosen, reason = _select_once(groups, tolerance=tolerance, quantity=quantity)
+        chosen, reason = select_model(None, relative_humidity=rh, tolerance=tolerance,
+                                      quantity=quantity, groups=groups)
         return chosen, (
             f"auto -> {chosen} for every realization, chosen once for the ensemble from the "
             f"surface groups expected from the PSD at shape {tuple(shape)} "
