@@ -327,6 +327,27 @@ def run_ensemble(
                               f"{ds.attrs.get('summary_grid', '')}")
 
 
+def _select_for_sizes(psd, shapes, spacing, rh, kwargs):
+    """``curves_kwargs`` with ``model="auto"`` resolved once for all ``shapes`` (each size and
+    each humidity must meet the tolerance: :func:`roughstick.select_model` on the stacked groups
+    expected from the PSD), and the reason."""
+    ck = dict(kwargs["curves_kwargs"])
+    material = kwargs.get("material") or POLYSILICON
+    with warnings.catch_warnings():
+        if kwargs.get("generate") is not None:  # the PSD filter of generate_surfaces is not used
+            warnings.simplefilter("ignore", ExtrapolatedPSDWarning)
+        groups = xr.concat([expected_surface_groups(psd, shape=s, spacing=spacing, relative_humidity=rh,
+                                                    material=material,
+                                                    adsorbed_layer=kwargs.get("adsorbed_layer", "paper"))
+                            for s in shapes], dim="size")
+    tolerance = ck.get("tolerance", VALIDITY_BOUND)
+    chosen, reason = select_model(None, relative_humidity=rh, tolerance=tolerance,
+                                  quantity=ck.get("quantity", "adhesive_energy"), groups=groups)
+    ck["model"] = chosen
+    return ck, (f"auto -> {chosen} for every size and realization, chosen once from the surface "
+                f"groups expected from the PSD at shapes {[tuple(s) for s in shapes]}: {reason}")
+
+
 def surface_size_study(
     psd: xr.DataArray,
     *,
@@ -361,7 +382,10 @@ def surface_size_study(
     seed : int or numpy.random.SeedSequence
         Root seed.
     **kwargs
-        Passed to :func:`run_ensemble` (``output`` is not supported here).
+        Passed to :func:`run_ensemble` (``output`` is not supported here). With
+        ``curves_kwargs={"model": "auto", ...}`` the model is chosen once for every size (each
+        size and humidity must meet the tolerance) so that the sizes, not the models, differ;
+        the reason is ``attrs["model_selection"]``.
 
     Returns
     -------
@@ -378,6 +402,10 @@ def surface_size_study(
     if not shp:
         raise ValueError("sizes/shapes is empty; give at least one surface size.")
     rh = relative_humidity_array(relative_humidity)
+    selection = None
+    if (kwargs.get("curves_kwargs") or {}).get("model") == "auto" and kwargs.get("curves") is None:
+        # one model for every size: the sizes are compared, not the models
+        kwargs["curves_kwargs"], selection = _select_for_sizes(psd, shp, spacing, rh, kwargs)
     dist = kwargs.pop("distance", None)
     if dist is None:
         big = max(shp, key=lambda s: s[0] * s[1])
@@ -394,6 +422,8 @@ def surface_size_study(
                    combine_attrs="drop_conflicts", data_vars="all", coords="minimal", compat="override")
     ds["surface_size"].attrs = dict(ATTRS["surface_size"])
     ds.attrs = {**parts[0].attrs, "surface_sizes_m": json.dumps(lengths)}
+    if selection is not None:
+        ds.attrs["model_selection"] = selection
     for k in ("surface_shape", "surface_size_m", "params_hash", "seed_spawn_key"):
         ds.attrs.pop(k, None)
     return ds

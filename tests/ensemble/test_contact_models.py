@@ -95,3 +95,18 @@ def test_unknown_model_is_refused_before_anything_runs(psd):
     with pytest.raises(ValueError, match="curves_kwargs\\['model'\\] must be one of"):
         rs.run_ensemble(psd, n=2, shape=SHAPE, spacing=SPACING, relative_humidity=RH,
                         curves_kwargs={"model": "dmt"})
+
+
+def test_size_study_runs_one_auto_model_for_every_size():
+    # S2 at 20 % RH with a 30 % tolerance: select_model takes the modified DMT for 32 px zones
+    # and the FFT-BEM for 64 px zones (their expected groups differ); a size study must not
+    # compare two models under the name of two sizes
+    psd = rs.self_affine_psd(np.geomspace(1e5, 1e10, 2000), **rs.datasets.family_parameters("S2"))
+    ck = {"model": "auto", "tolerance": 0.3}
+    alone = [rs.run_ensemble(psd, n=2, shape=s, spacing=5e-9, relative_humidity=[0.2],
+                             curves_kwargs=ck).attrs["contact_model"] for s in (32, 64)]
+    assert alone == ["modified_dmt", "fft_bem"]
+    ds = rs.surface_size_study(psd, shapes=[32, 64], spacing=5e-9, n=2, relative_humidity=[0.2],
+                               curves_kwargs=ck)
+    assert ds.attrs["contact_model"] == "fft_bem"
+    assert "every size" in ds.attrs["model_selection"]
