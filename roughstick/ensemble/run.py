@@ -242,7 +242,11 @@ def run_ensemble(
     if n_total < 1:
         raise ValueError(f"n must be at least 1 realization, got {n_total}.")
     if not isinstance(psd, xr.DataArray):
-        raise TypeError(f"psd must be an xarray.DataArray, got {type(psd).__name__}.")
+        hint = (" A callable PSD (e.g. roughstick.datasets.family_psd) is for generate_surfaces; an "
+                "ensemble records its PSD, so evaluate it on wave vectors first, e.g. "
+                "roughstick.self_affine_psd(numpy.geomspace(1e5, 1e10, 2000), "
+                "**roughstick.datasets.family_parameters(name))." if callable(psd) else "")
+        raise TypeError(f"psd must be an xarray.DataArray, got {type(psd).__name__}.{hint}")
     spacing = float(spacing)
     if not spacing > 0:
         raise ValueError(f"spacing must be a positive length in m, got {spacing!r}.")
