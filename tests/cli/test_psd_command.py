@@ -81,3 +81,21 @@ def test_cli_psd_line_scans(tmp_path, capsys):
     assert main(["psd", str(tmp_path / "s0.txt"), str(tmp_path / "map.npy"), "--spacing", "2 nm",
                  "--units", "nm", "--out", str(tmp_path / "r.nc")]) == 1
     assert "mix line scans" in capsys.readouterr().err
+
+
+def test_cli_psd_reads_bundled_maps_by_name(tmp_path, capsys):
+    """`roughstick psd bundled:S2A bundled:S2B` works from any folder (a wheel has no data_samples/)."""
+    from roughstick.cli import main
+
+    out = tmp_path / "psd.nc"
+    assert main(["psd", "bundled:S2A", "bundled:S2B", "--submaps", "4", "--window", "none",
+                 "--out", str(out)]) == 0
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["input_files"] == "bundled:S2A bundled:S2B" and ds.attrs["n_maps"] == 2
+        ref = rs.psd_summary(rs.datasets.sample_maps("S2").isel(map=[0, 1]), n=4, window=None)
+        np.testing.assert_allclose(ds.psd.values, ref.psd.values, rtol=1e-10)
+    capsys.readouterr()
+    assert main(["psd", "bundled:S2A", "bundled:S4A", "--out", str(tmp_path / "x.nc")]) == 1
+    err = capsys.readouterr().err.strip()
+    assert "unknown bundled map 'bundled:S4A'" in err and "bundled:S2C" in err and "\n" not in err
+    assert not (tmp_path / "x.nc").exists()
