@@ -9,8 +9,15 @@ import xarray as xr
 import roughstick as rs
 
 from ..io import netcdf
-from . import _config
-from ._common import LOG, length_with_unit, positive_int
+from ._common import LOG, positive_int
+from ._types import (
+    check_map_flags,
+    check_netcdf_out,
+    flag_value,
+    pixel_size_arg,
+    read_map,
+    wavevector_arg,
+)
 
 
 def register(sub):
@@ -28,9 +35,10 @@ def register(sub):
         ),
     )
     p.add_argument("maps", nargs="+", help="AFM files (.nc, .npy, text, or vendor formats): all "
-                   "2-D maps, or all line scans")
-    p.add_argument("--out", required=True, help="output NetCDF file")
-    p.add_argument("--spacing", default=None, type=length_with_unit,
+                   "2-D maps, or all line scans; bundled:S1A ... bundled:S2C name the sample maps "
+                   "shipped with roughstick")
+    p.add_argument("--out", required=True, help="output NetCDF file (.nc)")
+    p.add_argument("--spacing", default=None, type=pixel_size_arg,
                    help="pixel size for .npy/text, with its unit, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
     p.add_argument("--channel", default=None, help="channel name or index (vendor files)")
@@ -54,18 +62,18 @@ def _run(args):
     out = pathlib.Path(args.out)
     if out.is_dir():
         raise FileExistsError(f"--out {str(out)!r} is a folder; give a file name, e.g. {str(out / 'psd.nc')!r}.")
+    check_netcdf_out(args.out)
     if out.exists() and not args.overwrite:
         raise FileExistsError(f"{str(out)!r} exists; pass --overwrite to replace it or choose another --out.")
-    qmax = None
-    if args.qmax is not None:
-        qmax = _config.parse({"x": {"qmax": args.qmax}}, "psd", base=".", source="--qmax",
-                             schema={"x": {"qmax": _config.Field("wavevector", "cutoff")}})["x"]["qmax"]
+    qmax = None if args.qmax is None else flag_value("--qmax", wavevector_arg, args.qmax)  # rad/m
+    for path in args.maps:  # every map's flags before any is read
+        check_map_flags(path, spacing=args.spacing, units=args.units)
     channel = args.channel
     if channel is not None and channel.isdigit():
         channel = int(channel)
     maps = []
     for path in args.maps:
-        h = rs.read_afm(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True)
+        h = read_map(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True)
         used = h.attrs.get("channel")
         size = f"{h.sizes['y']} x {h.sizes['x']} px" if "y" in h.dims else f"line scan of {h.sizes['x']} points"
         LOG.info(f"{path}: {size} of {float(h.x[1] - h.x[0]) * 1e9:.4g} nm"
