@@ -12,7 +12,13 @@ a wheel install runs the demo on the same data as a checkout.
 - :func:`family_parameters`, :func:`family_psd`, :func:`surface_family`: the five surface
   families every speed and accuracy claim of round 2 is measured on (DESIGN.md §8, below);
 - :func:`validity_map_path`: the measured model-error table read by
-  :func:`roughstick.validity_map`.
+  :func:`roughstick.validity_map`;
+- :func:`example_configs`: the example TOML configurations of ``roughstick run``, ``risk`` and
+  ``beam`` (``examples/*.toml`` of the repository; ``roughstick examples --out DIR`` copies them).
+
+Wherever a height map path is accepted (:func:`roughstick.read_afm`, ``roughstick psd``,
+``roughstick curves``, ``[psd] files`` of a config) the sample maps are named ``bundled:S1A`` ...
+``bundled:S2C`` (a real file of that name wins).
 
 Surface families (Eq. 37 parameters; all cut at :math:`\xi_{max}` = 289 rad/µm):
 
@@ -45,7 +51,7 @@ import xarray as xr
 
 from ._core.conventions import dataset_attrs
 from ._core.references import PAPER, cite
-from .io.afm import read_afm
+from .io.afm import BUNDLED_MAPS, bundled_map_file, read_afm
 from .surface.generate import generate_surfaces
 from .surface.moments import moments_from_asperities, self_affine_moments
 from .surface.self_affine import fit_self_affine, self_affine_psd
@@ -65,10 +71,11 @@ __all__ = [
     "family_psd",
     "surface_family",
     "validity_map_path",
+    "example_configs",
 ]
 
 #: Names of the bundled sample maps (synthetic stand-ins of the paper's S1 and S2 measurements).
-SAMPLES = ("S1A", "S1B", "S1C", "S2A", "S2B", "S2C")
+SAMPLES = BUNDLED_MAPS
 #: Names of the round-2 surface families (DESIGN.md §8).
 FAMILIES = ("S1", "S2", "table4", "smooth", "rough")
 #: The paper's PSD cutoff :math:`\xi_{max}` of Table 3 [rad m-1].
@@ -110,7 +117,7 @@ def sample_path(name: str) -> pathlib.Path:
     """Path of the bundled sample map ``name`` (one of :data:`SAMPLES`), inside the package."""
     if name not in SAMPLES:
         raise ValueError(f"unknown sample {name!r}; the bundled samples are {SAMPLES}.")
-    return _data(f"{name}.nc")
+    return bundled_map_file(name)
 
 
 def load_sample(name: str) -> xr.DataArray:
@@ -287,3 +294,26 @@ def surface_family(name: str, *, shape=(256, 256), spacing: float = 5e-9, seed=0
 def validity_map_path() -> pathlib.Path:
     """Path of the measured validity map (``benchmarks/bench_accuracy.py report`` writes it)."""
     return _data("validity_map.csv")
+
+
+def example_configs() -> dict[str, pathlib.Path]:
+    """The example configurations shipped with roughstick: ``{file name: path inside the package}``.
+
+    The same files as ``examples/*.toml`` of the repository (``roughstick/data/examples/`` links
+    to them); their maps are named ``bundled:S1A`` ..., so a copy runs anywhere. ``roughstick
+    examples --out DIR`` writes copies to run and edit (their output folders are relative to the
+    copy).
+
+    Examples
+    --------
+    >>> "risk.toml" in rs.datasets.example_configs()
+    True
+    """
+    folder = resources.files("roughstick").joinpath("data", "examples")
+    found = {p.name: pathlib.Path(str(p)) for p in folder.iterdir() if p.name.endswith(".toml")} \
+        if folder.is_dir() else {}
+    if not found:
+        raise FileNotFoundError(
+            f"the example configurations are missing from {folder}: the installation is incomplete "
+            "(reinstall roughstick; from a checkout, `pip install .`).")
+    return dict(sorted(found.items()))

@@ -5,7 +5,8 @@ The wheel is built from a copy of the files git tracks (so the checkout gets no 
 installed without dependencies into a virtual environment that sees this interpreter's packages.
 The first test takes about 30 s with the wheel build; the full ``roughstick demo --quick`` /
 ``reproduce --quick --n 6`` comparison is ``slow`` (both together 261 s on the 2-core development
-machine: ``pytest -m slow tests/test_wheel.py``).
+machine: ``pytest -m slow tests/test_wheel.py``), and so is running a shipped example config
+(``roughstick examples`` then ``roughstick run``) from the wheel.
 """
 
 from __future__ import annotations
@@ -29,6 +30,8 @@ import numpy as np
 import roughstick as rs
 out = {"file": rs.__file__}
 out["S1A_sum"] = float(rs.datasets.load_sample("S1A").sum())
+out["bundled_S1A_sum"] = float(rs.read_afm("bundled:S1A").sum())  # the one name of a shipped map
+out["examples"] = sorted(rs.datasets.example_configs())
 m = rs.psd_moments(rs.datasets.sample_psd("S2"))
 out["S2_moments"] = [float(m[k]) for k in ("m0", "m2", "m4")]
 out["table4_q0"] = rs.datasets.family_parameters("table4")["q0"]
@@ -84,8 +87,10 @@ def test_wheel_ships_the_data_and_gives_the_checkout_numbers(wheel_env):
     assert pathlib.Path(installed["file"]).is_relative_to(wheel_env["python"].parents[1])  # the wheel, not ROOT
     checkout = _probe(sys.executable, ROOT)
     assert pathlib.Path(checkout["file"]).is_relative_to(ROOT)
-    for key in ("S1A_sum", "S2_moments", "table4_q0", "validity_rows"):
+    for key in ("S1A_sum", "S2_moments", "table4_q0", "validity_rows", "examples"):
         assert installed[key] == checkout[key], key
+    assert installed["bundled_S1A_sum"] == installed["S1A_sum"]
+    assert installed["examples"] == sorted(p.name for p in (ROOT / "examples").glob("*.toml"))
 
 
 def _run(cmd, cwd):
@@ -110,4 +115,18 @@ def _same_numbers(a: pathlib.Path, b: pathlib.Path):
 def test_installed_commands_match_the_checkout(wheel_env, tmp_path, command):
     _run([str(wheel_env["script"]), *command, "--out", str(tmp_path / "wheel")], wheel_env["cwd"])
     _run([sys.executable, "-m", "roughstick.cli", *command, "--out", str(tmp_path / "checkout")], ROOT)
+    _same_numbers(tmp_path / "wheel", tmp_path / "checkout")
+
+
+@pytest.mark.slow
+def test_installed_wheel_runs_a_shipped_example_config(wheel_env, tmp_path):
+    """A wheel user (no examples/ nor data_samples/ folder) copies an example with `roughstick
+    examples` and runs it: its maps are bundled:S1A ..., and the numbers are the checkout's."""
+    script, cwd = str(wheel_env["script"]), wheel_env["cwd"]
+    _run([script, "examples", "ensemble_S1_samples", "--out", "configs", "--overwrite"], cwd)
+    _run([script, "run", "configs/ensemble_S1_samples.toml", "--n", "2", "--no-figures",
+          "--out", str(tmp_path / "wheel")], cwd)
+    _run([sys.executable, "-m", "roughstick.cli", "run", "examples/ensemble_S1_samples.toml", "--n", "2",
+          "--no-figures", "--out", str(tmp_path / "checkout")], ROOT)
+    assert (tmp_path / "wheel" / "band.nc").is_file()
     _same_numbers(tmp_path / "wheel", tmp_path / "checkout")

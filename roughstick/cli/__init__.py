@@ -2,7 +2,7 @@
 
 One module per sub-command, each defining ``register(subparsers)`` that adds the sub-command and
 a handler calling the public API only (no physics here): ``curves``, ``demo`` (every step of
-:mod:`roughstick.demos` on the bundled samples), ``psd``, ``reproduce``, ``risk`` and ``run``
+:mod:`roughstick.demos` on the bundled samples), ``examples`` (the shipped example configs), ``psd``, ``reproduce``, ``risk`` and ``run``
 (TOML configs read by :mod:`._config`). See docs/cli.md.
 """
 
@@ -13,13 +13,13 @@ import sys
 import warnings
 
 from .._core.version import __version__
-from . import beam, curves, demo, psd, reproduce, risk, run
+from . import beam, curves, demo, examples, psd, reproduce, risk, run
 from ._common import add_common_options, setup_logging, teardown_logging, user_message
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
 #: The sub-command modules, in the order ``roughstick --help`` lists them.
-COMMANDS = (curves, demo, psd, reproduce, risk, run, beam)
+COMMANDS = (curves, demo, examples, psd, reproduce, risk, run, beam)
 
 
 def build_parser() -> argparse.ArgumentParser:

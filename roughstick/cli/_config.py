@@ -30,6 +30,7 @@ import xarray as xr
 import roughstick as rs
 
 from .._core.units import KINDS, UnitsError, parse_quantity
+from ..io.afm import BUNDLED_PREFIX, bundled_map_names, resolve_map_path
 from ._schema import SCHEMAS, Field
 
 __all__ = ["ConfigError", "Field", "SCHEMAS", "parse", "read_toml", "RunConfig", "load_config",
@@ -73,9 +74,11 @@ def read_toml(path) -> dict:
 
     path = pathlib.Path(path)
     if path.is_dir():
-        raise ConfigError(f"{str(path)!r} is a folder; give the configuration file (e.g. examples/risk.toml).")
+        raise ConfigError(f"{str(path)!r} is a folder; give the configuration file (e.g. examples/risk.toml; "
+                          "`roughstick examples --out examples` writes the shipped examples).")
     if not path.is_file():
-        raise FileNotFoundError(f"configuration file {str(path)!r} not found.")
+        raise FileNotFoundError(f"configuration file {str(path)!r} not found (`roughstick examples --out "
+                                "examples` writes the example configurations shipped with roughstick).")
     try:
         with open(path, "rb") as fh:
             return tomllib.load(fh)
@@ -177,6 +180,19 @@ def _one(value, f: Field, name: str, base: pathlib.Path):
         if value not in f.choices:
             raise ConfigError(f"{name} = {value!r}: must be one of {list(f.choices)}.")
         return value
+    if k == "map":
+        if not isinstance(value, str) or not value:
+            raise ConfigError(f"{name} = {value!r}: expected a path or a bundled map name (a string), "
+                              "e.g. \"bundled:S1A\".")
+        p = pathlib.Path(value).expanduser()
+        p = p if p.is_absolute() else (base / p).resolve()
+        if p.exists() or not value.lower().startswith(BUNDLED_PREFIX):
+            return p  # a real file of that name wins
+        try:
+            return resolve_map_path(value)
+        except ValueError:
+            raise ConfigError(f"{name} = {value!r}: no such bundled map; the bundled maps are "
+                              f"{bundled_map_names()} (or give a file path).") from None
     if k == "path":
         if not isinstance(value, str) or not value:
             raise ConfigError(f"{name} = {value!r}: expected a path (a string).")
@@ -420,7 +436,8 @@ def load_config(path, *, overrides: dict | None = None) -> RunConfig:
             problems.append(f"[psd] {k} is required for source = {psd['source']!r}")
     for f in list(psd.get("files", [])) + ([psd["path"]] if "path" in psd else []):
         if not pathlib.Path(f).is_file():
-            problems.append(f"[psd] input file {str(f)!r} not found")
+            problems.append(f"[psd] input file {str(f)!r} not found (the sample maps shipped with "
+                            f"roughstick are named {bundled_map_names()})")
     if ("shape" in surf) == ("size" in surf):
         problems.append("[surface] needs exactly one of shape = [ny, nx] or size = \"5.12 um\"")
     if "folder" not in c["output"]:

@@ -19,7 +19,8 @@ class Field:
 
     ``kind`` is a kind of quantity of :data:`roughstick._core.units.KINDS` (a unit string is then
     required) or one of ``int``, ``number``, ``fraction``, ``bool``, ``str``, ``choice``,
-    ``path``, ``n`` (an integer >= 1 or "auto"), ``shape`` (an integer or [ny, nx]),
+    ``path``, ``map`` (a path, or ``"bundled:S1A"`` for a sample map shipped with roughstick),
+    ``n`` (an integer >= 1 or "auto"), ``shape`` (an integer or [ny, nx]),
     ``relative_humidity``; ``many`` makes it a list of those.
     """
 
@@ -64,7 +65,8 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
         "psd": {
             "source": F("choice", "where the PSD comes from", required=True,
                         choices=("samples", "moments", "file")),
-            "files": F("path", "height maps (source = 'samples')", many=True),
+            "files": F("map", "height maps (source = 'samples'): paths, or 'bundled:S1A' ... 'bundled:S2C' "
+                       "for the sample maps shipped with roughstick", many=True),
             "submaps": F("int", "sub-maps per map (paper scheme 3)", default=16, minimum=1),
             "window": F("choice", "FFT window of the PSD (source = 'samples'): auto = Hann on "
                         "measured maps (docs/topography_psd.md), none = the paper's", default="auto",

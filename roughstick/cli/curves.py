@@ -12,7 +12,14 @@ import numpy as np
 import roughstick as rs
 
 from ..io import netcdf
-from ._common import length_with_unit, positive_int
+from ._common import positive_int
+from ._types import (
+    check_netcdf_out,
+    pixel_size_arg,
+    positive_float_arg,
+    read_map,
+    relative_humidity_arg,
+)
 
 MODELS = ("modified_dmt", "gw", "fft_bem", "bem", "auto")
 
@@ -31,14 +38,16 @@ def register(sub):
             "size."
         ),
     )
-    p.add_argument("map", help="height map (.nc, .npy, text, or vendor formats)")
-    p.add_argument("--rh", type=float, nargs="+", required=True,
-                   help="relative humidities as fractions, e.g. --rh 0.3 0.5 0.7")
+    p.add_argument("map", help="height map (.nc, .npy, text, or vendor formats); bundled:S1A ... "
+                   "bundled:S2C name the sample maps shipped with roughstick")
+    p.add_argument("--rh", type=relative_humidity_arg, nargs="+", required=True,
+                   help="relative humidities as fractions or percentages, e.g. --rh 0.3 0.5 0.7 "
+                   "or --rh '30 %%' '50 %%'")
     p.add_argument("--out", required=True,
-                   help="output NetCDF file (its folder is created; an existing file is kept "
+                   help="output NetCDF file (.nc; its folder is created; an existing file is kept "
                    "unless --overwrite)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing --out file")
-    p.add_argument("--spacing", default=None, type=length_with_unit,
+    p.add_argument("--spacing", default=None, type=pixel_size_arg,
                    help="pixel size for .npy/text, with its unit, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
     p.add_argument("--n-distance", type=positive_int, default=None,
@@ -54,13 +63,13 @@ def register(sub):
     p.add_argument("--model", default="modified_dmt", choices=MODELS,
                    help="contact model (default modified_dmt); auto: the cheapest model whose "
                    "measured error bound for this surface meets --tolerance (docs/accuracy.md)")
-    p.add_argument("--tolerance", type=float, default=0.1,
+    p.add_argument("--tolerance", type=positive_float_arg, default=0.1,
                    help="accepted relative error against the boundary-element reference "
                    "(default 0.1): --model auto meets it; modified_dmt warns where it may not")
     p.add_argument("--resolution", action="store_true",
                    help="also report how the adhesive energy, pull-off pressure and equilibrium "
                    "distance change with the pixel size (resampled map, same model)")
-    p.add_argument("--resolution-factors", type=float, nargs="+", default=[0.5, 1, 2],
+    p.add_argument("--resolution-factors", type=positive_float_arg, nargs="+", default=[0.5, 1, 2],
                    metavar="F",
                    help="pixel sizes relative to the map's (integers or their inverses; "
                    "default 0.5 1 2)")
@@ -85,10 +94,11 @@ def _run(args):
     if out.is_dir():
         raise FileExistsError(f"--out {str(out)!r} is a folder; give a file name, e.g. "
                               f"{str(out / 'curves.nc')!r}.")
+    check_netcdf_out(args.out)
     if out.exists() and not args.overwrite:
         raise FileExistsError(f"{str(out)!r} exists; pass --overwrite to replace it or choose "
                               "another --out.")
-    h = rs.read_afm(args.map, spacing=args.spacing, units=args.units)
+    h = read_map(args.map, spacing=args.spacing, units=args.units)
     n_distance = args.n_distance
     if n_distance is None and args.model in ("modified_dmt", "gw"):
         n_distance = 200  # auto: the chosen model's own default, as from Python

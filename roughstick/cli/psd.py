@@ -4,13 +4,22 @@ from __future__ import annotations
 
 import pathlib
 
+import numpy as np
 import xarray as xr
+from scipy.special import stdtrit
 
 import roughstick as rs
 
 from ..io import netcdf
-from . import _config
-from ._common import LOG, length_with_unit, positive_int
+from ._common import LOG, positive_int
+from ._types import (
+    check_map_flags,
+    check_netcdf_out,
+    flag_value,
+    pixel_size_arg,
+    read_map,
+    wavevector_arg,
+)
 
 
 def register(sub):
@@ -28,9 +37,10 @@ def register(sub):
         ),
     )
     p.add_argument("maps", nargs="+", help="AFM files (.nc, .npy, text, or vendor formats): all "
-                   "2-D maps, or all line scans")
-    p.add_argument("--out", required=True, help="output NetCDF file")
-    p.add_argument("--spacing", default=None, type=length_with_unit,
+                   "2-D maps, or all line scans; bundled:S1A ... bundled:S2C name the sample maps "
+                   "shipped with roughstick")
+    p.add_argument("--out", required=True, help="output NetCDF file (.nc)")
+    p.add_argument("--spacing", default=None, type=pixel_size_arg,
                    help="pixel size for .npy/text, with its unit, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
     p.add_argument("--channel", default=None, help="channel name or index (vendor files)")
@@ -54,18 +64,18 @@ def _run(args):
     out = pathlib.Path(args.out)
     if out.is_dir():
         raise FileExistsError(f"--out {str(out)!r} is a folder; give a file name, e.g. {str(out / 'psd.nc')!r}.")
+    check_netcdf_out(args.out)
     if out.exists() and not args.overwrite:
         raise FileExistsError(f"{str(out)!r} exists; pass --overwrite to replace it or choose another --out.")
-    qmax = None
-    if args.qmax is not None:
-        qmax = _config.parse({"x": {"qmax": args.qmax}}, "psd", base=".", source="--qmax",
-                             schema={"x": {"qmax": _config.Field("wavevector", "cutoff")}})["x"]["qmax"]
+    qmax = None if args.qmax is None else flag_value("--qmax", wavevector_arg, args.qmax)  # rad/m
+    for path in args.maps:  # every map's flags before any is read
+        check_map_flags(path, spacing=args.spacing, units=args.units)
     channel = args.channel
     if channel is not None and channel.isdigit():
         channel = int(channel)
     maps = []
     for path in args.maps:
-        h = rs.read_afm(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True)
+        h = read_map(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True)
         used = h.attrs.get("channel")
         size = f"{h.sizes['y']} x {h.sizes['x']} px" if "y" in h.dims else f"line scan of {h.sizes['x']} points"
         LOG.info(f"{path}: {size} of {float(h.x[1] - h.x[0]) * 1e9:.4g} nm"
@@ -88,29 +98,75 @@ def _run(args):
             stack = stack.assign_coords(map=names)
             stack.attrs = dict(maps[0].attrs)
             ds = rs.psd_summary(stack, n=args.submaps, qmax=qmax, window=args.window)
+            _keep_per_map(ds, rs.roughness_moments(stack), "map")
         else:
             ds = _different_grids(maps, names, args, qmax)
     ds.attrs["input_files"] = " ".join(str(p) for p in args.maps)
     rs.conventions.append_history(ds, "roughstick psd " + " ".join(args.maps) + f" --out {args.out}")
+    plural = "s" if len(maps) > 1 else ""
+    what = (f"{len(maps)} line scan{plural}" if all(scans)
+            else f"{len(maps)} map{plural}, {args.submaps} sub-maps each")
+    same_grid = "map" not in ds["spatial_m0"].dims
+    lines = _moment_lines(ds, what, scans=all(scans)) if same_grid else []  # also sets their attrs
     out.parent.mkdir(parents=True, exist_ok=True)
     netcdf.write(ds, out, compute=True)
-    what = (f"{len(maps)} line scans" if all(scans) else f"{len(maps)} maps, {args.submaps} sub-maps each")
-    if "map" in ds["spatial_m0"].dims:  # maps of different pixel sizes: m2, m4 depend on it, no mean
+    if not same_grid:  # maps of different pixel sizes: m2, m4 depend on it, no mean
         lo, hi = ({k: float(getattr(ds[f"spatial_{k}"], f)()) for k in ("m0", "m2", "m4")} for f in ("min", "max"))
         LOG.info(f"{what}: sqrt(m0) = {lo['m0'] ** 0.5 * 1e9:.3g}-{hi['m0'] ** 0.5 * 1e9:.3g} nm, m2 = "
                  f"{lo['m2']:.3g}-{hi['m2']:.3g}, m4 = {lo['m4'] * 1e-18:.3g}-{hi['m4'] * 1e-18:.3g} nm^-2 "
                  "(spatial, per map: slopes and curvatures depend on the pixel size)")
-    m0, m2, m4 = (float(ds[f"spatial_{k}"].mean()) for k in ("m0", "m2", "m4"))
     qm = ds["qmax"] * 1e-6 if "qmax" in ds else None
     tail = ("no cutoff" if qm is None else f"qmax = {float(qm):.4g} rad/um" if qm.size == 1
             else f"qmax = {float(qm.min()):.4g}-{float(qm.max()):.4g} rad/um") + (
         f", Eq. 32 = {float(ds.relative_std.mean()):.3g}" if "relative_std" in ds else "")
-    if "map" in ds["spatial_m0"].dims:
-        LOG.info(f"{tail}; wrote {out}")
-    else:
-        LOG.info(f"{what}: sqrt(m0) = {m0 ** 0.5 * 1e9:.3g} nm, m2 = {m2:.3g}, m4 = {m4 * 1e-18:.3g} nm^-2 "
-                 f"(spatial); {tail}; wrote {out}")
+    for line in lines:
+        LOG.info(line)
+    LOG.info(f"{tail}; wrote {out}")
     return 0
+
+
+#: Confidence of the printed interval of the mean spatial moments over maps.
+CONFIDENCE = 0.95
+
+
+def _keep_per_map(ds, per, label: str) -> None:
+    """Store each map's (or scan's) spatial moments as ``map_spatial_m0/m2/m4`` over ``map``."""
+    for k in ("m0", "m2", "m4"):
+        ds[f"map_spatial_{k}"] = per[k].assign_attrs(
+            units=per[k].attrs["units"], long_name=f"spatial {k} of each {label} (cubic splines)")
+    ds["map"].attrs = {"long_name": "input file"}
+
+
+def _moment_lines(ds, what: str, *, scans: bool) -> list[str]:
+    """The printed spatial moments: the mean over the maps with the range across them and the
+    95 % Student-t interval of the mean (maps as independent samples of the surface), or for one
+    map that n = 1 is too small to bound their map-to-map spread."""
+    label = "line scan" if scans else "map"
+    per = {k: np.asarray(ds[f"map_spatial_{k}"].values, dtype=float) for k in ("m0", "m2", "m4")}
+    n = per["m0"].size
+
+    def show(k, v):
+        return f"{v ** 0.5 * 1e9:.3g} nm" if k == "m0" else (
+            f"{v:.3g}" if k == "m2" else f"{v * 1e-18:.3g} nm^-2")
+
+    def name(k):
+        return "sqrt(m0)" if k == "m0" else k
+
+    if n < 2:
+        values = ", ".join(f"{name(k)} = {show(k, float(per[k][0]))}" for k in per)
+        return [f"{what}: spatial moments (cubic splines) {values}; n = 1 {label} is too small to "
+                f"bound their {label}-to-{label} spread (give 2 or more {label}s)"]
+    t = float(stdtrit(n - 1, 0.5 + CONFIDENCE / 2))
+    lines = [f"{what}: spatial moments (cubic splines), mean over the {n} {label}s [range across "
+             f"them; {CONFIDENCE:.0%} interval of the mean, Student t with {n - 1} dof]:"]
+    for k, v in per.items():
+        mean, half = float(v.mean()), t * float(v.std(ddof=1)) / np.sqrt(n)
+        lo, hi = max(mean - half, 0.0), mean + half
+        ds[f"spatial_{k}"].attrs.update({f"interval_{CONFIDENCE:.0%}".replace("%", "_percent"): [lo, hi],
+                                         "interval_method": f"Student t over {n} {label}s"})
+        lines.append(f"  {name(k)} = {show(k, mean)} [{show(k, float(v.min())).split()[0]}-"
+                     f"{show(k, float(v.max()))}; {show(k, lo).split()[0]}-{show(k, hi)}]")
+    return lines
 
 
 def _different_grids(maps, names, args, qmax):
@@ -147,8 +203,7 @@ def _line_scans(scans, names, args, qmax):
         ds = common.rename({"psd": "psd_1d"})
         LOG.info(f"line scans of different lengths/spacings: averaged on {common.sizes['qx']} log-spaced "
                  f"qx (one-sided) over {float(common.qx[0]) * 1e-6:.4g}-{float(common.qx[-1]) * 1e-6:.4g} rad/um")
-    if "map" in ds.dims:
-        ds["map"].attrs = {"long_name": "input file"}
+    _keep_per_map(ds, spatial, "line scan")
     spectral = rs.profile_moments(ds.psd_1d, qmax=qmax)
     for k in ("m0", "m2", "m4"):
         ds[f"spatial_{k}"] = spatial[k].mean("map").assign_attrs(

@@ -3,6 +3,11 @@
 Built in: the project's own CF NetCDF, ``.npy`` arrays and plain-text grids. Vendor formats
 (NanoScope/DI, Park TIFF, Gwyddion, Igor, ... 40+) go through SurfaceTopography's readers,
 an optional extra: ``pip install roughstick[afm]``.
+
+The sample maps shipped inside the package (``roughstick/data/S1A.nc`` ... ``S2C.nc``,
+:mod:`roughstick.datasets`) are named ``bundled:S1A`` ... ``bundled:S2C`` wherever a map path is
+accepted (:func:`read_afm`, ``roughstick psd``, ``roughstick curves``, a ``roughstick run``
+config's ``[psd] files``): :func:`resolve_map_path`. A real file of that name always wins.
 """
 
 from __future__ import annotations
@@ -10,6 +15,7 @@ from __future__ import annotations
 import os
 import pathlib
 import warnings
+from importlib import resources
 
 import numpy as np
 import xarray as xr
@@ -19,6 +25,61 @@ from .._core.conventions import ATTRS, append_history, set_coord_attrs
 from .._core.validate import check_positive_block
 
 __all__ = ["read_afm"]
+
+#: The prefix naming a map shipped inside the package: ``bundled:S1A``.
+BUNDLED_PREFIX = "bundled:"
+#: Names of the bundled sample maps (synthetic stand-ins of the paper's S1 and S2 measurements).
+BUNDLED_MAPS = ("S1A", "S1B", "S1C", "S2A", "S2B", "S2C")
+
+
+def bundled_map_names() -> str:
+    """The bundled map names as a user writes them: ``bundled:S1A, ..., bundled:S2C``."""
+    return ", ".join(BUNDLED_PREFIX + n for n in BUNDLED_MAPS)
+
+
+def bundled_map_file(name: str) -> pathlib.Path:
+    """Path inside the installed package of the bundled map ``name`` (one of :data:`BUNDLED_MAPS`,
+    e.g. ``"S1A"``; case and a ``.nc`` suffix are ignored)."""
+    key = str(name).removesuffix(".nc").upper()
+    if key not in BUNDLED_MAPS:
+        raise ValueError(f"unknown bundled map {BUNDLED_PREFIX + str(name)!r}; the bundled maps are "
+                         f"{bundled_map_names()}.")
+    path = resources.files("roughstick").joinpath("data", f"{key}.nc")
+    if not path.is_file():
+        raise FileNotFoundError(
+            f"the bundled map {key}.nc is missing from {path}: the installation is incomplete "
+            "(reinstall roughstick; from a checkout, `pip install .`).")
+    return pathlib.Path(str(path))
+
+
+def resolve_map_path(path) -> pathlib.Path:
+    """The file a map path names: ``path`` itself when such a file or folder exists, else, for
+    ``bundled:NAME``, the bundled map ``NAME`` inside the package.
+
+    Raises
+    ------
+    ValueError
+        ``bundled:NAME`` with an unknown ``NAME`` (the message lists the bundled names).
+
+    Examples
+    --------
+    >>> resolve_map_path("bundled:S2C").name
+    'S2C.nc'
+    """
+    p = pathlib.Path(path)
+    text = str(path)
+    if p.exists() or not text.lower().startswith(BUNDLED_PREFIX):
+        return p
+    return bundled_map_file(text[len(BUNDLED_PREFIX):])
+
+
+def _not_found(path: pathlib.Path) -> str:
+    """'no such AFM file', with the bundled name when ``path`` looks like one without its prefix."""
+    stem = path.name.removesuffix(".nc").upper()
+    hint = (f" (the bundled sample map is named {BUNDLED_PREFIX}{stem})" if stem in BUNDLED_MAPS
+            and not path.parent.parts else "")
+    return f"no such AFM file: {path}{hint}"
+
 
 _TEXT = {".txt", ".csv", ".asc", ".dat", ".xyz"}
 _NETCDF = {".nc", ".nc4", ".netcdf", ".cdf"}
@@ -305,7 +366,8 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
     Parameters
     ----------
     path : str or pathlib.Path
-        ``.nc`` (NetCDF; a Dataset with ``height`` or a single variable, as written by
+        A file, or ``"bundled:S1A"`` ... ``"bundled:S2C"`` for a sample map shipped with
+        roughstick (:func:`resolve_map_path`; a real file of that name wins). ``.nc`` (NetCDF; a Dataset with ``height`` or a single variable, as written by
         roughstick: read back exactly), ``.npy`` (2-D array, rows = y), plain text (``.txt``,
         ``.csv``, ``.asc``, ``.dat``: whitespace- or comma-separated grid, ``#`` comments), or
         any format SurfaceTopography reads (DI/NanoScope ``.di``/``.spm``, Park ``.tiff``,
@@ -356,9 +418,9 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
     >>> h.dims, h.sizes["x"], float(h.x[1] - h.x[0])
     (('y', 'x'), 10, 5e-09)
     """
-    path = pathlib.Path(path)
+    path = resolve_map_path(path)
     if not path.exists():
-        raise FileNotFoundError(f"no such AFM file: {path}")
+        raise FileNotFoundError(_not_found(path))
     if path.is_dir():
         raise ValueError(f"{str(path)!r} is a folder, not an AFM file; give one of the files in it.")
     suffix = path.suffix.lower()

@@ -8,6 +8,7 @@ import pathlib
 
 import pytest
 
+import roughstick as rs
 from roughstick.cli import main
 from roughstick.cli._config import SCHEMAS, ConfigError, load_config, parse, read_toml
 from roughstick.cli.risk import load_risk_config
@@ -189,3 +190,35 @@ def test_sizes_that_cannot_fit_in_memory_refused_before_allocating(tmp_path):
     r.write_text("[surface]\nshape = [1000000, 100000]\n")
     with pytest.raises(ConfigError, match="more than this machine"):
         load_risk_config(r)
+
+
+SAMPLES_RUN = RUN.replace('''source = "moments"
+m0 = "15.7 nm2"
+m2 = 0.040
+m4 = "5.08e-4 nm-2"
+''', '''source = "samples"
+files = FILES
+''')
+
+
+def test_psd_files_name_the_bundled_maps(tmp_path):
+    """[psd] files = ["bundled:S1A", ...] are the maps inside the package, wherever the config is."""
+    p = tmp_path / "c.toml"
+    p.write_text(SAMPLES_RUN.replace("FILES", '["bundled:S1A", "bundled:S2B"]'))
+    cfg = load_config(p)
+    assert cfg.psd["files"] == [str(rs.datasets.sample_path("S1A")), str(rs.datasets.sample_path("S2B"))]
+    (tmp_path / "bundled:S1A").write_text("x")  # a real file of that name wins over the bundled map
+    cfg = load_config(p)
+    assert cfg.psd["files"][0] == str(tmp_path / "bundled:S1A")
+
+
+def test_unknown_bundled_map_in_psd_files_lists_the_bundled_names(tmp_path):
+    p = tmp_path / "c.toml"
+    p.write_text(SAMPLES_RUN.replace("FILES", '["bundled:S1A", "bundled:S9Z"]'))
+    with pytest.raises(ConfigError, match=r"psd.files\[1\] = 'bundled:S9Z': no such bundled map") as err:
+        load_config(p)
+    assert all(f"bundled:{n}" in str(err.value) for n in rs.datasets.SAMPLES)
+    assert "\n" not in str(err.value)
+    p.write_text(SAMPLES_RUN.replace("FILES", '["data/S1A.nc"]'))  # a missing file: the bundled names
+    with pytest.raises(ConfigError, match="not found .the sample maps shipped with roughstick are named bundled:S1A"):
+        load_config(p)

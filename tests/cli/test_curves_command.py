@@ -80,3 +80,16 @@ def test_validity_remedy_is_said_in_flags_only(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "rough_contact_curves(" not in err and "model='" not in err
     assert "Remedy: --model auto --tolerance 0.0001 picks the cheapest model" in err
+
+
+def test_curves_reads_a_bundled_map_by_name(tmp_path, capsys):
+    from roughstick.cli import main
+
+    out = tmp_path / "c.nc"
+    assert main(["curves", "bundled:S1A", "--rh", "0.5", "--n-distance", "10", "--out", str(out)]) == 0
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["input_file"] == "bundled:S1A" and ds.pressure.sizes["distance"] >= 10
+    capsys.readouterr()
+    assert main(["curves", "bundled:S1", "--rh", "0.5", "--out", str(out), "--overwrite"]) == 1
+    err = capsys.readouterr().err
+    assert "unknown bundled map 'bundled:S1'" in err and "bundled:S1A" in err

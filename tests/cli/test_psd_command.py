@@ -81,3 +81,63 @@ def test_cli_psd_line_scans(tmp_path, capsys):
     assert main(["psd", str(tmp_path / "s0.txt"), str(tmp_path / "map.npy"), "--spacing", "2 nm",
                  "--units", "nm", "--out", str(tmp_path / "r.nc")]) == 1
     assert "mix line scans" in capsys.readouterr().err
+
+
+def test_cli_psd_reads_bundled_maps_by_name(tmp_path, capsys):
+    """`roughstick psd bundled:S2A bundled:S2B` works from any folder (a wheel has no data_samples/)."""
+    from roughstick.cli import main
+
+    out = tmp_path / "psd.nc"
+    assert main(["psd", "bundled:S2A", "bundled:S2B", "--submaps", "4", "--window", "none",
+                 "--out", str(out)]) == 0
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["input_files"] == "bundled:S2A bundled:S2B" and ds.attrs["n_maps"] == 2
+        ref = rs.psd_summary(rs.datasets.sample_maps("S2").isel(map=[0, 1]), n=4, window=None)
+        np.testing.assert_allclose(ds.psd.values, ref.psd.values, rtol=1e-10)
+    capsys.readouterr()
+    assert main(["psd", "bundled:S2A", "bundled:S4A", "--out", str(tmp_path / "x.nc")]) == 1
+    err = capsys.readouterr().err.strip()
+    assert "unknown bundled map 'bundled:S4A'" in err and "bundled:S2C" in err and "\n" not in err
+    assert not (tmp_path / "x.nc").exists()
+
+
+def test_cli_psd_prints_moments_with_their_interval_over_maps(tmp_path, capsys):
+    """Several maps: the mean spatial moments with the range across maps and the 95 % Student-t
+    interval of the mean (checked against scipy.stats.t); one map: n = 1 is too small to bound."""
+    import scipy.stats
+
+    from roughstick.cli import main
+
+    rng = np.random.default_rng(5)
+    paths = []
+    for i in range(3):
+        h, _ = filtered_noise((64, 64), 5e-9, lorentz, rng)
+        paths.append(tmp_path / f"m{i}.npy")
+        np.save(paths[-1], h.values * 1e9)
+    out = tmp_path / "psd.nc"
+    assert main(["psd", *map(str, paths), "--spacing", "5 nm", "--units", "nm", "--submaps", "4",
+                 "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "mean over the 3 maps [range across them; 95% interval of the mean, Student t with 2 dof]" in text
+    per = rs.roughness_moments(xr.concat([rs.level(rs.read_afm(p, spacing="5 nm", units="nm"))
+                                          for p in paths], dim="map"))
+    t = scipy.stats.t.ppf(0.975, df=2)
+    with xr.open_dataset(out) as ds:
+        for k in ("m0", "m2", "m4"):
+            v = per[k].values
+            np.testing.assert_allclose(ds[f"map_spatial_{k}"].values, v, rtol=1e-12)
+            np.testing.assert_allclose(float(ds[f"spatial_{k}"]), v.mean(), rtol=1e-12)
+            half = t * v.std(ddof=1) / np.sqrt(3)
+            np.testing.assert_allclose(ds[f"spatial_{k}"].attrs["interval_95_percent"],
+                                       [max(v.mean() - half, 0), v.mean() + half], rtol=1e-9)
+    v = per["m2"].values
+    half = t * v.std(ddof=1) / np.sqrt(3)
+    assert (f"  m2 = {v.mean():.3g} [{v.min():.3g}-{v.max():.3g}; {max(v.mean() - half, 0):.3g}-"
+            f"{v.mean() + half:.3g}]") in text
+    assert main(["psd", str(paths[0]), "--spacing", "5 nm", "--units", "nm", "--submaps", "4",
+                 "--out", str(tmp_path / "one.nc")]) == 0
+    text = capsys.readouterr().out
+    assert "1 map, 4 sub-maps each" in text
+    assert "n = 1 map is too small to bound their map-to-map spread (give 2 or more maps)" in text
+    with xr.open_dataset(tmp_path / "one.nc") as ds:
+        assert "interval_95_percent" not in ds.spatial_m0.attrs

@@ -1,0 +1,164 @@
+"""argparse types and checks of command-line values whose messages name the flag and the fix.
+
+* :func:`relative_humidity_arg` (``--rh``): a fraction (``0.6``) or a percentage (``"60 %"``);
+  ``--rh 60`` is refused with "did you mean 0.6 or '60 %'?";
+* :func:`pixel_size_arg` (``--spacing``): a length with its unit, plausible for an AFM pixel;
+* :func:`check_netcdf_out` (``--out`` of ``psd`` and ``curves``): a NetCDF file name, checked
+  before any work; :func:`flag_value` applies a type here inside a command (``--qmax``), its
+  error one line naming the flag (exit status 1);
+* :func:`read_map`: before reading a map, the flags its format needs (:func:`check_map_flags`);
+  after reading, heights plausible in the ``--units`` given.
+
+argparse prefixes each :class:`argparse.ArgumentTypeError` with ``argument --flag:``, so a
+message here says what is wrong with the value and how to write it, on one line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import pathlib
+import warnings
+
+import numpy as np
+
+import roughstick as rs
+
+from .._core.units import parse_quantity
+from .._core.validate import PLAUSIBLE_SPACING
+from ._common import length_with_unit
+
+__all__ = ["relative_humidity_arg", "pixel_size_arg", "wavevector_arg", "positive_float_arg",
+           "check_netcdf_out", "flag_value", "check_map_flags", "read_map", "NETCDF_SUFFIXES"]
+
+#: File name endings of NetCDF output (what :func:`roughstick.io.netcdf.write` writes).
+NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf")
+
+#: Heights spanning more than this [m] are not an AFM map (read_afm warns above it too).
+_PLAUSIBLE_SPAN = 1e-3
+
+_ARRAY_SUFFIXES = {".npy", ".txt", ".csv", ".asc", ".dat", ".xyz"}
+
+
+def relative_humidity_arg(text: str) -> float:
+    """argparse type of ``--rh``: a fraction in (0, 1) (``0.6``) or a percentage (``"60 %"``,
+    ``60%``); returns the fraction. A bare number from 1 to 100 is refused as a likely percentage,
+    with both spellings of the fix."""
+    s = str(text).strip()
+    percent = s.endswith("%")
+    try:
+        v = float(s[:-1].strip() if percent else s)
+    except ValueError:
+        v = math.nan
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a relative humidity; write a fraction such "
+                                         "as 0.6 or a percentage such as '60 %'")
+    if percent:
+        if not 0 < v < 100:
+            raise argparse.ArgumentTypeError(f"{text!r}: a percentage must lie strictly between 0 and "
+                                             "100 %, e.g. '60 %'")
+        return v / 100.0
+    if 0 < v < 1:
+        return v
+    if v == 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: RH is a fraction in (0, 1) and saturation (1) is outside "
+                                         "the models' range; give e.g. 0.95 or '95 %'")
+    if 1 < v < 100:
+        raise argparse.ArgumentTypeError(f"{text!r}: RH is a fraction in (0, 1): did you mean {v / 100:g} "
+                                         f"or '{v:g} %'?")
+    raise argparse.ArgumentTypeError(f"{text!r}: RH is a fraction in (0, 1), e.g. 0.6, or a percentage, "
+                                     "e.g. '60 %'")
+
+
+def pixel_size_arg(text: str) -> str:
+    """argparse type of ``--spacing``: a length with its unit (``"5 nm"``) no larger than an AFM
+    pixel can be (:data:`roughstick._core.validate.PLAUSIBLE_SPACING`); returns the text."""
+    length_with_unit(text)
+    v = parse_quantity(text, "length", name="--spacing")
+    if v > PLAUSIBLE_SPACING:
+        number = str(text).strip().split()[0].rstrip("abcdefghijklmnopqrstuvwxyzµμ")
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is a pixel of {v:.4g} m, implausible for an AFM map; did you mean "
+            f"'{number} nm' or '{number} um'?")
+    if not v > 0:
+        raise argparse.ArgumentTypeError(f"{text!r}: the pixel size must be positive, e.g. '5 nm'")
+    return text
+
+
+def wavevector_arg(text: str) -> float:
+    """argparse type of ``--qmax``: a wave number with its unit (``"289 rad/um"``); returns rad/m."""
+    try:
+        float(text)
+    except ValueError:
+        pass
+    else:
+        raise argparse.ArgumentTypeError(f"{text!r} has no unit; write it with one, e.g. '{text} rad/um'")
+    try:
+        v = parse_quantity(text, "wavevector", name="--qmax")
+    except ValueError as exc:
+        msg = str(exc).removeprefix(f"--qmax = {text!r}: ")
+        raise argparse.ArgumentTypeError(f"{text!r}: {msg}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError(f"{text!r}: the cutoff must be positive and finite, e.g. '289 rad/um'")
+    return v
+
+
+def positive_float_arg(text: str) -> float:
+    """argparse type: a positive finite number (``--tolerance``, ``--resolution-factors``)."""
+    try:
+        v = float(text)
+    except ValueError:
+        v = math.nan
+    if not (math.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected a positive number, e.g. 0.1")
+    return v
+
+
+def check_netcdf_out(text: str) -> None:
+    """``--out`` of ``psd`` and ``curves``: a file name ending in .nc, checked before anything is
+    computed (the file holds NetCDF whatever its name)."""
+    p = pathlib.Path(text)
+    if p.suffix.lower() not in NETCDF_SUFFIXES:
+        stem = p.with_suffix(".nc") if p.suffix else p.with_name(p.name + ".nc")
+        raise ValueError(f"--out {text!r}: the output is a NetCDF file; give it the .nc extension, "
+                         f"e.g. --out {stem}")
+
+
+def flag_value(flag: str, convert, text):
+    """``convert(text)`` (one of the argparse types here) for a value checked inside a command,
+    its error as one line naming ``flag`` (exit status 1, as every user error of a command)."""
+    try:
+        return convert(text)
+    except argparse.ArgumentTypeError as exc:
+        raise ValueError(f"{flag} {exc}") from None
+
+
+def check_map_flags(path, *, spacing=None, units=None) -> None:
+    """Refuse, before reading it, a ``.npy``/text map given without ``--spacing`` or ``--units``
+    (it holds bare numbers), naming the flags."""
+    name = pathlib.Path(str(path)).name
+    if pathlib.Path(str(path)).suffix.lower() in _ARRAY_SUFFIXES and (spacing is None or units is None):
+        missing = " and ".join(f for f, v in (("--spacing '5 nm'", spacing), ("--units nm", units))
+                               if v is None)
+        raise ValueError(f"{name} holds bare numbers: give their pixel size and height unit, e.g. "
+                         f"{missing}.")
+
+
+def read_map(path, *, spacing=None, units=None, **kwargs):
+    """:func:`roughstick.read_afm` for a command: the flags checked first, and heights spanning
+    more than 1 mm in the ``--units`` given refused naming ``--units`` (read_afm only warns, in
+    its Python words)."""
+    check_map_flags(path, spacing=spacing, units=units)
+    with warnings.catch_warnings():
+        if units is not None:  # said below, in flags
+            warnings.filterwarnings("ignore", message=".*heights span .* more than 1 mm", category=UserWarning)
+        h = rs.read_afm(path, spacing=spacing, units=units, **kwargs)
+    if units is not None and h.chunks is None and h.size:
+        finite = np.asarray(h.values, dtype=float)
+        finite = finite[np.isfinite(finite)]
+        span = float(np.ptp(finite)) if finite.size else 0.0
+        if span > _PLAUSIBLE_SPAN:
+            raise ValueError(f"{pathlib.Path(str(path)).name}: with --units {units} the heights span "
+                             f"{span:.4g} m, implausible for an AFM map (more than 1 mm); give the "
+                             "unit the heights are in, e.g. --units nm.")
+    return h
