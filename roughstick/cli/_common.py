@@ -22,6 +22,7 @@ import contextlib
 import errno
 import json
 import logging
+import os
 import pathlib
 import re
 import shutil
@@ -33,7 +34,8 @@ from .._core.units import parse_quantity
 from ..io.netcdf import remove_partial_files, write_text_atomic
 
 __all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
-           "user_message", "MARKER", "small_p_problems", "canonical_params", "check_scheduler"]
+           "user_message", "MARKER", "small_p_problems", "canonical_params", "check_scheduler",
+           "check_output_file"]
 
 LOG = logging.getLogger("roughstick")
 
@@ -156,11 +158,36 @@ def canonical_params(params):
 
 def check_scheduler(value, *, where: str) -> None:
     """Refuse a dask scheduler name before any work starts; ``where`` names the flag or key."""
-    if value is None or value in ("threads", "sync", "processes") or (
+    if value is None or value in ("threads", "threading", "sync", "synchronous", "processes") or (
             isinstance(value, str) and re.fullmatch(r"(tcp|tls|inproc|ucx)://\S+", value)):
         return
     raise ValueError(f"{where}{' ' if where.startswith('--') else ' = '}{value!r}: not a dask scheduler; use 'threads', 'sync', 'processes' "
                      "or the address of a running dask scheduler, tcp://host:port.")
+
+
+def check_output_file(path, *, flag: str = "--out", suffixes=(".nc",), overwrite: bool = False) -> pathlib.Path:
+    """Refuse, before any work, an output file that would be written wrong or not at all: another
+    extension than ``suffixes`` (a NetCDF file named ``.png``), a folder, an existing file without
+    ``overwrite``, or a place that cannot be written. Creates the missing parent folders; every
+    message names ``flag``."""
+    path = pathlib.Path(path)
+    if path.is_dir():
+        raise FileExistsError(f"{flag} {str(path)!r} is a folder; give a file name, e.g. "
+                              f"{str(path / ('result' + suffixes[0]))!r}.")
+    if path.suffix.lower() not in suffixes:
+        raise ValueError(f"{flag} {str(path)!r}: this file is written as {' or '.join(suffixes)}; name it so, "
+                         f"e.g. {flag} {str(path.with_suffix(suffixes[0]))!r}.")
+    if path.exists() and not overwrite:
+        raise FileExistsError(f"{flag} {str(path)!r} exists; pass --overwrite to replace it or choose another name.")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        probe = path.parent / f".{path.name}.probe-{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        raise FileExistsError(f"cannot write {flag} {str(path)!r} ({exc.strerror or exc}); choose a "
+                              f"writable place with {flag}.") from None
+    return path
 
 
 def claim_folder(folder, *, command: str, params: dict, overwrite: bool, keep=(),
@@ -214,7 +241,8 @@ def claim_folder(folder, *, command: str, params: dict, overwrite: bool, keep=()
     if old is not None and not same:
         if old.get("status") == "complete":  # first un-complete it: a kill below leaves no "complete"
             write_text_atomic(marker, json.dumps({**old, "status": "running"}, indent=1, default=str))
-        protected = {pathlib.Path(k).resolve() for k in keep} | _named_paths(record["params"])
+        protected = ({pathlib.Path(k).resolve() for k in keep} | _named_paths(record["params"])
+                     | _named_paths(old.get("params")))
         stale = [p for p in _results_of(folder, old) if p.resolve() not in protected]
         for p in stale:
             if p.is_dir() and not p.is_symlink():
@@ -300,7 +328,8 @@ def finish_folder(folder) -> None:
     marker = folder / MARKER
     rec = json.loads(marker.read_text())
     rec.update(status="complete", finished=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
-               outputs=sorted(p.name for p in _results_of(folder, {**rec, "status": "running"})))
+               outputs=sorted(p.name for p in _results_of(folder, {**rec, "status": "running"})
+                              if p.resolve() not in _named_paths(rec.get("params"))))
     write_text_atomic(marker, json.dumps(rec, indent=1, default=str))
 
 

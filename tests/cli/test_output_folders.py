@@ -4,6 +4,8 @@ results, checks made before any work, and what the terminal and the files say ab
 from __future__ import annotations
 
 import json
+import os
+import time
 import types
 import warnings
 
@@ -270,3 +272,44 @@ def test_a_folder_written_by_an_earlier_roughstick_is_still_resumed(tmp_path, ca
                                           "status": "complete", "started": "2026-01-01T00:00:00Z"}))
     assert main(["risk", str(cfg), "-q"]) == 0, capsys.readouterr().err
     assert _marker(out)["status"] == "complete" and "risk.nc" in _marker(out)["outputs"]
+
+
+def test_check_output_file_refuses_before_any_work(tmp_path):
+    """The check `psd --out` and `curves --out` can make before computing (they wrote NetCDF
+    under any name, c.png included, and named no flag when the folder could not be made)."""
+    from roughstick.cli._common import check_output_file, user_message
+
+    with pytest.raises(ValueError, match=r"--out .*c\.png.*written as \.nc.*c\.nc"):
+        check_output_file(tmp_path / "c.png")
+    (tmp_path / "old.nc").write_text("x")
+    with pytest.raises(FileExistsError, match="--overwrite"):
+        check_output_file(tmp_path / "old.nc")
+    assert check_output_file(tmp_path / "old.nc", overwrite=True) == tmp_path / "old.nc"
+    with pytest.raises(FileExistsError) as err:
+        check_output_file("/proc/roughstick-test/c.nc", flag="--save")
+    assert "cannot write --save" in user_message(err.value)
+    assert check_output_file(tmp_path / "a" / "b" / "c.nc").parent.is_dir()
+    assert sorted(p.name for p in (tmp_path / "a" / "b").iterdir()) == []  # the probe is gone
+
+
+def test_inputs_inside_the_output_folder_are_never_removed(tmp_path, capsys):
+    """A Γ sample or measured points kept in the output folder (and named by the config) stay
+    when another run replaces the folder's results, even if written after that run started."""
+    from conftest import lognormal_gamma
+
+    out = tmp_path / "o"
+    out.mkdir()
+    g, _ = lognormal_gamma(n=25, rh=np.array([0.5, 0.7]))
+    cfg = tmp_path / "r.toml"
+    cfg.write_text(f'[output]\nfolder = "o"\nfigures = false\n[ensemble]\nadhesive_energy = "{out / "g.nc"}"\n'
+                   '[risk]\nlevels = [{lev}]\n')
+    rs.io.netcdf.write(rs.conventions.set_attrs(g, "surface_adhesive_energy").to_dataset(name="adhesive_energy"),
+                       out / "g.nc", compute=True)
+    later = time.time() + 60  # as if rewritten while the run computed: newer than the run's start
+    os.utime(out / "g.nc", (later, later))
+    cfg.write_text(cfg.read_text().replace("{lev}", "0.5"))
+    assert main(["risk", str(cfg), "-q"]) == 0
+    assert "g.nc" not in _marker(out)["outputs"] and "risk.nc" in _marker(out)["outputs"]
+    cfg.write_text(cfg.read_text().replace("[0.5]", "[0.1]"))
+    assert main(["risk", str(cfg), "-q", "--overwrite"]) == 0
+    assert (out / "g.nc").is_file() and (out / "risk.nc").is_file()
