@@ -251,7 +251,7 @@ def claim_folder(folder, *, command: str, params: dict, overwrite: bool, keep=()
                 with contextlib.suppress(FileNotFoundError):
                     p.unlink()
         LOG.info(f"replacing the {'complete' if old.get('status') == 'complete' else 'unfinished'} run of "
-                 f"`roughstick {old.get('command')}` in {folder}: removed {len(stale)} of its result files")
+                 f"`roughstick {old.get('command')}` in {folder}: removed its {len(stale)} result file(s) and folder(s)")
     carried = {}
     if same:  # resuming or rewriting: the files of the earlier attempts are this run's too
         since = min(since, _since(old))

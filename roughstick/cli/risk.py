@@ -200,11 +200,11 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
                 overwrite=overwrite, **kw)
             if "rh" not in ds.dims:
                 ds = ds.expand_dims("rh")
-            if "failures_confirmed_by_bem" in ds:  # per point: concat keeps one variable's attrs only
-                checked = ds["failures_confirmed_by_bem"].attrs.get("checked", 0)
-                ds["failures_checked_by_bem"] = xr.DataArray(np.broadcast_to(int(checked), ds["failures_confirmed_by_bem"].shape),
-                                                             dims=ds["failures_confirmed_by_bem"].dims,
-                                                             attrs={"units": "1", "long_name": "failure states re-checked by the FFT-BEM"})
+            if "failures_confirmed_by_bem" in ds:  # a variable: attrs do not survive the concat below
+                conf = ds["failures_confirmed_by_bem"]  # "checked" dropped (0) where humidities differ
+                ds["failures_checked_by_bem"] = xr.full_like(conf, int(conf.attrs.get("checked", 0)), dtype=int)
+                ds["failures_checked_by_bem"].attrs = {"units": "1",
+                                                       "long_name": "failure states re-checked by the FFT-BEM"}
             keep = list(_SUBSET_VARS) + [v for v in ("failures_confirmed_by_bem", "failure_bem_ratio",
                                                     "failures_checked_by_bem") if v in ds]
             per_length.append(ds[keep].drop_vars("water_height", errors="ignore"))
