@@ -289,9 +289,10 @@ def _named_paths(params) -> set:
     return out
 
 
-def _is_result(p: pathlib.Path) -> bool:
-    if p.is_dir():
-        return any(_is_result(c) for c in p.iterdir() if not c.is_dir())
+def _is_result(p: pathlib.Path, depth: int = 3) -> bool:
+    """A result file, or a folder holding one within ``depth`` levels (``subset-*/rh-0.5000/``)."""
+    if p.is_dir() and not p.is_symlink():
+        return depth > 0 and any(_is_result(c, depth - 1) for c in p.iterdir())
     return p.suffix.lower() in _RESULT_SUFFIXES
 
 

@@ -313,3 +313,20 @@ def test_inputs_inside_the_output_folder_are_never_removed(tmp_path, capsys):
     cfg.write_text(cfg.read_text().replace("[0.5]", "[0.1]"))
     assert main(["risk", str(cfg), "-q", "--overwrite"]) == 0
     assert (out / "g.nc").is_file() and (out / "risk.nc").is_file()
+
+
+def test_nested_result_folders_are_the_run_s_and_replaced_with_it(tmp_path):
+    """risk's subset-*/rh-0.5000/ and beam's levels/ hold their files one folder down."""
+    from roughstick.cli._common import claim_folder, finish_folder
+
+    out = tmp_path / "o"
+    claim_folder(out, command="risk", params={"seed": 1}, overwrite=False)
+    (out / "subset-paper-400um" / "rh-0.5000").mkdir(parents=True)
+    (out / "subset-paper-400um" / "rh-0.5000" / "run000-level00.nc").write_text("x")
+    (out / "risk.nc").write_text("x")
+    finish_folder(out)
+    assert _marker(out)["outputs"] == ["risk.nc", "subset-paper-400um"]
+    (out / "mine").mkdir()  # made after the run, not listed: stays
+    (out / "mine" / "plot.png").write_text("x")
+    claim_folder(out, command="risk", params={"seed": 2}, overwrite=True)
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, "mine"]
