@@ -5,9 +5,11 @@
   (SLURM, CI, ``nohup``) see progress as it happens, not at the end.
 * Python warnings raised during a command are logged as one line ``warning: Category: text``
   (not the source line inside dask or the console script).
-* :func:`claim_folder` records which command (and arguments) wrote an output folder. Re-running
-  the same command resumes or rewrites it; another command's complete results are replaced only
-  with ``--overwrite``; an unfinished (failed or killed) run never blocks the next.
+* :func:`claim_folder` records which command (and parsed parameters) wrote an output folder,
+  before any work. Re-running the same command resumes or rewrites it; another command's (or
+  other parameters') complete results are replaced only with ``--overwrite``, and their files
+  are removed first; an unfinished (failed or killed) run never blocks the next.
+* :func:`check_scheduler` refuses a dask scheduler name before any work, naming the flag or key.
 * :func:`user_message` turns the errors a user can fix (bad configuration, missing or damaged
   file, read-only folder, unreachable scheduler) into one line naming the fix; anything else is
   a bug and keeps its traceback.
@@ -15,10 +17,15 @@
 
 from __future__ import annotations
 
+import calendar
+import contextlib
 import errno
 import json
 import logging
+import os
 import pathlib
+import re
+import shutil
 import sys
 import time
 import warnings
@@ -27,7 +34,8 @@ from .._core.units import parse_quantity
 from ..io.netcdf import remove_partial_files, write_text_atomic
 
 __all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
-           "user_message", "MARKER", "small_p_problems"]
+           "user_message", "MARKER", "small_p_problems", "canonical_params", "check_scheduler",
+           "check_output_file"]
 
 LOG = logging.getLogger("roughstick")
 
@@ -119,65 +127,239 @@ def teardown_logging() -> None:
     LOG.propagate = True
 
 
-def claim_folder(folder, *, command: str, params: dict, overwrite: bool) -> pathlib.Path:
+#: What a roughstick command writes into its folder (figures, NetCDF, tables, manifests): the
+#: only kinds of entry a replacement removes (a user's notes or config beside them stay).
+_RESULT_SUFFIXES = frozenset({".nc", ".png", ".csv", ".json", ".npy", ".pdf", ".svg"})
+_FILE_SUFFIXES = frozenset({".nc", ".png", ".csv", ".json", ".toml", ".npy", ".pdf", ".svg", ".txt"})
+#: Slack on file times (coarse file-system clocks) when telling a run's files by their time.
+_SLACK = 1.0
+
+
+def canonical_params(params):
+    """``params`` as plain JSON values: keys sorted, paths as text, arrays as lists, floats to 12
+    significant digits, so the same parameters compare equal however the file spelled them
+    (comments, whitespace, key order, "5 nm" or "5.0 nm")."""
+    import numpy as np
+
+    if isinstance(params, dict):
+        return {str(k): canonical_params(params[k]) for k in sorted(params, key=str)}
+    if isinstance(params, (list, tuple)):
+        return [canonical_params(v) for v in params]
+    if isinstance(params, np.ndarray):
+        return canonical_params(params.tolist())
+    if isinstance(params, np.generic):
+        params = params.item()
+    if params is None or isinstance(params, (bool, int, str)):
+        return params
+    if isinstance(params, float):
+        return float(f"{params:.12g}")
+    return str(params)
+
+
+def check_scheduler(value, *, where: str) -> None:
+    """Refuse a dask scheduler name before any work starts; ``where`` names the flag or key."""
+    if value is None or value in ("threads", "threading", "sync", "synchronous", "processes") or (
+            isinstance(value, str) and re.fullmatch(r"(tcp|tls|inproc|ucx)://\S+", value)):
+        return
+    raise ValueError(f"{where}{' ' if where.startswith('--') else ' = '}{value!r}: not a dask scheduler; use 'threads', 'sync', 'processes' "
+                     "or the address of a running dask scheduler, tcp://host:port.")
+
+
+def check_output_file(path, *, flag: str = "--out", suffixes=(".nc",), overwrite: bool = False) -> pathlib.Path:
+    """Refuse, before any work, an output file that would be written wrong or not at all: another
+    extension than ``suffixes`` (a NetCDF file named ``.png``), a folder, an existing file without
+    ``overwrite``, or a place that cannot be written. Creates the missing parent folders; every
+    message names ``flag``."""
+    path = pathlib.Path(path)
+    if path.is_dir():
+        raise FileExistsError(f"{flag} {str(path)!r} is a folder; give a file name, e.g. "
+                              f"{str(path / ('result' + suffixes[0]))!r}.")
+    if path.suffix.lower() not in suffixes:
+        raise ValueError(f"{flag} {str(path)!r}: this file is written as {' or '.join(suffixes)}; name it so, "
+                         f"e.g. {flag} {str(path.with_suffix(suffixes[0]))!r}.")
+    if path.exists() and not overwrite:
+        raise FileExistsError(f"{flag} {str(path)!r} exists; pass --overwrite to replace it or choose another name.")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        probe = path.parent / f".{path.name}.probe-{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        raise FileExistsError(f"cannot write {flag} {str(path)!r} ({exc.strerror or exc}); choose a "
+                              f"writable place with {flag}.") from None
+    return path
+
+
+def claim_folder(folder, *, command: str, params: dict, overwrite: bool, keep=(),
+                 legacy_params: dict | None = None) -> pathlib.Path:
     """Create ``folder`` (parents too) for ``command``; refuse to mix it with another run's results.
+
+    The marker file :data:`MARKER` records ``command`` and ``params`` (compared as
+    :func:`canonical_params`, so a comment added to a config file changes nothing) and says
+    "running" until :func:`finish_folder`. When this run replaces another one (other command or
+    parameters: a complete run with ``overwrite``, or an unfinished run), the other run's result
+    files are removed first, so a run killed midway never leaves the old results beside the new
+    marker. A rerun with the same parameters keeps them (it resumes or rewrites the same results).
+    Never removed: what is not a result file (``.nc``, ``.png``, ``.csv``, ``.json``, ``.npy``
+    or a folder of them), what was there before roughstick's first run in the folder, files named
+    in ``params`` and the paths in ``keep`` (the config file). ``legacy_params``: what a marker
+    written by an earlier roughstick recorded for these parameters (the raw config text).
 
     Raises
     ------
     FileExistsError
-        ``folder`` holds the complete results of a different command or arguments and
-        ``overwrite`` is False (the message names ``--overwrite`` and ``--out``), or is a file.
+        ``folder`` holds the complete results of a different command or parameters and
+        ``overwrite`` is False (the message names ``--overwrite`` and ``--out``), or is a file,
+        or names a file (``--out result.nc``).
     """
     folder = pathlib.Path(folder)
     if folder.exists() and not folder.is_dir():
         raise FileExistsError(f"output {str(folder)!r} exists and is not a folder; choose another with --out.")
-    folder.mkdir(parents=True, exist_ok=True)
+    if not folder.exists() and folder.suffix.lower() in _FILE_SUFFIXES:
+        raise FileExistsError(f"--out {str(folder)!r} names a file, but `roughstick {command}` writes a "
+                              f"folder of results; give a folder, e.g. --out {str(folder.with_suffix(''))!r}.")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise FileExistsError(f"cannot create the output folder {str(folder)!r} ({exc.strerror or exc}); "
+                              "choose a writable folder with --out.") from None
     marker = folder / MARKER
-    old = None
-    if marker.is_file():
-        try:
-            old = json.loads(marker.read_text())
-        except (OSError, ValueError):
-            old = None
-    record = {"command": command, "params": params}
-    if old is not None and old.get("status") == "complete" and \
-            {k: old.get(k) for k in record} != record and not overwrite:
+    old = _read_marker(marker)
+    record = {"command": command, "params": canonical_params(params)}
+    same = old is not None and (_same_record(old, record) or (
+        legacy_params is not None and old.get("command") == command and old.get("params") == legacy_params))
+    if old is not None and old.get("status") == "complete" and not same and not overwrite:
+        what = (f"with different parameters ({_diff(old.get('params'), record['params'])})"
+                if old.get("command") == command else "(another command)")
         raise FileExistsError(
             f"output folder {str(folder)!r} holds the complete results of `roughstick {old.get('command')}` "
-            f"with other arguments ({_diff(old.get('params') or {}, params)}); pass --overwrite to "
-            "replace them or --out to write elsewhere.")
-    if old is not None and old.get("status") != "complete" and {k: old.get(k) for k in record} != record:
-        LOG.info("replacing the unfinished run left in %s", folder)
+            f"{what}; pass --overwrite to replace them or --out to write elsewhere.")
     removed = remove_partial_files(folder)
     if removed:
         LOG.debug("removed %d partial file(s) of an interrupted run", len(removed))
-    write_text_atomic(marker, json.dumps({**record, "status": "running",
-                                          "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())},
+    since = time.time()
+    if old is not None and not same:
+        if old.get("status") == "complete":  # first un-complete it: a kill below leaves no "complete"
+            write_text_atomic(marker, json.dumps({**old, "status": "running"}, indent=1, default=str))
+        protected = ({pathlib.Path(k).resolve() for k in keep} | _named_paths(record["params"])
+                     | _named_paths(old.get("params")))
+        stale = [p for p in _results_of(folder, old) if p.resolve() not in protected]
+        for p in stale:
+            if p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p, ignore_errors=True)
+            else:
+                with contextlib.suppress(FileNotFoundError):
+                    p.unlink()
+        LOG.info(f"replacing the {'complete' if old.get('status') == 'complete' else 'unfinished'} run of "
+                 f"`roughstick {old.get('command')}` in {folder}: removed its {len(stale)} result file(s) and folder(s)")
+    carried = {}
+    if same:  # resuming or rewriting: the files of the earlier attempts are this run's too
+        since = min(since, _since(old))
+        carried = {"outputs": old["outputs"]} if old.get("outputs") else {}
+    write_text_atomic(marker, json.dumps({**record, **carried, "status": "running", "since": since,
+                                          "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(since))},
                                          indent=1, default=str))
     return folder
 
 
-def run_status(folder) -> str | None:
-    """"complete", "running" (unfinished: failed or killed), or None (no roughstick run there)."""
-    marker = pathlib.Path(folder) / MARKER
+def _read_marker(marker: pathlib.Path) -> dict | None:
     try:
-        return json.loads(marker.read_text()).get("status")
+        old = json.loads(marker.read_text())
     except (OSError, ValueError):
         return None
+    return old if isinstance(old, dict) else None
+
+
+def _same_record(old: dict, record: dict) -> bool:
+    return old.get("command") == record["command"] and json.dumps(
+        canonical_params(old.get("params")), sort_keys=True) == json.dumps(record["params"], sort_keys=True)
+
+
+def _named_paths(params) -> set:
+    """Every text value of ``params`` that names an existing path (inputs: never removed)."""
+    out = set()
+    if isinstance(params, dict):
+        params = list(params.values())
+    if isinstance(params, list):
+        for v in params:
+            out |= _named_paths(v)
+    elif isinstance(params, str) and ("/" in params or "\\" in params):
+        with contextlib.suppress(OSError, ValueError):
+            out.add(pathlib.Path(params).resolve())
+    return out
+
+
+def _is_result(p: pathlib.Path, depth: int = 3) -> bool:
+    """A result file, or a folder holding one within ``depth`` levels (``subset-*/rh-0.5000/``)."""
+    if p.is_dir() and not p.is_symlink():
+        return depth > 0 and any(_is_result(c, depth - 1) for c in p.iterdir())
+    return p.suffix.lower() in _RESULT_SUFFIXES
+
+
+def _since(rec: dict) -> float:
+    if "since" in rec:
+        return float(rec["since"])
+    try:  # markers written before "since" existed
+        return calendar.timegm(time.strptime(rec["started"], "%Y-%m-%dT%H:%M:%SZ"))
+    except (KeyError, TypeError, ValueError):
+        return 0.0  # unknown start: every result file may be that run's
+
+
+def _results_of(folder: pathlib.Path, rec: dict) -> list[pathlib.Path]:
+    """The result files (and folders) the run recorded in ``rec`` wrote into ``folder``: the list
+    it recorded when it finished, and, if it never finished, every result written since it started."""
+    entries = [p for p in folder.iterdir() if p.name != MARKER and _is_result(p)]
+    listed = set(rec.get("outputs") or [])
+    if rec.get("status") == "complete" and "outputs" in rec:
+        return [p for p in entries if p.name in listed]
+    t0 = _since(rec) - _SLACK
+    return [p for p in entries if p.name in listed or p.stat().st_mtime >= t0]
+
+
+def run_status(folder) -> str | None:
+    """"complete", "running" (unfinished: failed or killed), or None (no roughstick run there)."""
+    rec = _read_marker(pathlib.Path(folder) / MARKER)
+    return None if rec is None else rec.get("status")
 
 
 def finish_folder(folder) -> None:
-    """Mark the run in ``folder`` complete (see :func:`claim_folder`)."""
-    marker = pathlib.Path(folder) / MARKER
+    """Mark the run in ``folder`` complete (see :func:`claim_folder`), listing the result files
+    it wrote (those a later run with other parameters removes)."""
+    folder = pathlib.Path(folder)
+    marker = folder / MARKER
     rec = json.loads(marker.read_text())
-    rec.update(status="complete", finished=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()))
+    rec.update(status="complete", finished=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+               outputs=sorted(p.name for p in _results_of(folder, {**rec, "status": "running"})
+                              if p.resolve() not in _named_paths(rec.get("params"))))
     write_text_atomic(marker, json.dumps(rec, indent=1, default=str))
 
 
-def _diff(a: dict, b: dict) -> str:
-    keys = sorted(set(a) | set(b))
-    d = [f"{k}: {a.get(k)!r} -> {b.get(k)!r}" for k in keys if a.get(k) != b.get(k)]
-    return "; ".join(d) or "another command"
+def _flat(params, prefix="") -> dict:
+    if not isinstance(params, dict):
+        return {prefix or "parameters": params}
+    out = {}
+    for k, v in params.items():
+        out.update(_flat(v, f"{prefix}.{k}" if prefix else str(k)) if isinstance(v, dict) else
+                   {f"{prefix}.{k}" if prefix else str(k): v})
+    return out
+
+
+def _short(v, width: int = 40) -> str:
+    text = "(none)" if v is _MISSING else repr(v)
+    return text if len(text) <= width else text[:width - 3] + "..."
+
+
+_MISSING = object()
+
+
+def _diff(a, b, *, most: int = 3) -> str:
+    """The keys that differ between two parameter sets: at most ``most``, values shortened."""
+    a, b = _flat(a or {}), _flat(b or {})
+    keys = [k for k in sorted(set(a) | set(b)) if a.get(k, _MISSING) != b.get(k, _MISSING)]
+    d = [f"{k}: {_short(a.get(k, _MISSING))} -> {_short(b.get(k, _MISSING))}" for k in keys[:most]]
+    if len(keys) > most:
+        d.append(f"and {len(keys) - most} more")
+    return "; ".join(d) or "the same parameters"
 
 
 #: Python argument names that a message may mention, and the CLI flag to name instead.

@@ -20,6 +20,8 @@ import numpy as np
 
 import roughstick as rs
 
+from .._core.conventions import append_history, dataset_attrs
+from .._core.references import PAPER, cite
 from ..io.netcdf import write as write_netcdf
 from ._common import LOG, claim_folder, finish_folder, small_p_problems
 from ._config import ConfigError, check_memory, parse, read_toml
@@ -64,20 +66,22 @@ def _run(args) -> int:
     rh = np.asarray(ens["relative_humidity"], dtype=float)
     _check_method(ens, path.name)
     out = pathlib.Path(args.out) if args.out else _beside(path, o.get("folder") or "beam-output")
-    claim_folder(out, command="beam", params={"config": path.read_text()},
-                 overwrite=args.overwrite or o["overwrite"])
+    claim_folder(out, command="beam", params={k: v for k, v in c.items() if k != "output"},
+                 overwrite=args.overwrite or o["overwrite"], keep=[path],
+                 legacy_params={"config": path.read_text()})
     t0 = time.perf_counter()
     bank = rs.build_patch_bank(_psd(s), relative_humidity=rh, n_law=bank_cfg["laws"], shape=shape,
                                spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["model"],
                                cache_dir=_beside(path, bank_cfg["cache"]))
     t1 = time.perf_counter()
     if ens["method"] != "count":
-        return _run_subset(bank, b, ens, beam, out, t0, t1, overwrite=args.overwrite or o["overwrite"])
+        return _run_subset(bank, b, ens, beam, out, t0, t1, overwrite=args.overwrite or o["overwrite"],
+                           provenance=lambda ds: _provenance(ds, c, path, bank))
     ds = rs.simulate_beams(bank, beam_length=np.asarray(b["lengths"], dtype=float), n_realization=ens["n"],
                            seed=ens["seed"], protocol=ens["protocol"], beam=beam,
                            patch_length=b.get("patch_length"), model=ens["beam_model"])
     t2 = time.perf_counter()
-    write_netcdf(ds, out / "beam.nc", compute=True)
+    write_netcdf(_provenance(ds, c, path, bank), out / "beam.nc", compute=True)
     finish_folder(out)
     src = "read from cache" if bank.attrs.get("from_cache") else "computed"
     LOG.info(f"bank: {bank.sizes['law']} laws x {bank.sizes['rh']} RH {src} in {t1 - t0:.1f} s "
@@ -97,6 +101,26 @@ def _run(args) -> int:
     return 0
 
 
+def _provenance(ds, c: dict, path: pathlib.Path, bank):
+    """``ds`` with the CF global attributes, history and provenance of its patch bank (which PSD,
+    humidities, patch surfaces, seeds, contact model, cache file) and the configuration file."""
+    s, ens, bk = c["surface"], c["ensemble"], c["bank"]
+    attrs = dataset_attrs("beam-scale stochastic stiction",
+                          references=cite((PAPER, "section 5, Eqs. 13, 16, 36")))
+    attrs.update(ds.attrs)  # the model's own (title, protocol, seed of the beams, beam, references)
+    shape = s["shape"]
+    attrs.update(
+        psd=str(s["psd"]) if s.get("psd") is not None else "paper Table 4 (Eq. 37, roughstick.cantilever_psd)",
+        relative_humidity=[float(v) for v in bank.rh.values],
+        patch_shape=[int(v) for v in ((shape, shape) if np.ndim(shape) == 0 else shape)],
+        patch_spacing=float(s["spacing"]), bank_laws=int(bank.sizes["law"]), bank_seed=int(bk["seed"]),
+        bank_model=str(bk["model"]), bank_cache_file=str(bank.attrs.get("cache_file", "")),
+        beam_seed=int(ens["seed"]), method=str(ens["method"]), beam_model=str(ens["beam_model"]),
+        configuration=path.read_text())
+    ds.attrs = attrs
+    return append_history(ds, f"roughstick beam {path.name} (method={ens['method']})")
+
+
 def _log_tail_check(bank) -> None:
     """The FFT-BEM re-check of the bank's largest Eq. 16 energies (build_patch_bank), per RH (below
     0.8 build_patch_bank's ValidityWarning, logged as a warning line, names the fix)."""
@@ -104,7 +128,8 @@ def _log_tail_check(bank) -> None:
         return
     ratio = np.atleast_1d(bank.attrs["tail_bem_ratio"])
     LOG.info(f"bank tail: the {int(bank.attrs['tail_checked'])} largest Eq. 16 energies against the FFT-BEM, "
-             "median BEM/Eq. 16 per RH: " + ", ".join(f"{r:g}: {v:.2f}" for r, v in zip(bank.rh.values, ratio)))
+             "median BEM/Eq. 16 per RH: " + ", ".join(f"{r:g}: {v:.2f}" for r, v in zip(bank.rh.values, ratio))
+             + " (no interval: the bank keeps only the median)")
 
 
 def _check_method(ens: dict, source: str) -> None:
@@ -120,7 +145,7 @@ def _check_method(ens: dict, source: str) -> None:
         raise ConfigError(f"{source}: " + "; ".join(problems) + ".")
 
 
-def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite) -> int:
+def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite, provenance) -> int:
     """P(stuck)(rh, beam_length) on the bank by subset simulation (or crude Monte Carlo)."""
     method = ens["method"]
     ds = rs.beam_stiction_probability_subset(
@@ -129,7 +154,7 @@ def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite) -> int:
         max_evaluations=ens["max_evaluations"], samples_per_level=ens["samples_per_level"],
         seed=ens["seed"], output=out / "levels", overwrite=overwrite)
     t2 = time.perf_counter()
-    write_netcdf(ds, out / "beam.nc", compute=True)
+    write_netcdf(provenance(ds), out / "beam.nc", compute=True)
     finish_folder(out)
     src = "read from cache" if bank.attrs.get("from_cache") else "computed"
     n_law = int(ds.attrs["n_law"])
@@ -145,7 +170,7 @@ def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite) -> int:
                      f"[{float(d.stiction_probability_lower):.3g}, {float(d.stiction_probability_upper):.3g}] "
                      f"cv {float(d.coefficient_of_variation):.2f}, {int(d.n_evaluations)} beams"
                      + ("" if int(d.converged) else " (target cv not met)")
-                     + f"; bank {float(d.bank_stiction_probability):.3g}")
+                     + f"; bank (exact on its {n_law} laws) {float(d.bank_stiction_probability):.3g}")
     if float(ds.bank_stiction_probability.min()) < 1.0 / n_law:
         LOG.info(f"note: P(stuck) below 1/{n_law} is not resolved by a bank of {n_law} laws (0 on the bank "
                  "means no law holds the beam's last patch); for smaller risks use `roughstick risk` "

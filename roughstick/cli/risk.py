@@ -22,7 +22,7 @@ from ..paper import cantilever as figures
 from ..plotting.save import save_figure
 from ..stiction.interaction_zone import TABLE4
 from ..stiction.rare_events import ARTEFACT_RATIO
-from ._common import LOG, claim_folder, finish_folder, run_status, small_p_problems
+from ._common import LOG, check_scheduler, claim_folder, finish_folder, run_status, small_p_problems
 from ._config import ConfigError, Field, check_memory, parse, read_toml
 
 
@@ -200,7 +200,13 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
                 overwrite=overwrite, **kw)
             if "rh" not in ds.dims:
                 ds = ds.expand_dims("rh")
-            keep = list(_SUBSET_VARS) + [v for v in ("failures_confirmed_by_bem", "failure_bem_ratio") if v in ds]
+            if "failures_confirmed_by_bem" in ds:  # a variable: attrs do not survive the concat below
+                conf = ds["failures_confirmed_by_bem"]  # "checked" dropped (0) where humidities differ
+                ds["failures_checked_by_bem"] = xr.full_like(conf, int(conf.attrs.get("checked", 0)), dtype=int)
+                ds["failures_checked_by_bem"].attrs = {"units": "1",
+                                                       "long_name": "failure states re-checked by the FFT-BEM"}
+            keep = list(_SUBSET_VARS) + [v for v in ("failures_confirmed_by_bem", "failure_bem_ratio",
+                                                    "failures_checked_by_bem") if v in ds]
             per_length.append(ds[keep].drop_vars("water_height", errors="ignore"))
         per_layer.append(xr.concat(per_length, dim=xr.DataArray(lengths, dims="beam_length", name="beam_length")))
     risk = xr.concat(per_layer, dim=xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer",
@@ -268,8 +274,11 @@ def _run(args):
     overwrite = args.overwrite or c["output"]["overwrite"]
     # an unfinished (failed or killed) earlier run never blocks this one: its ensembles are
     # resumed when the parameters match and replaced otherwise
+    check_scheduler(c["run"].get("scheduler"), where="[run] scheduler")  # before any work
     unfinished = run_status(out) == "running"
-    claim_folder(out, command="risk", params={"config": cfg_path.read_text()}, overwrite=overwrite)
+    claim_folder(out, command="risk", params={k: v for k, v in c.items() if k not in ("output", "run", "path")},
+                 overwrite=overwrite, keep=[cfg_path],
+                 legacy_params={"config": cfg_path.read_text()})
     beam, lengths = _beam(c)
     measured = _measured(c, beam)
     r = c["risk"]
@@ -330,11 +339,19 @@ def _run_subset(c, beam, lengths, out, *, overwrite):
 
 
 def _confirmed(d) -> str:
-    """The BEM re-check of an Eq. 16 point's failure states, when it has one."""
+    """The BEM re-check of an Eq. 16 point's failure states, when it has one: the confirmed
+    fraction with its Wilson interval, the median ratio said to have none (only it is kept)."""
     if "failure_bem_ratio" not in d or not np.isfinite(float(d.failure_bem_ratio)):
         return ""
     f, r = float(d.failures_confirmed_by_bem), float(d.failure_bem_ratio)
-    return f", BEM: {f:.0%} of its failure states confirmed, median BEM/Eq. 16 {r:.2f}" + (
+    n = int(d["failures_checked_by_bem"]) if "failures_checked_by_bem" in d else 0
+    if n > 0:
+        k = int(round(f * n))
+        lo, hi = (float(v) for v in rs.binomial_interval(k, n, confidence=0.95))
+        head = f", BEM: {k} of {n} failure states confirmed (95 % Wilson [{lo:.0%}, {hi:.0%}])"
+    else:
+        head = f", BEM: {f:.0%} of its failure states confirmed (number checked unknown: no interval)"
+    return head + f", median BEM/Eq. 16 {r:.2f} (no interval: only the median is kept)" + (
         " (Eq. 16 artefacts: use contact_model = 'fft_bem')" if r < ARTEFACT_RATIO else "")
 
 

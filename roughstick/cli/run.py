@@ -4,12 +4,15 @@ Writes, into the config's output folder: ``ensemble/`` (one CF NetCDF file per b
 ``manifest.json``; an interrupted run resumes from it), ``band.nc`` (median, 95 % band, each band
 edge's own confidence interval, the run's parameters and, for ``n = "auto"``, whether it
 converged), and unless ``figures = false`` ``curves.png``, ``energy_band.png``,
-``energy_ecdf.png``. Every file appears under its final name only once complete.
+``energy_ecdf.png``. Every file appears under its final name only once complete. The scheduler
+and the output folder are checked, and the folder claimed for this run, before any work.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import pathlib
+import re
 import time
 import warnings
 
@@ -17,14 +20,13 @@ import numpy as np
 
 import roughstick as rs
 
-from ..io.netcdf import remove_partial_files
 from ..plotting.ensemble import (
     plot_energy_band,
     plot_energy_distribution,
     plot_ensemble_curves,
 )
 from ..plotting.save import save_figure
-from ._common import LOG
+from ._common import LOG, check_scheduler, claim_folder, finish_folder
 from ._config import load_config
 
 
@@ -47,9 +49,25 @@ def register(sub):
     p.set_defaults(func=_run)
 
 
-def run_config(cfg, *, figures=True, log=LOG.info):
-    """Run a parsed :class:`roughstick.cli._config.RunConfig`; return the written paths."""
+#: RunConfig fields that do not change the results (where and how they are computed).
+_NOT_PARAMS = ("path", "folder", "overwrite", "scheduler", "connect_timeout", "progress", "figures")
+
+
+def run_params(cfg) -> dict:
+    """The parameters of a run that decide its results, as the output folder's marker records them."""
+    return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg) if f.name not in _NOT_PARAMS}
+
+
+def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] scheduler"):
+    """Run a parsed :class:`roughstick.cli._config.RunConfig`; return the written paths.
+
+    The output folder is claimed (:func:`roughstick.cli._common.claim_folder`) before any work,
+    and marked complete once every file is written."""
     t0 = time.perf_counter()
+    # before any work: a bad scheduler, or an output folder that is a file, read-only or holds
+    # another run's complete results, is said now, not after minutes of computing
+    check_scheduler(cfg.scheduler, where=scheduler_from)
+    claim_folder(cfg.folder, command="run", params=run_params(cfg), overwrite=cfg.overwrite, keep=[cfg.path])
     psd = cfg.psd_da if hasattr(cfg, "psd_da") else cfg.build_psd()
     shape = rs.surface_shape(shape=cfg.shape, size=cfg.size, spacing=cfg.spacing)
     said = _warn_if_extrapolated(psd, shape, cfg.spacing, source=cfg.psd["source"])
@@ -57,11 +75,6 @@ def run_config(cfg, *, figures=True, log=LOG.info):
     dist = rs.ensemble_distance_grid(psd, shape=shape, n=n_grid, relative_humidity=cfg.relative_humidity,
                                      adsorbed_layer=cfg.adsorbed_layer, num=cfg.distance_points,
                                      lower=cfg.distance_lower)
-    if cfg.folder.exists() and not cfg.folder.is_dir():
-        raise FileExistsError(f"output {str(cfg.folder)!r} exists and is not a folder; choose "
-                              "another with --out (or [output] folder).")
-    cfg.folder.mkdir(parents=True, exist_ok=True)
-    remove_partial_files(cfg.folder)  # band.nc / PNG left half-written by a killed run
     ens_dir = cfg.folder / "ensemble"
     log(f"{cfg.title}: n={cfg.n}, shape={shape}, spacing={cfg.spacing * 1e9:g} nm, "
         f"RH={cfg.relative_humidity}, output {ens_dir}")
@@ -97,14 +110,33 @@ def run_config(cfg, *, figures=True, log=LOG.info):
         ax.set_title(cfg.title)
         written.append(save_figure(ax.figure, cfg.folder / "energy_ecdf.png"))
     log("apparent adhesive energy Γ:")
-    for line in rs.band_summary(band):
+    for line in with_median_interval(band, rs.band_summary(band)):
         log("  " + line)
     if cfg.n == "auto":
         state = "converged" if band.attrs.get("auto_converged") else (
             "NOT converged: stopped at n_max; raise [ensemble] n_max or tolerance")
         log(f"n = 'auto': {state} (n = {ds.sizes['realization']})")
+    finish_folder(cfg.folder)
     log(f"done in {time.perf_counter() - t0:.1f} s; n = {ds.sizes['realization']}")
     return written
+
+
+def with_median_interval(band, lines, variable="adhesive_energy", *, scale=1e3):
+    """:func:`roughstick.band_summary` lines with the median's own confidence interval (or that
+    n is too small to bound it) after the median, which they print bare."""
+    conf = float(band.attrs.get("confidence", 0.95))
+    med = band.sel(quantile=0.5, method="nearest")
+    if abs(float(med["quantile"]) - 0.5) > 1e-9 or f"{variable}_ci_lower" not in band:
+        return lines
+    lo = np.atleast_1d(med[f"{variable}_ci_lower"].values) * scale
+    hi = np.atleast_1d(med[f"{variable}_ci_upper"].values) * scale
+    need = rs.min_samples_to_bound(0.5, confidence=conf)
+    out = []
+    for line, a, b in zip(lines, lo, hi, strict=True):
+        ci = (f" ({conf:.0%} CI of the median [{a:.4g}, {b:.4g}])" if np.isfinite(a) and np.isfinite(b)
+              else f" (n too small to bound the median: needs n >= {need})")
+        out.append(re.sub(r"(median \S+ \S+?),", lambda m, ci=ci: m.group(1) + ci + ",", line, count=1))
+    return out
 
 
 def _warn_if_extrapolated(psd, shape, spacing: float, *, source: str) -> bool:
@@ -129,7 +161,8 @@ def _run(args):
     if args.out is not None:
         overrides["folder"] = str(pathlib.Path(args.out).resolve())
     cfg = load_config(args.config, overrides=overrides)
-    files = run_config(cfg, figures=not args.no_figures)
+    files = run_config(cfg, figures=not args.no_figures,
+                       scheduler_from="--scheduler" if args.scheduler is not None else "[run] scheduler")
     for f in files:
         LOG.info(f"    {f}")
     return 0

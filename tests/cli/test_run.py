@@ -10,6 +10,7 @@ import pytest
 
 import roughstick as rs
 from roughstick.cli import main
+from roughstick.cli._common import MARKER
 from roughstick.cli._config import load_config, parse_quantity
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -93,7 +94,8 @@ def test_run_end_to_end_resume_and_refuse(tmp_path, capsys):
     assert main(["run", str(cfg)]) == 0
     out = tmp_path / "out"
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["band.nc", "curves.png", "energy_band.png", "energy_ecdf.png", "ensemble"]
+    assert names == [MARKER, "band.nc", "curves.png", "energy_band.png", "energy_ecdf.png", "ensemble"]
+    assert json.loads((out / MARKER).read_text())["status"] == "complete"
     m = json.loads((out / "ensemble" / "manifest.json").read_text())
     assert m["complete"] and m["n"] == 4 and len(m["completed"]) == 2
     band = rs.open_dataset(out / "band.nc")
