@@ -35,7 +35,7 @@ from ..io.netcdf import remove_partial_files, write_text_atomic
 
 __all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
            "user_message", "MARKER", "small_p_problems", "canonical_params", "check_scheduler",
-           "check_output_file"]
+           "check_output_file", "NETCDF_SUFFIXES"]
 
 LOG = logging.getLogger("roughstick")
 
@@ -165,7 +165,11 @@ def check_scheduler(value, *, where: str) -> None:
                      "or the address of a running dask scheduler, tcp://host:port.")
 
 
-def check_output_file(path, *, flag: str = "--out", suffixes=(".nc",), overwrite: bool = False) -> pathlib.Path:
+#: Names a NetCDF output file may have.
+NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf")
+
+
+def check_output_file(path, *, flag: str = "--out", suffixes=NETCDF_SUFFIXES, overwrite: bool = False) -> pathlib.Path:
     """Refuse, before any work, an output file that would be written wrong or not at all: another
     extension than ``suffixes`` (a NetCDF file named ``.png``), a folder, an existing file without
     ``overwrite``, or a place that cannot be written. Creates the missing parent folders; every
@@ -175,8 +179,10 @@ def check_output_file(path, *, flag: str = "--out", suffixes=(".nc",), overwrite
         raise FileExistsError(f"{flag} {str(path)!r} is a folder; give a file name, e.g. "
                               f"{str(path / ('result' + suffixes[0]))!r}.")
     if path.suffix.lower() not in suffixes:
-        raise ValueError(f"{flag} {str(path)!r}: this file is written as {' or '.join(suffixes)}; name it so, "
-                         f"e.g. {flag} {str(path.with_suffix(suffixes[0]))!r}.")
+        stem = path.with_suffix(suffixes[0]) if path.suffix else path.with_name(path.name + suffixes[0])
+        kind = "a NetCDF file" if suffixes == NETCDF_SUFFIXES else f"written as {' or '.join(suffixes)}"
+        raise ValueError(f"{flag} {str(path)!r}: the output is {kind}; give it the {suffixes[0]} extension, "
+                         f"e.g. {flag} {stem}")
     if path.exists() and not overwrite:
         raise FileExistsError(f"{flag} {str(path)!r} exists; pass --overwrite to replace it or choose another name.")
     try:

@@ -3,8 +3,7 @@
 * :func:`relative_humidity_arg` (``--rh``): a fraction (``0.6``) or a percentage (``"60 %"``);
   ``--rh 60`` is refused with "did you mean 0.6 or '60 %'?";
 * :func:`pixel_size_arg` (``--spacing``): a length with its unit, plausible for an AFM pixel;
-* :func:`check_netcdf_out` (``--out`` of ``psd`` and ``curves``): a NetCDF file name, checked
-  before any work; :func:`flag_value` applies a type here inside a command (``--qmax``), its
+* :func:`flag_value` applies a type here inside a command (``--qmax``), its
   error one line naming the flag (exit status 1);
 * :func:`read_map`: before reading a map, the flags its format needs (:func:`check_map_flags`);
   after reading, heights plausible in the ``--units`` given.
@@ -29,10 +28,9 @@ from .._core.validate import PLAUSIBLE_SPACING
 from ._common import length_with_unit
 
 __all__ = ["relative_humidity_arg", "pixel_size_arg", "wavevector_arg", "positive_float_arg",
-           "check_netcdf_out", "flag_value", "check_map_flags", "read_map", "NETCDF_SUFFIXES"]
+           "flag_value", "check_map_flags", "read_map"]
 
 #: File name endings of NetCDF output (what :func:`roughstick.io.netcdf.write` writes).
-NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf")
 
 #: Heights spanning more than this [m] are not an AFM map (read_afm warns above it too).
 _PLAUSIBLE_SPAN = 1e-3
@@ -112,16 +110,6 @@ def positive_float_arg(text: str) -> float:
     if not (math.isfinite(v) and v > 0):
         raise argparse.ArgumentTypeError(f"{text!r}: expected a positive number, e.g. 0.1")
     return v
-
-
-def check_netcdf_out(text: str) -> None:
-    """``--out`` of ``psd`` and ``curves``: a file name ending in .nc, checked before anything is
-    computed (the file holds NetCDF whatever its name)."""
-    p = pathlib.Path(text)
-    if p.suffix.lower() not in NETCDF_SUFFIXES:
-        stem = p.with_suffix(".nc") if p.suffix else p.with_name(p.name + ".nc")
-        raise ValueError(f"--out {text!r}: the output is a NetCDF file; give it the .nc extension, "
-                         f"e.g. --out {stem}")
 
 
 def flag_value(flag: str, convert, text):

@@ -12,9 +12,8 @@ import numpy as np
 import roughstick as rs
 
 from ..io import netcdf
-from ._common import positive_int
+from ._common import check_output_file, positive_int
 from ._types import (
-    check_netcdf_out,
     pixel_size_arg,
     positive_float_arg,
     read_map,
@@ -91,13 +90,7 @@ def _flags_only(message: str) -> str:
 
 def _run(args):
     out = pathlib.Path(args.out)
-    if out.is_dir():
-        raise FileExistsError(f"--out {str(out)!r} is a folder; give a file name, e.g. "
-                              f"{str(out / 'curves.nc')!r}.")
-    check_netcdf_out(args.out)
-    if out.exists() and not args.overwrite:
-        raise FileExistsError(f"{str(out)!r} exists; pass --overwrite to replace it or choose "
-                              "another --out.")
+    check_output_file(out, overwrite=args.overwrite)
     h = read_map(args.map, spacing=args.spacing, units=args.units)
     n_distance = args.n_distance
     if n_distance is None and args.model in ("modified_dmt", "gw"):

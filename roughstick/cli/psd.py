@@ -11,10 +11,9 @@ from scipy.special import stdtrit
 import roughstick as rs
 
 from ..io import netcdf
-from ._common import LOG, positive_int
+from ._common import LOG, check_output_file, positive_int
 from ._types import (
     check_map_flags,
-    check_netcdf_out,
     flag_value,
     pixel_size_arg,
     read_map,
@@ -62,11 +61,7 @@ def register(sub):
 
 def _run(args):
     out = pathlib.Path(args.out)
-    if out.is_dir():
-        raise FileExistsError(f"--out {str(out)!r} is a folder; give a file name, e.g. {str(out / 'psd.nc')!r}.")
-    check_netcdf_out(args.out)
-    if out.exists() and not args.overwrite:
-        raise FileExistsError(f"{str(out)!r} exists; pass --overwrite to replace it or choose another --out.")
+    check_output_file(out, overwrite=args.overwrite)
     qmax = None if args.qmax is None else flag_value("--qmax", wavevector_arg, args.qmax)  # rad/m
     for path in args.maps:  # every map's flags before any is read
         check_map_flags(path, spacing=args.spacing, units=args.units)

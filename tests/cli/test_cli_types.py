@@ -11,7 +11,8 @@ import xarray as xr
 
 import roughstick as rs
 from roughstick.cli import main
-from roughstick.cli._types import check_netcdf_out, pixel_size_arg, relative_humidity_arg
+from roughstick.cli._common import check_output_file
+from roughstick.cli._types import pixel_size_arg, relative_humidity_arg
 
 
 def _err(capsys, argv, code):
@@ -100,8 +101,8 @@ def test_output_extension_is_checked_before_computing(command, capsys, tmp_path)
     assert f"error: --out '{tmp_path / 'foo.txt'}': the output is a NetCDF file; give it the .nc " \
            f"extension, e.g. --out {tmp_path / 'foo.nc'}" in msg
     assert not (tmp_path / "foo.txt").exists()
-    check_netcdf_out("a/b.NC")  # accepted
-    check_netcdf_out("x.nc4")
+    check_output_file(tmp_path / "b.NC")  # accepted
+    check_output_file(tmp_path / "x.nc4")
 
 
 def test_pixel_size_keeps_plausible_lengths():

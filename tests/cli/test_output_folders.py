@@ -279,7 +279,7 @@ def test_check_output_file_refuses_before_any_work(tmp_path):
     under any name, c.png included, and named no flag when the folder could not be made)."""
     from roughstick.cli._common import check_output_file, user_message
 
-    with pytest.raises(ValueError, match=r"--out .*c\.png.*written as \.nc.*c\.nc"):
+    with pytest.raises(ValueError, match=r"--out .*c\.png.*NetCDF file; give it the \.nc extension.*c\.nc"):
         check_output_file(tmp_path / "c.png")
     (tmp_path / "old.nc").write_text("x")
     with pytest.raises(FileExistsError, match="--overwrite"):
