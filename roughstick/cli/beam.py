@@ -32,7 +32,7 @@ __all__ = ["register"]
 def register(sub):
     p = sub.add_parser("beam", help="beam-scale stochastic stiction: crack length and P(stuck) "
                        "from random patch laws (paper §5); NetCDF", description=__doc__)
-    p.add_argument("config", help="TOML configuration (see examples/beam.toml)")
+    p.add_argument("config", help="TOML configuration (`roughstick examples --out examples` writes examples/beam.toml)")
     p.add_argument("--out", default=None,
                    help="output folder (default: [output] folder, else ./beam-output)")
     p.add_argument("--overwrite", action="store_true",

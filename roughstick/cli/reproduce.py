@@ -20,7 +20,7 @@ import roughstick as rs
 
 from ..paper import ensemble as figures
 from ..plotting.save import save_figure
-from ._common import LOG, claim_folder, finish_folder, positive_int, run_status
+from ._common import LOG, check_scheduler, claim_folder, finish_folder, positive_int, run_status
 
 RH = {"S1": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9], "S2": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]}
 SCALES = {
@@ -120,6 +120,7 @@ def _save(fig, path):
 
 def _run(args):
     t0 = time.perf_counter()
+    check_scheduler(args.scheduler, where="--scheduler")  # before any work
     unfinished = run_status(args.out) == "running"  # a failed earlier run never blocks this one
     claim_folder(args.out, command="reproduce", params={"quick": args.quick, "n": args.n},
                  overwrite=args.overwrite)

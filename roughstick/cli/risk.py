@@ -32,7 +32,7 @@ def register(sub):
         help="stiction probability of cantilevers vs RH and beam length (paper §5); NetCDF + plots",
         description=__doc__,
     )
-    p.add_argument("config", help="TOML configuration (see examples/risk.toml, docs/configuration.md)")
+    p.add_argument("config", help="TOML configuration (docs/configuration.md; `roughstick examples --out examples` writes examples/risk.toml)")
     p.add_argument("--out", default=None, help="output folder (default: [output] folder, else ./risk-output)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace the results of a run with other parameters in the output folder")

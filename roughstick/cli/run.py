@@ -38,7 +38,7 @@ def register(sub):
                     "adsorbed layer, output folder, scheduler; see docs/configuration.md). Re-running "
                     "the same command resumes an interrupted run.",
     )
-    p.add_argument("config", help="TOML file (see docs/configuration.md and examples/*.toml)")
+    p.add_argument("config", help="TOML file (docs/configuration.md; `roughstick examples --out examples` writes the shipped ones, e.g. examples/ensemble_S1_samples.toml)")
     p.add_argument("--scheduler", default=None,
                    help="dask scheduler: 'threads' (default), 'sync', or a distributed address tcp://host:port")
     p.add_argument("--n", default=None, help="override [ensemble] n (an integer >= 1 or 'auto')")

@@ -330,3 +330,9 @@ def test_nested_result_folders_are_the_run_s_and_replaced_with_it(tmp_path):
     (out / "mine" / "plot.png").write_text("x")
     claim_folder(out, command="risk", params={"seed": 2}, overwrite=True)
     assert sorted(p.name for p in out.iterdir()) == [MARKER, "mine"]
+
+
+def test_reproduce_scheduler_is_checked_before_any_work(tmp_path, capsys):
+    assert main(["reproduce", "--quick", "--out", str(tmp_path / "rep"), "--scheduler", "thread"]) == 1
+    assert "--scheduler 'thread': not a dask scheduler" in capsys.readouterr().err
+    assert not (tmp_path / "rep").exists()
