@@ -18,6 +18,7 @@ import dask
 import numpy as np
 import xarray as xr
 
+from .._core.conventions import append_history, dataset_attrs
 from ..contact import (
     ValidityWarning,
     adhesion_summary,
@@ -199,7 +200,14 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(".tmp")
-        out.to_netcdf(tmp)
+        # a cache file read on its own says what it is (global CF attributes and history)
+        file = out.to_dataset().assign_attrs(dataset_attrs(
+            "roughstick patch bank: adhesive energies of random surface patches (Eq. 13)",
+            patch_shape=list(shape), spacing_m=float(spacing), n_law=int(n_law), seed=int(seed),
+            contact_model=model, cache_key=key))
+        append_history(file, f"patch_bank(n_law={int(n_law)}, shape={list(shape)}, spacing={float(spacing)!r}, "
+                             f"relative_humidity={[float(r) for r in rh]}, seed={int(seed)}, model={model!r})")
+        file.to_netcdf(tmp)
         tmp.replace(path)
         if parts_dir.exists():
             for f in parts_dir.glob("laws_*.npy"):

@@ -4,6 +4,7 @@ import warnings
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import roughstick as rs
 from roughstick.stiction.patch_bank import build_patch_bank
@@ -27,6 +28,10 @@ def test_bank_cached_and_reused(tmp_path):
     assert first.attrs["from_cache"] == 0 and again.attrs["from_cache"] == 1
     np.testing.assert_array_equal(first.values, again.values)
     assert other.attrs["cache_file"] != first.attrs["cache_file"]
+    on_disk = xr.open_dataset(first.attrs["cache_file"])  # the cache file says what it is
+    assert on_disk.attrs["Conventions"].startswith("CF") and "patch_bank(n_law=2" in on_disk.attrs["history"]
+    assert on_disk.attrs["seed"] == 4 and list(on_disk.attrs["patch_shape"]) == [16, 16]
+    on_disk.close()
     assert bool((first.isel(rh=1) > first.isel(rh=0)).all())  # capillary adhesion rises with RH
     ds = rs.simulate_beams(first, beam_length=1500e-6, n_realization=5)
     assert ds.crack_length.dims == ("realization", "rh", "beam_length")
