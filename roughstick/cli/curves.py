@@ -11,9 +11,11 @@ import numpy as np
 
 import roughstick as rs
 
+from .._core.units import parse_quantity
 from ..io import netcdf
-from ._common import check_output_file, positive_int
+from ._common import check_output_file, length_with_unit, positive_int
 from ._types import (
+    flag_value,
     pixel_size_arg,
     positive_float_arg,
     read_map,
@@ -53,8 +55,9 @@ def register(sub):
                    help="points of the automatic grid, at least (default: 200 for modified_dmt and "
                    "gw, 40 for bem, about 50 adaptive points for fft_bem, the chosen model's "
                    "own for auto)")
-    p.add_argument("--distance", type=float, nargs=3, metavar=("LOW", "HIGH", "N"), default=None,
-                   help="explicit uniform grid: low and high distance [m] and the number of points")
+    p.add_argument("--distance", nargs=3, metavar=("LOW", "HIGH", "N"), default=None,
+                   help="explicit uniform grid: low and high distance with their unit and the number "
+                        "of points, e.g. --distance '1 nm' '20 nm' 400")
     p.add_argument("--adsorbed-layer", default="paper", choices=["paper", "none"])
     p.add_argument("--connectivity", type=int, default=4, choices=[4, 8])
     p.add_argument("--periodic", default=None, choices=["yes", "no"],
@@ -88,17 +91,31 @@ def _flags_only(message: str) -> str:
             f"cheapest model measured within the tolerance{here}." + message[m.end():])
 
 
+def _distance_grid(low: str, high: str, n: str) -> np.ndarray:
+    """``--distance LOW HIGH N``: lengths with their unit, LOW < HIGH, N >= 2 points."""
+    lo, hi = (parse_quantity(flag_value("--distance", length_with_unit, t), "length", name="--distance")
+              for t in (low, high))
+    try:
+        count = int(n)
+    except ValueError:
+        count = 0
+    if count < 2:
+        raise ValueError(f"--distance {low!r} {high!r} {n!r}: N must be a whole number of points >= 2, "
+                         "e.g. --distance '1 nm' '20 nm' 400.")
+    if not lo < hi:
+        raise ValueError(f"--distance {low!r} {high!r} {n!r}: LOW must be below HIGH, e.g. "
+                         "--distance '1 nm' '20 nm' 400.")
+    return np.linspace(lo, hi, count)
+
+
 def _run(args):
     out = pathlib.Path(args.out)
     check_output_file(out, overwrite=args.overwrite)
+    distance = None if args.distance is None else _distance_grid(*args.distance)  # before any work
     h = read_map(args.map, spacing=args.spacing, units=args.units)
     n_distance = args.n_distance
     if n_distance is None and args.model in ("modified_dmt", "gw"):
         n_distance = 200  # auto: the chosen model's own default, as from Python
-    distance = None
-    if args.distance is not None:
-        lo, hi, n = args.distance
-        distance = np.linspace(lo, hi, int(n))
     periodic = None if args.periodic is None else args.periodic == "yes"
     kw = {}
     if args.model in ("modified_dmt", "gw", "auto"):

@@ -93,3 +93,28 @@ def test_curves_reads_a_bundled_map_by_name(tmp_path, capsys):
     assert main(["curves", "bundled:S1", "--rh", "0.5", "--out", str(out), "--overwrite"]) == 1
     err = capsys.readouterr().err
     assert "unknown bundled map 'bundled:S1'" in err and "bundled:S1A" in err
+
+
+@pytest.mark.parametrize("grid, says", [
+    (["1", "20", "50"], "--distance '1' has no unit"),
+    (["20 nm", "1 nm", "50"], "LOW must be below HIGH"),
+    (["1 nm", "20 nm", "one"], "N must be a whole number of points >= 2"),
+])
+def test_distance_grid_is_checked_before_reading_the_map(tmp_path, capsys, grid, says):
+    """--distance took bare metres (1 20 50 meant nm made a grid of metres) and any order."""
+    from roughstick.cli import main
+
+    code = main(["curves", str(tmp_path / "absent.npy"), "--rh", "0.5", "--distance", *grid,
+                 "--out", str(tmp_path / "c.nc")])
+    assert code == 1
+    assert says in capsys.readouterr().err
+
+
+def test_distance_grid_with_units_is_used(tmp_path):
+    from roughstick.cli import main
+
+    rs.datasets.surface_family("S1", shape=(32, 32), seed=1).to_netcdf(tmp_path / "m.nc")
+    assert main(["curves", str(tmp_path / "m.nc"), "--rh", "0.5", "--distance", "2 nm", "30 nm", "60",
+                 "--out", str(tmp_path / "c.nc"), "-q"]) == 0
+    d = xr.open_dataset(tmp_path / "c.nc").distance
+    assert d.size == 60 and np.isclose(float(d.min()), 2e-9) and np.isclose(float(d.max()), 30e-9)
