@@ -9,7 +9,9 @@
 - grids: :func:`grid_spacing` (uniform ascending pixel-centre coordinates of a map),
   :func:`check_plausible_height` (pixel size and rms height plausible in m) and
   :func:`distance_array` (a distance grid);
-- dask: :func:`check_core_not_chunked` (core dimensions must be single chunks).
+- dask: :func:`check_core_not_chunked` (core dimensions must be single chunks);
+- :class:`ValidityWarning`, the warning of a model used outside its validity (declared here so
+  that the models and :mod:`roughstick.contact.validity` share it).
 
 Every error names the problem and the fix (DESIGN.md §6).
 """
@@ -36,7 +38,13 @@ __all__ = [
     "check_plausible_height",
     "distance_array",
     "check_core_not_chunked",
+    "ValidityWarning",
 ]
+
+
+class ValidityWarning(UserWarning):
+    """A model is used where its measured error (upper bound) exceeds the accepted tolerance, or
+    outside the assumptions it is built on."""
 
 
 # ------------------------------------------------------------------------------- positivity

@@ -18,15 +18,18 @@ that chooses between this model, Greenwood-Williamson and the BEM is
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import xarray as xr
 
 from .._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
-from .._core.materials import POLYSILICON, hertz_modulus
+from .._core.materials import POLYSILICON, hertz_modulus, reduced_modulus
 from .._core.references import PAPER, cite
 from .._core.units import require
 from .._core.validate import (
+    ValidityWarning,
     check_core_not_chunked,
     distance_array,
     grid_spacing,
@@ -280,6 +283,56 @@ def _map_values(height):
     return np.asarray(height.transpose("y", "x").values, dtype=float)  # eager, checked
 
 
+def _warn_if_not_hard(ds, height, e_star):
+    """Warn where the modified DMT's own equilibrium says its assumption (i) fails.
+
+    Eq. 16 sums Hertz forces of hard, independent asperities. When the capillary tension pulls
+    the flat past the mean plane of the roughness (the equilibrium distance d_eq < 0, or still
+    attractive at some d <= 0 with no equilibrium above), most of the map would be flattened:
+    the body is too soft for the model. Measured on a 64² S1 map (docs/rough_contact.md): there
+    Γ exceeded the FFT boundary-element model's by 1.7× to 10^5× (E* 0.55-5.5 GPa); on
+    poly-silicon the five families keep d_eq > 0 at every humidity.
+    """
+    p = np.asarray(ds["pressure"].transpose(..., "distance").values, dtype=float)
+    d = np.asarray(ds["distance"].values, dtype=float)
+    if d.size < 2:
+        return
+    wet = np.asarray(ds["wet_fraction"].transpose(..., "distance").values, dtype=float)
+    deq = np.atleast_1d(adhesion_summary_kernel(p, wet, d)[2])
+    p0 = p[..., 0]
+    bad = (deq < 0) | (np.isnan(deq) & (d[0] <= 0) & (p0 < 0))
+    if not np.any(bad):
+        return
+    where = np.unravel_index(int(np.argmax(bad.ravel())), bad.shape) if bad.ndim else ()
+    rh = np.atleast_1d(ds["rh"].values)
+    r = float(rh[where[-1]] if "rh" in ds.dims else rh[0])
+    dp = float(np.abs(np.atleast_1d(ds["laplace_pressure"].values)[where[-1] if "rh" in ds.dims else 0]))
+    z = np.asarray(height.transpose(..., "y", "x").values, dtype=float).reshape(-1, *height.shape[-2:])
+    z = z[0] if z.shape[0] == 1 else z[np.ravel_multi_index(where[:-1], bad.shape[:-1]) if bad.ndim > 1 else 0]
+    step = (_spacing(height, "y"), _spacing(height, "x"))
+    with np.errstate(invalid="ignore"):
+        slope = float(np.sqrt(np.nanmean((np.diff(z, axis=0) / step[0]) ** 2)
+                              + np.nanmean((np.diff(z, axis=1) / step[1]) ** 2)))
+    ratio = dp / (e_star * slope)
+    value = float(np.ravel(deq)[int(np.argmax(bad.ravel()))])
+    where_text = (f"the equilibrium distance d_eq = {value * 1e9:.3g} nm is below the limit 0 "
+                  "(the mean plane of the roughness)" if np.isfinite(value) else
+                  f"there is no equilibrium: the pressure is still attractive at d = "
+                  f"{d[0] * 1e9:.3g} nm, below the limit 0 (the mean plane of the roughness)")
+    warnings.warn(
+        f"modified_dmt: these curves are not physical at RH {r:.2f}: {where_text}. Eq. 16 sums "
+        "Hertz forces of hard, independent asperities (its assumption i), but the capillary "
+        f"tension |ΔP| = {dp / 1e6:.3g} MPa is {ratio:.3g} × E*·rms slope (E* = "
+        f"{e_star / 1e9:.3g} GPa; pressure ratio |ΔP|/(E*·slope) = {ratio:.3g}, poly-silicon on the "
+        "paper's surfaces <= 0.06) and pulls the flat into the roughness: the body is too soft "
+        "for the model, whose Γ and pull-off then exceed the boundary-element model's by 1.7× "
+        "to 10^5× (measured). Remedy: rough_contact_curves(height, ..., model='fft_bem') (or "
+        "model='auto'); on the command line: roughstick curves MAP --model fft_bem.",
+        ValidityWarning,
+        stacklevel=3,
+    )
+
+
 # --------------------------------------------------------------------------------------------
 # public entry point
 
@@ -450,4 +503,6 @@ def modified_dmt_curves(
         f"modified_dmt_curves(n_distance={d.size}, connectivity={connectivity}, "
         f"periodic={int(per)}); {_MISSING_NOTE}",
     )
+    if not is_lazy(ds["pressure"]):
+        _warn_if_not_hard(ds, height, reduced_modulus(material, material2))
     return ds

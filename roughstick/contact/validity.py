@@ -40,7 +40,7 @@ import xarray as xr
 
 from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.units import require
-from .._core.validate import grid_spacing
+from .._core.validate import ValidityWarning, grid_spacing
 from ..datasets import validity_map_path
 from ..surface.generate import surface_filter
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
@@ -69,10 +69,6 @@ GROUP_FEATURES = ("pressure_ratio", "maugis_lambda", "hw_over_sigma")
 #: largest of 19 exceeds a 20th with probability 19/20 (a one-sided 95 % prediction bound).
 N_NEIGHBOURS = 19
 _QUANTITIES = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
-
-
-class ValidityWarning(UserWarning):
-    """A model is used where its measured error (upper bound) exceeds the accepted tolerance."""
 
 
 class ErrorBound(NamedTuple):

@@ -1,0 +1,50 @@
+"""The modified DMT (Eq. 16) says when its hard-body assumption fails (soft materials), checked
+against the FFT boundary-element model on the same map."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import roughstick as rs
+
+RH = [0.5, 0.7]
+
+
+@pytest.fixture(scope="module")
+def s1():
+    return rs.datasets.surface_family("S1", shape=(64, 64), seed=1)
+
+
+def _gamma(curves):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.CurveGridWarning)  # no equilibrium: Γ a lower bound
+        return rs.adhesion_summary(curves).adhesive_energy.values
+
+
+def test_soft_material_warns_where_it_disagrees_with_fft_bem(s1):
+    soft = rs.Material(youngs_modulus=2e9, poisson_ratio=0.3, name="soft polymer")  # E* 1.1 GPa
+    with pytest.warns(rs.ValidityWarning) as rec:
+        c = rs.modified_dmt_curves(s1, relative_humidity=RH, material=soft)
+    msg = " ".join(str(w.message) for w in rec)
+    # names the quantity, its value and limit, that the result is not physical, and the remedy
+    assert "not physical" in msg and "limit 0" in msg and "no equilibrium" in msg, msg
+    assert "pressure ratio" in msg and "model='fft_bem'" in msg and "model='auto'" in msg, msg
+    ref = rs.fft_bem_contact_curves(s1, relative_humidity=RH, material=soft, max_iterations=3000)
+    # measured: 22× and 4.1× (Γ 0.39 vs 0.024 J/m² at RH 0.5, 0.35 vs 0.086 at RH 0.7)
+    assert np.all(_gamma(c) > 3 * _gamma(ref)), (_gamma(c), _gamma(ref))
+
+
+def test_polysilicon_does_not_warn_and_agrees_with_fft_bem(s1):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.ValidityWarning)
+        c = rs.modified_dmt_curves(s1, relative_humidity=RH)
+    ref = rs.fft_bem_contact_curves(s1, relative_humidity=RH)
+    # measured: 1.05 and 1.03
+    np.testing.assert_allclose(_gamma(c), _gamma(ref), rtol=0.15)
+
+
+def test_auto_does_not_pick_the_modified_dmt_on_a_soft_material(s1):
+    soft = rs.Material(youngs_modulus=2e9, poisson_ratio=0.3)
+    model, _ = rs.select_model(s1, relative_humidity=RH, material=soft)
+    assert model in ("fft_bem", "bem")
