@@ -7,7 +7,8 @@
   :func:`relative_humidity_array` (a 1-D list of distinct humidities, e.g. of an ensemble) and
   :func:`relative_humidity_values` (best-effort values to look up, never computing dask data);
 - grids: :func:`grid_spacing` (uniform ascending pixel-centre coordinates of a map),
-  :func:`check_plausible_height` (pixel size and rms height plausible in m) and
+  :func:`check_plausible_height` (pixel size and rms height plausible in m),
+  :func:`check_has_roughness` (a map with at least 2 finite pixels and a non-zero rms) and
   :func:`distance_array` (a distance grid);
 - dask: :func:`check_core_not_chunked` (core dimensions must be single chunks);
 - :class:`ValidityWarning`, the warning of a model used outside its validity (declared here so
@@ -36,6 +37,7 @@ __all__ = [
     "relative_humidity_values",
     "grid_spacing",
     "check_plausible_height",
+    "check_has_roughness",
     "distance_array",
     "check_core_not_chunked",
     "ValidityWarning",
@@ -286,6 +288,37 @@ def check_plausible_height(h, dx: float, dy: float) -> None:
                 f"the rms height is {rms:.4g} m: implausible for a MEMS surface; the heights are "
                 "probably in nm or um labelled m. Set height.attrs['units'] = 'nm' (or 'um') "
                 "to what they are."
+            )
+
+
+def check_has_roughness(values, *, name: str = "height") -> None:
+    """Refuse an eager map ``(..., y, x)`` with no roughness to model: fewer than 2 finite pixels,
+    or flat (its finite heights spread by <= 1e-12 of their magnitude, rms 0), per map of a stack.
+
+    Lazy (dask) maps are not computed. The errors name the map of a stack, the problem and the fix.
+    """
+    if is_lazy(values):
+        return
+    z = np.asarray(getattr(values, "values", values), dtype=float)
+    if z.ndim < 2 or z.size == 0:
+        return
+    maps = z.reshape((-1,) + z.shape[-2:])
+    for k, m in enumerate(maps):
+        which = f"{name} (map {k} of the stack)" if maps.shape[0] > 1 else name
+        finite = m[np.isfinite(m)]
+        if finite.size < 2:
+            raise ValueError(
+                f"{which} has {'no finite pixel' if finite.size == 0 else 'only 1 finite pixel'} "
+                f"(of {m.size}; the rest NaN/inf): no roughness to model. Check the channel, or "
+                "crop the valid region (height.isel(x=..., y=...))."
+            )
+        spread = float(finite.max() - finite.min())
+        if spread <= 1e-12 * max(float(np.abs(finite).max()), np.finfo(float).tiny):
+            raise ValueError(
+                f"{which} is flat (constant (zero variance), rms 0 over its {finite.size} finite "
+                "pixels): no roughness to model, so moments, spectra and contact curves are "
+                "undefined. Check the channel (a height, not a phase or error channel) and the "
+                "units."
             )
 
 

@@ -30,7 +30,12 @@ from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
-from .._core.validate import check_core_not_chunked, grid_spacing, relative_humidity_coordinate
+from .._core.validate import (
+    check_core_not_chunked,
+    check_has_roughness,
+    grid_spacing,
+    relative_humidity_coordinate,
+)
 from .meniscus import laplace_pressure, water_height
 
 __all__ = ["bem_contact_curves", "periodic_offset_coefficient"]
@@ -192,6 +197,7 @@ def _bem_kernel_unlocked(
     tm = _import_tamaas()
     L = _LENGTH_UNIT
     z = np.asarray(z, dtype=float)
+    check_has_roughness(z)  # a flat or (almost) all-NaN map: nothing to model
     if not np.all(np.isfinite(z)):
         raise ValueError(
             "height contains NaN or inf; the boundary-element solver needs a complete map. "

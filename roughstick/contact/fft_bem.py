@@ -37,7 +37,7 @@ from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
-from .._core.validate import check_core_not_chunked
+from .._core.validate import check_core_not_chunked, check_has_roughness
 from . import _fft_bem_kernels as _k
 from .bem import _count_periodic_clusters, periodic_offset_coefficient
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
@@ -111,6 +111,7 @@ def _fft_bem_kernel(z, *, spacing, distances, sigma0s, h_waters, e_star, toleran
     ``on_curve()`` is called after each humidity's curve (progress)."""
     L = _LENGTH_UNIT
     z = np.asarray(z, dtype=float)
+    check_has_roughness(z)  # a flat or (almost) all-NaN map: nothing to model
     if not np.all(np.isfinite(z)):
         raise ValueError(
             "height contains NaN or inf; the boundary-element model needs a complete map. "

@@ -31,6 +31,7 @@ from .._core.units import require
 from .._core.validate import (
     ValidityWarning,
     check_core_not_chunked,
+    check_has_roughness,
     distance_array,
     grid_spacing,
     relative_humidity_coordinate,
@@ -310,10 +311,10 @@ def _warn_if_not_hard(ds, height, e_star):
     z = np.asarray(height.transpose(..., "y", "x").values, dtype=float).reshape(-1, *height.shape[-2:])
     z = z[0] if z.shape[0] == 1 else z[np.ravel_multi_index(where[:-1], bad.shape[:-1]) if bad.ndim > 1 else 0]
     step = (_spacing(height, "y"), _spacing(height, "x"))
-    with np.errstate(invalid="ignore"):
-        slope = float(np.sqrt(np.nanmean((np.diff(z, axis=0) / step[0]) ** 2)
-                              + np.nanmean((np.diff(z, axis=1) / step[1]) ** 2)))
-    ratio = dp / (e_star * slope)
+    gy, gx = (np.diff(z, axis=a).ravel() / step[a] for a in (0, 1))
+    gy, gx = gy[np.isfinite(gy)], gx[np.isfinite(gx)]
+    slope = float(np.sqrt((np.mean(gy**2) if gy.size else 0.0) + (np.mean(gx**2) if gx.size else 0.0)))
+    ratio = dp / (e_star * slope) if slope > 0 else np.inf
     value = float(np.ravel(deq)[int(np.argmax(bad.ravel()))])
     where_text = (f"the equilibrium distance d_eq = {value * 1e9:.3g} nm is below the limit 0 "
                   "(the mean plane of the roughness)" if np.isfinite(value) else
@@ -433,6 +434,7 @@ def modified_dmt_curves(
     height = require(height, "length", name="height")
     dx, dy = _spacing(height, "x"), _spacing(height, "y")
     check_core_not_chunked(height, ["y", "x"])
+    check_has_roughness(height)
     rh = relative_humidity_coordinate(relative_humidity)
     connectivity = _connectivity(connectivity)
     per = bool(height.attrs.get("periodic", 0)) if periodic is None else bool(periodic)

@@ -40,7 +40,7 @@ import xarray as xr
 
 from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.units import require
-from .._core.validate import ValidityWarning, grid_spacing
+from .._core.validate import ValidityWarning, check_has_roughness, grid_spacing
 from ..datasets import validity_map_path
 from ..surface.generate import surface_filter
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
@@ -172,6 +172,7 @@ def _maps(height):
         # a lazy stack: the groups of its first map stand for the stack (one map is computed)
         h = h.isel({d: [0] for d in lead}).compute()
     vals = np.asarray(h.values, dtype=float)
+    check_has_roughness(vals)  # the groups divide by the rms height and slope
     flat = vals.reshape((-1, *vals.shape[-2:]))
     return height, h, vals, flat, lead, dy, dx
 

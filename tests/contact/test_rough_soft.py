@@ -1,6 +1,7 @@
 """The modified DMT (Eq. 16) says when its hard-body assumption fails (soft materials), checked
 against the FFT boundary-element model on the same map."""
 
+import functools
 import warnings
 
 import numpy as np
@@ -48,3 +49,41 @@ def test_auto_does_not_pick_the_modified_dmt_on_a_soft_material(s1):
     soft = rs.Material(youngs_modulus=2e9, poisson_ratio=0.3)
     model, _ = rs.select_model(s1, relative_humidity=RH, material=soft)
     assert model in ("fft_bem", "bem")
+
+
+# ------------------------------------------------------------------ maps without roughness
+
+def _curves(h, model):
+    return rs.rough_contact_curves(h, relative_humidity=0.5, model=model)
+
+
+_ENTRY_POINTS = {
+    "power_spectrum": lambda h: rs.power_spectrum(h),
+    "roughness_moments": lambda h: rs.roughness_moments(h),
+    "surface_groups": lambda h: rs.surface_groups(h, relative_humidity=0.5),
+    "modified_dmt_curves": lambda h: rs.modified_dmt_curves(h, relative_humidity=0.5),
+    **{f"rough_contact_curves[{m}]": functools.partial(_curves, model=m)
+       for m in ("modified_dmt", "gw", "fft_bem", "auto")},
+}
+
+
+def _one_pixel():
+    z = np.full((32, 32), np.nan)
+    z[3, 4] = 1e-9
+    return z
+
+
+@pytest.mark.parametrize("entry", sorted(_ENTRY_POINTS))
+@pytest.mark.parametrize("values, match", [
+    (np.full((32, 32), 1e-9), r"is flat \(constant \(zero variance\), rms 0 over its 1024"),
+    (_one_pixel(), r"has only 1 finite pixel \(of 1024"),
+])
+def test_maps_without_roughness_are_refused_by_name(entry, values, match):
+    # before: numpy's "divide by zero" / "Mean of empty slice" RuntimeWarnings (or a
+    # ZeroDivisionError) and curves of nothing
+    h = rs.testing.make_topography(values, spacing=5e-9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no RuntimeWarning on the way to the error
+        with pytest.raises(ValueError, match=match) as err:
+            _ENTRY_POINTS[entry](h)
+    assert "no roughness to model" in str(err.value)
