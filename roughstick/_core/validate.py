@@ -37,6 +37,8 @@ __all__ = [
     "relative_humidity_values",
     "grid_spacing",
     "check_plausible_height",
+    "check_plausible_value",
+    "RIGID_MODULUS",
     "check_has_roughness",
     "distance_array",
     "check_core_not_chunked",
@@ -265,6 +267,55 @@ def grid_spacing(da: xr.DataArray, dim: str, *, min_pixels: int = 8,
 #: surface is almost surely in other units than its label says (nm read as m, pixel indices).
 PLAUSIBLE_SPACING = 1e-3
 PLAUSIBLE_RMS = 1e-3
+
+
+#: Plausible SI ranges (low, high, typical) of scalar inputs whose unit is easily slipped (GPa for Pa, µm for m).
+#: Generous: they catch a slip by a factor 1e3 or more, not an unusual design. Moduli and
+#: hardness from soft polymers (~1 MPa; down to 0.1 MPa) to diamond (~1.2 TPa).
+PLAUSIBLE_MODULUS = (1e5, 2e12, 1e10)
+#: A modulus at or above this stands for a rigid body (e.g. a rigid counter-face), not a slip.
+RIGID_MODULUS = 1e18
+#: Beam length [m]: 1 µm to 10 mm (MEMS cantilevers are ~10 µm-2 mm).
+PLAUSIBLE_BEAM_LENGTH = (1e-6, 1e-2, 3e-4)
+#: Other beam dimensions (width, thickness, gap, interaction length) [m]: 10 nm to 10 mm.
+PLAUSIBLE_BEAM_DIMENSION = (1e-8, 1e-2, 3e-6)
+_SLIPS = {"pressure": (("GPa", 1e9), ("MPa", 1e6), ("kPa", 1e3)),
+          "length": (("µm", 1e-6), ("mm", 1e-3), ("nm", 1e-9))}
+
+
+def check_plausible_value(value, *, name: str, kind: str, bounds, what: str) -> None:
+    """Refuse a positive scalar (or each value of a sequence) outside ``bounds`` = (low, high,
+    typical) in SI as a likely unit slip, naming the argument, the value, the unit it looks like
+    (the one that brings it nearest to ``typical``) and the fix.
+
+    ``kind`` is ``"pressure"`` (Pa) or ``"length"`` (m); ``what`` says what the value is for
+    (e.g. "a solid", "a MEMS beam"). Non-finite or non-positive values are left to the
+    positivity checks; a Young's modulus >= ``RIGID_MODULUS`` is a rigid body and passes.
+    """
+    low, high, typical = bounds
+    si = {"pressure": "Pa", "length": "m"}[kind]
+    rigid = kind == "pressure" and name.endswith("youngs_modulus")
+    for v in np.atleast_1d(np.asarray(value, dtype=float)).ravel():
+        if not (np.isfinite(v) and v > 0) or low <= v <= high or (rigid and v >= RIGID_MODULUS):
+            continue
+        fits = [(abs(np.log10(v * f / typical)), unit, f) for unit, f in _SLIPS[kind]
+                if low <= v * f <= high]
+        slip = f"; give it in {si}"
+        if fits:
+            _, unit, f = min(fits)
+            slip = (f"; it looks like {unit}: give it in {si}, e.g. "
+                    f"{name}={v:g}e{int(round(np.log10(f)))}")
+        rigid_note = f"; a rigid body: >= {_short(RIGID_MODULUS)} {si}" if rigid else ""
+        raise ValueError(
+            f"{name}={v:g} {si} is implausible for {what} (plausible {_short(low)} to "
+            f"{_short(high)} {si}{rigid_note}){slip}."
+        )
+
+
+def _short(x: float) -> str:
+    """1e5, 2e12, 1e-6: a bound in the shortest scientific form."""
+    mant, exp = f"{x:.0e}".split("e")
+    return f"{mant}e{int(exp)}"
 
 
 def check_plausible_height(h, dx: float, dy: float) -> None:
