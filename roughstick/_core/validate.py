@@ -40,6 +40,7 @@ __all__ = [
     "check_plausible_value",
     "RIGID_MODULUS",
     "check_has_roughness",
+    "MIN_MAP_PIXELS",
     "distance_array",
     "check_core_not_chunked",
     "ValidityWarning",
@@ -262,6 +263,9 @@ def grid_spacing(da: xr.DataArray, dim: str, *, min_pixels: int = 8,
         )
     return float(step)
 
+
+#: Smallest map (pixels along each side) every contact model, spectrum and statistic takes.
+MIN_MAP_PIXELS = 8
 
 #: Largest pixel size [m] and rms height [m] taken at face value: above them a map of a MEMS
 #: surface is almost surely in other units than its label says (nm read as m, pixel indices).

@@ -31,6 +31,7 @@ from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
 from .._core.validate import (
+    MIN_MAP_PIXELS,
     check_core_not_chunked,
     check_has_roughness,
     grid_spacing,
@@ -363,7 +364,8 @@ def bem_contact_curves(
     Parameters
     ----------
     height : xarray.DataArray
-        Topography, dims ``(..., y, x)``, units length (converted to m), uniform spacing. Treated
+        Topography, dims ``(..., y, x)``, at least 8 x 8 pixels, units length (converted to m),
+        uniform spacing. Treated
         as periodic (the FFT solver wraps it around): for a measured map (``periodic=0``) the
         wrap-around step is part of the solved geometry.
     relative_humidity : float, sequence or xarray.DataArray
@@ -471,7 +473,7 @@ def bem_contact_curves(
     if not (tolerance > 0):
         raise ValueError(f"tolerance must be positive, got {tolerance!r}.")
     height = require(height, "length", name="height")
-    spacing = [grid_spacing(height, dim, min_pixels=4, purpose="the boundary-element solver")
+    spacing = [grid_spacing(height, dim, min_pixels=MIN_MAP_PIXELS, purpose="the boundary-element solver")
                for dim in ("y", "x")]
     if height.chunks is not None:
         check_core_not_chunked(height, ("y", "x"))

@@ -29,6 +29,7 @@ from .._core.materials import POLYSILICON, hertz_modulus, reduced_modulus
 from .._core.references import PAPER, cite
 from .._core.units import require
 from .._core.validate import (
+    MIN_MAP_PIXELS,
     ValidityWarning,
     check_core_not_chunked,
     check_has_roughness,
@@ -55,7 +56,7 @@ _MISSING_NOTE = (
 
 
 def _spacing(height: xr.DataArray, dim: str) -> float:
-    return grid_spacing(height, dim, min_pixels=3, purpose="a contact map")
+    return grid_spacing(height, dim, min_pixels=MIN_MAP_PIXELS, purpose="a contact map")
 
 
 def _connectivity(connectivity):
@@ -355,8 +356,8 @@ def modified_dmt_curves(
     Parameters
     ----------
     height : xarray.DataArray
-        Topography, dims ``(..., y, x)``, units length (converted to m), uniform pixel-centre
-        coords ``x``, ``y``. Attribute ``periodic`` (1: generated, wraps round; 0: measured)
+        Topography, dims ``(..., y, x)``, at least 8 x 8 pixels, units length (converted to m),
+        uniform pixel-centre coords ``x``, ``y``. Attribute ``periodic`` (1: generated, wraps round; 0: measured)
         decides whether asperities connect across the map edges. Leading dims (e.g.
         ``realization``) are carried through; dask arrays stay lazy (chunk over the leading
         dims only; ``x`` and ``y`` must be single chunks).

@@ -40,7 +40,12 @@ import xarray as xr
 
 from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.units import require
-from .._core.validate import ValidityWarning, check_has_roughness, grid_spacing
+from .._core.validate import (
+    MIN_MAP_PIXELS,
+    ValidityWarning,
+    check_has_roughness,
+    grid_spacing,
+)
 from ..datasets import validity_map_path
 from ..surface.generate import surface_filter
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
@@ -165,7 +170,7 @@ def _maps(height):
     dims and spacings."""
     height = require(height, "length", name="height")
     # coordinate units other than m are converted (a map with x, y in nm has the same groups)
-    dy, dx = (grid_spacing(height, c, min_pixels=3, purpose="the validity groups") for c in ("y", "x"))
+    dy, dx = (grid_spacing(height, c, min_pixels=MIN_MAP_PIXELS, purpose="the validity groups") for c in ("y", "x"))
     lead = [d for d in height.dims if d not in ("y", "x")]
     h = height.transpose(*lead, "y", "x")
     if h.chunks is not None:

@@ -16,6 +16,7 @@ from .._core import units as _units
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import is_lazy
 from .._core.validate import (
+    MIN_MAP_PIXELS,
     check_core_not_chunked,
     check_has_roughness,
     check_plausible_height,
@@ -25,7 +26,7 @@ from .._core.validate import (
 __all__ = ["validate_height", "level"]
 
 #: Smallest map side (pixels) for roughness statistics and spectra.
-MIN_PIXELS = 8
+MIN_PIXELS = MIN_MAP_PIXELS  # the one minimum (_core/validate.py)
 
 
 def _check_dtype(height):

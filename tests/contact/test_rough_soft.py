@@ -87,3 +87,15 @@ def test_maps_without_roughness_are_refused_by_name(entry, values, match):
         with pytest.raises(ValueError, match=match) as err:
             _ENTRY_POINTS[entry](h)
     assert "no roughness to model" in str(err.value)
+
+
+@pytest.mark.parametrize("model", ["modified_dmt", "gw", "fft_bem", "auto"])
+def test_every_contact_model_needs_8_by_8_pixels(model):
+    # docs: a map of at least 8 x 8 pixels; before, modified_dmt and fft_bem took 7 x 7
+    rng = np.random.default_rng(0)
+    h = rs.testing.make_topography(rng.normal(scale=3e-9, size=(7, 9)), spacing=5e-9)
+    with pytest.raises(ValueError, match=r"7 pixel\(s\) along 'y'|only 7 pixels along 'y'") as err:
+        rs.rough_contact_curves(h, relative_humidity=0.5, model=model)
+    assert "at least 8 x 8" in str(err.value)
+    ok = rs.testing.make_topography(rng.normal(scale=3e-9, size=(8, 8)), spacing=5e-9)
+    rs.rough_contact_curves(ok, relative_humidity=0.5, model="fft_bem")  # 8 x 8 is taken
