@@ -20,6 +20,7 @@ Every error names the problem and the fix (DESIGN.md §6).
 from __future__ import annotations
 
 import numbers
+import sys
 
 import numpy as np
 import xarray as xr
@@ -44,12 +45,31 @@ __all__ = [
     "distance_array",
     "check_core_not_chunked",
     "ValidityWarning",
+    "external_stacklevel",
 ]
 
 
 class ValidityWarning(UserWarning):
     """A model is used where its measured error (upper bound) exceeds the accepted tolerance, or
     outside the assumptions it is built on."""
+
+
+_SKIP_MODULES = ("roughstick", "xarray", "dask", "distributed", "numpy", "toolz", "concurrent",
+                 "threading", "asyncio", "tornado", "importlib", "runpy", "pandas")
+
+
+def external_stacklevel() -> int:
+    """``stacklevel`` (for the caller's ``warnings.warn``) of the first frame outside roughstick
+    and the libraries that call it: a warning points at the user's line."""
+    frame = sys._getframe(1)
+    level = 1
+    while frame is not None:
+        name = frame.f_globals.get("__name__", "") or ""
+        if name.split(".")[0] not in _SKIP_MODULES:
+            return level
+        frame = frame.f_back
+        level += 1
+    return 1
 
 
 # ------------------------------------------------------------------------------- positivity

@@ -34,6 +34,7 @@ from .._core.validate import (
     check_core_not_chunked,
     check_has_roughness,
     distance_array,
+    external_stacklevel,
     grid_spacing,
     relative_humidity_coordinate,
 )
@@ -331,7 +332,7 @@ def _warn_if_not_hard(ds, height, e_star):
         "to 10^5× (measured). Remedy: rough_contact_curves(height, ..., model='fft_bem') (or "
         "model='auto'); on the command line: roughstick curves MAP --model fft_bem.",
         ValidityWarning,
-        stacklevel=3,
+        stacklevel=external_stacklevel(),
     )
 
 

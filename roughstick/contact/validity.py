@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import csv
 import functools
-import sys
 import warnings
 from typing import NamedTuple
 
@@ -44,6 +43,7 @@ from .._core.validate import (
     MIN_MAP_PIXELS,
     ValidityWarning,
     check_has_roughness,
+    external_stacklevel,
     grid_spacing,
 )
 from ..datasets import validity_map_path
@@ -566,21 +566,7 @@ def select_model(
     return "bem", "no cheaper model meets the tolerance: " + "; ".join(notes)
 
 
-_SKIP_MODULES = ("roughstick", "xarray", "dask", "distributed", "numpy", "toolz", "concurrent",
-                 "threading", "asyncio", "tornado", "importlib", "runpy", "pandas")
-
-
-def _external_stacklevel() -> int:
-    """``stacklevel`` of the first frame outside roughstick and the libraries that call it."""
-    frame = sys._getframe(1)
-    level = 1
-    while frame is not None:
-        name = frame.f_globals.get("__name__", "") or ""
-        if name.split(".")[0] not in _SKIP_MODULES:
-            return level
-        frame = frame.f_back
-        level += 1
-    return 1
+_external_stacklevel = external_stacklevel  # the user's line (roughstick._core.validate)
 
 
 def warn_if_outside_validity(
