@@ -310,8 +310,9 @@ def _warn_if_not_hard(ds, height, e_star):
     rh = np.atleast_1d(ds["rh"].values)
     r = float(rh[where[-1]] if "rh" in ds.dims else rh[0])
     dp = float(np.abs(np.atleast_1d(ds["laplace_pressure"].values)[where[-1] if "rh" in ds.dims else 0]))
-    z = np.asarray(height.transpose(..., "y", "x").values, dtype=float).reshape(-1, *height.shape[-2:])
-    z = z[0] if z.shape[0] == 1 else z[np.ravel_multi_index(where[:-1], bad.shape[:-1]) if bad.ndim > 1 else 0]
+    lead = where[:-1] if "rh" in ds.dims else where
+    maps = np.asarray(height.transpose(..., "y", "x").values, dtype=float)
+    z = maps[tuple(lead)] if maps.ndim > 2 else maps
     step = (_spacing(height, "y"), _spacing(height, "x"))
     gy, gx = (np.diff(z, axis=a).ravel() / step[a] for a in (0, 1))
     gy, gx = gy[np.isfinite(gy)], gx[np.isfinite(gx)]
