@@ -19,7 +19,7 @@ def test_gamma_of_one_humidity_does_not_depend_on_the_others(family, seed):
     # before: Γ(RH 0.5) of this S1 map moved by 4.4 % with the set (65-point grid 3.6 % off)
     h = rs.datasets.surface_family(family, shape=(128, 128), seed=seed)
     g = np.array([_gamma(h, s) for s in SETS])
-    # measured worst spread over 5 families x 2 maps x 13 RH x 5 sets: 0.57 % (docs/contact.md)
+    # measured worst spread over 5 families x 2 maps x 13 RH x 5 sets: 0.54 % (docs/rough_contact.md)
     assert g.max() / g.min() - 1 < 0.01, g
     grid = rs.rough_contact_curves(h, relative_humidity=[0.1, 0.5, 0.9], check_validity=False).distance
     dense = np.linspace(float(grid.min()), float(grid.max()), 16000)
