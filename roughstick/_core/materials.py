@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .constants import POLYSILICON_POISSON_RATIO, POLYSILICON_YOUNGS_MODULUS
-from .validate import check_positive_block
+from .validate import PLAUSIBLE_MODULUS, check_plausible_value, check_positive_block
 
 __all__ = ["Material", "POLYSILICON", "reduced_modulus", "hertz_modulus"]
 
@@ -17,11 +17,12 @@ class Material:
     Parameters
     ----------
     youngs_modulus : float
-        Young's modulus E [Pa], > 0.
+        Young's modulus E [Pa], 0.1 MPa-2 TPa (a value outside, e.g. 164 meant as GPa, is
+        refused as a unit slip), or >= 1e18 for a rigid body.
     poisson_ratio : float
         Poisson ratio nu, in (-1, 0.5].
     hardness : float, optional
-        Indentation hardness H [Pa], used by the plasticity index (Eq. 15).
+        Indentation hardness H [Pa], used by the plasticity index (Eq. 15); same range.
     name : str
         Label recorded in output attributes.
     """
@@ -36,8 +37,12 @@ class Material:
                              "Pass SI units (Pa): poly-silicon is 164e9.", finite=True)
         if not -1 < self.poisson_ratio <= 0.5:
             raise ValueError(f"poisson_ratio must lie in (-1, 0.5], got {self.poisson_ratio!r}.")
+        check_plausible_value(self.youngs_modulus, name="youngs_modulus", kind="pressure",
+                              bounds=PLAUSIBLE_MODULUS, what="a solid")
         if self.hardness is not None:
             check_positive_block(self.hardness, "hardness", "Pass SI units (Pa).", finite=True)
+            check_plausible_value(self.hardness, name="hardness", kind="pressure",
+                                  bounds=PLAUSIBLE_MODULUS, what="a solid's hardness")
 
 
 #: Poly-silicon, E = 164 GPa, nu = 0.23 (paper §2.2.5).

@@ -7,9 +7,12 @@
   :func:`relative_humidity_array` (a 1-D list of distinct humidities, e.g. of an ensemble) and
   :func:`relative_humidity_values` (best-effort values to look up, never computing dask data);
 - grids: :func:`grid_spacing` (uniform ascending pixel-centre coordinates of a map),
-  :func:`check_plausible_height` (pixel size and rms height plausible in m) and
+  :func:`check_plausible_height` (pixel size and rms height plausible in m),
+  :func:`check_has_roughness` (a map with at least 2 finite pixels and a non-zero rms) and
   :func:`distance_array` (a distance grid);
-- dask: :func:`check_core_not_chunked` (core dimensions must be single chunks).
+- dask: :func:`check_core_not_chunked` (core dimensions must be single chunks);
+- :class:`ValidityWarning`, the warning of a model used outside its validity (declared here so
+  that the models and :mod:`roughstick.contact.validity` share it).
 
 Every error names the problem and the fix (DESIGN.md §6).
 """
@@ -17,6 +20,7 @@ Every error names the problem and the fix (DESIGN.md §6).
 from __future__ import annotations
 
 import numbers
+import sys
 
 import numpy as np
 import xarray as xr
@@ -34,9 +38,38 @@ __all__ = [
     "relative_humidity_values",
     "grid_spacing",
     "check_plausible_height",
+    "check_plausible_value",
+    "RIGID_MODULUS",
+    "check_has_roughness",
+    "MIN_MAP_PIXELS",
     "distance_array",
     "check_core_not_chunked",
+    "ValidityWarning",
+    "external_stacklevel",
 ]
+
+
+class ValidityWarning(UserWarning):
+    """A model is used where its measured error (upper bound) exceeds the accepted tolerance, or
+    outside the assumptions it is built on."""
+
+
+_SKIP_MODULES = ("roughstick", "xarray", "dask", "distributed", "numpy", "toolz", "concurrent",
+                 "threading", "asyncio", "tornado", "importlib", "runpy", "pandas")
+
+
+def external_stacklevel() -> int:
+    """``stacklevel`` (for the caller's ``warnings.warn``) of the first frame outside roughstick
+    and the libraries that call it: a warning points at the user's line."""
+    frame = sys._getframe(1)
+    level = 1
+    while frame is not None:
+        name = frame.f_globals.get("__name__", "") or ""
+        if name.split(".")[0] not in _SKIP_MODULES:
+            return level
+        frame = frame.f_back
+        level += 1
+    return 1
 
 
 # ------------------------------------------------------------------------------- positivity
@@ -251,10 +284,62 @@ def grid_spacing(da: xr.DataArray, dim: str, *, min_pixels: int = 8,
     return float(step)
 
 
+#: Smallest map (pixels along each side) every contact model, spectrum and statistic takes.
+MIN_MAP_PIXELS = 8
+
 #: Largest pixel size [m] and rms height [m] taken at face value: above them a map of a MEMS
 #: surface is almost surely in other units than its label says (nm read as m, pixel indices).
 PLAUSIBLE_SPACING = 1e-3
 PLAUSIBLE_RMS = 1e-3
+
+
+#: Plausible SI ranges (low, high, typical) of scalar inputs whose unit is easily slipped (GPa for Pa, µm for m).
+#: Generous: they catch a slip by a factor 1e3 or more, not an unusual design. Moduli and
+#: hardness from soft polymers (~1 MPa; down to 0.1 MPa) to diamond (~1.2 TPa).
+PLAUSIBLE_MODULUS = (1e5, 2e12, 1e10)
+#: A modulus at or above this stands for a rigid body (e.g. a rigid counter-face), not a slip.
+RIGID_MODULUS = 1e18
+#: Beam length [m]: 1 µm to 10 mm (MEMS cantilevers are ~10 µm-2 mm).
+PLAUSIBLE_BEAM_LENGTH = (1e-6, 1e-2, 3e-4)
+#: Other beam dimensions (width, thickness, gap, interaction length) [m]: 10 nm to 10 mm.
+PLAUSIBLE_BEAM_DIMENSION = (1e-8, 1e-2, 3e-6)
+_SLIPS = {"pressure": (("GPa", 1e9), ("MPa", 1e6), ("kPa", 1e3)),
+          "length": (("µm", 1e-6), ("mm", 1e-3), ("nm", 1e-9))}
+
+
+def check_plausible_value(value, *, name: str, kind: str, bounds, what: str) -> None:
+    """Refuse a positive scalar (or each value of a sequence) outside ``bounds`` = (low, high,
+    typical) in SI as a likely unit slip, naming the argument, the value, the unit it looks like
+    (the one that brings it nearest to ``typical``) and the fix.
+
+    ``kind`` is ``"pressure"`` (Pa) or ``"length"`` (m); ``what`` says what the value is for
+    (e.g. "a solid", "a MEMS beam"). Non-finite or non-positive values are left to the
+    positivity checks; a Young's modulus >= ``RIGID_MODULUS`` is a rigid body and passes.
+    """
+    low, high, typical = bounds
+    si = {"pressure": "Pa", "length": "m"}[kind]
+    rigid = kind == "pressure" and name.endswith("youngs_modulus")
+    for v in np.atleast_1d(np.asarray(value, dtype=float)).ravel():
+        if not (np.isfinite(v) and v > 0) or low <= v <= high or (rigid and v >= RIGID_MODULUS):
+            continue
+        fits = [(abs(np.log10(v * f / typical)), unit, f) for unit, f in _SLIPS[kind]
+                if low <= v * f <= high]
+        slip = f"; give it in {si}"
+        if fits:
+            _, unit, f = min(fits)
+            slip = (f"; it looks like {unit}: give it in {si}, e.g. "
+                    f"{name}={v:g}e{int(round(np.log10(f)))}")
+        rigid_note = f"; a rigid body: >= {_short(RIGID_MODULUS)} {si}" if rigid else ""
+        raise ValueError(
+            f"{name}={v:g} {si} is implausible for {what} (plausible {_short(low)} to "
+            f"{_short(high)} {si}{rigid_note}){slip}."
+        )
+
+
+def _short(x: float) -> str:
+    """1e5, 2e12, 1e-6: a bound in the shortest scientific form."""
+    mant, exp = f"{x:.0e}".split("e")
+    return f"{mant}e{int(exp)}"
 
 
 def check_plausible_height(h, dx: float, dy: float) -> None:
@@ -278,6 +363,37 @@ def check_plausible_height(h, dx: float, dy: float) -> None:
                 f"the rms height is {rms:.4g} m: implausible for a MEMS surface; the heights are "
                 "probably in nm or um labelled m. Set height.attrs['units'] = 'nm' (or 'um') "
                 "to what they are."
+            )
+
+
+def check_has_roughness(values, *, name: str = "height") -> None:
+    """Refuse an eager map ``(..., y, x)`` with no roughness to model: fewer than 2 finite pixels,
+    or flat (its finite heights spread by <= 1e-12 of their magnitude, rms 0), per map of a stack.
+
+    Lazy (dask) maps are not computed. The errors name the map of a stack, the problem and the fix.
+    """
+    if is_lazy(values):
+        return
+    z = np.asarray(getattr(values, "values", values), dtype=float)
+    if z.ndim < 2 or z.size == 0:
+        return
+    maps = z.reshape((-1,) + z.shape[-2:])
+    for k, m in enumerate(maps):
+        which = f"{name} (map {k} of the stack)" if maps.shape[0] > 1 else name
+        finite = m[np.isfinite(m)]
+        if finite.size < 2:
+            raise ValueError(
+                f"{which} has {'no finite pixel' if finite.size == 0 else 'only 1 finite pixel'} "
+                f"(of {m.size}; the rest NaN/inf): no roughness to model. Check the channel, or "
+                "crop the valid region (height.isel(x=..., y=...))."
+            )
+        spread = float(finite.max() - finite.min())
+        if spread <= 1e-12 * max(float(np.abs(finite).max()), np.finfo(float).tiny):
+            raise ValueError(
+                f"{which} is flat (constant (zero variance), rms 0 over its {finite.size} finite "
+                "pixels): no roughness to model, so moments, spectra and contact curves are "
+                "undefined. Check the channel (a height, not a phase or error channel) and the "
+                "units."
             )
 
 

@@ -341,14 +341,19 @@ def auto_curve(z, spacing, sigma0, h0, *, tolerance=1e-3, n_contact=12, n_free=2
     last = start
     k = 1
     while True:
-        d = start + hstep * k if k <= n_contact else last + hstep
+        # a neck held beyond n_contact more steps: steps grow 1.5x (at RH <= 1e-4 the equilibrium
+        # lies within 1e-3 nm of max z, and steps of that size took ~3,800 states to cross h0)
+        grow = 1.5 ** max(k - 2 * int(n_contact), 0)
+        d = start + hstep * k if k <= n_contact else last + hstep * grow
         st = solve(d, st)
         last = d
         k += 1
-        if (k > n_contact and st["contact_fraction"] == 0) or d > zmax + h0:
+        # until the neck lets go (at RH 1e-6 a one-pixel neck held to max z + 3 h0: stopping at
+        # max z + h0 lost 40-60 % of Γ), at most 40 growing steps
+        if k > n_contact and (st["contact_fraction"] == 0 or k > 2 * int(n_contact) + 40):
             break
     # 3. water without hard contact; the last point lies just beyond max z + h0 (dry)
-    for d in np.linspace(last, zmax + h0 * (1 + 1e-6), int(n_free) + 1)[1:]:
+    for d in np.linspace(last, max(zmax + h0 * (1 + 1e-6), last + h0), int(n_free) + 1)[1:]:
         st = solve(float(d), st)
     # 4. refinement where the summaries are decided
     for _ in range(int(refine)):

@@ -574,9 +574,8 @@ def grid_params(npix):
 
 def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_rh=False, params=None):
     """Curves (CURVE_VARIABLES order, over (rh, distance) ascending) on an automatic or given grid.
-
-    ``per_rh``: one controller per humidity; returns a list of per-humidity tuples instead.
-    """
+    ``per_rh``: one controller per humidity (its levels do not depend on the other humidities):
+    a list of per-humidity tuples; ``"union"``: all humidities on the union, and the membership."""
     zc, nvalid = prepare_heights(z)
     ny, nx = zc.shape
     zflat = zc.ravel()
@@ -585,8 +584,7 @@ def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_r
     R = hw.size
     p = grid_params(zflat.size) if params is None else np.asarray(params, float)
     if distance is None and not np.nanmax(zflat) > np.nanmin(zflat):
-        # a flat map has no height scale for the controller: contact at d <= 0 (one plateau,
-        # no Hertz force), water below the water height; a uniform grid over that range
+        # a flat map has no height scale: a uniform grid over the water range (contact at d <= 0)
         distance = np.linspace(0.0, 1.05 * max(float(np.max(hw)), 1e-10), 65)
         per_rh = False
     fixed = np.empty(0) if distance is None else np.asarray(distance, float)
@@ -621,6 +619,9 @@ def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_r
         return build(np.ones(n, bool), np.arange(R))
     if not per_rh:
         return build(MEM[:, 0], np.arange(R))
+    if per_rh == "union":
+        u = MEM.any(axis=1)
+        return (*build(u, np.arange(R)), MEM[u][np.argsort(Dv[u], kind="stable")].T)
     return [build(MEM[:, j], np.array([j])) for j in range(R)]
 
 

@@ -30,7 +30,13 @@ from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
-from .._core.validate import check_core_not_chunked, grid_spacing, relative_humidity_coordinate
+from .._core.validate import (
+    MIN_MAP_PIXELS,
+    check_core_not_chunked,
+    check_has_roughness,
+    grid_spacing,
+    relative_humidity_coordinate,
+)
 from .meniscus import laplace_pressure, water_height
 
 __all__ = ["bem_contact_curves", "periodic_offset_coefficient"]
@@ -192,6 +198,7 @@ def _bem_kernel_unlocked(
     tm = _import_tamaas()
     L = _LENGTH_UNIT
     z = np.asarray(z, dtype=float)
+    check_has_roughness(z)  # a flat or (almost) all-NaN map: nothing to model
     if not np.all(np.isfinite(z)):
         raise ValueError(
             "height contains NaN or inf; the boundary-element solver needs a complete map. "
@@ -357,7 +364,8 @@ def bem_contact_curves(
     Parameters
     ----------
     height : xarray.DataArray
-        Topography, dims ``(..., y, x)``, units length (converted to m), uniform spacing. Treated
+        Topography, dims ``(..., y, x)``, at least 8 x 8 pixels, units length (converted to m),
+        uniform spacing. Treated
         as periodic (the FFT solver wraps it around): for a measured map (``periodic=0``) the
         wrap-around step is part of the solved geometry.
     relative_humidity : float, sequence or xarray.DataArray
@@ -465,7 +473,7 @@ def bem_contact_curves(
     if not (tolerance > 0):
         raise ValueError(f"tolerance must be positive, got {tolerance!r}.")
     height = require(height, "length", name="height")
-    spacing = [grid_spacing(height, dim, min_pixels=4, purpose="the boundary-element solver")
+    spacing = [grid_spacing(height, dim, min_pixels=MIN_MAP_PIXELS, purpose="the boundary-element solver")
                for dim in ("y", "x")]
     if height.chunks is not None:
         check_core_not_chunked(height, ("y", "x"))

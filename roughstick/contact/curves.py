@@ -24,6 +24,7 @@ from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
 from .._core.units import require
 from .._core.validate import (
+    MIN_MAP_PIXELS,
     check_plausible_height,
     distance_array,
     grid_spacing,
@@ -85,8 +86,9 @@ def rough_contact_curves(
     Parameters
     ----------
     height : xarray.DataArray
-        Topography, dims ``(..., y, x)``, units length (converted to m), uniform pixel-centre
-        coords; attribute ``periodic`` as in :func:`roughstick.modified_dmt_curves`.
+        Topography, dims ``(..., y, x)``, at least 8 x 8 pixels (every model), units length
+        (converted to m), uniform pixel-centre coords; attribute ``periodic`` as in
+        :func:`roughstick.modified_dmt_curves`.
     relative_humidity : float, sequence or xarray.DataArray
         RH as fractions in (0, 1); a sequence gives an ``rh`` dimension.
     distance : array-like or xarray.DataArray, optional
@@ -229,8 +231,8 @@ def rough_contact_curves(
     elif model == "gw":
         height = require(height, "length", name="height")
         kwargs.setdefault("apparent_area", height.sizes["x"] * height.sizes["y"]
-                          * grid_spacing(height, "x", min_pixels=3, purpose="a contact map")
-                          * grid_spacing(height, "y", min_pixels=3, purpose="a contact map"))
+                          * grid_spacing(height, "x", min_pixels=MIN_MAP_PIXELS, purpose="a contact map")
+                          * grid_spacing(height, "y", min_pixels=MIN_MAP_PIXELS, purpose="a contact map"))
         if distance is None:  # GW's own grid, set by the summit heights, not the pixels
             ds = gw_contact_curves(height, n_distance=n_distance, **common, **kwargs)
         else:

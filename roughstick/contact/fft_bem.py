@@ -37,7 +37,7 @@ from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
-from .._core.validate import check_core_not_chunked
+from .._core.validate import MIN_MAP_PIXELS, check_core_not_chunked, check_has_roughness
 from . import _fft_bem_kernels as _k
 from .bem import _count_periodic_clusters, periodic_offset_coefficient
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
@@ -56,10 +56,10 @@ def _spacing(height):
     for dim in ("y", "x"):
         if dim not in height.dims:
             raise ValueError(f"height needs dimensions 'y' and 'x'; it has {height.dims}.")
-        if height.sizes[dim] < 4:
+        if height.sizes[dim] < MIN_MAP_PIXELS:
             raise ValueError(
                 f"height has only {height.sizes[dim]} pixels along {dim!r}; the solver needs a "
-                "map of at least 4 x 4 pixels."
+                f"map of at least {MIN_MAP_PIXELS} x {MIN_MAP_PIXELS} pixels."
             )
         if dim not in height.coords:
             raise ValueError(
@@ -111,6 +111,7 @@ def _fft_bem_kernel(z, *, spacing, distances, sigma0s, h_waters, e_star, toleran
     ``on_curve()`` is called after each humidity's curve (progress)."""
     L = _LENGTH_UNIT
     z = np.asarray(z, dtype=float)
+    check_has_roughness(z)  # a flat or (almost) all-NaN map: nothing to model
     if not np.all(np.isfinite(z)):
         raise ValueError(
             "height contains NaN or inf; the boundary-element model needs a complete map. "
@@ -216,8 +217,8 @@ def fft_bem_contact_curves(
     Parameters
     ----------
     height : xarray.DataArray
-        Topography, dims ``(..., y, x)``, units length, uniform ascending coordinates. Treated as
-        periodic (the FFT grid wraps around), like the reference.
+        Topography, dims ``(..., y, x)``, at least 8 x 8 pixels, units length, uniform ascending
+        coordinates. Treated as periodic (the FFT grid wraps around), like the reference.
     relative_humidity : float, sequence or xarray.DataArray
         RH fractions in (0, 1); a sequence gives dimension ``rh``.
     distance : array_like, optional

@@ -18,21 +18,28 @@ that chooses between this model, Greenwood-Williamson and the BEM is
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import xarray as xr
 
 from .._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
-from .._core.materials import POLYSILICON, hertz_modulus
+from .._core.materials import POLYSILICON, hertz_modulus, reduced_modulus
 from .._core.references import PAPER, cite
 from .._core.units import require
 from .._core.validate import (
+    MIN_MAP_PIXELS,
+    ValidityWarning,
     check_core_not_chunked,
+    check_has_roughness,
     distance_array,
+    external_stacklevel,
     grid_spacing,
     relative_humidity_coordinate,
 )
 from . import _rough_kernels as _k
+from .adhesion import adhesion_summary_kernel
 from .meniscus import laplace_pressure, water_height
 
 __all__ = ["modified_dmt_curves", "modified_dmt_kernel", "contact_distance_grid"]
@@ -50,7 +57,7 @@ _MISSING_NOTE = (
 
 
 def _spacing(height: xr.DataArray, dim: str) -> float:
-    return grid_spacing(height, dim, min_pixels=3, purpose="a contact map")
+    return grid_spacing(height, dim, min_pixels=MIN_MAP_PIXELS, purpose="a contact map")
 
 
 def _connectivity(connectivity):
@@ -65,6 +72,74 @@ def _connectivity(connectivity):
 # automatic distance grid
 
 
+#: Error of Γ allowed per interval, relative (:func:`_allowed`); the realised error is smaller
+#: (≤ 0.2 % against dense grids, docs/rough_contact.md).
+GAMMA_TOLERANCE = 1e-2
+_MAX_ROUNDS = 20
+
+
+def _allowed(gamma, width, levels):
+    """Error of Γ allowed to an interval: ``GAMMA_TOLERANCE`` Γ × max(its share of the range, 1/64)."""
+    span = max(float(levels[-1] - levels[0]), 1e-300)
+    return GAMMA_TOLERANCE * gamma * np.maximum(width / span, 1 / 64)
+
+
+def _refine_gamma(z, d, out, mem, hw, dp, kw):
+    """Refine each humidity's own grid until the trapezoid of Eq. 13 (Γ) is resolved.
+
+    The controller's midpoint test bounds the pressure's deviation from a chord, which a
+    staircase curve (few contacting pixels on small maps) can pass by chance: Γ was then off by
+    up to 4 % on a 128² S1 map. Here, per humidity and on that humidity's own levels only (so
+    its grid, and its Γ, do not depend on the other humidities requested), every attractive
+    interval above the equilibrium whose ends differ enough to matter gets its midpoint; an
+    interval whose two-half trapezoid differs from its one-interval trapezoid by more than
+    :func:`_allowed` has its halves tested in the next round. New levels are evaluated once for
+    every humidity (a level's values do not depend on the others).
+    """
+    out = [np.asarray(a) for a in out]
+    todo = [None] * hw.size  # per humidity: intervals to test (None: every attractive one)
+    for _ in range(_MAX_ROUNDS):
+        asks = []
+        for j in range(hw.size):
+            if todo[j] is not None and todo[j].size == 0:
+                asks.append(np.empty(0))
+                continue
+            own = np.flatnonzero(mem[j])
+            dj, pj = d[own], out[0][j, own]
+            g, _, deq, _, _ = adhesion_summary_kernel(pj, out[2][j, own], dj)
+            mid = 0.5 * (dj[:-1] + dj[1:])
+            w, q = np.diff(dj), np.maximum(-pj, 0.0)
+            # an interval whose ends differ too little to move Γ (a monotone integrand lies
+            # between its ends' values) is not tested
+            room = 0.5 * w * np.abs(np.diff(q)) > _allowed(g, w, dj)
+            cand = room & ((pj[:-1] < 0) | (pj[1:] < 0)) & (mid > dj[:-1]) & (mid < dj[1:])
+            if np.isfinite(deq):
+                cand &= dj[1:] > deq
+            if todo[j] is not None:
+                cand &= np.isin(dj[:-1], todo[j])
+            asks.append(mid[cand])
+        new = np.setdiff1d(np.concatenate(asks), d)
+        if new.size == 0:
+            break
+        more = _k.curves_kernel(z, new, hw, dp, **kw)
+        srt = np.argsort(np.concatenate([d, new]), kind="stable")
+        d = np.concatenate([d, new])[srt]
+        out = [np.concatenate([a, b], axis=1)[:, srt] for a, b in zip(out, more, strict=True)]
+        mem = np.concatenate([mem, np.zeros((hw.size, new.size), bool)], axis=1)[:, srt]
+        for j, m in enumerate(asks):
+            mem[j, np.searchsorted(d, m)] = True
+            own = np.flatnonzero(mem[j])
+            dj, qj = d[own], np.maximum(-out[0][j, own], 0.0)
+            g = adhesion_summary_kernel(out[0][j, own], out[2][j, own], dj)[0]
+            i = np.searchsorted(dj, m)  # each asked midpoint, between own levels i-1 and i+1
+            lo, hi = dj[i - 1], dj[i + 1]
+            w = hi - lo
+            err = np.abs(0.25 * w * (qj[i - 1] + 2 * qj[i] + qj[i + 1]) - 0.5 * w * (qj[i - 1] + qj[i + 1]))
+            bad = err > _allowed(g, w, dj)
+            todo[j] = np.concatenate([lo[bad], m[bad]])
+    return d, out
+
+
 def _auto_curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, n):
     """Distance grid and curves of one eager map (see :func:`contact_distance_grid`).
 
@@ -73,9 +148,11 @@ def _auto_curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, n):
     (the controller bisects sign changes down to adjacent floats, whose midpoint is an end).
     """
     kw = dict(dx=dx, dy=dy, K=K, periodic=periodic, connectivity=connectivity)
-    d, out = _k.curves(z, hw, dp, **kw)
+    d, out, *mem = _k.curves(z, hw, dp, per_rh="union", **kw)
     d, keep = np.unique(np.asarray(d, dtype=float), return_index=True)
     out = [np.asarray(a)[:, keep] for a in out]
+    if mem:  # not a flat map (its grid is uniform): refine each humidity's Γ on its own grid
+        d, out = _refine_gamma(z, d, out, np.asarray(mem[0])[:, keep], hw, dp, kw)
     if n is None or d.size >= int(n):
         return d, list(out)
     # more points on request: split the widest intervals (each level is evaluated on its own, so
@@ -167,9 +244,14 @@ def contact_distance_grid(
     wetting/contact events next to it: every interval near the most tensile point, or that a
     tie of pixels drying at one height could make deeper than it, is split until resolved. Every
     level is evaluated once (one union-find over the top tail of the heights, moving both ways),
-    and a level's values do not depend on the other levels. Γ (Eq. 13), pull-off and d_eq agree
-    within 0.5 % with a 4× finer grid on the S1/S2/Table-4/smooth families and the measured
-    S1A/S2A maps (``tests/contact/test_rough_kernels.py``).
+    and a level's values do not depend on the other levels. Each humidity has its own controller
+    (its levels do not depend on the other humidities requested), and its own levels are then
+    refined until the trapezoid of Γ is resolved (``GAMMA_TOLERANCE``); the grid is the union.
+    So Γ of one humidity is the same, within 0.6 %, whichever other humidities are requested
+    (measured on two 128² maps of each of the five families, 13 humidities, 5 sets:
+    ``benchmarks/grid_humidity_independence.py``, docs/rough_contact.md), and within 0.2 % of a
+    dense uniform grid on S1 128² and the 1024² samples; pull-off and d_eq agree within 0.5 %
+    with a 4× finer grid (``tests/contact/test_rough_kernels.py``).
 
     Parameters
     ----------
@@ -214,6 +296,57 @@ def _map_values(height):
     return np.asarray(height.transpose("y", "x").values, dtype=float)  # eager, checked
 
 
+def _warn_if_not_hard(ds, height, e_star):
+    """Warn where the modified DMT's own equilibrium says its assumption (i) fails.
+
+    Eq. 16 sums Hertz forces of hard, independent asperities. When the capillary tension pulls
+    the flat past the mean plane of the roughness (the equilibrium distance d_eq < 0, or still
+    attractive at some d <= 0 with no equilibrium above), most of the map would be flattened:
+    the body is too soft for the model. Measured on a 64² S1 map (docs/rough_contact.md): there
+    Γ exceeded the FFT boundary-element model's by 1.7× to 10^5× (E* 0.55-5.5 GPa); on
+    poly-silicon the five families keep d_eq > 0 at every humidity.
+    """
+    p = np.asarray(ds["pressure"].transpose(..., "distance").values, dtype=float)
+    d = np.asarray(ds["distance"].values, dtype=float)
+    if d.size < 2:
+        return
+    wet = np.asarray(ds["wet_fraction"].transpose(..., "distance").values, dtype=float)
+    deq = np.atleast_1d(adhesion_summary_kernel(p, wet, d)[2])
+    p0 = p[..., 0]
+    bad = (deq < 0) | (np.isnan(deq) & (d[0] <= 0) & (p0 < 0))
+    if not np.any(bad):
+        return
+    where = np.unravel_index(int(np.argmax(bad.ravel())), bad.shape) if bad.ndim else ()
+    rh = np.atleast_1d(ds["rh"].values)
+    r = float(rh[where[-1]] if "rh" in ds.dims else rh[0])
+    dp = float(np.abs(np.atleast_1d(ds["laplace_pressure"].values)[where[-1] if "rh" in ds.dims else 0]))
+    lead = where[:-1] if "rh" in ds.dims else where
+    maps = np.asarray(height.transpose(..., "y", "x").values, dtype=float)
+    z = maps[tuple(lead)] if maps.ndim > 2 else maps
+    step = (_spacing(height, "y"), _spacing(height, "x"))
+    gy, gx = (np.diff(z, axis=a).ravel() / step[a] for a in (0, 1))
+    gy, gx = gy[np.isfinite(gy)], gx[np.isfinite(gx)]
+    slope = float(np.sqrt((np.mean(gy**2) if gy.size else 0.0) + (np.mean(gx**2) if gx.size else 0.0)))
+    ratio = dp / (e_star * slope) if slope > 0 else np.inf
+    value = float(np.ravel(deq)[int(np.argmax(bad.ravel()))])
+    where_text = (f"the equilibrium distance d_eq = {value * 1e9:.3g} nm is below the limit 0 "
+                  "(the mean plane of the roughness)" if np.isfinite(value) else
+                  f"there is no equilibrium: the pressure is still attractive at d = "
+                  f"{d[0] * 1e9:.3g} nm, below the limit 0 (the mean plane of the roughness)")
+    warnings.warn(
+        f"modified_dmt: these curves are not physical at RH {r:.2f}: {where_text}. Eq. 16 sums "
+        "Hertz forces of hard, independent asperities (its assumption i), but the capillary "
+        f"tension |ΔP| = {dp / 1e6:.3g} MPa is {ratio:.3g} × E*·rms slope (E* = "
+        f"{e_star / 1e9:.3g} GPa; pressure ratio |ΔP|/(E*·slope) = {ratio:.3g}, poly-silicon on the "
+        "paper's surfaces <= 0.06) and pulls the flat into the roughness: the body is too soft "
+        "for the model, whose Γ and pull-off then exceed the boundary-element model's by 1.7× "
+        "to 10^5× (measured). Remedy: rough_contact_curves(height, ..., model='fft_bem') (or "
+        "model='auto'); on the command line: roughstick curves MAP --model fft_bem.",
+        ValidityWarning,
+        stacklevel=external_stacklevel(),
+    )
+
+
 # --------------------------------------------------------------------------------------------
 # public entry point
 
@@ -235,8 +368,8 @@ def modified_dmt_curves(
     Parameters
     ----------
     height : xarray.DataArray
-        Topography, dims ``(..., y, x)``, units length (converted to m), uniform pixel-centre
-        coords ``x``, ``y``. Attribute ``periodic`` (1: generated, wraps round; 0: measured)
+        Topography, dims ``(..., y, x)``, at least 8 x 8 pixels, units length (converted to m),
+        uniform pixel-centre coords ``x``, ``y``. Attribute ``periodic`` (1: generated, wraps round; 0: measured)
         decides whether asperities connect across the map edges. Leading dims (e.g.
         ``realization``) are carried through; dask arrays stay lazy (chunk over the leading
         dims only; ``x`` and ``y`` must be single chunks).
@@ -314,6 +447,7 @@ def modified_dmt_curves(
     height = require(height, "length", name="height")
     dx, dy = _spacing(height, "x"), _spacing(height, "y")
     check_core_not_chunked(height, ["y", "x"])
+    check_has_roughness(height)
     rh = relative_humidity_coordinate(relative_humidity)
     connectivity = _connectivity(connectivity)
     per = bool(height.attrs.get("periodic", 0)) if periodic is None else bool(periodic)
@@ -384,4 +518,6 @@ def modified_dmt_curves(
         f"modified_dmt_curves(n_distance={d.size}, connectivity={connectivity}, "
         f"periodic={int(per)}); {_MISSING_NOTE}",
     )
+    if not is_lazy(ds["pressure"]):
+        _warn_if_not_hard(ds, height, reduced_modulus(material, material2))
     return ds

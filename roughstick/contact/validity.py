@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import csv
 import functools
-import sys
 import warnings
 from typing import NamedTuple
 
@@ -40,7 +39,13 @@ import xarray as xr
 
 from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.units import require
-from .._core.validate import grid_spacing
+from .._core.validate import (
+    MIN_MAP_PIXELS,
+    ValidityWarning,
+    check_has_roughness,
+    external_stacklevel,
+    grid_spacing,
+)
 from ..datasets import validity_map_path
 from ..surface.generate import surface_filter
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
@@ -69,10 +74,6 @@ GROUP_FEATURES = ("pressure_ratio", "maugis_lambda", "hw_over_sigma")
 #: largest of 19 exceeds a 20th with probability 19/20 (a one-sided 95 % prediction bound).
 N_NEIGHBOURS = 19
 _QUANTITIES = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
-
-
-class ValidityWarning(UserWarning):
-    """A model is used where its measured error (upper bound) exceeds the accepted tolerance."""
 
 
 class ErrorBound(NamedTuple):
@@ -169,13 +170,14 @@ def _maps(height):
     dims and spacings."""
     height = require(height, "length", name="height")
     # coordinate units other than m are converted (a map with x, y in nm has the same groups)
-    dy, dx = (grid_spacing(height, c, min_pixels=3, purpose="the validity groups") for c in ("y", "x"))
+    dy, dx = (grid_spacing(height, c, min_pixels=MIN_MAP_PIXELS, purpose="the validity groups") for c in ("y", "x"))
     lead = [d for d in height.dims if d not in ("y", "x")]
     h = height.transpose(*lead, "y", "x")
     if h.chunks is not None:
         # a lazy stack: the groups of its first map stand for the stack (one map is computed)
         h = h.isel({d: [0] for d in lead}).compute()
     vals = np.asarray(h.values, dtype=float)
+    check_has_roughness(vals)  # the groups divide by the rms height and slope
     flat = vals.reshape((-1, *vals.shape[-2:]))
     return height, h, vals, flat, lead, dy, dx
 
@@ -564,21 +566,7 @@ def select_model(
     return "bem", "no cheaper model meets the tolerance: " + "; ".join(notes)
 
 
-_SKIP_MODULES = ("roughstick", "xarray", "dask", "distributed", "numpy", "toolz", "concurrent",
-                 "threading", "asyncio", "tornado", "importlib", "runpy", "pandas")
-
-
-def _external_stacklevel() -> int:
-    """``stacklevel`` of the first frame outside roughstick and the libraries that call it."""
-    frame = sys._getframe(1)
-    level = 1
-    while frame is not None:
-        name = frame.f_globals.get("__name__", "") or ""
-        if name.split(".")[0] not in _SKIP_MODULES:
-            return level
-        frame = frame.f_back
-        level += 1
-    return 1
+_external_stacklevel = external_stacklevel  # the user's line (roughstick._core.validate)
 
 
 def warn_if_outside_validity(

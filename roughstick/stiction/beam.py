@@ -30,7 +30,13 @@ from .._core import constants as C
 from .._core.conventions import set_attrs
 from .._core.references import PAPER, cite
 from .._core.units import as_si, require
-from .._core.validate import positive
+from .._core.validate import (
+    PLAUSIBLE_BEAM_DIMENSION,
+    PLAUSIBLE_BEAM_LENGTH,
+    PLAUSIBLE_MODULUS,
+    check_plausible_value,
+    positive,
+)
 
 __all__ = [
     "Cantilever",
@@ -88,6 +94,10 @@ class Cantilever:
             if not (isinstance(v, (int, float, np.floating, np.integer)) and math.isfinite(v) and v > 0):
                 unit = "Pa (poly-silicon: 164e9)" if name == "youngs_modulus" else "m (e.g. 2.62e-6)"
                 raise ValueError(f"Cantilever.{name} must be a positive finite number in {unit}, got {v!r}.")
+            kind, bounds = (("pressure", PLAUSIBLE_MODULUS) if name == "youngs_modulus" else
+                            ("length", PLAUSIBLE_BEAM_LENGTH if name == "length" else PLAUSIBLE_BEAM_DIMENSION))
+            check_plausible_value(v, name=f"Cantilever.{name}", kind=kind, bounds=bounds,
+                                  what="a solid" if kind == "pressure" else "a MEMS beam")
 
     @property
     def interaction_zone_length(self) -> float:

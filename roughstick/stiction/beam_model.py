@@ -29,6 +29,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .._core.validate import PLAUSIBLE_BEAM_LENGTH, check_plausible_value
 from ..ensemble.statistics import binomial_interval
 from . import _beam_kernels as K
 from . import cohesive_beam as CB
@@ -135,8 +136,9 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
         keeps its identity when RH changes. With ``model="cohesive"`` also a pressure bank
         [Pa] over ``(law, rh, gap)`` (:func:`roughstick.stiction.cohesive_beam.pressure_law_bank`).
     beam_length : float or sequence
-        Beam lengths [m]; all lengths share the patches of a realization (common random
-        numbers), counted from the clamp.
+        Beam lengths [m], 1 µm to 10 mm (a value outside, e.g. 300 meant as µm, is refused as
+        a unit slip); all lengths share the patches of a realization (common random numbers),
+        counted from the clamp.
     n_realization : int
         Number of beams per length (ignored when ``realizations`` is given).
     seed : int
@@ -218,6 +220,8 @@ def _run_axes(bank, beam_length, n_realization, protocol, beam, patch_length, re
     lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
     if np.any(~np.isfinite(lengths)) or np.any(lengths <= 0):
         raise ValueError("beam_length must be positive lengths in m")
+    check_plausible_value(lengths, name="beam_length", kind="length", bounds=PLAUSIBLE_BEAM_LENGTH,
+                          what="a MEMS beam")
     patch_length = _check_patch_length(beam.interaction_zone_length if patch_length is None
                                        else patch_length)
     reals = np.arange(int(n_realization)) if realizations is None else \

@@ -15,12 +15,18 @@ from scipy.ndimage import distance_transform_edt
 from .._core import units as _units
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import is_lazy
-from .._core.validate import check_core_not_chunked, check_plausible_height, grid_spacing
+from .._core.validate import (
+    MIN_MAP_PIXELS,
+    check_core_not_chunked,
+    check_has_roughness,
+    check_plausible_height,
+    grid_spacing,
+)
 
 __all__ = ["validate_height", "level"]
 
 #: Smallest map side (pixels) for roughness statistics and spectra.
-MIN_PIXELS = 8
+MIN_PIXELS = MIN_MAP_PIXELS  # the one minimum (_core/validate.py)
 
 
 def _check_dtype(height):
@@ -211,16 +217,9 @@ def _refuse_constant_or_nan(h: xr.DataArray) -> None:
     if is_lazy(h):
         return
     z = h.data
+    check_has_roughness(z)  # first: levelling cannot rescue a map without roughness
     if not np.all(np.isfinite(z)):
         raise ValueError(
             "the height map has NaN/inf pixels; level it first with "
             "roughstick.level(height, nan='fill') (or crop the dropouts)."
-        )
-    zz = z.reshape((-1,) + z.shape[-2:])
-    spread = zz.max(axis=(-2, -1)) - zz.min(axis=(-2, -1))
-    scale = np.maximum(np.abs(zz).max(axis=(-2, -1)), np.finfo(float).tiny)
-    if np.any(spread <= 1e-12 * scale):
-        raise ValueError(
-            "the height map is constant (zero variance): it has no roughness, so moments, "
-            "summit statistics and spectra are undefined. Check the channel and the units."
         )

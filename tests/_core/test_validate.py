@@ -90,3 +90,37 @@ def test_distance_array():
                        ([1e-9], "at least 2")):
         with pytest.raises(ValueError, match=match):
             distance_array(bad, min_size=2)
+
+
+# ------------------------------------------------------------------ unit slips (plausibility)
+
+
+@pytest.mark.parametrize("value, unit, fixed", [(164, "GPa", "164e9"), (1e15, None, None)])
+def test_material_modulus_unit_slip_is_refused_by_name(value, unit, fixed):
+    # before: Material(youngs_modulus=164) was accepted (164 Pa: a "solid" softer than jelly)
+    with pytest.raises(ValueError) as err:
+        rs.Material(youngs_modulus=value)
+    msg = str(err.value)
+    assert f"youngs_modulus={value:g} Pa is implausible for a solid" in msg, msg
+    assert "give it in Pa" in msg
+    if unit:
+        assert f"it looks like {unit}" in msg and f"youngs_modulus={fixed}" in msg, msg
+
+
+@pytest.mark.parametrize("value", [1e6, 3e9, 164e9, 1.2e12, 1e20])  # soft polymer .. rigid
+def test_material_accepts_plausible_moduli(value):
+    assert rs.Material(youngs_modulus=value, poisson_ratio=0.3).youngs_modulus == value
+
+
+def test_material_hardness_unit_slip_is_refused():
+    with pytest.raises(ValueError, match=r"hardness=10 Pa .* it looks like GPa"):
+        rs.Material(hardness=10)
+
+
+@pytest.mark.parametrize("field, value, hint", [("length", 1500, "1500e-6"),
+                                                ("thickness", 2.62, "2.62e-6"),
+                                                ("youngs_modulus", 164, "164e9")])
+def test_cantilever_unit_slip_is_refused_by_name(field, value, hint):
+    with pytest.raises(ValueError, match=rf"Cantilever\.{field}={value:g} .*implausible.*"
+                                         rf"Cantilever\.{field}={hint}"):
+        rs.Cantilever(**{field: value})

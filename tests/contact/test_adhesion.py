@@ -212,14 +212,16 @@ _S1 = rs.datasets.surface_family("S1", shape=(64, 64), seed=1)
     "height, kwargs",
     [
         (_S1 * (0.1e-9 / float(_S1.std())), {}),  # rms 0.1 nm: the flat touches every pixel
-        (_S1.copy(data=np.zeros(_S1.shape)), {}),  # constant map
         (_S1, dict(material=rs.Material(youngs_modulus=1e9, poisson_ratio=0.3))),  # soft
     ],
-    ids=["rms_0.1nm", "constant", "soft"],
+    ids=["rms_0.1nm", "soft"],
 )
 def test_grid_warning_on_automatic_grid_does_not_advise_the_automatic_grid(height, kwargs):
-    c = rs.rough_contact_curves(height, relative_humidity=[0.3, 0.9], check_validity=False,
-                                **kwargs)
+    # the flat is pulled past the mean plane: the modified DMT says its curves are not physical
+    # (a constant map is refused: tests/contact/test_rough_soft.py)
+    with pytest.warns(rs.ValidityWarning, match="not physical"):
+        c = rs.rough_contact_curves(height, relative_humidity=[0.3, 0.9], check_validity=False,
+                                    **kwargs)
     assert c.attrs["distance_grid"] == "automatic"
     s = rs.adhesion_summary(c, check_grid=False)
     bad = s.rh.values[np.isnan(s.equilibrium_distance.values)]

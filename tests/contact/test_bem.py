@@ -200,7 +200,7 @@ def test_bad_input():
         rs.bem_contact_curves(h, relative_humidity=0.5, distance=[1e-9, 2e-9], path="sideways")
     with pytest.raises(ValueError, match="between 0 and 1"):
         rs.bem_contact_curves(h, relative_humidity=50, distance=[1e-9, 2e-9])
-    with pytest.raises(ValueError, match="at least 4"):
+    with pytest.raises(ValueError, match="at least 8 x 8"):
         rs.bem_contact_curves(h.isel(x=slice(0, 3)), relative_humidity=0.5, distance=[1e-9, 2e-9])
     with pytest.raises(TypeError, match="DataArray"):
         rs.bem_contact_curves(h.values, relative_humidity=0.5)

@@ -163,7 +163,7 @@ def test_bad_input(kwargs, match):
 def test_bad_maps():
     with pytest.raises(ValueError, match="no finite pixel"):
         rs.rough_contact_curves(make_topography(np.full((8, 8), np.nan)), relative_humidity=0.5)
-    with pytest.raises(ValueError, match="at least 3"):
+    with pytest.raises(ValueError, match="at least 8 x 8"):
         rs.rough_contact_curves(make_topography(np.zeros((2, 8))), relative_humidity=0.5)
     h = s1_like((8, 8))
     h = h.assign_coords(x=h.x.values ** 1.1)

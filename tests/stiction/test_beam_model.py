@@ -163,3 +163,13 @@ def test_bad_input():
     bad = _bank().assign_coords(rh=[0.9, 0.6, 0.3])
     with pytest.raises(ValueError, match="increasing"):
         simulate_beams(bad, beam_length=1e-3, protocol="step_up")
+
+
+def test_beam_length_unit_slip_is_refused_by_name():
+    # before: beam_length=[300] (µm meant) ran 300 m beams (model="cohesive" checks the lengths
+    # in the same place, _run_axes)
+    with pytest.raises(ValueError, match=r"beam_length=300 m is implausible for a MEMS beam "
+                                         r"\(plausible 1e-6 to 1e-2 m\); it looks like µm: give "
+                                         r"it in m, e\.g\. beam_length=300e-6"):
+        simulate_beams(_bank(), beam_length=[300], n_realization=2)
+    simulate_beams(_bank(), beam_length=[1e-6, 1e-2], n_realization=2)  # the bounds are allowed
