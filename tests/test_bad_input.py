@@ -135,3 +135,12 @@ def test_npy_larger_than_memory_refused_from_its_header(tmp_path):
             fh, {"descr": "<f8", "fortran_order": False, "shape": (10**6, 10**6)})
     with pytest.raises(MemoryError, match=r"1000000 x 1000000 float64 array \(about .* GiB"):
         rs.read_afm(path, spacing="5 nm", units="nm")
+
+
+def test_heights_in_m_labelled_nm_are_refused_with_the_fix(h):
+    """The converse slip: metres labelled nm (or converted twice) made a 1e-18 m surface that
+    every model took silently."""
+    with pytest.raises(ValueError, match=r"rms height is .* m: below anything an AFM can measure.*attrs\['units'\]"):
+        rs.power_spectrum(h.assign_attrs(units="nm"))  # values in m, labelled nm
+    with pytest.raises(ValueError, match="below anything an AFM can measure"):
+        rs.rough_contact_curves(h.assign_attrs(units="nm"), relative_humidity=0.5)

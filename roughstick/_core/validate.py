@@ -140,7 +140,7 @@ def _check_rh_block(a):
     if np.any(bad):
         v = a[bad].ravel()[0]
         raise ValueError(
-            f"relative_humidity must lie strictly between 0 and 1 (a fraction, not %), got {v!r}. "
+            f"relative_humidity must lie strictly between 0 and 1 (a fraction, not %), got {float(v)!r}. "
             "Pass e.g. 0.3 for 30 % RH."
         )
     return a
@@ -291,6 +291,9 @@ MIN_MAP_PIXELS = 8
 #: surface is almost surely in other units than its label says (nm read as m, pixel indices).
 PLAUSIBLE_SPACING = 1e-3
 PLAUSIBLE_RMS = 1e-3
+#: Smallest rms height [m] taken at face value: below the noise floor of any AFM (~1e-11 m) by
+#: 100 x, so a map this flat is heights in m labelled nm (or scaled twice), not a surface.
+PLAUSIBLE_RMS_MIN = 1e-13
 
 
 #: Plausible SI ranges (low, high, typical) of scalar inputs whose unit is easily slipped (GPa for Pa, µm for m).
@@ -363,6 +366,12 @@ def check_plausible_height(h, dx: float, dy: float) -> None:
                 f"the rms height is {rms:.4g} m: implausible for a MEMS surface; the heights are "
                 "probably in nm or um labelled m. Set height.attrs['units'] = 'nm' (or 'um') "
                 "to what they are."
+            )
+        if 0 < rms < PLAUSIBLE_RMS_MIN:
+            raise ValueError(
+                f"the rms height is {rms:.4g} m: below anything an AFM can measure (its noise is "
+                "~1e-11 m); the heights are probably in m labelled nm or um, or converted twice. "
+                "Set height.attrs['units'] to the unit the values are in (e.g. 'm')."
             )
 
 

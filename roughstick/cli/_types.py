@@ -34,6 +34,8 @@ __all__ = ["relative_humidity_arg", "pixel_size_arg", "wavevector_arg", "positiv
 
 #: Heights spanning more than this [m] are not an AFM map (read_afm warns above it too).
 _PLAUSIBLE_SPAN = 1e-3
+#: heights spanning less than this [m] in the --units given: converted twice (1 pm)
+_PLAUSIBLE_SPAN_MIN = 1e-12
 
 _ARRAY_SUFFIXES = {".npy", ".txt", ".csv", ".asc", ".dat", ".xyz"}
 
@@ -145,6 +147,11 @@ def read_map(path, *, spacing=None, units=None, **kwargs):
         finite = np.asarray(h.values, dtype=float)
         finite = finite[np.isfinite(finite)]
         span = float(np.ptp(finite)) if finite.size else 0.0
+        if 0 < span < _PLAUSIBLE_SPAN_MIN:
+            raise ValueError(f"{pathlib.Path(str(path)).name}: with --units {units} the heights span "
+                             f"{span:.4g} m, below anything an AFM can measure; the file probably "
+                             "carries its unit already (NetCDF does): drop --units, or give the unit "
+                             "the numbers are in.")
         if span > _PLAUSIBLE_SPAN:
             raise ValueError(f"{pathlib.Path(str(path)).name}: with --units {units} the heights span "
                              f"{span:.4g} m, implausible for an AFM map (more than 1 mm); give the "

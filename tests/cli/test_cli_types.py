@@ -109,3 +109,12 @@ def test_pixel_size_keeps_plausible_lengths():
     assert pixel_size_arg("5 nm") == "5 nm" and pixel_size_arg("0.2 um") == "0.2 um"
     with pytest.raises(argparse.ArgumentTypeError, match="has no unit"):
         pixel_size_arg("5")
+
+
+@pytest.mark.parametrize("command", ["psd", "curves"])
+def test_units_on_a_netcdf_map_already_in_metres_is_named(command, capsys, tmp_path):
+    """--units nm on a NetCDF map in m rescaled it to a 1e-17 m surface without a word."""
+    rs.datasets.surface_family("S1", shape=(32, 32), seed=1).to_netcdf(tmp_path / "m.nc")
+    rh = ["--rh", "0.5"] if command == "curves" else []
+    msg = _err(capsys, [command, str(tmp_path / "m.nc"), *rh, "--units", "nm", "--out", str(tmp_path / "o.nc")], 1)
+    assert "with --units nm the heights span" in msg and "drop --units" in msg and not _python_words(msg)
