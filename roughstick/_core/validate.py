@@ -360,14 +360,16 @@ def check_plausible_height(h, dx: float, dy: float) -> None:
                 "roughstick.testing.make_topography(values, spacing=5e-9)."
             )
     if h.chunks is None and h.size:
-        rms = float(np.nanstd(np.asarray(h.values, dtype=float)))
+        values = np.asarray(h.values, dtype=float)
+        rms = float(np.nanstd(values))
         if rms > PLAUSIBLE_RMS:
             raise ValueError(
                 f"the rms height is {rms:.4g} m: implausible for a MEMS surface; the heights are "
                 "probably in nm or um labelled m. Set height.attrs['units'] = 'nm' (or 'um') "
                 "to what they are."
             )
-        if 0 < rms < PLAUSIBLE_RMS_MIN:
+        # (a constant map's rms is rounding noise: check_has_roughness names it flat)
+        if 0 < rms < PLAUSIBLE_RMS_MIN and rms > 1e-9 * float(np.nanmax(np.abs(values))):
             raise ValueError(
                 f"the rms height is {rms:.4g} m: below anything an AFM can measure (its noise is "
                 "~1e-11 m); the heights are probably in m labelled nm or um, or converted twice. "
