@@ -319,7 +319,15 @@ def _results_of(folder: pathlib.Path, rec: dict) -> list[pathlib.Path]:
     if rec.get("status") == "complete" and "outputs" in rec:
         return [p for p in entries if p.name in listed]
     t0 = _since(rec) - _SLACK
-    return [p for p in entries if p.name in listed or p.stat().st_mtime >= t0]
+    t1 = _finished(rec) + _SLACK  # a run that finished without a list (older markers): not after
+    return [p for p in entries if p.name in listed or t0 <= p.stat().st_mtime <= t1]
+
+
+def _finished(rec: dict) -> float:
+    try:
+        return calendar.timegm(time.strptime(rec["finished"], "%Y-%m-%dT%H:%M:%SZ"))
+    except (KeyError, TypeError, ValueError):
+        return float("inf")  # unfinished: everything since it started may be its
 
 
 def run_status(folder) -> str | None:

@@ -336,3 +336,26 @@ def test_reproduce_scheduler_is_checked_before_any_work(tmp_path, capsys):
     assert main(["reproduce", "--quick", "--out", str(tmp_path / "rep"), "--scheduler", "thread"]) == 1
     assert "--scheduler 'thread': not a dask scheduler" in capsys.readouterr().err
     assert not (tmp_path / "rep").exists()
+
+
+def test_overwrite_of_an_older_complete_run_keeps_files_added_after_it(tmp_path):
+    """A marker from before the result list: its run's files are those written while it ran;
+    a figure the user saved there afterwards is not its result and stays."""
+    import os
+    import time as _time
+
+    from roughstick.cli._common import claim_folder
+
+    folder = tmp_path / "f"
+    folder.mkdir()
+    t = _time.time()
+    old, mine = folder / "band.nc", folder / "my_figure.png"
+    old.write_text("x")
+    mine.write_text("y")
+    stamp = lambda s: _time.strftime("%Y-%m-%dT%H:%M:%SZ", _time.gmtime(s))  # noqa: E731
+    os.utime(old, (t - 3000, t - 3000))  # written during the old run
+    os.utime(mine, (t - 60, t - 60))  # saved by the user long after it finished
+    (folder / MARKER).write_text(json.dumps({"command": "run", "params": "old text", "status": "complete",
+                                             "started": stamp(t - 3600), "finished": stamp(t - 2400)}))
+    claim_folder(folder, command="run", params={"n": 4}, overwrite=True)
+    assert not old.exists() and mine.exists()
