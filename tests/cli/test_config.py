@@ -7,6 +7,7 @@ from __future__ import annotations
 import pathlib
 
 import pytest
+from _configs import MOMENTS_PSD
 
 import roughstick as rs
 from roughstick.cli import main
@@ -16,14 +17,7 @@ from roughstick.cli.risk import load_risk_config
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))
 
-RUN = """
-[psd]
-source = "moments"
-m0 = "15.7 nm2"
-m2 = 0.040
-m4 = "5.08e-4 nm-2"
-qmax = "289 rad/um"
-[surface]
+RUN = MOMENTS_PSD + """[surface]
 shape = [64, 64]
 spacing = "5 nm"
 [ensemble]

@@ -7,6 +7,7 @@ import pathlib
 
 import numpy as np
 import pytest
+from _configs import MOMENTS_PSD
 
 import roughstick as rs
 from roughstick.cli import main
@@ -18,13 +19,7 @@ EXAMPLES = ROOT / "examples"
 
 BASE = """
 title = "test"
-[psd]
-source = "moments"
-m0 = "15.7 nm2"
-m2 = 0.040
-m4 = "5.08e-4 nm-2"
-qmax = "289 rad/um"
-[surface]
+""" + MOMENTS_PSD.lstrip("\n") + """[surface]
 shape = [64, 64]
 spacing = "5 nm"
 [ensemble]

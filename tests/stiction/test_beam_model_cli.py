@@ -3,21 +3,11 @@
 import warnings
 
 import xarray as xr
+from _configs import SMALL_BEAM
 
 from roughstick.cli import main
 
-CONFIG = """
-[beam]
-lengths = ["100 um", "300 um"]
-[surface]
-spacing = "20 nm"
-shape = [16, 16]
-[ensemble]
-relative_humidity = [0.3, 0.9]
-n = 20
-[bank]
-laws = 3
-"""
+CONFIG = SMALL_BEAM
 
 
 def test_cli_beam(tmp_path, capsys):
