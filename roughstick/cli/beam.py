@@ -127,9 +127,13 @@ def _log_tail_check(bank) -> None:
     if "tail_bem_ratio" not in bank.attrs:
         return
     ratio = np.atleast_1d(bank.attrs["tail_bem_ratio"])
+    lo, hi = (np.atleast_1d(bank.attrs.get(f"tail_bem_ratio_{s}", np.full(ratio.shape, np.nan))) for s in ("low", "high"))
     LOG.info(f"bank tail: the {int(bank.attrs['tail_checked'])} largest Eq. 16 energies against the FFT-BEM, "
-             "median BEM/Eq. 16 per RH: " + ", ".join(f"{r:g}: {v:.2f}" for r, v in zip(bank.rh.values, ratio))
-             + " (no interval: the bank keeps only the median)")
+             "median BEM/Eq. 16 per RH (95 % order-statistic interval): " + ", ".join(
+                 f"{r:g}: {v:.2f} " + (f"[{a:.2f}, {b:.2f}]" if np.isfinite(a) and np.isfinite(b) else
+                                       "(too few laws checked to bound it)" if "tail_bem_ratio_low" in bank.attrs
+                                       else "(no interval: a bank cached before intervals were kept)")
+                 for r, v, a, b in zip(bank.rh.values, ratio, lo, hi, strict=True)))
 
 
 def _check_method(ens: dict, source: str) -> None:

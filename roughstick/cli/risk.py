@@ -206,6 +206,7 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
                 ds["failures_checked_by_bem"].attrs = {"units": "1",
                                                        "long_name": "failure states re-checked by the FFT-BEM"}
             keep = list(_SUBSET_VARS) + [v for v in ("failures_confirmed_by_bem", "failure_bem_ratio",
+                                                    "failure_bem_ratio_low", "failure_bem_ratio_high",
                                                     "failures_checked_by_bem") if v in ds]
             per_length.append(ds[keep].drop_vars("water_height", errors="ignore"))
         per_layer.append(xr.concat(per_length, dim=xr.DataArray(lengths, dims="beam_length", name="beam_length")))
@@ -340,7 +341,7 @@ def _run_subset(c, beam, lengths, out, *, overwrite):
 
 def _confirmed(d) -> str:
     """The BEM re-check of an Eq. 16 point's failure states, when it has one: the confirmed
-    fraction with its Wilson interval, the median ratio said to have none (only it is kept)."""
+    fraction with its Wilson interval, the median ratio with its order-statistic interval."""
     if "failure_bem_ratio" not in d or not np.isfinite(float(d.failure_bem_ratio)):
         return ""
     f, r = float(d.failures_confirmed_by_bem), float(d.failure_bem_ratio)
@@ -351,7 +352,11 @@ def _confirmed(d) -> str:
         head = f", BEM: {k} of {n} failure states confirmed (95 % Wilson [{lo:.0%}, {hi:.0%}])"
     else:
         head = f", BEM: {f:.0%} of its failure states confirmed (number checked unknown: no interval)"
-    return head + f", median BEM/Eq. 16 {r:.2f} (no interval: only the median is kept)" + (
+    lo, hi = (float(d[v]) if v in d else np.nan for v in ("failure_bem_ratio_low", "failure_bem_ratio_high"))
+    band = (f"95 % [{lo:.2f}, {hi:.2f}]" if np.isfinite(lo) and np.isfinite(hi) else
+            "no interval: too few states checked to bound the median" if "failure_bem_ratio_low" in d else
+            "no interval: only the median is kept")
+    return head + f", median BEM/Eq. 16 {r:.2f} ({band})" + (
         " (Eq. 16 artefacts: use contact_model = 'fft_bem')" if r < ARTEFACT_RATIO else "")
 
 

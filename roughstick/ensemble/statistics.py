@@ -29,6 +29,7 @@ __all__ = [
     "interval_method",
     "ensemble_histogram",
     "ensemble_ecdf",
+    "median_interval",
 ]
 
 
@@ -49,6 +50,30 @@ def order_statistic_ranks(n: int, p: float, *, confidence: float) -> tuple[int, 
     r = int(stats.binom.ppf(a, n, p))  # P(B <= r - 1) <= a  -> rank r
     s = int(stats.binom.ppf(1.0 - a, n, p)) + 1
     return r, s
+
+
+def median_interval(values, *, confidence: float = 0.95) -> tuple[float, float, float]:
+    r"""Median of a few numbers and its distribution-free confidence interval.
+
+    :math:`[X_{(r)}, X_{(s)}]` of :func:`order_statistic_ranks` at :math:`p = 1/2`; a side that
+    ``n`` finite values cannot bound at ``confidence`` is NaN (n <= 5 at 95 %: both sides).
+    Used where a result carries the median of a small check (the BEM re-checks of rare-event
+    failure states and of a patch bank's tail).
+
+    Examples
+    --------
+    >>> rs.median_interval([0.8, 0.9, 1.0, 1.1, 0.95, 0.85, 1.05, 0.99])
+    (0.97, 0.8, 1.1)
+    >>> rs.median_interval([1.0, 2.0, 3.0])[1:]
+    (nan, nan)
+    """
+    x = np.sort(np.asarray(values, dtype=float).ravel())
+    x = x[np.isfinite(x)]
+    if x.size == 0:
+        return np.nan, np.nan, np.nan
+    r, s = order_statistic_ranks(x.size, 0.5, confidence=confidence)
+    return (float(np.median(x)), float(x[r - 1]) if r >= 1 else np.nan,
+            float(x[s - 1]) if s <= x.size else np.nan)
 
 
 def _labelled(obj, func: str, *, dataset: bool = True) -> None:

@@ -26,6 +26,7 @@ from roughstick.contact import (
     laplace_pressure,
     modified_dmt_kernel,
 )
+from roughstick.ensemble.statistics import median_interval
 from roughstick.surface import surface_filter
 
 from ._rare_moves import shell_labels
@@ -180,7 +181,9 @@ def bem_check(ds, model, threshold, n_check):
 
     Adds to ``ds``: ``failures_confirmed_by_bem``, the fraction of the checked failure states
     that the boundary-element model also puts above ``threshold`` (NaN: none checked), and
-    ``failure_bem_ratio``, the median over them of BEM response / Eq. 16 response. Rare events
+    ``failure_bem_ratio``, the median over them of BEM response / Eq. 16 response, with its
+    95 % distribution-free interval ``failure_bem_ratio_low`` / ``_high``
+    (:func:`roughstick.median_interval`; NaN with 5 states or fewer). Rare events
     select exactly the states where a cheap model may be wrong, so the result carries this
     measured check, and warns (ValidityWarning) in two cases:
 
@@ -194,20 +197,24 @@ def bem_check(ds, model, threshold, n_check):
     Periodic zones of one patch only (the BEM is periodic).
     """
     noise = ds["failure_noise"].values if "failure_noise" in ds else np.empty((0, 0))
-    ok, n, ratio = 0, 0, np.nan
+    ok, n, (ratio, lo, hi) = 0, 0, (np.nan,) * 3
     if n_check > 0 and model.periodic and model.patches == 1 and noise.shape[0] > 0:
         pick = np.unique(np.linspace(0, noise.shape[0] - 1, min(int(n_check), noise.shape[0])).astype(int))
         bem = SurfaceResponse(model.to_surface, relative_humidity=model.rh, water_height=model.hw,
                               quantity=model.quantity, contact_model="fft_bem", **model.bem_kw)
         got = np.array([bem(noise[i]) for i in pick])  # against the stored Eq. 16 responses
         ok, n = int(np.sum(got > threshold)), int(pick.size)
-        ratio = float(np.median(got / ds["failure_response"].values[pick]))
+        ratio, lo, hi = median_interval(got / ds["failure_response"].values[pick], confidence=0.95)
     ds["failures_confirmed_by_bem"] = xr.DataArray(ok / n if n else np.nan, attrs={
         "units": "1", "checked": n,
         "long_name": "fraction of checked failure samples whose FFT-BEM response is also above the threshold"})
     ds["failure_bem_ratio"] = xr.DataArray(ratio, attrs={
         "units": "1", "checked": n,
         "long_name": "median FFT-BEM / Eq. 16 response of the checked failure samples"})
+    for name, v, side in (("failure_bem_ratio_low", lo, "lower"), ("failure_bem_ratio_high", hi, "upper")):
+        ds[name] = xr.DataArray(v, attrs={  # order statistics; NaN: too few states checked to bound it
+            "units": "1", "checked": n, "confidence": 0.95,
+            "long_name": f"{side} end of the 95 % distribution-free interval of failure_bem_ratio"})
     if n and ratio < ARTEFACT_RATIO:
         what = (f"only {ok} of {n} stay above the threshold): this probability is made of modified-DMT "
                 "(Eq. 16) artefacts" if ok < 0.5 * n else

@@ -26,6 +26,7 @@ from ..contact import (
     rough_contact_curves,
     warn_if_outside_validity,
 )
+from ..ensemble.statistics import median_interval
 from ..surface import generate_surfaces
 
 __all__ = ["build_patch_bank"]
@@ -81,8 +82,9 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir):
 def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int) -> xr.DataArray:
     """Re-evaluate the ``n_check`` laws of largest Eq. 16 energy at each RH with the FFT-BEM.
 
-    Sets ``attrs["tail_bem_ratio"]`` (per RH, the median over those laws of BEM Γ / Eq. 16 Γ)
-    and ``attrs["tail_checked"]``, and warns (ValidityWarning) where the ratio is below
+    Sets ``attrs["tail_bem_ratio"]`` (per RH, the median over those laws of BEM Γ / Eq. 16 Γ),
+    its 95 % order-statistic interval ``tail_bem_ratio_low`` / ``_high`` (NaN with 5 laws or
+    fewer, :func:`roughstick.median_interval`) and ``attrs["tail_checked"]``, and warns (ValidityWarning) where the ratio is below
     :data:`TAIL_RATIO_WARN`.
     The largest laws set the beam's small P(stuck) (the front stops at the first patch able to
     hold it), and the modified DMT's tail is where it is least reliable: on 64² Table-4 patches
@@ -91,12 +93,12 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int) -> 
     """
     values = bank.values
     k = min(int(n_check), values.shape[0])
-    ratio = np.full(values.shape[1], np.nan)
+    ratio, lo, hi = (np.full(values.shape[1], np.nan) for _ in range(3))
     for j, rh in enumerate(bank.rh.values):
         top = np.argsort(values[:, j], kind="stable")[::-1][:k]
         bem = _law_energies(psd, top, [float(rh)], shape, spacing, seed, "fft_bem")[:, 0]
-        ratio[j] = np.median(bem / values[top, j])
-    bank.attrs.update(tail_bem_ratio=ratio, tail_checked=k)
+        ratio[j], lo[j], hi[j] = median_interval(bem / values[top, j], confidence=0.95)
+    bank.attrs.update(tail_bem_ratio=ratio, tail_bem_ratio_low=lo, tail_bem_ratio_high=hi, tail_checked=k)
     low = bank.rh.values[ratio < TAIL_RATIO_WARN]
     if low.size:
         warnings.warn(

@@ -221,7 +221,11 @@ def test_risk_bem_check_line_says_its_interval():
     text = _confirmed(d)
     lo, hi = rs.binomial_interval(6, 8, confidence=0.95)
     assert f"6 of 8 failure states confirmed (95 % Wilson [{float(lo):.0%}, {float(hi):.0%}])" in text
-    assert "median BEM/Eq. 16 0.90 (no interval" in text
+    assert "median BEM/Eq. 16 0.90 (no interval: only the median is kept)" in text  # an older risk.nc
+    text = _confirmed(d.assign(failure_bem_ratio_low=0.85, failure_bem_ratio_high=0.97))
+    assert "median BEM/Eq. 16 0.90 (95 % [0.85, 0.97])" in text
+    text = _confirmed(d.assign(failure_bem_ratio_low=np.nan, failure_bem_ratio_high=np.nan))
+    assert "too few states checked to bound the median" in text
 
 
 BEAM = SMALL_BEAM.replace("n = 20\n", "n = 20\nseed = 3\n") + "seed = 5\n"  # seeded: reruns compare

@@ -358,6 +358,8 @@ def test_bem_check_confirms_or_flags_the_failure_states():
     low = _s.bem_check(ds.copy(), model, 0.5 * g.min(), 8)
     assert float(low.failures_confirmed_by_bem) == 1.0 and low.failures_confirmed_by_bem.attrs["checked"] == 5
     assert float(low.failure_bem_ratio) == pytest.approx(ratio, rel=1e-12)
+    # 5 states cannot bound a median at 95 % (1 - 2/32 < 0.95): said by NaN, not a fake interval
+    assert np.isnan(float(low.failure_bem_ratio_low)) and np.isnan(float(low.failure_bem_ratio_high))
     with pytest.warns(rs.ValidityWarning, match="model error moves them") as rec:
         high = _s.bem_check(ds.copy(), model, 2 * g.max(), 3)
     assert "contact_model='fft_bem'" in str(rec[0].message) and "artefacts" not in str(rec[0].message)
