@@ -22,11 +22,10 @@ from .._core.conventions import ATTRS, dataset_attrs, set_attrs
 from .._core.materials import POLYSILICON, Material, hertz_modulus
 from .._core.references import PAPER, cite
 from .._core.units import require
-from .._core.validate import positive
+from .._core.validate import ValidityWarning, external_stacklevel, positive
 from . import _sphere_energy
 from . import _sphere_kernels as K_
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
-from .validity import ValidityWarning, _external_stacklevel
 
 __all__ = [
     "SPHERE_MODELS",
@@ -151,7 +150,7 @@ def _warn_if_large_strain(R, Kmod, s0, h0, kind, contact_radius=None):
             "and energies are not trustworthy. Check that the modulus is in Pa (two poly-silicon "
             "bodies: E* = 86.6e9) and the radius in m; for a soft material use a finite-deformation "
             "model.",
-            ValidityWarning, stacklevel=_external_stacklevel(),
+            ValidityWarning, stacklevel=external_stacklevel(),
         )
 
 

@@ -566,7 +566,6 @@ def select_model(
     return "bem", "no cheaper model meets the tolerance: " + "; ".join(notes)
 
 
-_external_stacklevel = external_stacklevel  # the user's line (roughstick._core.validate)
 
 
 def warn_if_outside_validity(
@@ -623,6 +622,6 @@ def warn_if_outside_validity(
         f"model={better!r}); on the command line: roughstick curves MAP --rh ... --model auto "
         f"--tolerance {tolerance:g}. See docs/accuracy.md.",
         ValidityWarning,
-        stacklevel=_external_stacklevel() if stacklevel is None else stacklevel,
+        stacklevel=external_stacklevel() if stacklevel is None else stacklevel,
     )
     return True

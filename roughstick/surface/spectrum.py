@@ -25,8 +25,8 @@ from .._core import units as _units
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.references import PAPER, cite
-from .._core.validate import check_core_not_chunked
-from .topography import MIN_PIXELS, _refuse_constant_or_nan, validate_height
+from .._core.validate import MIN_MAP_PIXELS, check_core_not_chunked
+from .topography import _refuse_constant_or_nan, validate_height
 
 __all__ = [
     "power_spectrum",
@@ -37,9 +37,6 @@ __all__ = [
     "interpolate_psd",
     "isotropic_to_2d",
 ]
-
-#: Smallest map side (pixels) a spectrum is estimated or interpolated on.
-MIN_SIDE = MIN_PIXELS
 
 
 def _wavevector(value, *, name: str):
@@ -423,8 +420,8 @@ def interpolate_psd(psd: xr.DataArray, *, shape, spacing=None) -> xr.DataArray:
         ``spacing_y`` of the target.
     """
     ny, nx = (int(v) for v in shape)
-    if min(ny, nx) < MIN_SIDE:
-        raise ValueError(f"shape must be at least {MIN_SIDE} x {MIN_SIDE}, got {shape}.")
+    if min(ny, nx) < MIN_MAP_PIXELS:
+        raise ValueError(f"shape must be at least {MIN_MAP_PIXELS} x {MIN_MAP_PIXELS}, got {shape}.")
     if spacing is None:
         if "spacing_x" not in psd.attrs:
             raise ValueError("psd has no 'spacing_x' attribute: pass spacing= (m) of the target map.")

@@ -25,9 +25,6 @@ from .._core.validate import (
 
 __all__ = ["validate_height", "level"]
 
-#: Smallest map side (pixels) for roughness statistics and spectra.
-MIN_PIXELS = MIN_MAP_PIXELS  # the one minimum (_core/validate.py)
-
 
 def _check_dtype(height):
     kind = np.dtype(height.dtype).kind
@@ -75,8 +72,8 @@ def validate_height(height: xr.DataArray) -> xr.DataArray:
         )
     _check_dtype(height)
     h = _units.require(height, "length", name=height.name or "height")
-    dx = grid_spacing(h, "x", min_pixels=MIN_PIXELS)
-    dy = grid_spacing(h, "y", min_pixels=MIN_PIXELS)
+    dx = grid_spacing(h, "x", min_pixels=MIN_MAP_PIXELS)
+    dy = grid_spacing(h, "y", min_pixels=MIN_MAP_PIXELS)
     check_plausible_height(h, dx, dy)
     check_core_not_chunked(h, ["x", "y"])
     h = h.transpose(..., "y", "x")
