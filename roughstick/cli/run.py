@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import dataclasses
 import pathlib
-import re
 import time
 import warnings
 
@@ -110,7 +109,7 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
         ax.set_title(cfg.title)
         written.append(save_figure(ax.figure, cfg.folder / "energy_ecdf.png"))
     log("apparent adhesive energy Γ:")
-    for line in with_median_interval(band, rs.band_summary(band)):
+    for line in rs.band_summary(band, median_interval=True):
         log("  " + line)
     if cfg.n == "auto":
         state = "converged" if band.attrs.get("auto_converged") else (
@@ -119,24 +118,6 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
     finish_folder(cfg.folder)
     log(f"done in {time.perf_counter() - t0:.1f} s; n = {ds.sizes['realization']}")
     return written
-
-
-def with_median_interval(band, lines, variable="adhesive_energy", *, scale=1e3):
-    """:func:`roughstick.band_summary` lines with the median's own confidence interval (or that
-    n is too small to bound it) after the median, which they print bare."""
-    conf = float(band.attrs.get("confidence", 0.95))
-    med = band.sel(quantile=0.5, method="nearest")
-    if abs(float(med["quantile"]) - 0.5) > 1e-9 or f"{variable}_ci_lower" not in band:
-        return lines
-    lo = np.atleast_1d(med[f"{variable}_ci_lower"].values) * scale
-    hi = np.atleast_1d(med[f"{variable}_ci_upper"].values) * scale
-    need = rs.min_samples_to_bound(0.5, confidence=conf)
-    out = []
-    for line, a, b in zip(lines, lo, hi, strict=True):
-        ci = (f" ({conf:.0%} CI of the median [{a:.4g}, {b:.4g}])" if np.isfinite(a) and np.isfinite(b)
-              else f" (n too small to bound the median: needs n >= {need})")
-        out.append(re.sub(r"(median \S+ \S+?),", lambda m, ci=ci: m.group(1) + ci + ",", line, count=1))
-    return out
 
 
 def _warn_if_extrapolated(psd, shape, spacing: float, *, source: str) -> bool:

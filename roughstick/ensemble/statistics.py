@@ -371,8 +371,11 @@ def _fmt(v: float, fmt: str) -> str:
 
 
 def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: float = 1e3,
-                 units: str = "mJ/m²", fmt: str = ".4g") -> list[str]:
+                 units: str = "mJ/m²", fmt: str = ".4g", median_interval: bool = False) -> list[str]:
     """One line per humidity: median, band and each band edge's own confidence interval.
+
+    With ``median_interval`` the median carries its own interval too, "(95% CI of the median
+    [a, b])", or "(n too small to bound the median: needs n >= 6)" (``roughstick run`` prints it).
 
     An edge that the sample cannot bound reads "n too small to bound this edge (needs n >= N)"
     instead of a number, so a band from a few surfaces is never shown as if it were reliable.
@@ -406,8 +409,13 @@ def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: 
         if counts is not None:
             c = counts.isel(rh=k) if r is not None and "rh" in counts.dims else counts
             n = int(c.min())
+        med = ""
+        if median_interval and has_ci:
+            a, b = lo[col][1], hi[col][1]
+            med = (f" ({conf:.0%} CI of the median [{_fmt(a, fmt)}, {_fmt(b, fmt)}])" if np.isfinite(a) and np.isfinite(b)
+                   else f" (n too small to bound the median: needs n >= {min_samples_to_bound(0.5, confidence=conf)})")
         head = (f"RH {r:.0%}: " if r is not None else "") + (
-            f"median {_fmt(qq[1], fmt)} {units}, {level:.0%} band [{_fmt(qq[0], fmt)}, "
+            f"median {_fmt(qq[1], fmt)} {units}{med}, {level:.0%} band [{_fmt(qq[0], fmt)}, "
             f"{_fmt(qq[2], fmt)}] from n = {n}")
         if not has_ci:
             lines.append(head + "; the band's own uncertainty was not computed")
