@@ -30,8 +30,6 @@ from ._common import length_with_unit
 __all__ = ["relative_humidity_arg", "pixel_size_arg", "wavevector_arg", "positive_float_arg",
            "flag_value", "check_map_flags", "read_map"]
 
-#: File name endings of NetCDF output (what :func:`roughstick.io.netcdf.write` writes).
-
 #: Heights spanning more than this [m] are not an AFM map (read_afm warns above it too).
 _PLAUSIBLE_SPAN = 1e-3
 #: heights spanning less than this [m] in the --units given: converted twice (1 pm)
