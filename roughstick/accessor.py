@@ -13,8 +13,8 @@ from __future__ import annotations
 import xarray as xr
 
 from .contact import adhesion, bem, curves, gw, meniscus, rough
+from .ensemble import distributions, statistics
 from .ensemble import run as ensemble_run
-from .ensemble import statistics
 from .stiction import beam, risk
 from .surface import generate, moments, spectrum, summary, topography
 
@@ -126,10 +126,10 @@ class RoughDataArrayAccessor(_Accessor):
         return statistics.quantile_interval(self._obj, quantiles, **kwargs)
 
     def ensemble_histogram(self, **kwargs):
-        return statistics.ensemble_histogram(self._obj, **kwargs)
+        return distributions.ensemble_histogram(self._obj, **kwargs)
 
     def ensemble_ecdf(self, **kwargs):
-        return statistics.ensemble_ecdf(self._obj, **kwargs)
+        return distributions.ensemble_ecdf(self._obj, **kwargs)
 
     def stiction_probability(self, **kwargs):
         return risk.stiction_probability(self._obj, **kwargs)

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..ensemble.statistics import confidence_band, ensemble_ecdf, ensemble_histogram
+from ..ensemble.distributions import ensemble_ecdf, ensemble_histogram
+from ..ensemble.statistics import confidence_band
 
 __all__ = ["plot_ensemble_curves", "plot_energy_band", "plot_energy_distribution"]
 
