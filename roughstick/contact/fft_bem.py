@@ -243,7 +243,8 @@ def fft_bem_contact_curves(
         FFT precision; single is twice as fast and resolves gaps to ~1e-6 of the heights.
     n_contact, n_free, refine : int
         Automatic grid: uniform retraction steps in contact, points over the water range without
-        contact, and bisection rounds around the pull-off and the equilibrium. The retraction
+        contact, and bisection rounds around the pull-off and the equilibrium (then, if
+        ``refine`` > 0, four more around the pull-off: docs/fft_bem.md). The retraction
         starts just below the zero-load equilibrium, so Γ is the work of separation from a contact
         under no load. On stiff bodies that is also the work from a loaded contact (64² S1, RH
         0.5: the same Γ within 1 % when retracting from 0.3 of the way from the mean plane to
