@@ -20,3 +20,13 @@ def ifft_seconds(repeat: int = 5) -> float:
         np.fft.ifft2(a)
         best = min(best, time.perf_counter() - t)
     return best
+
+
+def spread_interval(spread: float, k: int, confidence: float = 0.95) -> tuple[float, float]:
+    """Chi-square interval of a relative spread (std/mean) measured on ``k`` runs (normal
+    approximation): how well K repeated runs pin down the true cv of one run."""
+    from scipy.stats import chi2
+
+    a = (1 - confidence) / 2
+    lo, hi = spread * np.sqrt((k - 1) / chi2.ppf([1 - a, a], k - 1))
+    return float(lo), float(hi)

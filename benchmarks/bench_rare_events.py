@@ -24,7 +24,7 @@ import time
 import warnings
 
 import numpy as np
-from _yardstick import ifft_seconds
+from _yardstick import ifft_seconds, spread_interval
 
 import roughstick as rs
 
@@ -60,8 +60,6 @@ def _case(args):
 def _repeat(psd, args, settings, unit, first):
     """K runs with the settings of the first one (``first``: its P, cv, evaluations, wall) on
     seeds seed .. seed+K-1: their spread."""
-    from scipy.stats import chi2
-
     ps, cvs, ns, walls = ([v] for v in first)
     for s in range(args.seed + 1, args.seed + args.repeat):
         t0 = time.perf_counter()
@@ -76,7 +74,7 @@ def _repeat(psd, args, settings, unit, first):
     ps = np.array(ps)
     k = ps.size
     sd = ps.std(ddof=1) / ps.mean()
-    lo, hi = sd * np.sqrt((k - 1) / chi2.ppf([0.975, 0.025], k - 1))
+    lo, hi = spread_interval(sd, k)
     print(f"{k} runs: mean P = {ps.mean():.3e} (95% [{ps.mean() - 1.96 * ps.std(ddof=1) / np.sqrt(k):.2e}, "
           f"{ps.mean() + 1.96 * ps.std(ddof=1) / np.sqrt(k):.2e}]); spread of one run (its true cv) "
           f"{sd:.2f}, 95% [{lo:.2f}, {hi:.2f}] (chi-square, normal approximation); mean reported cv "
