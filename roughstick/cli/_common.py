@@ -56,17 +56,23 @@ def positive_int(text: str) -> int:
     return v
 
 
-def length_with_unit(text: str) -> str:
-    """argparse type: a length with its unit (``--spacing 5`` is refused: read as m it made a
-    5 m pixel and a nonsense Γ; the config files refuse a bare number the same way)."""
+def refuse_bare_number(text: str, unit: str) -> None:
+    """argparse check: a value without its unit is refused, naming an example ``unit``."""
     import argparse
 
     try:
         float(text)
     except ValueError:
-        pass
-    else:
-        raise argparse.ArgumentTypeError(f"{text!r} has no unit; write it with one, e.g. '{text} nm'")
+        return
+    raise argparse.ArgumentTypeError(f"{text!r} has no unit; write it with one, e.g. '{text} {unit}'")
+
+
+def length_with_unit(text: str) -> str:
+    """argparse type: a length with its unit (``--spacing 5`` is refused: read as m it made a
+    5 m pixel and a nonsense Γ; the config files refuse a bare number the same way)."""
+    import argparse
+
+    refuse_bare_number(text, "nm")
     try:
         parse_quantity(text, "length", name="the length")
     except ValueError as exc:

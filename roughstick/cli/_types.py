@@ -25,7 +25,7 @@ import roughstick as rs
 
 from .._core.units import parse_quantity
 from .._core.validate import PLAUSIBLE_SPACING
-from ._common import length_with_unit
+from ._common import length_with_unit, refuse_bare_number
 
 __all__ = ["relative_humidity_arg", "pixel_size_arg", "wavevector_arg", "positive_float_arg",
            "flag_value", "check_map_flags", "read_map"]
@@ -85,12 +85,7 @@ def pixel_size_arg(text: str) -> str:
 
 def wavevector_arg(text: str) -> float:
     """argparse type of ``--qmax``: a wave number with its unit (``"289 rad/um"``); returns rad/m."""
-    try:
-        float(text)
-    except ValueError:
-        pass
-    else:
-        raise argparse.ArgumentTypeError(f"{text!r} has no unit; write it with one, e.g. '{text} rad/um'")
+    refuse_bare_number(text, "rad/um")
     try:
         v = parse_quantity(text, "wavevector", name="--qmax")
     except ValueError as exc:
