@@ -30,7 +30,7 @@ import xarray as xr
 import roughstick as rs
 
 from .._core.units import KINDS, UnitsError, parse_quantity
-from ..io.afm import BUNDLED_PREFIX, bundled_map_names, resolve_map_path
+from ..io.afm import bundled_map_names, resolve_map_path
 from ._schema import SCHEMAS, Field
 
 __all__ = ["ConfigError", "Field", "SCHEMAS", "parse", "read_toml", "RunConfig", "load_config",
@@ -184,12 +184,8 @@ def _one(value, f: Field, name: str, base: pathlib.Path):
         if not isinstance(value, str) or not value:
             raise ConfigError(f"{name} = {value!r}: expected a path or a bundled map name (a string), "
                               "e.g. \"bundled:S1A\".")
-        p = pathlib.Path(value).expanduser()
-        p = p if p.is_absolute() else (base / p).resolve()
-        if p.exists() or not value.lower().startswith(BUNDLED_PREFIX):
-            return p  # a real file of that name wins
         try:
-            return resolve_map_path(value)
+            return resolve_map_path(value, base=base)  # a real file of that name wins
         except ValueError:
             raise ConfigError(f"{name} = {value!r}: no such bundled map; the bundled maps are "
                               f"{bundled_map_names()} (or give a file path).") from None

@@ -52,9 +52,10 @@ def bundled_map_file(name: str) -> pathlib.Path:
     return pathlib.Path(str(path))
 
 
-def resolve_map_path(path) -> pathlib.Path:
-    """The file a map path names: ``path`` itself when such a file or folder exists, else, for
-    ``bundled:NAME``, the bundled map ``NAME`` inside the package.
+def resolve_map_path(path, *, base=None) -> pathlib.Path:
+    """The file a map path names: ``path`` itself (``~`` expanded; a relative path taken from
+    the folder ``base`` when given, e.g. a config file's) when such a file or folder exists, else,
+    for ``bundled:NAME``, the bundled map ``NAME`` inside the package.
 
     Raises
     ------
@@ -66,8 +67,10 @@ def resolve_map_path(path) -> pathlib.Path:
     >>> resolve_map_path("bundled:S2C").name
     'S2C.nc'
     """
-    p = pathlib.Path(path)
     text = str(path)
+    p = pathlib.Path(path).expanduser()
+    if base is not None and not p.is_absolute():
+        p = (pathlib.Path(base) / p).resolve()
     if p.exists() or not text.lower().startswith(BUNDLED_PREFIX):
         return p
     return bundled_map_file(text[len(BUNDLED_PREFIX):])
