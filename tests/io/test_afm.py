@@ -37,7 +37,8 @@ def test_npy_and_text(tmp_path):
     np.testing.assert_allclose(t.values, z * 1e-6)
     np.testing.assert_allclose(np.diff(t.y.values), 2e-9)
     np.savetxt(tmp_path / "m.csv", z, delimiter=",")
-    np.testing.assert_allclose(rs.read_afm(tmp_path / "m.csv", spacing=1e-9, units="m").values, z)
+    with pytest.warns(UserWarning, match="implausible for an AFM map"):  # heights of metres
+        np.testing.assert_allclose(rs.read_afm(tmp_path / "m.csv", spacing=1e-9, units="m").values, z)
     with pytest.raises(ValueError, match="spacing="):
         rs.read_afm(tmp_path / "m.npy")
     with pytest.raises(rs.UnitsError, match="not a length"):
@@ -135,7 +136,8 @@ def test_surfacetopography_netcdf_accepted(tmp_path):
     np.testing.assert_allclose(h.x.values, vendor.x.values, rtol=1e-12)
     assert h.attrs["units"] == "m" and h.attrs["instrument_vendor"] == "Bruker"
     # --units overrides the file's unit
-    h_um = rs.read_afm(tmp_path / "ce.nc", units="um")
+    with pytest.warns(UserWarning, match="implausible for an AFM map"):  # 1e3 x: mm heights
+        h_um = rs.read_afm(tmp_path / "ce.nc", units="um")
     np.testing.assert_allclose(h_um.values, 1e3 * h.values, rtol=1e-12)
 
 
@@ -146,7 +148,8 @@ def test_foreign_netcdf_without_units_is_refused(tmp_path):
         rs.read_afm(tmp_path / "z.nc")
     with pytest.raises(ValueError, match="coordinate 'y' has no units"):
         rs.read_afm(tmp_path / "z.nc", units="nm")
-    h = rs.read_afm(tmp_path / "z.nc", units="nm", spacing="5 nm")
+    with pytest.warns(UserWarning, match="a flat map"):
+        h = rs.read_afm(tmp_path / "z.nc", units="nm", spacing="5 nm")
     assert h.dims == ("y", "x") and float(h.x[1] - h.x[0]) == pytest.approx(5e-9)
 
 
