@@ -362,10 +362,8 @@ def auto_curve(z, spacing, sigma0, h0, *, tolerance=1e-3, n_contact=12, n_free=2
         st = solve(float(d), st)
     # 4. refinement where the summaries are decided: ``refine`` rounds around the most tensile
     #    point and the equilibrium, then EXTRA_PULL_OFF_ROUNDS more around the most tensile point
-    #    (it sits where a neck lets go, a cusp that bisection approaches by about a factor 2 per
-    #    round; measured in session 10 on 64² maps of the five families at RH 1e-4 to 0.9, against
-    #    16 rounds: 2 rounds left the pull-off up to 2.2 % low, 2 + 4 rounds 0.14 %, for 16 % more
-    #    states, warm-started)
+    #    (it sits where a neck lets go, which bisection approaches by about a factor 2 per round;
+    #    speed against error: benchmarks/fft_bem_pull_off_grid.py and docs/fft_bem.md)
     for r in range(int(refine) + (EXTRA_PULL_OFF_ROUNDS if refine > 0 else 0)):
         dd = np.array(sorted(full))
         pp = np.array([full[x]["pbar"] for x in dd])
