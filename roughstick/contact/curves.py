@@ -31,7 +31,7 @@ from .._core.validate import (
     relative_humidity_values,
 )
 from .bem import bem_contact_curves
-from .fft_bem import fft_bem_contact_curves
+from .fft_bem import automatic_grid_counts, fft_bem_contact_curves
 from .gw import gw_contact_curves
 from .rough import modified_dmt_curves
 from .validity import (
@@ -240,8 +240,7 @@ def rough_contact_curves(
     elif model == "fft_bem":
         if distance is None and n_distance is not None and not {"n_contact", "n_free"} & set(kwargs):
             # its automatic grid has n_contact + n_free points plus the refinement's
-            kwargs["n_contact"] = max(4, -(-int(n_distance) // 3))
-            kwargs["n_free"] = max(4, int(n_distance) - kwargs["n_contact"])
+            kwargs.update(automatic_grid_counts(n_distance))
         ds = fft_bem_contact_curves(height, distance=distance, **common, **kwargs)
     else:
         ds = bem_contact_curves(height, distance=distance, **common,

@@ -39,8 +39,8 @@ from .._core.references import cite
 from .._core.units import require
 from .._core.validate import MIN_MAP_PIXELS, check_core_not_chunked, check_has_roughness
 from . import _fft_bem_kernels as _k
-from .bem import _count_periodic_clusters, periodic_offset_coefficient
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
+from .periodic import count_periodic_clusters, periodic_offset_coefficient
 from .validity import ValidityWarning
 
 __all__ = ["fft_bem_contact_curves"]
@@ -99,7 +99,7 @@ def _states_to_arrays(states, d_nm, zmax, e_star, sigma0, offset_per_pressure):
 
 def _count(st):
     contact = st["p"] > 0
-    st["n_contacts"] = _count_periodic_clusters(contact) if contact.any() else 0
+    st["n_contacts"] = count_periodic_clusters(contact) if contact.any() else 0
     return st
 
 
@@ -152,23 +152,30 @@ def _fft_bem_kernel(z, *, spacing, distances, sigma0s, h_waters, e_star, toleran
         grid_nm = per_rh[0][0]
         out = {k: np.stack([v[k] for _, v in per_rh]) for k in _NAMES}
         return grid_nm * L, out
-    # automatic grids differ per humidity: report all on the union of the grids. Between a
-    # humidity's own points its values are linearly interpolated (Eq. 13 on the piecewise-linear
-    # curve, the pull-off and d_eq are unchanged by that); below its first point they are NaN,
-    # above max z + h_water the state is dry (zero); `solved` marks the computed points.
+    return merge_humidity_grids(per_rh, zmax, _NAMES, L)
+
+
+def merge_humidity_grids(per_rh, zmax, names, unit):
+    """Curves of several humidities, each on its own grid, on the union of the grids.
+
+    ``per_rh``: (distances, {name: values}) per humidity, in units of ``unit`` [m]. Between a
+    humidity's own points its values are linearly interpolated (Eq. 13 on the piecewise-linear
+    curve, the pull-off and d_eq are unchanged by that); below its first point they are NaN,
+    above its last (beyond max z + h_water, or where the neck let go) the state is dry (zero,
+    and ``max_interference`` = max z - d); ``solved`` marks the computed points. Returns the
+    union [m] and arrays (n_rh, n_union). Used by both boundary-element models."""
     union = np.unique(np.concatenate([dd for dd, _ in per_rh]))
-    out = {k: np.full((len(per_rh), union.size), np.nan) for k in _NAMES}
+    out = {k: np.full((len(per_rh), union.size), np.nan) for k in names}
     for i, (dd, v) in enumerate(per_rh):
         inside = (union >= dd[0]) & (union <= dd[-1])
         above = union > dd[-1]
-        for k in _NAMES:
+        for k in names:
             if k == "solved":
                 out[k][i] = np.isin(union, dd).astype(float)
                 continue
             out[k][i, inside] = np.interp(union[inside], dd, v[k])
-            # beyond max z + h_water of this humidity: dry, no contact
-            out[k][i, above] = (zmax - union[above]) * L if k == "max_interference" else 0.0
-    return union * L, out
+            out[k][i, above] = (zmax - union[above]) * unit if k == "max_interference" else 0.0
+    return union * unit, out
 
 
 def _warn_unconverged(stats, max_iterations, e_star) -> None:
@@ -183,6 +190,14 @@ def _warn_unconverged(stats, max_iterations, e_star) -> None:
             "their pressures, and Γ, pull-off and d_eq built on them, are not trustworthy. Raise "
             "max_iterations (e.g. 2000); on a soft material the wet and contact sets may also "
             "cycle, then compare with model='bem' on a few maps.", ValidityWarning, stacklevel=3)
+
+
+def automatic_grid_counts(n_distance: int) -> dict:
+    """``n_contact`` and ``n_free`` of the automatic grid for about ``n_distance`` points (a
+    third below the first water contact, the rest across the water range; the refinement adds
+    its own): how ``rough_contact_curves(n_distance=)`` and the BEM's default grid size it."""
+    n_contact = max(4, -(-int(n_distance) // 3))
+    return {"n_contact": n_contact, "n_free": max(4, int(n_distance) - n_contact)}
 
 
 def fft_bem_contact_curves(

@@ -208,15 +208,41 @@ def test_bad_input():
         rs.bem_contact_curves(h.assign_attrs(units="furlong"), relative_humidity=0.5)
 
 
-def test_default_grid_spans_first_water_contact():
-    rng = np.random.default_rng(2)
-    z = rng.normal(size=(16, 16)) * 1e-9
-    h = make_topography(z, spacing=5e-9, periodic=True)
-    ds = rs.bem_contact_curves(h, relative_humidity=0.5, n_distances=6)
-    assert ds.sizes["distance"] == 6 and ds.pressure.dims == ("distance",)
-    hw = float(rs.water_height(0.5))
-    assert ds.distance.max() == pytest.approx(z.max() + hw)
-    assert ds.distance.min() < z.max()
+def _rough_stiff_map(seed=0):
+    """σ 30 nm on 32² pixels of 5 nm: at RH 0.05 the water range (0.35 nm) is narrower than a
+    fixed 40-point span of 0.5 σ below max z (0.39 nm steps)."""
+    h = rs.generate_surfaces(rs.datasets.family_psd("rough"), n=1, shape=(32, 32), spacing=5e-9,
+                             seed=seed).isel(realization=0).compute()
+    return (h - h.mean()) * (30e-9 / float(h.std()))
+
+
+def test_default_grid_resolves_the_water_range_of_a_rough_stiff_map():
+    h = _rough_stiff_map().assign_attrs(units="m")
+    rh, hw = 0.05, float(rs.water_height(0.05))
+    zmax = float(h.max())
+    ds = rs.bem_contact_curves(h, relative_humidity=rh)
+    # reference: the same solver on a dense uniform grid across the equilibrium and the water
+    # range (1e-3 nm steps below max z, 3.5e-3 nm above); the old fixed grid gave Γ = 0 here
+    dense = np.concatenate([np.linspace(zmax - 0.05e-9, zmax, 51),
+                            np.linspace(zmax, zmax + 3 * hw, 301)[1:]])
+    ref = rs.bem_contact_curves(h, relative_humidity=rh, distance=dense)
+    gamma = float(rs.adhesion_summary(ds).adhesive_energy)
+    assert gamma == pytest.approx(float(rs.adhesion_summary(ref).adhesive_energy), rel=0.05)
+    assert ds.distance.min() < zmax < ds.distance.max()
+
+
+def test_default_grids_of_several_humidities_are_merged_like_fft_bem():
+    h = _rough_stiff_map(1).assign_attrs(units="m")
+    both = rs.bem_contact_curves(h, relative_humidity=[0.05, 0.5])
+    assert both.pressure.dims == ("rh", "distance")
+    for i, rh in enumerate((0.05, 0.5)):
+        one = rs.bem_contact_curves(h, relative_humidity=rh)
+        # each humidity's own points are solved, and its Γ is that of its own grid
+        assert int(both.solved[i].sum()) == one.sizes["distance"]
+        np.testing.assert_allclose(both.pressure[i].sel(distance=one.distance).values,
+                                   one.pressure.values, rtol=1e-12)
+        assert float(rs.adhesion_summary(both).adhesive_energy[i]) == pytest.approx(
+            float(rs.adhesion_summary(one).adhesive_energy), rel=1e-9)
 
 
 def test_missing_tamaas_names_the_extra(monkeypatch):

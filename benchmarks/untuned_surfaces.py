@@ -1,0 +1,106 @@
+"""The default calls on random self-affine surfaces nobody tuned on: do they agree, and warn?
+
+    nice -n 5 python benchmarks/untuned_surfaces.py [SEED] [N]
+
+N surfaces (default 60, seed 1): Hurst exponent 0.3-1.0, pixel 2-20 nm, roll-off 3-100 pixels
+per wavelength, shapes 64², 33 x 65, 96 x 128, 97², 128², rms 0.3-30 nm (log-uniform), RH 1e-3,
+0.05, 0.3, 0.6 or 0.95, E 10, 50 or 164 GPa. For each, the calls a user makes:
+``rough_contact_curves(h, model=...)`` with "auto", "fft_bem" and the default "modified_dmt",
+then ``adhesion_summary``. Prints the model auto chose, Γ, the warnings each call raised, and
+the relative Γ difference of auto and of the modified DMT to fft_bem; then a summary per choice.
+At RH <= 1e-3 also fft_bem and the Tamaas BEM on fft_bem's automatic grid extended by 200
+uniform points up to max z + 6 h_water (where a one-pixel neck can still hold): their Γ and the
+highest distance still attractive, in h_water above max z.
+"""
+
+import sys
+import time
+import warnings
+
+import numpy as np
+
+import roughstick as rs
+
+SHAPES = [(64, 64), (33, 65), (96, 128), (97, 97), (128, 128)]
+
+
+def case(rng, k):
+    H = rng.uniform(0.3, 1.0)
+    spacing = 10 ** rng.uniform(np.log10(2e-9), np.log10(20e-9))
+    qmax = np.pi / spacing
+    q0 = qmax / 10 ** rng.uniform(0.5, 2.0)
+    s0 = 1e-33
+    s1 = s0 * (qmax / q0) ** (-2 * (1 + H))
+    shape = SHAPES[rng.integers(len(SHAPES))]
+    sigma = 10 ** rng.uniform(np.log10(0.3e-9), np.log10(30e-9))
+    rh = float(rng.choice([1e-3, 0.05, 0.3, 0.6, 0.95]))
+    E = float(rng.choice([10e9, 50e9, 164e9]))
+
+    def psd(q):
+        return rs.self_affine_psd(q, s0=s0, s1=s1, q0=q0, qmax=qmax)
+
+    h = rs.generate_surfaces(psd, n=1, shape=shape, spacing=spacing, seed=k).isel(realization=0).compute()
+    h = ((h - h.mean()) * (sigma / float(h.std()))).assign_attrs(units="m")
+    desc = (f"{k:3d} H {H:.2f} dx {spacing * 1e9:5.1f} nm 2pi/q0 {2 * np.pi / q0 / spacing:5.1f} px "
+            f"{shape} rms {sigma * 1e9:6.2f} nm RH {rh} E {E / 1e9:.0f} GPa")
+    return h, rh, rs.Material(youngs_modulus=E), desc
+
+
+def call(h, rh, mat, model):
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        t = time.perf_counter()
+        c = rs.rough_contact_curves(h, relative_humidity=rh, model=model, material=mat)
+        g = float(rs.adhesion_summary(c).adhesive_energy)
+        dt = time.perf_counter() - t
+    return g, c.attrs.get("contact_model", model), dt, sorted({x.category.__name__ for x in w})
+
+
+def extended(h, rh, mat):
+    """fft_bem and bem on fft_bem's automatic grid + 200 points up to max z + 6 h_water."""
+    hw, zmax = float(rs.water_height(rh)), float(h.max())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        d = rs.fft_bem_contact_curves(h, relative_humidity=rh, material=mat).distance.values
+        ext = np.concatenate([d, np.linspace(d[-1], zmax + 6 * hw, 201)[1:]])
+        out = []
+        for name, fn in (("fft_bem", rs.fft_bem_contact_curves), ("bem", rs.bem_contact_curves)):
+            c = fn(h, relative_humidity=rh, material=mat, distance=ext)
+            att = np.flatnonzero(c.pressure.values < 0)
+            top = (float(c.distance[att[-1]]) - zmax) / hw if att.size else np.nan
+            out.append(f"{name} Γ {float(rs.adhesion_summary(c).adhesive_energy):.3e} "
+                       f"(attractive up to {top:.2f} h_water)")
+    return (f"extended grid (automatic grid top {(d[-1] - zmax) / hw:.2f} h_water above max z): "
+            + "; ".join(out))
+
+
+def main():
+    seed = int(sys.argv[1]) if len(sys.argv) > 1 else 1
+    n = int(sys.argv[2]) if len(sys.argv) > 2 else 60
+    rng = np.random.default_rng(seed)
+    rows = []
+    for k in range(n):
+        h, rh, mat, desc = case(rng, k)
+        res = {m: call(h, rh, mat, m) for m in ("auto", "fft_bem", "modified_dmt")}
+        gf = res["fft_bem"][0]
+        err = {m: abs(res[m][0] - gf) / abs(gf) if gf else np.nan for m in ("auto", "modified_dmt")}
+        rows.append((res["auto"][1], rh, err["auto"], bool(res["auto"][3])))
+        if rh <= 1e-3:
+            print("     " + extended(h, rh, mat), flush=True)
+        print(f"{desc} | auto -> {res['auto'][1]}: Γ {res['auto'][0]:.3e} J/m2 {res['auto'][2]:.2f} s "
+              f"{res['auto'][3]} | fft_bem {gf:.3e} {res['fft_bem'][2]:.2f} s {res['fft_bem'][3]} | "
+              f"|auto/fft_bem - 1| {err['auto']:.3f}, modified DMT {err['modified_dmt']:.3f} "
+              f"{res['modified_dmt'][3]}", flush=True)
+    for chosen in sorted({r[0] for r in rows}):
+        for low in (True, False):
+            sel = [r for r in rows if r[0] == chosen and (r[1] <= 1e-3) == low]
+            if not sel:
+                continue
+            e = np.array([r[2] for r in sel])
+            print(f"auto -> {chosen}, RH {'<= 1e-3' if low else '>= 0.05'}: {len(sel)} cases, "
+                  f"|Γ/Γ_fft_bem - 1| median {np.median(e):.3f}, largest {e.max():.3f}; "
+                  f"{sum(r[3] for r in sel)} warned")
+
+
+if __name__ == "__main__":
+    main()
