@@ -260,7 +260,9 @@ def _bem_kernel_unlocked(
     if per_rh:
         return merge_humidity_grids(list(zip(grids, out_rh, strict=True)), zmax,
                                     (*_BEM_VARS, "solved"), L)[1]
-    return {k: np.stack([o[k] for o in out_rh]) for k in _BEM_VARS}
+    out = {k: np.stack([o[k] for o in out_rh]) for k in _BEM_VARS}
+    out["solved"] = np.ones_like(out["pressure"])  # every point of a given grid is solved
+    return out
 
 
 def _automatic_grids(height, rh_values, *, material, material2, adsorbed_layer, adhesion,
@@ -364,8 +366,8 @@ def bem_contact_curves(
         ``wet_fraction`` (adhesive zone: gap below :math:`h_{water}` and not in contact),
         ``contact_fraction``, ``n_contacts`` (periodic 4-connected contact clusters),
         ``fit_error`` (NaN), ``max_interference`` (:math:`\max z - d_{local}`),
-        ``distance_offset`` (:math:`d_{local} - d`, m) and ``solver_residual``; on the
-        default grid also ``solved`` (1 where this humidity was solved, 0 where interpolated).
+        ``distance_offset`` (:math:`d_{local} - d`, m), ``solver_residual`` and ``solved`` (1
+        where this humidity was solved, 0 where interpolated on the default grid's union).
         Attributes record the model, ``max_noncontact_deflection`` (m) and solver statistics.
 
     Raises
@@ -470,7 +472,8 @@ def bem_contact_curves(
         "max_interference",
         "distance_offset",
         "solver_residual",
-    ) + (("solved",) if grids is not None else ())
+        "solved",
+    )
 
     def kernel(z):
         res = _bem_kernel(
@@ -531,8 +534,7 @@ def bem_contact_curves(
         key = {"distance_offset": "distance_offset", "solver_residual": "solver_residual"}.get(n, n)
         ds[n] = set_attrs(r, key)
     ds["fit_error"] = set_attrs(xr.full_like(ds["pressure"], np.nan), "fit_error")
-    ds = ds[[*CURVE_VARIABLES, "distance_offset", "solver_residual",
-             *(["solved"] if grids is not None else [])]]
+    ds = ds[[*CURVE_VARIABLES, "distance_offset", "solver_residual", "solved"]]
     ds = ds.assign_coords(
         water_height=("rh", hw, ATTRS["water_height"]),
         laplace_pressure=("rh", dp, ATTRS["laplace_pressure"]),
