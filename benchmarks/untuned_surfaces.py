@@ -1,6 +1,12 @@
 """The default calls on random self-affine surfaces nobody tuned on: do they agree, and warn?
 
     nice -n 5 python benchmarks/untuned_surfaces.py [SEED] [N]
+    nice -n 5 python benchmarks/untuned_surfaces.py families
+
+``families``: the BEM's default grid on one 64² map (seed 0, 5 nm) of S1, S2, Table 4 and the
+smooth family at RH 0.05, 0.5 and 0.9 on poly-Si: Γ of ``rough_contact_curves(h, model="bem")``
+on the grid it had before (40 points from max z - max(h_water, 0.5 σ) to max z + h_water) and
+on its default now (fft_bem's automatic grid), each against the fft_bem default call, with times.
 
 N surfaces (default 60, seed 1): Hurst exponent 0.3-1.0, pixel 2-20 nm, roll-off 3-100 pixels
 per wavelength, shapes 64², 33 x 65, 96 x 128, 97², 128², rms 0.3-30 nm (log-uniform), RH 1e-3,
@@ -74,7 +80,31 @@ def extended(h, rh, mat):
             + "; ".join(out))
 
 
+def families():
+    for fam in ("S1", "S2", "table4", "smooth"):
+        h = rs.datasets.surface_family(fam, shape=(64, 64), seed=0, n=1).isel(realization=0).compute()
+        z = h.values
+        for rh in (0.05, 0.5, 0.9):
+            hw = float(rs.water_height(rh))
+            old = np.linspace(max(z.max() - max(hw, 0.5 * z.std()), z.mean() + 0.5 * z.std()),
+                              z.max() + hw, 40)
+            out = {}
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                for name, kw in (("fft_bem", dict(model="fft_bem")), ("bem old grid", dict(model="bem", distance=old)),
+                                 ("bem default", dict(model="bem"))):
+                    t = time.perf_counter()
+                    c = rs.rough_contact_curves(h, relative_humidity=rh, **kw)
+                    out[name] = (float(rs.adhesion_summary(c).adhesive_energy), time.perf_counter() - t)
+            g0 = out["fft_bem"][0]
+            print(f"{fam:7s} RH {rh}: fft_bem Γ {g0:.4e} J/m2 ({out['fft_bem'][1]:.2f} s) | "
+                  + " | ".join(f"{k}: Γ/Γ_fft_bem - 1 = {v[0] / g0 - 1:+.4f} ({v[1]:.2f} s)"
+                               for k, v in out.items() if k != "fft_bem"), flush=True)
+
+
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "families":
+        return families()
     seed = int(sys.argv[1]) if len(sys.argv) > 1 else 1
     n = int(sys.argv[2]) if len(sys.argv) > 2 else 60
     rng = np.random.default_rng(seed)

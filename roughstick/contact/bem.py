@@ -36,7 +36,12 @@ from .._core.validate import (
     grid_spacing,
     relative_humidity_coordinate,
 )
-from .fft_bem import automatic_grid_counts, fft_bem_contact_curves, merge_humidity_grids
+from .fft_bem import (
+    SOLVED_ATTRS,
+    automatic_grid_counts,
+    fft_bem_contact_curves,
+    merge_humidity_grids,
+)
 from .meniscus import laplace_pressure, water_height
 from .periodic import count_periodic_clusters, periodic_offset_coefficient
 
@@ -143,9 +148,9 @@ def _bem_kernel_unlocked(
     zbar, zmax = float(zn.mean()), float(zn.max())
     per_rh = isinstance(distances, list)  # one grid per humidity (the automatic grids)
     grids = [np.asarray(g, dtype=float) / L for g in distances] if per_rh else None
-    dn = np.concatenate(grids) if per_rh else np.asarray(distances, dtype=float) / L
-    if np.any(dn - zbar <= 0):
-        bad = float(dn[dn - zbar <= 0][0] * L)
+    dn_all = np.concatenate(grids) if per_rh else np.asarray(distances, dtype=float) / L
+    if np.any(dn_all - zbar <= 0):
+        bad = float(dn_all[dn_all - zbar <= 0][0] * L)
         raise ValueError(
             f"distance {bad!r} m lies at or below the mean plane of the heights "
             f"({zbar * L!r} m): the mean gap would be <= 0 (full contact), which the "
@@ -162,7 +167,7 @@ def _bem_kernel_unlocked(
     q[0, 0] = np.inf
     nr = len(sigma0s)
     if not per_rh:
-        grids = [dn] * nr
+        grids = [dn_all] * nr
     out_rh = [{k: np.full(len(g), np.nan) for k in _BEM_VARS} for g in grids]
     contact_tol = 1e-9
 
@@ -257,12 +262,14 @@ def _bem_kernel_unlocked(
                 out_rh[ir][name][k] = v
             if on_point is not None:
                 on_point()
-    if per_rh:
-        return merge_humidity_grids(list(zip(grids, out_rh, strict=True)), zmax,
-                                    (*_BEM_VARS, "solved"), L)[1]
-    out = {k: np.stack([o[k] for o in out_rh]) for k in _BEM_VARS}
-    out["solved"] = np.ones_like(out["pressure"])  # every point of a given grid is solved
-    return out
+    # a state where Tamaas stalled (residual above 10 x its tolerance after the retries) is not
+    # a solution: it is interpolated between its humidity's solved neighbours, solved = 0 (one
+    # such state, +131 MPa amid -7.7 MPa, took 69 % of Γ on a 64² Table-4 map at RH 0.05)
+    kept = [(g[o["solver_residual"] <= 10 * tolerance], {k: v[o["solver_residual"] <= 10 * tolerance]
+                                                         for k, v in o.items()})
+            for g, o in zip(grids, out_rh, strict=True)]
+    onto = np.unique(dn_all) if per_rh else dn_all
+    return merge_humidity_grids(kept, zmax, (*_BEM_VARS, "solved"), L, onto=onto)[1]
 
 
 def _automatic_grids(height, rh_values, *, material, material2, adsorbed_layer, adhesion,
@@ -321,7 +328,8 @@ def bem_contact_curves(
         all above the mean plane of every map. Default (one eager (y, x) map): per humidity,
         the grid that :func:`roughstick.fft_bem_contact_curves`' automatic march solves on the
         same map (from just below the equilibrium through the water range and on while a neck
-        holds, refined at the pull-off; 1/100-1/300 of the cost of these solves). Several
+        holds, refined at the pull-off; on the maps of benchmarks/untuned_surfaces.py that
+        call took 0.6-5 % of the BEM's time, 63-82 % on soft maps at RH 1e-3). Several
         humidities are then reported on the union of their grids, as fft_bem does (linear
         interpolation between a humidity's own points, NaN below its first, dry above its
         last; ``solved`` marks the computed points). A fixed span from ``max(z) - 0.5 std(z)``,
@@ -367,7 +375,9 @@ def bem_contact_curves(
         ``contact_fraction``, ``n_contacts`` (periodic 4-connected contact clusters),
         ``fit_error`` (NaN), ``max_interference`` (:math:`\max z - d_{local}`),
         ``distance_offset`` (:math:`d_{local} - d`, m), ``solver_residual`` and ``solved`` (1
-        where this humidity was solved, 0 where interpolated on the default grid's union).
+        where this humidity was solved; 0 where interpolated: on the default grid's union, or
+        where Tamaas stalled, residual above 10 × ``tolerance`` after the retries, counted in
+        the attribute ``bem_unconverged``).
         Attributes record the model, ``max_noncontact_deflection`` (m) and solver statistics.
 
     Raises
@@ -446,8 +456,8 @@ def bem_contact_curves(
 
     grids = None
     if distance is None:
-        # per humidity, the grid fft_bem's automatic march solves for the same problem (1/100-
-        # 1/300 of the cost of these solves); its own message refuses stacks and dask maps
+        # per humidity, the grid fft_bem's automatic march solves for the same problem (cost:
+        # see the docstring); its own message refuses stacks and dask maps
         grids = _automatic_grids(height, rh_values, material=material, material2=material2,
                                  adsorbed_layer=adsorbed_layer, adhesion=adhesion,
                                  n_distances=n_distances)
@@ -528,8 +538,7 @@ def bem_contact_curves(
     for n, r in zip(names, results, strict=True):
         r = r.assign_coords(rh=rh_values, distance=dist)
         if n == "solved":
-            ds[n] = r.assign_attrs(long_name="state solved at this humidity (1) or interpolated (0)",
-                                   units="1")
+            ds[n] = r.assign_attrs(SOLVED_ATTRS)
             continue
         key = {"distance_offset": "distance_offset", "solver_residual": "solver_residual"}.get(n, n)
         ds[n] = set_attrs(r, key)

@@ -47,6 +47,8 @@ __all__ = ["fft_bem_contact_curves"]
 
 _REFERENCES = cite("polonsky1999", "rey2017", "maugis1992")
 _LENGTH_UNIT = 1e-9
+# the ``solved`` variable of both boundary-element models (see merge_humidity_grids)
+SOLVED_ATTRS = {"long_name": "state solved at this humidity (1) or interpolated (0)", "units": "1"}
 _NAMES = ("pressure", "repulsive_pressure", "wet_fraction", "contact_fraction", "n_contacts",
           "max_interference", "distance_offset", "solver_residual", "solved")
 
@@ -155,7 +157,7 @@ def _fft_bem_kernel(z, *, spacing, distances, sigma0s, h_waters, e_star, toleran
     return merge_humidity_grids(per_rh, zmax, _NAMES, L)
 
 
-def merge_humidity_grids(per_rh, zmax, names, unit):
+def merge_humidity_grids(per_rh, zmax, names, unit, onto=None):
     """Curves of several humidities, each on its own grid, on the union of the grids.
 
     ``per_rh``: (distances, {name: values}) per humidity, in units of ``unit`` [m]. Between a
@@ -163,10 +165,15 @@ def merge_humidity_grids(per_rh, zmax, names, unit):
     curve, the pull-off and d_eq are unchanged by that); below its first point they are NaN,
     above its last (beyond max z + h_water, or where the neck let go) the state is dry (zero,
     and ``max_interference`` = max z - d); ``solved`` marks the computed points. Returns the
-    union [m] and arrays (n_rh, n_union). Used by both boundary-element models."""
-    union = np.unique(np.concatenate([dd for dd, _ in per_rh]))
+    union [m] and arrays (n_rh, n_union); ``onto`` (same unit): report on that grid instead of
+    the union. Used by both boundary-element models."""
+    union = np.unique(np.concatenate([dd for dd, _ in per_rh])) if onto is None else np.asarray(onto)
     out = {k: np.full((len(per_rh), union.size), np.nan) for k in names}
     for i, (dd, v) in enumerate(per_rh):
+        if dd.size == 0:  # nothing solved at this humidity (every BEM state stalled): NaN
+            if "solved" in out:
+                out["solved"][i] = 0.0
+            continue
         inside = (union >= dd[0]) & (union <= dd[-1])
         above = union > dd[-1]
         for k in names:
@@ -409,8 +416,7 @@ def fft_bem_contact_curves(
     for n in _NAMES:
         arr = data[n].assign_coords(rh=rh_values, distance=dist)
         if n == "solved":
-            arr.attrs = {"long_name": "state solved at this humidity (1) or interpolated (0)",
-                         "units": "1"}
+            arr.attrs = dict(SOLVED_ATTRS)
             ds[n] = arr
         else:
             ds[n] = set_attrs(arr, n)

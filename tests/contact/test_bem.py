@@ -237,12 +237,30 @@ def test_default_grids_of_several_humidities_are_merged_like_fft_bem():
     assert both.pressure.dims == ("rh", "distance")
     for i, rh in enumerate((0.05, 0.5)):
         one = rs.bem_contact_curves(h, relative_humidity=rh)
-        # each humidity's own points are solved, and its Γ is that of its own grid
-        assert int(both.solved[i].sum()) == one.sizes["distance"]
+        # each humidity's own points are solved (but where Tamaas stalled, in both runs alike),
+        # and its Γ is that of its own grid
+        assert one.solved.sum() >= one.sizes["distance"] - 3
+        np.testing.assert_array_equal(both.solved[i].sel(distance=one.distance).values, one.solved.values)
+        assert int(both.solved[i].sum()) == int(one.solved.sum())
         np.testing.assert_allclose(both.pressure[i].sel(distance=one.distance).values,
                                    one.pressure.values, rtol=1e-12)
         assert float(rs.adhesion_summary(both).adhesive_energy[i]) == pytest.approx(
             float(rs.adhesion_summary(one).adhesive_energy), rel=1e-9)
+
+
+def test_a_stalled_state_is_interpolated_not_kept():
+    """64² Table-4 map at RH 0.05 (benchmarks/untuned_surfaces.py families): two Tamaas states
+    stall (residual 35 and 1,272 after the retry, +28 and +131 MPa amid -7 MPa); kept, they took
+    69 % of Γ. Interpolated between solved neighbours, Γ agrees with the FFT-BEM, an independent
+    solver, on the same grid."""
+    h = rs.datasets.surface_family("table4", shape=(64, 64), seed=0, n=1).isel(realization=0).compute()
+    ds = rs.rough_contact_curves(h, relative_humidity=0.05, model="bem")
+    ref = rs.fft_bem_contact_curves(h, relative_humidity=0.05, distance=ds.distance.values)
+    # (whether and where Tamaas stalls may differ on another CPU: the count is not asserted)
+    assert int((ds.solved == 0).sum()) == ds.attrs["bem_unconverged"]
+    assert float(ds.pressure.max()) < 2 * float(ref.pressure.max())
+    assert float(rs.adhesion_summary(ds).adhesive_energy) == pytest.approx(
+        float(rs.adhesion_summary(ref).adhesive_energy), rel=0.02)
 
 
 def test_missing_tamaas_names_the_extra(monkeypatch):
