@@ -27,6 +27,8 @@ import numba
 import numpy as np
 import scipy.fft as sfft
 
+from .adhesion import equilibrium_crossings
+
 __all__ = ["FFTGrid", "pk_solve", "solve_state", "curve_on_grid", "auto_curve"]
 
 
@@ -285,6 +287,9 @@ def curve_on_grid(z, spacing, distances, sigma0, h0, *, tolerance=1e-3, path="re
 
 # bisection rounds around the pull-off after the ``refine`` rounds (step 4 of auto_curve)
 EXTRA_PULL_OFF_ROUNDS = 4
+# halvings of the retraction step, each after a step lost the last hard contact, before a loss is
+# accepted as the neck letting go (step 2 of auto_curve): the break is located to 1/64 of the step
+BREAK_HALVINGS = 6
 
 
 def auto_curve(z, spacing, sigma0, h0, *, tolerance=1e-3, n_contact=12, n_free=24, refine=2,
@@ -295,7 +300,9 @@ def auto_curve(z, spacing, sigma0, h0, *, tolerance=1e-3, n_contact=12, n_free=2
        the mean pressure, interpolated in that last step, estimates the equilibrium;
     2. retract from a quarter step below that estimate (deeper while the state there is not
        repulsive), ``n_contact`` uniform steps up to max z, going on by the same step while a
-       neck stays in contact;
+       neck stays in contact; a step that loses the last contact is retried from the attached
+       state with half the step (the step stays shortened) until it is 2^-``BREAK_HALVINGS`` of
+       the nominal one; only then does the neck count as broken;
     3. ``n_free`` points from there to just beyond max z + h0 (water, no hard contact: one or
        two FFTs each; the last one is dry);
     4. ``refine`` rounds bisecting the two intervals around the most tensile point and the
@@ -345,12 +352,23 @@ def auto_curve(z, spacing, sigma0, h0, *, tolerance=1e-3, n_contact=12, n_free=2
     hstep = (zmax - start) / max(int(n_contact), 1)
     last = start
     k = 1
+    shrink = 1.0  # halved each time a step lost the last contact (below)
     while True:
         # a neck held beyond n_contact more steps: steps grow 1.5x (at RH <= 1e-4 the equilibrium
         # lies within 1e-3 nm of max z, and steps of that size took ~3,800 states to cross h0)
         grow = 1.5 ** max(k - 2 * int(n_contact), 0)
-        d = start + hstep * k if k <= n_contact else last + hstep * grow
-        st = solve(d, st)
+        d = start + hstep * k if k <= n_contact and shrink == 1.0 else last + hstep * grow * shrink
+        new = solve_state(grid, z, d, sigma0, h0, state=st, **kw)
+        if (new["contact_fraction"] == 0 and st["contact_fraction"] > 0
+                and shrink > 0.5 ** BREAK_HALVINGS):
+            # the contact was lost in this step: retry from the attached state with half the step.
+            # Warm-started one step away, the solver can land on the detached branch while the
+            # attached one still exists (a one-pixel neck at RH 1e-3, 50 GPa: lost at max z +
+            # 3.6 h0 in a step of 0.6 h0, held to 4.8 h0 in steps of 0.16 h0; Γ 0.56 x)
+            shrink *= 0.5
+            continue
+        st = new
+        full[d] = keep(st)
         last = d
         k += 1
         # until the neck lets go (at RH 1e-6 a one-pixel neck held to max z + 3 h0: stopping at
@@ -369,7 +387,7 @@ def auto_curve(z, spacing, sigma0, h0, *, tolerance=1e-3, n_contact=12, n_free=2
         pp = np.array([full[x]["pbar"] for x in dd])
         j = int(np.argmin(pp))
         new = {0.5 * (dd[a] + dd[a + 1]) for a in (j - 1, j) if 0 <= a < dd.size - 1}
-        cross = np.nonzero((pp[:-1] >= 0) & (pp[1:] < 0))[0]
+        cross = np.nonzero(equilibrium_crossings(pp))[0]
         if cross.size and r < refine:
             a = int(cross[-1])
             new.add(0.5 * (dd[a] + dd[a + 1]))

@@ -23,6 +23,27 @@ class CurveGridWarning(UserWarning):
     """The distance grid of a curve does not span what Eq. 13 integrates (its Γ is incomplete)."""
 
 
+def equilibrium_crossings(p: np.ndarray) -> np.ndarray:
+    """Intervals of a curve (pressure ``p`` along ascending distance, last axis) where it goes
+    from repulsive below to attractive above: the candidates for the equilibrium of Eq. 13.
+
+    A zero counts as repulsive only where the last non-zero pressure below it is repulsive (or
+    there is none): a state that lost all contact and water has exactly zero pressure, and a
+    neck caught again just above it is not an equilibrium (on a 128² S2 map at RH 1e-4 it was
+    taken for one, and Γ came out at 0.75 % of the curve's).
+
+    >>> equilibrium_crossings(np.array([1.0, 0.0, -1.0, 0.0, -2.0, 0.0])).tolist()
+    [False, True, False, False, False]
+    """
+    p = np.asarray(p, dtype=float)
+    n = p.shape[-1]
+    nonzero = (p != 0) & ~np.isnan(p)
+    last = np.maximum.accumulate(np.where(nonzero, np.arange(n), -1), axis=-1)
+    repulsive = np.where(last >= 0, np.take_along_axis(p, np.maximum(last, 0), -1) > 0, True)
+    with np.errstate(invalid="ignore"):
+        return (p[..., :-1] >= 0) & repulsive[..., :-1] & (p[..., 1:] < 0)
+
+
 def _rh_label(p: xr.DataArray, bad: np.ndarray) -> str:
     """' at RH 0.3, 0.9' for the offending curves (``bad`` over the flattened leading dims)."""
     if "rh" not in p.coords:
@@ -53,7 +74,7 @@ def _grid_coverage_warning(p: xr.DataArray, d: np.ndarray, attrs: dict) -> None:
     finite = np.isfinite(v).any(axis=-1)
     with np.errstate(invalid="ignore"):
         scale = np.nanmax(np.abs(v), axis=-1)
-    cross = ((v[:, :-1] >= 0) & (v[:, 1:] < 0)).any(axis=-1)
+    cross = equilibrium_crossings(v).any(axis=-1)
     grid = attrs.get("distance_grid")
     model = str(attrs.get("contact_model", "the model"))
     span = float(d[-1] - d[0])
@@ -189,9 +210,9 @@ def adhesion_summary_kernel(p, wet, d, from_equilibrium=True):
     >>> float(deq), float(pull), round(float(g), 3)
     (0.3333333333333333, 2.0, 1.667)
     """
-    # equilibrium: the largest d whose interval goes from repulsive (>= 0) below to attractive above
+    # equilibrium: the largest d whose interval goes from repulsive below to attractive above
     lower, upper = p[..., :-1], p[..., 1:]
-    cross = (lower >= 0) & (upper < 0)
+    cross = equilibrium_crossings(p)
     k = cross.shape[-1] - 1 - np.argmax(cross[..., ::-1], axis=-1)
     found = np.any(cross, axis=-1)
     kk = np.where(found, k, 0)[..., None]

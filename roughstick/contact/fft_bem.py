@@ -376,7 +376,9 @@ def fft_bem_contact_curves(
         if height.chunks is not None or height.ndim != 2:
             raise ValueError(
                 "distance=None builds a grid from one eager (y, x) map; for stacks or dask maps "
-                "pass distance=... so that all maps share one grid."
+                "pass distance= explicitly so that all maps share one grid, e.g. the automatic "
+                "grid of one map: distance=roughstick.fft_bem_contact_curves(height.isel("
+                "realization=0).compute(), relative_humidity=...).distance.values."
             )
         # the automatic grid solved 44-48 states per curve with n_contact=12, n_free=24
         # (benchmarks/bench_bem_cost.py)

@@ -29,7 +29,7 @@ from .._core.conventions import ATTRS, dataset_attrs
 from .._core.references import PAPER, cite
 from .._core.validate import relative_humidity_array
 from .._core.version import __version__
-from ..contact.adhesion import adhesion_summary
+from ..contact.adhesion import adhesion_summary, equilibrium_crossings
 from ..contact.curves import rough_contact_curves
 from ..contact.meniscus import as_relative_humidity, water_height
 from ..surface.generate import extrapolation_said_once
@@ -290,7 +290,7 @@ def _generate(gen, params, spec, start, stop, kw):
 
 def _crossing(p):
     """Per (realization, rh): does the curve cross from repulsive (below) to attractive (above)?"""
-    return np.any((p[..., :-1] >= 0) & (p[..., 1:] < 0), axis=-1)
+    return np.any(equilibrium_crossings(p), axis=-1)
 
 
 def _curves_self_extending(spec, hk, rh, grid, top, bottom, *, extend=True):

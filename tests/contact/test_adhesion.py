@@ -113,8 +113,10 @@ def _curve(values, distance):
 def test_gamma_integrates_from_equilibrium_outwards():
     # repulsive at d<=1, attractive triangle between 1 and 3, zero beyond; plus a spurious
     # attractive dip deep in contact (d = -2 .. 0) that a pull-off test never visits
+    # (balanced, not separated, at d = 0 and 1: an exact zero after attraction is a separated
+    # state, which no equilibrium follows; see the next test)
     d = np.array([-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0, 4.0])
-    p = np.array([5.0, 0.0, -4.0, 0.0, 0.0, -2.0, 0.0, 0.0])
+    p = np.array([5.0, 0.0, -4.0, 0.0, 1e-12, -2.0, 0.0, 0.0])
     sep, whole = _curve(p, d)
     # separation path: equilibrium at d = 1 (p >= 0 below, < 0 above); Gamma = 1/2 * 2 * 2 = 2
     assert float(sep.equilibrium_distance) == pytest.approx(1.0)
@@ -125,6 +127,20 @@ def test_gamma_integrates_from_equilibrium_outwards():
     assert float(sep.attraction_below_equilibrium) == pytest.approx(4.0)
     assert float(whole.attraction_below_equilibrium) == pytest.approx(4.0)
     assert sep.attrs["adhesive_energy_range"] == "from_equilibrium"
+
+
+def test_a_neck_caught_again_after_separation_is_not_an_equilibrium():
+    """A 128² S2 map at RH 1e-4 (benchmarks/fft_bem_neck_break.py): the FFT-BEM's automatic grid
+    held a one-pixel neck a little beyond where its finer steps let go, so exactly zero pressure
+    (separated) came before one more attractive state. Taken for the equilibrium, it left Γ at
+    0.75 % of the curve's."""
+    d = np.array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0])
+    p = np.array([3.0, -1.0, -2.0, 0.0, -2.0, 0.0, 0.0])
+    sep, _ = _curve(p, d)
+    assert float(sep.equilibrium_distance) == pytest.approx(0.75)
+    # a triangle from d_eq = 0.75 to 1, then trapezoids to 5 (the old rule: d_eq = 3, Γ = 2)
+    expected = 0.5 * 0.25 * 1 + 1.5 + 1.0 + 1.0 + 1.0
+    assert float(sep.adhesive_energy) == pytest.approx(expected)
 
 
 def test_gamma_without_equilibrium_is_whole_grid_lower_bound():

@@ -4,6 +4,7 @@ progress (log lines without a terminal, tqdm on a terminal, a widget in Jupyter)
 from __future__ import annotations
 
 import logging
+import re
 import sys
 
 import numpy as np
@@ -33,12 +34,16 @@ def test_bem_estimate_comes_first_then_progress_lines(caplog):
                               f"{ds.sizes['distance']} distances")
     assert sum(m.startswith("bem: 1 map(s)") for m in msgs) == 1
     assert "estimated about" in msgs[0] and "bench_bem_cost.py" in msgs[0]
-    # the solves announced are the points below the highest summit (measured: bem_solves)
+    # the solves announced are the points below the highest summit (measured: bem_solves); a
+    # state Tamaas stalled on is on its grid but not ``solved`` (interpolated, bem_unconverged)
     solved = ds.solved.values > 0
+    stalled = ds.attrs["bem_unconverged"]
     n_below = int(np.sum(solved & (ds.distance.values < float(h.max()))[None, :]))
-    assert f"({n_below} Tamaas solves)" in msgs[0]
-    assert ds.attrs["bem_solves"] >= n_below
-    assert msgs[-1].startswith(f"bem: {int(solved.sum())}/{int(solved.sum())} done (100 %)")
+    announced = int(re.search(r"\((\d+) Tamaas solves\)", msgs[0]).group(1))
+    assert n_below <= announced <= n_below + stalled
+    assert ds.attrs["bem_solves"] >= announced
+    n_grid = int(solved.sum()) + stalled
+    assert msgs[-1].startswith(f"bem: {n_grid}/{n_grid} done (100 %)")
 
 
 def test_fft_bem_progress_per_humidity_and_map(caplog):
