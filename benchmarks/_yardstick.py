@@ -22,6 +22,16 @@ def ifft_seconds(repeat: int = 5) -> float:
     return best
 
 
+def best_of(call, repeat: int = 2):
+    """(result of the last call, best wall time [s] of ``repeat`` calls of ``call()``)."""
+    best, out = np.inf, None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = call()
+        best = min(best, time.perf_counter() - t)
+    return out, best
+
+
 def spread_interval(spread: float, k: int, confidence: float = 0.95) -> tuple[float, float]:
     """Chi-square interval of a relative spread (std/mean) measured on ``k`` runs (normal
     approximation): how well K repeated runs pin down the true cv of one run."""

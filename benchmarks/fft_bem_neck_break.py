@@ -16,11 +16,10 @@ RH 1e-3.
 """
 
 import sys
-import time
 import warnings
 
 import numpy as np
-from _yardstick import ifft_seconds
+from _yardstick import best_of, ifft_seconds
 
 import roughstick as rs
 from roughstick.contact import _fft_bem_kernels
@@ -30,12 +29,10 @@ FAMILIES = ["S1", "S2", "table4", "smooth"]
 
 
 def default_call(h, halvings):
+    """Curves, summary and best time of 2 of the default call with ``halvings`` confirmations."""
     _fft_bem_kernels.BREAK_HALVINGS = halvings
-    best = np.inf
-    for _ in range(2):
-        t = time.perf_counter()
-        curves = rs.rough_contact_curves(h, relative_humidity=HUMIDITIES, model="fft_bem")
-        best = min(best, time.perf_counter() - t)
+    curves, best = best_of(lambda: rs.rough_contact_curves(h, relative_humidity=HUMIDITIES,
+                                                           model="fft_bem"))
     return curves, rs.adhesion_summary(curves), best
 
 

@@ -14,11 +14,10 @@ grid against it (and the signed error per humidity), the largest change of Γ ne
 """
 
 import sys
-import time
 import warnings
 
 import numpy as np
-from _yardstick import ifft_seconds
+from _yardstick import best_of, ifft_seconds
 
 import roughstick as rs
 from roughstick.contact import _fft_bem_kernels
@@ -29,11 +28,8 @@ FAMILIES = ["S1", "S2", "table4", "smooth"]
 
 def default_call(h, extra):
     _fft_bem_kernels.EXTRA_PULL_OFF_ROUNDS = extra
-    best = np.inf
-    for _ in range(2):
-        t = time.perf_counter()
-        curves = rs.rough_contact_curves(h, relative_humidity=HUMIDITIES, model="fft_bem")
-        best = min(best, time.perf_counter() - t)
+    curves, best = best_of(lambda: rs.rough_contact_curves(h, relative_humidity=HUMIDITIES,
+                                                           model="fft_bem"))
     return curves, rs.adhesion_summary(curves), best
 
 
