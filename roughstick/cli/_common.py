@@ -31,7 +31,7 @@ import time
 import warnings
 
 from .._core.units import parse_quantity
-from ..io.netcdf import remove_partial_files, write_text_atomic
+from ..io.netcdf import WRITTEN_LOG, remove_partial_files, write_text_atomic, written_names
 
 __all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
            "user_message", "MARKER", "small_p_problems", "canonical_params", "check_scheduler",
@@ -212,9 +212,12 @@ def claim_folder(folder, *, command: str, params: dict, overwrite: bool, keep=()
     parameters: a complete run with ``overwrite``, or an unfinished run), the other run's result
     files are removed first, so a run killed midway never leaves the old results beside the new
     marker. A rerun with the same parameters keeps them (it resumes or rewrites the same results).
-    Never removed: what is not a result file (``.nc``, ``.png``, ``.csv``, ``.json``, ``.npy``
-    or a folder of them), what was there before roughstick's first run in the folder, files named
-    in ``params`` and the paths in ``keep`` (the config file). ``legacy_params``: what a marker
+    A run's results are the files roughstick wrote for it: while it runs, every file renamed into
+    place there is noted in the folder's written-files log (``io.netcdf.WRITTEN_LOG``); when it
+    finishes, the marker lists them. Never removed: what is not a result file (``.nc``, ``.png``,
+    ``.csv``, ``.json``, ``.npy`` or a folder of them), what the run did not write (what was there
+    before, a figure the user saved there while it ran), files named in ``params`` and the paths in
+    ``keep`` (the config file). ``legacy_params``: what a marker
     written by an earlier roughstick recorded for these parameters (the raw config text).
 
     Raises
@@ -265,9 +268,16 @@ def claim_folder(folder, *, command: str, params: dict, overwrite: bool, keep=()
         LOG.info(f"replacing the {'complete' if old.get('status') == 'complete' else 'unfinished'} run of "
                  f"`roughstick {old.get('command')}` in {folder}: removed its {len(stale)} result file(s) and folder(s)")
     carried = {}
+    log = folder / WRITTEN_LOG
+    earlier = written_names(folder) if same else None
     if same:  # resuming or rewriting: the files of the earlier attempts are this run's too
         since = min(since, _since(old))
         carried = {"outputs": old["outputs"]} if old.get("outputs") else {}
+        if earlier is None and old.get("status") != "complete":  # a marker from before the log
+            earlier = {p.name for p in _results_of(folder, old)}
+    # the log of what this run writes (io.netcdf.publish appends to it): written before the marker
+    # says "running", so an unfinished run always has one
+    write_text_atomic(log, "".join(f"{n}\n" for n in sorted(earlier or ())))
     write_text_atomic(marker, json.dumps({**record, **carried, "status": "running", "since": since,
                                           "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(since))},
                                          indent=1, default=str))
@@ -319,11 +329,16 @@ def _since(rec: dict) -> float:
 
 def _results_of(folder: pathlib.Path, rec: dict) -> list[pathlib.Path]:
     """The result files (and folders) the run recorded in ``rec`` wrote into ``folder``: the list
-    it recorded when it finished, and, if it never finished, every result written since it started."""
+    it recorded when it finished, and, if it never finished, those its written-files log names
+    (``io.netcdf.publish``), so a figure the user saved there meanwhile is not taken for one. A
+    marker from before the list or the log: every result written while the run ran."""
     entries = [p for p in folder.iterdir() if p.name != MARKER and _is_result(p)]
     listed = set(rec.get("outputs") or [])
     if rec.get("status") == "complete" and "outputs" in rec:
         return [p for p in entries if p.name in listed]
+    logged = written_names(folder) if rec.get("status") != "complete" else None
+    if logged is not None:
+        return [p for p in entries if p.name in listed | logged]
     t0 = _since(rec) - _SLACK
     t1 = _finished(rec) + _SLACK  # a run that finished without a list (older markers): not after
     return [p for p in entries if p.name in listed or t0 <= p.stat().st_mtime <= t1]
@@ -352,6 +367,8 @@ def finish_folder(folder) -> None:
                outputs=sorted(p.name for p in _results_of(folder, {**rec, "status": "running"})
                               if p.resolve() not in _named_paths(rec.get("params"))))
     write_text_atomic(marker, json.dumps(rec, indent=1, default=str))
+    with contextlib.suppress(FileNotFoundError):  # complete: the list above says what is the run's
+        (folder / WRITTEN_LOG).unlink()
 
 
 def _flat(params, prefix="") -> dict:

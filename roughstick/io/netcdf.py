@@ -3,7 +3,10 @@
 Every write goes to a temporary name in the destination folder and is renamed into place only
 after the file is closed and flushed, so a file under its final name is always complete: a killed
 run leaves at most a ``*.tmp-*`` file, which :func:`open_dataset` refuses and
-:func:`remove_partial_files` deletes. The ensemble folders built on these files (one file per
+:func:`remove_partial_files` deletes. Every file renamed into place (:func:`publish`, also used for
+figures and caches) is noted in the written-files log (:data:`WRITTEN_LOG`) of the run folder
+holding it, if any, so that a run folder knows its own results from files a user saved there. The
+ensemble folders built on these files (one file per
 block plus a manifest, resumable) are :mod:`roughstick.ensemble.store`.
 """
 
@@ -23,6 +26,11 @@ __all__ = ["write", "open_dataset", "check_cf"]
 
 _TMP_TAG = ".tmp-"
 _LOCK = threading.Lock()
+
+#: the log, in a command's output folder while its run is unfinished, of the result files (and
+#: folders) written into it: one name per line, appended by :func:`publish` from any process
+WRITTEN_LOG = ".roughstick-written"
+_LOG_DEPTH = 4  # a result up to three folders below the run folder (subset-*/rh-0.5000/level.nc)
 
 
 # ----------------------------------------------------------------------------- CF checks
@@ -116,9 +124,47 @@ def _fsync(path: pathlib.Path) -> None:
 
 
 def _finish(_, tmp: pathlib.Path, path: pathlib.Path) -> str:
+    publish(tmp, path)
+    return str(path)
+
+
+def publish(tmp, path) -> None:
+    """Flush the finished temporary file ``tmp`` and rename it to ``path``; note ``path`` in the
+    written-files log (:data:`WRITTEN_LOG`) of the nearest folder above it that keeps one.
+
+    The log is appended with one ``write`` in append mode, so writers in several threads or
+    processes do not mix their lines; the name noted is the entry of the run folder that holds
+    ``path`` (``subset-x`` for ``subset-x/rh-0.5000/run000-level00.nc``).
+    """
+    tmp, path = pathlib.Path(tmp), pathlib.Path(path)
     _fsync(tmp)
     os.replace(tmp, path)
-    return str(path)
+    path = path.absolute()
+    folder = path.parent
+    for _ in range(_LOG_DEPTH):
+        log = folder / WRITTEN_LOG
+        if log.is_file():
+            entry = path.relative_to(folder).parts[0]
+            if entry.startswith("."):  # the run's own bookkeeping (its marker, this log)
+                return
+            line = (entry + "\n").encode()
+            with contextlib.suppress(OSError):
+                fd = os.open(log, os.O_WRONLY | os.O_APPEND)
+                try:
+                    os.write(fd, line)
+                finally:
+                    os.close(fd)
+            return
+        folder = folder.parent
+
+
+def written_names(folder) -> set[str] | None:
+    """The names noted in ``folder``'s written-files log (see :func:`publish`), or None if it has none."""
+    try:
+        text = (pathlib.Path(folder) / WRITTEN_LOG).read_text()
+    except OSError:
+        return None
+    return {line for line in text.splitlines() if line}
 
 
 def write(ds: xr.Dataset, path, *, compute: bool = False):

@@ -6,6 +6,8 @@ import contextlib
 import os
 import pathlib
 
+from ..io.netcdf import publish
+
 __all__ = ["save_figure"]
 
 
@@ -25,7 +27,7 @@ def save_figure(fig, path, *, dpi: int = 110, close: bool = True, **savefig_kwar
     tmp = path.with_name(f".{path.stem}.tmp-{os.getpid()}{path.suffix}")
     try:
         fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".") or "png", **savefig_kwargs)
-        os.replace(tmp, path)
+        publish(tmp, path)
     except BaseException:
         with contextlib.suppress(OSError):
             tmp.unlink()

@@ -10,7 +10,6 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-import os
 import pathlib
 
 import numpy as np
@@ -18,7 +17,7 @@ import xarray as xr
 
 from roughstick._core.conventions import append_history, dataset_attrs
 from roughstick._core.references import cite
-from roughstick.io.netcdf import write
+from roughstick.io.netcdf import publish, write
 
 from .._core.dask import resolve_scheduler
 from . import _rare_kernels as _k
@@ -168,7 +167,7 @@ class _Store:
         if not manifest.exists():
             tmp = manifest.with_suffix(".json.tmp")
             tmp.write_text(json.dumps({"format": _FORMAT, "params_hash": token, **info}, indent=1))
-            os.replace(tmp, manifest)
+            publish(tmp, manifest)
 
     def path(self, run, level):
         return self.folder / f"run{run:03d}-level{level:02d}.nc"

@@ -27,6 +27,7 @@ from ..contact import (
     warn_if_outside_validity,
 )
 from ..ensemble.statistics import median_interval
+from ..io.netcdf import publish
 from ..surface import generate_surfaces
 
 __all__ = ["build_patch_bank"]
@@ -75,7 +76,7 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir):
         parts_dir.mkdir(parents=True, exist_ok=True)
         tmp = file.with_suffix(".tmp.npy")
         np.save(tmp, values)
-        tmp.replace(file)
+        publish(tmp, file)
     return values
 
 
@@ -210,7 +211,7 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         append_history(file, f"patch_bank(n_law={int(n_law)}, shape={list(shape)}, spacing={float(spacing)!r}, "
                              f"relative_humidity={[float(r) for r in rh]}, seed={int(seed)}, model={model!r})")
         file.to_netcdf(tmp)
-        tmp.replace(path)
+        publish(tmp, path)
         if parts_dir.exists():
             for f in parts_dir.glob("laws_*.npy"):
                 f.unlink()

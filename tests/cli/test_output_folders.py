@@ -19,6 +19,7 @@ from roughstick.cli import main
 from roughstick.cli import run as run_cmd
 from roughstick.cli._common import MARKER
 from roughstick.cli.risk import _confirmed
+from roughstick.io.netcdf import WRITTEN_LOG, write_text_atomic
 
 RUN = """
 title = "t"
@@ -76,8 +77,8 @@ def _fake_steps(monkeypatch, plan):
         def run(out, *, quick):
             if files is None:
                 raise KeyboardInterrupt
-            for f in files:
-                (out / f).write_text(name)
+            for f in files:  # as the real steps write (io.netcdf.publish notes them as the run's)
+                write_text_atomic(out / f, name)
             return [out / f for f in files]
         return types.SimpleNamespace(__name__=f"x.{name}", run=run)
 
@@ -98,7 +99,7 @@ def test_run_killed_after_overwrite_leaves_no_old_result(tmp_path, monkeypatch, 
     monkeypatch.setattr(run_cmd.rs, "run_ensemble", killed)
     assert main(["run", str(other), "--overwrite", "-q"]) == 130
     left = sorted(p.name for p in out.iterdir())
-    assert left == [MARKER, "notes.txt"], left  # no band.nc, PNG or ensemble of the old run
+    assert left == [MARKER, WRITTEN_LOG, "notes.txt"], left  # no band.nc, PNG or ensemble of the old run
     assert _marker(out)["status"] == "running" and _marker(out)["params"]["relative_humidity"] == [0.3, 0.8]
     monkeypatch.undo()
     capsys.readouterr()
@@ -115,7 +116,7 @@ def test_demo_killed_after_overwrite_then_other_options(tmp_path, monkeypatch, c
     # other options, --overwrite, killed after the first step wrote its file
     _fake_steps(monkeypatch, [("s10_sphere", ["c.png"]), ("s20_topo", None)])
     assert main(["demo", "-q", "--overwrite", "--out", str(out)]) == 130
-    assert sorted(p.name for p in out.iterdir()) == [MARKER, "c.png"]
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, WRITTEN_LOG, "c.png"]
     # a third set of options replaces that unfinished run: its c.png goes too
     _fake_steps(monkeypatch, [("s10_sphere", ["e.png"])])
     assert main(["demo", "-q", "--only", "sphere", "--out", str(out)]) == 0
@@ -308,14 +309,51 @@ def test_nested_result_folders_are_the_run_s_and_replaced_with_it(tmp_path):
     out = tmp_path / "o"
     claim_folder(out, command="risk", params={"seed": 1}, overwrite=False)
     (out / "subset-paper-400um" / "rh-0.5000").mkdir(parents=True)
-    (out / "subset-paper-400um" / "rh-0.5000" / "run000-level00.nc").write_text("x")
-    (out / "risk.nc").write_text("x")
+    write_text_atomic(out / "subset-paper-400um" / "rh-0.5000" / "run000-level00.nc", "x")
+    write_text_atomic(out / "risk.nc", "x")
     finish_folder(out)
     assert _marker(out)["outputs"] == ["risk.nc", "subset-paper-400um"]
     (out / "mine").mkdir()  # made after the run, not listed: stays
     (out / "mine" / "plot.png").write_text("x")
     claim_folder(out, command="risk", params={"seed": 2}, overwrite=True)
-    assert sorted(p.name for p in out.iterdir()) == [MARKER, "mine"]
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, WRITTEN_LOG, "mine"]
+
+
+def test_a_figure_saved_into_an_unfinished_run_s_folder_is_not_its_result(tmp_path):
+    """The cleanup of an unfinished run took every result-type file written since it started,
+    so a PNG the user saved into the folder while the run computed was deleted by the next run
+    with other parameters. Now only what roughstick wrote for the run (its log) goes."""
+    from roughstick.cli._common import claim_folder, finish_folder
+
+    out = tmp_path / "o"
+    claim_folder(out, command="risk", params={"seed": 1}, overwrite=False)
+    rs.io.netcdf.write(xr.Dataset(), out / "risk.nc", compute=True)  # the run's, in its log
+    (out / "my_plot.png").write_bytes(b"png")  # the user's, saved while it ran (not in the log)
+    (out / "levels").mkdir()
+    write_text_atomic(out / "levels" / "run000.nc", "x")  # one folder down: noted as "levels"
+    # killed here: the next run with other parameters replaces the unfinished one
+    claim_folder(out, command="risk", params={"seed": 2}, overwrite=False)
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, WRITTEN_LOG, "my_plot.png"]
+    rs.io.netcdf.write(xr.Dataset(), out / "risk.nc", compute=True)
+    finish_folder(out)
+    assert _marker(out)["outputs"] == ["risk.nc"]  # the figure is not listed as a result either
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, "my_plot.png", "risk.nc"]  # log gone
+
+
+def test_a_run_resumed_with_the_same_parameters_keeps_its_earlier_results(tmp_path):
+    """A killed run resumed with the same parameters: the files of the first attempt are its
+    results too (listed when it finishes, removed with it later)."""
+    from roughstick.cli._common import claim_folder, finish_folder
+
+    out = tmp_path / "o"
+    claim_folder(out, command="run", params={"n": 1}, overwrite=False)
+    write_text_atomic(out / "a.csv", "first attempt")
+    claim_folder(out, command="run", params={"n": 1}, overwrite=False)  # killed, resumed
+    write_text_atomic(out / "b.csv", "second attempt")
+    finish_folder(out)
+    assert _marker(out)["outputs"] == ["a.csv", "b.csv"]
+    claim_folder(out, command="run", params={"n": 2}, overwrite=True)
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, WRITTEN_LOG]
 
 
 def test_reproduce_scheduler_is_checked_before_any_work(tmp_path, capsys):
