@@ -2,7 +2,7 @@
 must-be-true 2, on the beam limit state).
 
     nice -n 10 python benchmarks/bench_rare_beam.py [--target 1e-4] [--laws 200000] [--repeat 100]
-        [--samples-per-level 900] [--seed 1000]
+        [--samples-per-level 900] [--seed 1000] [--level-probability 0.2] [--target-acceptance 0.44]
 
 Case: the paper's cantilever (Table 4) with the sharp-front beam model on a bank of ``--laws``
 log-normal patch energies (median 10 mJ/m², log-sd 0.5, as tests/stiction/test_rare_beam.py), at
@@ -54,6 +54,8 @@ def main():
     ap.add_argument("--repeat", type=int, default=100)
     ap.add_argument("--samples-per-level", type=int, default=900)
     ap.add_argument("--seed", type=int, default=1000)
+    ap.add_argument("--level-probability", type=float, default=0.2)
+    ap.add_argument("--target-acceptance", type=float, default=0.44)
     args = ap.parse_args()
     warnings.simplefilter("ignore", rs.ValidityWarning)
     energy = np.exp(np.random.default_rng(7).normal(np.log(0.01), 0.5, size=args.laws))
@@ -64,12 +66,14 @@ def main():
     unit = ifft_seconds()
     print(f"case: sharp-front beam of {length * 1e6:.3f} um ({int(np.ceil(length / PATCH - 1e-9))} patches), "
           f"bank of {args.laws} log-normal laws, exact P(stuck) = {exact:.3e}; "
-          f"N = {args.samples_per_level} per level, one run per seed, no stopping rule", flush=True)
+          f"N = {args.samples_per_level} per level, p0 {args.level_probability}, target acceptance "
+          f"{args.target_acceptance}, one run per seed, no stopping rule", flush=True)
     ps, cvs, ns, walls, cover = [], [], [], [], 0
     for s in range(args.seed, args.seed + args.repeat):
         t0 = time.perf_counter()
         ds = rs.beam_stiction_probability_subset(bank, beam_length=length, samples_per_level=args.samples_per_level,
-                                                 seed=s, target_cv=None).squeeze()
+                                                 seed=s, target_cv=None, level_probability=args.level_probability,
+                                                 target_acceptance=args.target_acceptance).squeeze()
         walls.append(time.perf_counter() - t0)
         ps.append(float(ds.stiction_probability))
         cvs.append(float(ds.coefficient_of_variation))
