@@ -3,6 +3,7 @@
     nice -n 5 python benchmarks/untuned_surfaces.py [SEED] [N]
     nice -n 5 python benchmarks/untuned_surfaces.py families
     nice -n 5 python benchmarks/untuned_surfaces.py resolution [SEED] [N]
+    nice -n 5 python benchmarks/untuned_surfaces.py resolution families
 
 ``families``: the BEM's default grid on one 64² map (seed 0, 5 nm) of S1, S2, Table 4 and the
 smooth family at RH 0.05, 0.5 and 0.9 on poly-Si: Γ of ``rough_contact_curves(h, model="bem")``
@@ -12,7 +13,8 @@ on its default now (fft_bem's automatic grid), each against the fft_bem default 
 ``resolution``: on the same N untuned surfaces, how much fft_bem's Γ moves with the pixel
 (``rs.resolution_study(h, factors=(0.5, 1, 2))``: block averages of 2 x 2 pixels, and a
 band-limited Fourier interpolation onto pixels half as large), against whether the default
-fft_bem call warned; a summary per RH.
+fft_bem call warned; a summary per RH. ``resolution families``: the same on the 64² maps
+(seed 0) of S1, S2, Table 4 and the smooth family at RH 1e-3, 0.05, 0.5 and 0.9 on poly-Si.
 
 N surfaces (default 60, seed 1): Hurst exponent 0.3-1.0, pixel 2-20 nm, roll-off 3-100 pixels
 per wavelength, shapes 64², 33 x 65, 96 x 128, 97², 128², rms 0.3-30 nm (log-uniform), RH 1e-3,
@@ -109,11 +111,23 @@ def families():
                                for k, v in out.items() if k != "fft_bem"), flush=True)
 
 
-def resolution(seed, n):
+def untuned_cases(seed, n):
     rng = np.random.default_rng(seed)
-    rows = []
     for k in range(n):
-        h, rh, mat, desc = case(rng, k)
+        yield case(rng, k)
+
+
+def family_cases():
+    """The four families' 64² maps (seed 0, 5 nm, poly-Si) at RH 1e-3, 0.05, 0.5 and 0.9."""
+    for fam in ("S1", "S2", "table4", "smooth"):
+        h = rs.datasets.surface_family(fam, shape=(64, 64), seed=0, n=1).isel(realization=0).compute()
+        for rh in (1e-3, 0.05, 0.5, 0.9):
+            yield h, rh, rs.Material(), f"{fam:7s} 64² seed 0 RH {rh}"
+
+
+def resolution(cases):
+    rows = []
+    for h, rh, mat, desc in cases:
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
             rs.fft_bem_contact_curves(h, relative_humidity=rh, material=mat)
@@ -137,8 +151,10 @@ def main():
     if len(sys.argv) > 1 and sys.argv[1] == "families":
         return families()
     if len(sys.argv) > 1 and sys.argv[1] == "resolution":
-        return resolution(int(sys.argv[2]) if len(sys.argv) > 2 else 1,
-                          int(sys.argv[3]) if len(sys.argv) > 3 else 60)
+        if len(sys.argv) > 2 and sys.argv[2] == "families":
+            return resolution(family_cases())
+        return resolution(untuned_cases(int(sys.argv[2]) if len(sys.argv) > 2 else 1,
+                                        int(sys.argv[3]) if len(sys.argv) > 3 else 60))
     seed = int(sys.argv[1]) if len(sys.argv) > 1 else 1
     n = int(sys.argv[2]) if len(sys.argv) > 2 else 60
     rng = np.random.default_rng(seed)
