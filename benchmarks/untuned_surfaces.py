@@ -2,8 +2,8 @@
 
     nice -n 5 python benchmarks/untuned_surfaces.py [SEED] [N]
     nice -n 5 python benchmarks/untuned_surfaces.py families
-    nice -n 5 python benchmarks/untuned_surfaces.py resolution [SEED] [N]
-    nice -n 5 python benchmarks/untuned_surfaces.py resolution families
+    nice -n 5 python benchmarks/untuned_surfaces.py resolution [SEED] [N] [MODEL]
+    nice -n 5 python benchmarks/untuned_surfaces.py resolution families [MODEL]
 
 ``families``: the BEM's default grid on one 64² map (seed 0, 5 nm) of S1, S2, Table 4 and the
 smooth family at RH 0.05, 0.5 and 0.9 on poly-Si: Γ of ``rough_contact_curves(h, model="bem")``
@@ -12,8 +12,10 @@ on its default now (fft_bem's automatic grid), each against the fft_bem default 
 
 ``resolution``: on the same N untuned surfaces, how much fft_bem's Γ moves with the pixel
 (``rs.resolution_study(h, factors=(0.5, 1, 2))``: block averages of 2 x 2 pixels, and a
-band-limited Fourier interpolation onto pixels half as large), against whether the default
-fft_bem call warned; a summary per RH. ``resolution families``: the same on the 64² maps
+band-limited Fourier interpolation onto pixels half as large), against the wetted-neck radius in
+pixels (``neck_pixels`` of ``rs.surface_groups``) and whether ``rough_contact_curves(h,
+model=MODEL)`` (default "fft_bem") warned that the pixel does not resolve the water necks; a
+summary per RH and over all maps. ``resolution families``: the same on the 64² maps
 (seed 0) of S1, S2, Table 4 and the smooth family at RH 1e-3, 0.05, 0.5 and 0.9 on poly-Si.
 
 N surfaces (default 60, seed 1): Hurst exponent 0.3-1.0, pixel 2-20 nm, roll-off 3-100 pixels
@@ -125,18 +127,20 @@ def family_cases():
             yield h, rh, rs.Material(), f"{fam:7s} 64² seed 0 RH {rh}"
 
 
-def resolution(cases):
+def resolution(cases, model="fft_bem"):
     rows = []
     for h, rh, mat, desc in cases:
+        neck = float(rs.surface_groups(h, relative_humidity=rh).neck_pixels)
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
-            rs.fft_bem_contact_curves(h, relative_humidity=rh, material=mat)
-            warned = any(issubclass(x.category, rs.ValidityWarning) for x in w)
-            r = rs.resolution_study(h, relative_humidity=rh, material=mat)
+            rs.rough_contact_curves(h, relative_humidity=rh, material=mat, model=model)
+            warned = any(issubclass(x.category, rs.ValidityWarning) and "water necks" in str(x.message)
+                         for x in w)
+            r = rs.resolution_study(h, relative_humidity=rh, material=mat, model=model)
         ch = r.relative_change_adhesive_energy.values.ravel()  # pixel sizes ascending: finer, native, coarser
-        rows.append((rh, ch[0], ch[2], warned))
-        print(f"{desc} | Γ change: pixels / 2 (Fourier) {ch[0]:+.3f}, pixels x 2 (block mean) "
-              f"{ch[2]:+.3f} | default call warned: {warned}", flush=True)
+        rows.append((rh, ch[0], ch[2], warned, neck))
+        print(f"{desc} | neck {neck:.2f} px | Γ change: pixels / 2 (Fourier) {ch[0]:+.3f}, pixels x 2 "
+              f"(block mean) {ch[2]:+.3f} | default call warned (pixel): {warned}", flush=True)
     for rh in sorted({r[0] for r in rows}):
         sel = [r for r in rows if r[0] == rh]
         fine, coarse = (np.abs([r[i] for r in sel]) for i in (1, 2))
@@ -145,16 +149,23 @@ def resolution(cases):
               f"at twice the pixel in {int((coarse > 0.1).sum())} (median {np.median(fine):.2f} / "
               f"{np.median(coarse):.2f}); of the {int(moved.sum())} moved, "
               f"{sum(r[3] for r, m in zip(sel, moved) if m)} warned by the default call")
+    fine = np.abs([r[1] for r in rows]) > 0.1
+    warned = np.array([r[3] for r in rows])
+    print(f"{model}: warned (neck < {rs.RESOLVED_NECK_PIXELS:g} px) {int(warned.sum())} of {len(rows)} maps, "
+          f"{int((fine & warned).sum())} of them moved > 10 % at half the pixel; not warned "
+          f"{int((~warned).sum())}, {int((fine & ~warned).sum())} of them moved")
 
 
 def main():
     if len(sys.argv) > 1 and sys.argv[1] == "families":
         return families()
     if len(sys.argv) > 1 and sys.argv[1] == "resolution":
-        if len(sys.argv) > 2 and sys.argv[2] == "families":
-            return resolution(family_cases())
-        return resolution(untuned_cases(int(sys.argv[2]) if len(sys.argv) > 2 else 1,
-                                        int(sys.argv[3]) if len(sys.argv) > 3 else 60))
+        args = sys.argv[2:]
+        model = args.pop() if args and not args[-1].isdigit() and args[-1] != "families" else "fft_bem"
+        if args and args[0] == "families":
+            return resolution(family_cases(), model)
+        return resolution(untuned_cases(int(args[0]) if args else 1, int(args[1]) if len(args) > 1 else 60),
+                          model)
     seed = int(sys.argv[1]) if len(sys.argv) > 1 else 1
     n = int(sys.argv[2]) if len(sys.argv) > 2 else 60
     rng = np.random.default_rng(seed)

@@ -33,6 +33,7 @@ from .._core.validate import (
 from .bem import bem_contact_curves
 from .fft_bem import automatic_grid_counts, fft_bem_contact_curves
 from .gw import gw_contact_curves
+from .pixel import RESOLVED_NECK_PIXELS, warn_if_unresolved
 from .rough import modified_dmt_curves
 from .validity import (
     MODEL_COST_ORDER,
@@ -246,7 +247,23 @@ def rough_contact_curves(
         ds = bem_contact_curves(height, distance=distance, **common,
                                 **({} if n_distance is None else {"n_distances": n_distance}),
                                 **kwargs)
+    if check_validity and model != "gw":  # GW's curves come from summit moments, not pixels
+        ds.attrs["resolution_check"] = _resolution_check(height, relative_humidity, adsorbed_layer)
     if reason is not None:
         ds.attrs["model_selection"] = f"auto -> {model}: {reason}"
     return append_history(ds, f"rough_contact_curves(model={model!r})"
                               + (" chosen by model='auto'" if reason is not None else ""))
+
+
+def _resolution_check(height, relative_humidity, adsorbed_layer) -> str:
+    """Warn where the pixel does not resolve the water necks; the note for ``attrs``."""
+    if getattr(height, "chunks", None) is not None:
+        return ("not checked (lazy input); check one map with "
+                "roughstick.warn_if_unresolved(height.isel(...).compute(), relative_humidity=...)")
+    rhs = relative_humidity_values(relative_humidity)
+    if not (rhs.size and np.all((rhs > 0) & (rhs < 1))):
+        return "not checked (relative humidity outside (0, 1))"
+    if warn_if_unresolved(height, relative_humidity=relative_humidity, adsorbed_layer=adsorbed_layer):
+        return (f"wetted necks narrower than {RESOLVED_NECK_PIXELS:g} pixels: the pixel sets "
+                "the adhesive energy (check with roughstick.resolution_study)")
+    return f"wetted necks span at least {RESOLVED_NECK_PIXELS:g} pixels at every humidity"

@@ -212,7 +212,11 @@ def surface_groups(
         forward differences), ``corr_over_L`` (1/e correlation length over the map side along
         x), ``dp_over_E`` (:math:`|\Delta P|/E^*`), ``pressure_ratio``
         (:math:`|\Delta P|/(E^*\,\mathrm{slope})`), ``maugis_lambda`` (Eq. 7 for the mean summit,
-        :math:`R = 3\sqrt{\pi}/(8\sqrt{m_4})` as in Table 4) and ``sigma`` [m].
+        :math:`R = 3\sqrt{\pi}/(8\sqrt{m_4})` as in Table 4), ``neck_pixels`` (the radius
+        :math:`\sqrt{2 h_{water}/\kappa}` wetted around a summit of the rms mean curvature
+        :math:`\kappa = \sqrt{2 m_4/3}`, in pixels of the larger side; below
+        :data:`roughstick.RESOLVED_NECK_PIXELS` the pixel does not resolve Γ,
+        :func:`roughstick.warn_if_unresolved`) and ``sigma`` [m].
 
     Examples
     --------
@@ -227,7 +231,7 @@ def surface_groups(
     sigma, slope, m4, corr = (per[:, i].reshape(shape) for i in range(4))
     coords = {c: h[c] for c in lead if c in h.coords}
     return _groups_dataset(sigma, slope, m4, corr / (height.sizes["x"] * dx), lead, coords,
-                           relative_humidity, material, material2, adsorbed_layer)
+                           relative_humidity, material, material2, adsorbed_layer, max(dx, dy))
 
 
 def _group_arrays(sigma, slope, m4, rh1, material, material2, adsorbed_layer):
@@ -243,7 +247,7 @@ def _group_arrays(sigma, slope, m4, rh1, material, material2, adsorbed_layer):
 
 
 def _groups_dataset(sigma, slope, m4, corr_over_L, lead, coords, relative_humidity, material,
-                    material2, adsorbed_layer) -> xr.Dataset:
+                    material2, adsorbed_layer, pixel) -> xr.Dataset:
     """The groups Dataset from per-map (sigma, rms slope, m4, correlation length / side)."""
     rh = as_relative_humidity(relative_humidity)
     rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
@@ -261,6 +265,9 @@ def _groups_dataset(sigma, slope, m4, corr_over_L, lead, coords, relative_humidi
             "dp_over_E": (("rh",), dp / e_star),
             "pressure_ratio": (dims, pressure_ratio),
             "maugis_lambda": (dims, lam),
+            # wetted radius sqrt(2 h_water / kappa) around a summit of the rms mean curvature
+            # kappa = sqrt(2 m4 / 3) (isotropic: m4 = 3/8 <(Laplacian z)^2>), in pixels
+            "neck_pixels": (dims, np.sqrt(2 * hw / np.sqrt(2 * m4[ex] / 3)) / pixel),
             "sigma": (lead, sigma, {"units": "m", "long_name": "rms height"}),
         },
         coords=coords,
@@ -328,7 +335,7 @@ def expected_surface_groups(
     corr_over_L = (below[0] if below.size else lags.size) / shp[1]
     return _groups_dataset(np.asarray(np.sqrt(m0)), np.asarray(slope), np.asarray(m4),
                            np.asarray(corr_over_L), [], {}, relative_humidity, material,
-                           material2, adsorbed_layer)
+                           material2, adsorbed_layer, spacing)
 
 
 # ---------------------------------------------------------------------------------------------

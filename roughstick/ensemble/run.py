@@ -28,6 +28,7 @@ from .._core.materials import POLYSILICON
 from .._core.validate import distance_array, relative_humidity_array
 from ..contact.adhesion import adhesion_summary
 from ..contact.curves import CONTACT_MODELS, rough_contact_curves
+from ..contact.pixel import warn_if_unresolved
 from ..contact.validity import (
     VALIDITY_BOUND,
     expected_surface_groups,
@@ -59,7 +60,9 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
     With ``warn`` (the default surfaces): generated surfaces larger than the PSD's scan
     (ExtrapolatedPSDWarning) and the measured validity of the model actually used at the groups
     expected from the PSD (ValidityWarning, docs/accuracy.md; none for the reference ``"bem"``
-    nor for ``"auto"``, whose choice meets the tolerance). Blocks then compute without warnings.
+    nor for ``"auto"``, whose choice meets the tolerance), and whether the pixel resolves the
+    water necks (:func:`roughstick.warn_if_unresolved`; not for ``"gw"``). Blocks then compute
+    without warnings.
     """
     model = curves_kwargs.get("model", "modified_dmt")
     if model not in CONTACT_MODELS:
@@ -76,18 +79,21 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
             warnings.simplefilter("ignore", ExtrapolatedPSDWarning)
         groups = expected_surface_groups(psd, shape=shape, spacing=spacing, relative_humidity=rh,
                                          material=material, adsorbed_layer=adsorbed_layer)
+    selection = None
     if model == "auto":
-        chosen, reason = select_model(None, relative_humidity=rh, tolerance=tolerance,
-                                      quantity=quantity, groups=groups)
-        return chosen, (
-            f"auto -> {chosen} for every realization, chosen once for the ensemble from the "
+        model, reason = select_model(None, relative_humidity=rh, tolerance=tolerance,
+                                     quantity=quantity, groups=groups)
+        selection = (
+            f"auto -> {model} for every realization, chosen once for the ensemble from the "
             f"surface groups expected from the PSD at shape {tuple(shape)} "
             f"(roughstick.expected_surface_groups), not per map: {reason}")
-    if warn and model != "bem":
+    elif warn and model != "bem":
         warn_if_outside_validity(None, relative_humidity=rh, model=model, tolerance=tolerance,
                                  quantity=quantity, material=material,
                                  adsorbed_layer=adsorbed_layer, groups=groups)
-    return model, None
+    if warn and model != "gw":  # the pixel models: does the pixel resolve the water necks?
+        warn_if_unresolved(groups=groups)
+    return model, selection
 
 
 def run_ensemble(

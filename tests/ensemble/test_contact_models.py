@@ -29,7 +29,8 @@ def _run(psd, model, n=2):
         warnings.simplefilter("always")
         ds = rs.run_ensemble(psd, n=n, shape=SHAPE, spacing=SPACING, relative_humidity=RH,
                              curves_kwargs={"model": model})
-    return ds, [w for w in caught if issubclass(w.category, rs.ValidityWarning)]
+    return ds, [w for w in caught if issubclass(w.category, rs.ValidityWarning)
+                and not issubclass(w.category, rs.PixelResolutionWarning)]
 
 
 def _compute(ds):

@@ -1,0 +1,108 @@
+"""Does the pixel resolve the water necks? The check that runs before a contact solve.
+
+Below about 60 % RH the adhesive energy (Eq. 13) is carried by water necks around the touching
+summits: the ring where the gap is below the water height :math:`h_{water}` (Eq. 6). Around a
+summit of mean curvature :math:`\\kappa` its radius is :math:`\\sqrt{2 h_{water}/\\kappa}`; the
+map's groups give it in pixels for the rms curvature (``neck_pixels`` of
+:func:`roughstick.surface_groups`). Where that radius spans fewer than
+:data:`RESOLVED_NECK_PIXELS` pixels the pixel, not the surface, sets Γ.
+:func:`roughstick.resolution_study` measures how much; this module only warns, at the cost of one
+pass over the map. docs/accuracy.md ("Is the pixel fine enough?") gives the measurement behind
+the threshold.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import xarray as xr
+
+from .._core.materials import POLYSILICON
+from .._core.validate import ValidityWarning, external_stacklevel
+from .validity import surface_groups
+
+__all__ = ["RESOLVED_NECK_PIXELS", "PixelResolutionWarning", "warn_if_unresolved"]
+
+#: Wetted-neck radius, in pixels, below which Γ depends on the pixel. Fixed on 76 maps (60
+#: untuned self-affine maps and the four families' 64² maps at four RH), checked on 60 more
+#: (docs/accuracy.md): of 75 maps whose fft_bem Γ moved by more than 10 % at half the pixel,
+#: 74 had a neck below 3 pixels.
+RESOLVED_NECK_PIXELS = 3.0
+
+
+class PixelResolutionWarning(ValidityWarning):
+    """The pixel does not resolve the water necks: Γ depends on the pixel (a ValidityWarning, so
+    ``warnings.simplefilter("error", rs.ValidityWarning)`` catches it; filter it alone by name)."""
+
+
+def warn_if_unresolved(
+    height: xr.DataArray | None = None,
+    *,
+    relative_humidity=None,
+    adsorbed_layer="paper",
+    groups: xr.Dataset | None = None,
+    stacklevel: int | None = None,
+) -> bool:
+    """Warn (:class:`PixelResolutionWarning`) if the pixel does not resolve the water necks.
+
+    Parameters
+    ----------
+    height : xarray.DataArray, optional
+        The map or stack of maps, dims ``(..., y, x)`` (every map is checked); or None with
+        ``groups``.
+    relative_humidity : float or sequence
+        RH fractions in (0, 1) (with ``height``).
+    adsorbed_layer : {"paper", "none"} or callable
+        Water-height model of :func:`roughstick.water_height`.
+    groups : xarray.Dataset, optional
+        Groups with ``neck_pixels`` (:func:`roughstick.surface_groups`, or
+        :func:`roughstick.expected_surface_groups` of an ensemble's PSD) instead of ``height``.
+    stacklevel : int, optional
+        Default: the first frame outside roughstick (the user's line).
+
+    Returns
+    -------
+    bool
+        True when some map at some humidity has a neck below :data:`RESOLVED_NECK_PIXELS`.
+
+    Examples
+    --------
+    >>> h = rs.datasets.surface_family("S1", shape=(64, 64), seed=0, n=1).isel(realization=0)
+    >>> rs.surface_groups(h, relative_humidity=[0.05, 0.9]).neck_pixels.round(1).values
+    array([1.3, 7.5])
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     rs.warn_if_unresolved(h, relative_humidity=0.05), len(w)
+    (True, 1)
+    """
+    if groups is None:
+        if height is None or relative_humidity is None:
+            raise ValueError("give height= and relative_humidity=, or groups= (with neck_pixels).")
+        groups = surface_groups(height, relative_humidity=relative_humidity, material=POLYSILICON,
+                                adsorbed_layer=adsorbed_layer)
+    neck = groups["neck_pixels"]
+    if "rh" not in neck.dims:
+        neck = neck.expand_dims(rh=[float(neck["rh"])] if "rh" in neck.coords else [np.nan])
+    per_rh = neck.min([d for d in neck.dims if d != "rh"]) if neck.ndim > 1 else neck
+    low = per_rh.values < RESOLVED_NECK_PIXELS
+    if not low.any():
+        return False
+    j = int(np.argmin(per_rh.values))
+    n = float(per_rh.values[j])
+    rh_list = ", ".join(f"{r:g}" for r in neck["rh"].values[low])
+    maps = "" if neck.ndim == 1 else (
+        f" (the worst of {int(np.prod([neck.sizes[d] for d in neck.dims if d != 'rh']))} maps)")
+    warnings.warn(
+        f"The pixel does not resolve the water necks at RH {rh_list}: the ring wetted around a "
+        f"typical summit spans {n:.1f} pixels at RH {float(neck['rh'][j]):g}{maps}, fewer than "
+        f"{RESOLVED_NECK_PIXELS:g}. There the pixel sets the adhesive energy as much as the model "
+        "does (on measured maps with such necks, Γ moved by more than 10 % at half the pixel on "
+        "most; docs/accuracy.md). Check it with roughstick.resolution_study(height, "
+        "relative_humidity=...) or `roughstick curves MAP --resolution`; the remedy is a map "
+        "with finer pixels (whose finer roughness is then checked anew).",
+        PixelResolutionWarning,
+        stacklevel=external_stacklevel() if stacklevel is None else stacklevel,
+    )
+    return True
