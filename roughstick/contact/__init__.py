@@ -6,8 +6,8 @@ the rough-surface models (:mod:`.rough`, the modified DMT of Eqs. 16-23 with its
 and literal reference; :mod:`.gw`, Greenwood-Williamson, Eq. 14; :mod:`.bem`, the boundary-element
 reference; :mod:`.fft_bem`, the fast FFT boundary-element model), their measured validity
 (:mod:`.validity`), their pixel-size sensitivity (:mod:`.pixel` warns, :mod:`.resolution`
-measures), ONE dispatcher above them (:mod:`.curves`, :func:`rough_contact_curves`) and the reduction to the adhesive energy
-(:mod:`.adhesion`, Eq. 13). The models never import the dispatcher.
+measures), ONE dispatcher above them (:mod:`.curves`, :func:`rough_contact_curves`) and the
+reduction to the adhesive energy (:mod:`.adhesion`, Eq. 13). The models never import the dispatcher.
 """
 
 from . import (

@@ -246,6 +246,12 @@ def _group_arrays(sigma, slope, m4, rh1, material, material2, adsorbed_layer):
     return hw, dp, e_star, dp / (e_star * slope[ex]), lam
 
 
+def _neck_radius(hw, m4):
+    """Wetted radius sqrt(2 h_water / kappa) [m] around a summit of the rms mean curvature
+    kappa = sqrt(2 m4 / 3) (isotropic maps: m4 = 3/8 <(Laplacian z)^2>)."""
+    return np.sqrt(2 * hw / np.sqrt(2 * m4 / 3))
+
+
 def _groups_dataset(sigma, slope, m4, corr_over_L, lead, coords, relative_humidity, material,
                     material2, adsorbed_layer, pixel) -> xr.Dataset:
     """The groups Dataset from per-map (sigma, rms slope, m4, correlation length / side)."""
@@ -265,9 +271,7 @@ def _groups_dataset(sigma, slope, m4, corr_over_L, lead, coords, relative_humidi
             "dp_over_E": (("rh",), dp / e_star),
             "pressure_ratio": (dims, pressure_ratio),
             "maugis_lambda": (dims, lam),
-            # wetted radius sqrt(2 h_water / kappa) around a summit of the rms mean curvature
-            # kappa = sqrt(2 m4 / 3) (isotropic: m4 = 3/8 <(Laplacian z)^2>), in pixels
-            "neck_pixels": (dims, np.sqrt(2 * hw / np.sqrt(2 * m4[ex] / 3)) / pixel),
+            "neck_pixels": (dims, _neck_radius(hw, m4[ex]) / pixel),
             "sigma": (lead, sigma, {"units": "m", "long_name": "rms height"}),
         },
         coords=coords,
