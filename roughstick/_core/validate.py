@@ -11,6 +11,13 @@
   :func:`check_has_roughness` (a map with at least 2 finite pixels and a non-zero rms) and
   :func:`distance_array` (a distance grid);
 - dask: :func:`check_core_not_chunked` (core dimensions must be single chunks);
+- maps and spectra: :func:`check_height_dtype` / :func:`height_in_si` (a dtype a height can
+  have, then SI) and :func:`check_moments` (spectral moments finite and > 0);
+- energies and layers: :func:`adhesive_energy_values` (an energy bank: units, sign, physical
+  upper bound) and :func:`check_layer_thickness` (an adsorbed layer in m, not nm);
+- scalar arguments (sign, finiteness, integers, fractions, plausible lengths) are checked by the
+  rules of :mod:`roughstick._core.arguments` (its decorator ``check_numbers``), which builds on
+  :func:`check_plausible_value` here;
 - :class:`ValidityWarning`, the warning of a model used outside its validity (declared here so
   that the models and :mod:`roughstick.contact.validity` share it).
 
@@ -41,9 +48,16 @@ __all__ = [
     "check_plausible_value",
     "RIGID_MODULUS",
     "check_has_roughness",
+    "check_height_dtype",
+    "height_in_si",
+    "check_moments",
     "MIN_MAP_PIXELS",
     "distance_array",
     "check_core_not_chunked",
+    "adhesive_energy_values",
+    "MAX_ADHESIVE_ENERGY",
+    "check_layer_thickness",
+    "MAX_LAYER_THICKNESS",
     "ValidityWarning",
     "external_stacklevel",
 ]
@@ -408,6 +422,48 @@ def check_has_roughness(values, *, name: str = "height") -> None:
             )
 
 
+def check_height_dtype(height, *, name: str = "height") -> None:
+    """Refuse a map whose dtype a height cannot have (bool, complex, object, text, bytes,
+    date-time, time-delta), naming the dtype and what it probably is."""
+    dtype = height.dtype if hasattr(height, "dtype") else np.asarray(height).dtype
+    kind = np.dtype(dtype).kind
+    if kind not in "fiu":
+        what = {"b": "boolean (a mask?)", "c": "complex (an FFT?)", "O": "object",
+                "U": "text", "S": "bytes", "M": "date-time", "m": "time-delta"}.get(kind, kind)
+        raise TypeError(
+            f"{name} has dtype {dtype} ({what}); a height map holds real numbers. Pass the "
+            "heights themselves (e.g. np.abs(...) or .real only if that is what you mean), as "
+            "float."
+        )
+
+
+def height_in_si(height, *, name: str = "height") -> xr.DataArray:
+    """A height map checked for its dtype (:func:`check_height_dtype`) and converted to m by its
+    ``units`` (:func:`roughstick._core.units.require`): the entry check of the contact models."""
+    if isinstance(height, xr.DataArray):
+        check_height_dtype(height, name=name)
+    return require(height, "length", name=name)
+
+
+def check_moments(m0, m2, m4, *, what: str, fix: str) -> None:
+    """Refuse eager spectral moments that are zero, negative or not finite, naming the moment,
+    ``what`` they came from and ``fix`` (lazy moments are not computed)."""
+    for key, m in (("m0", m0), ("m2", m2), ("m4", m4)):
+        if is_lazy(m):
+            continue
+        v = np.asarray(getattr(m, "values", m), dtype=float)
+        if v.size and not np.all(np.isfinite(v)):
+            raise ValueError(
+                f"{what}: {key} is not finite ({float(v[~np.isfinite(v)].ravel()[0])!r}): the "
+                f"spectrum has NaN or inf values, or overflows. {fix}"
+            )
+        if v.size and np.any(v <= 0):
+            raise ValueError(
+                f"{what}: {key} = {float(v[v <= 0].ravel()[0])!r}: the spectrum has no power "
+                f"(zero everywhere, or nothing below the cutoff), so the surface would be flat. {fix}"
+            )
+
+
 def distance_array(distance, *, min_size: int = 1) -> np.ndarray:
     """A distance grid [m] as a sorted 1-D float array: finite, distinct, at least ``min_size``.
 
@@ -456,3 +512,74 @@ def check_core_not_chunked(da: xr.DataArray, dims) -> None:
             f"but they are core dimensions of this computation. Rechunk first: "
             f".chunk({{{fix}}})."
         )
+
+
+# ------------------------------------------------------------------- energies and layers
+
+#: Largest adhesive energy [J m-2] taken at face value. A water meniscus holds at most
+#: 2 gamma = 0.144 J m-2 (Eq. 13 on flat surfaces) plus the adsorbed layers' share
+#: (|Delta P| x 1.8 nm, about 0.1 J m-2 at the 65 % onset), so about 0.25 J m-2: above twice
+#: that, the values are almost surely mJ m-2 labelled J m-2.
+MAX_ADHESIVE_ENERGY = 0.5
+
+
+def adhesive_energy_values(energy, *, name: str = "bank", units_fix: str = "") -> np.ndarray:
+    """Adhesive energies [J m-2] of a patch bank or a sample, as a float array, checked.
+
+    A DataArray's ``units`` are converted (``"mJ m-2"`` ...); without ``units`` it is taken as
+    J m-2. Refuses NaN (drop the failed laws), inf, negative values and values above
+    :data:`MAX_ADHESIVE_ENERGY` (more than any water meniscus holds: mJ m-2 labelled J m-2),
+    naming ``name`` and the fix (``units_fix`` replaces the default one for the unit slip).
+    """
+    if isinstance(energy, xr.DataArray) and "units" in energy.attrs:
+        energy = require(energy, "energy_per_area", name=name)
+    values = np.asarray(getattr(energy, "values", energy), dtype=float)
+    if values.size == 0:
+        raise ValueError(f"{name} holds no adhesive energy (size 0); build it with "
+                         "roughstick.build_patch_bank(..., n_law=1000).")
+    if np.isnan(values).any():
+        raise ValueError(f"{name} has NaN adhesive energies: drop those laws ({name}.dropna('law'))")
+    if np.isinf(values).any() or (values < 0).any():
+        bad = values[np.isinf(values) | (values < 0)].ravel()[0]
+        raise ValueError(
+            f"{name} has the adhesive energy {bad!r} J m-2: an adhesive energy (work of separation, "
+            "Eq. 13) is finite and >= 0. Drop or fix those laws; a sign flip of pressures "
+            "(repulsive positive) gives negative energies."
+        )
+    top = float(values.max())
+    if top > MAX_ADHESIVE_ENERGY:
+        fix = units_fix or (f"divide by 1000 ({name} / 1000) or set {name}.attrs['units'] = 'mJ m-2'")
+        raise ValueError(
+            f"{name} has adhesive energies up to {top:.4g} J m-2 (median "
+            f"{float(np.median(values)):.4g}): above {MAX_ADHESIVE_ENERGY} J m-2, more than a water "
+            "meniscus and its adsorbed layers can hold (2 gamma + layers, about 0.25 J m-2). The "
+            f"values look like mJ m-2: {fix}."
+        )
+    return values
+
+
+#: Largest total adsorbed-layer thickness [m] taken at face value: the layers are a few water
+#: monolayers (paper: 0.9 nm per surface); above 100 nm a model almost surely returns nm.
+MAX_LAYER_THICKNESS = 1e-7
+
+
+def check_layer_thickness(thickness, *, name: str, rh=None) -> None:
+    """Refuse an adsorbed-layer thickness [m] (eager values) that is negative, not finite or
+    above :data:`MAX_LAYER_THICKNESS` (nm returned as m), naming the model ``name``."""
+    if is_lazy(thickness):
+        return
+    t = np.asarray(getattr(thickness, "values", thickness), dtype=float)
+    at = ""
+    bad = ~np.isfinite(t) | (t < 0) | (t > MAX_LAYER_THICKNESS)
+    if not bad.any():
+        return
+    v = float(t[bad].ravel()[0])
+    if rh is not None and np.ndim(rh) == np.ndim(t) and np.size(rh) == t.size:
+        at = f" at RH {float(np.asarray(rh, dtype=float)[bad].ravel()[0]):g}"
+    if np.isfinite(v) and v > MAX_LAYER_THICKNESS:
+        problem = (f"above {MAX_LAYER_THICKNESS:g} m: an adsorbed water layer is a few nm (the "
+                   "paper's 0.9e-9 m per surface), so the model almost surely returns nm. Return "
+                   f"metres (e.g. {v:g}e-9 for {v:g} nm)")
+    else:
+        problem = "a layer thickness must be finite and >= 0 (in m, e.g. 1.8e-9)"
+    raise ValueError(f"the adsorbed_layer model {name} returned {v!r} m{at}: {problem}.")

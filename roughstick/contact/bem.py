@@ -17,6 +17,7 @@ import warnings
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import (
     ATTRS,
     CURVE_VARIABLES,
@@ -28,12 +29,14 @@ from .._core.conventions import (
 from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
-from .._core.units import require
 from .._core.validate import (
     MIN_MAP_PIXELS,
+    ValidityWarning,
     check_core_not_chunked,
     check_has_roughness,
+    external_stacklevel,
     grid_spacing,
+    height_in_si,
     relative_humidity_coordinate,
 )
 from .fft_bem import (
@@ -288,6 +291,8 @@ def _automatic_grids(height, rh_values, *, material, material2, adsorbed_layer, 
     return [f.distance.values[row] for row in solved]
 
 
+@check_numbers(tolerance="positive", max_iterations="count", retries="count0",
+               n_distances="count?")
 def bem_contact_curves(
     height: xr.DataArray,
     *,
@@ -434,9 +439,7 @@ def bem_contact_curves(
         )
     if path not in ("retract", "approach"):
         raise ValueError(f"path must be 'retract' or 'approach', got {path!r}.")
-    if not (tolerance > 0):
-        raise ValueError(f"tolerance must be positive, got {tolerance!r}.")
-    height = require(height, "length", name="height")
+    height = height_in_si(height)
     spacing = [grid_spacing(height, dim, min_pixels=MIN_MAP_PIXELS, purpose="the boundary-element solver")
                for dim in ("y", "x")]
     if height.chunks is not None:
@@ -573,6 +576,13 @@ def bem_contact_curves(
             bem_solve_seconds=round(stats["solve_seconds"], 3),
             max_noncontact_deflection=stats["max_noncontact_deflection"],
         )
+        if stats["unconverged"]:
+            warnings.warn(
+                f"bem: {stats['unconverged']} contact state(s) stalled (residual above 10 x "
+                f"tolerance={tolerance:g} after retries={retries}, max_iterations={max_iterations}) "
+                "and were interpolated from their neighbours (solved = 0); raise max_iterations or "
+                "retries if they sit where Γ, the pull-off or d_eq are decided.",
+                ValidityWarning, stacklevel=external_stacklevel())
     append_history(
         ds,
         f"bem_contact_curves(tolerance={tolerance}, path={path!r}, "

@@ -22,12 +22,12 @@ import xarray as xr
 
 from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
-from .._core.units import require
 from .._core.validate import (
     MIN_MAP_PIXELS,
     check_plausible_height,
     distance_array,
     grid_spacing,
+    height_in_si,
     relative_humidity_values,
 )
 from .bem import bem_contact_curves
@@ -170,7 +170,7 @@ def rough_contact_curves(
         if isinstance(height, xr.DataArray) and "units" in height.attrs:
             # a unit mistake (nm labelled m) is refused before any model or validity lookup;
             # other problems of the map (coordinates, size) are left to the model's own message
-            si = require(height, "length", name="height")
+            si = height_in_si(height)
             try:
                 steps = [grid_spacing(si, d, min_pixels=2, purpose="a contact map") for d in ("x", "y")]
             except ValueError:
@@ -230,7 +230,7 @@ def rough_contact_curves(
         if validity_note is not None:
             ds.attrs["validity_check"] = validity_note
     elif model == "gw":
-        height = require(height, "length", name="height")
+        height = height_in_si(height)
         kwargs.setdefault("apparent_area", height.sizes["x"] * height.sizes["y"]
                           * grid_spacing(height, "x", min_pixels=MIN_MAP_PIXELS, purpose="a contact map")
                           * grid_spacing(height, "y", min_pixels=MIN_MAP_PIXELS, purpose="a contact map"))

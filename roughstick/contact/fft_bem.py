@@ -25,6 +25,7 @@ import warnings
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import (
     ATTRS,
     CURVE_VARIABLES,
@@ -37,7 +38,13 @@ from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
-from .._core.validate import MIN_MAP_PIXELS, check_core_not_chunked, check_has_roughness
+from .._core.validate import (
+    MIN_MAP_PIXELS,
+    check_core_not_chunked,
+    check_has_roughness,
+    external_stacklevel,
+    height_in_si,
+)
 from . import _fft_bem_kernels as _k
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 from .periodic import count_periodic_clusters, periodic_offset_coefficient
@@ -144,9 +151,6 @@ def _fft_bem_kernel(z, *, spacing, distances, sigma0s, h_waters, e_star, toleran
         stats["states"] += len(states)
         stats["iterations"] += int(sum(st["iterations"] for st in states))
         stats["unconverged"] += int(sum(not st["converged"] for st in states))
-        # far from converged (an empty contact set reports an infinite residual: not counted)
-        stats["diverged"] += int(sum(not st["converged"] and np.isfinite(st["residual"])
-                                     and st["residual"] > 10 * tolerance for st in states))
         per_rh.append((dd, _states_to_arrays(states, dd, zmax, e_star, s0n, offset_per_pressure)))
         if on_curve is not None:
             on_curve()
@@ -185,18 +189,19 @@ def merge_humidity_grids(per_rh, zmax, names, unit, onto=None):
     return union * unit, out
 
 
-def _warn_unconverged(stats, max_iterations, e_star) -> None:
-    """Warn when states stopped far from convergence (residual over 10 x the tolerance): none
-    on 64² maps of the five families on polysilicon; at E = 1 GPa 6-151 of 133-242 states of
-    three humidities, with residuals of 8-27 (S1, S2, Table 4)."""
-    n, total = stats["diverged"], stats["states"]
+def _warn_unconverged(stats, max_iterations, tolerance, e_star) -> None:
+    """Warn when states stopped unconverged (residual at or over 10 x the tolerance, or not
+    iterated at all): none on 64² maps of the five families on polysilicon; at E = 1 GPa 6-151
+    of 133-242 states of three humidities, with residuals of 8-27 (S1, S2, Table 4)."""
+    n, total = stats["unconverged"], stats["states"]
     if n:
         warnings.warn(
-            f"fft_bem: {n} of {total} contact states stopped far from convergence within max_iterations="
-            f"{max_iterations} conjugate-gradient iterations per wet-set update (E* = {e_star:.3g} Pa); "
-            "their pressures, and Γ, pull-off and d_eq built on them, are not trustworthy. Raise "
+            f"fft_bem: {n} of {total} contact states did not converge (residual >= 10 x "
+            f"tolerance={tolerance:g}) within max_iterations={max_iterations} conjugate-gradient "
+            f"iterations per wet-set update (E* = {e_star:.3g} Pa); their pressures, and Γ, "
+            "pull-off and d_eq built on them, are not trustworthy (see solver_residual). Raise "
             "max_iterations (e.g. 2000); on a soft material the wet and contact sets may also "
-            "cycle, then compare with model='bem' on a few maps.", ValidityWarning, stacklevel=3)
+            "cycle, then compare with model='bem' on a few maps.", ValidityWarning, stacklevel=external_stacklevel())
 
 
 def automatic_grid_counts(n_distance: int) -> dict:
@@ -207,6 +212,8 @@ def automatic_grid_counts(n_distance: int) -> dict:
     return {"n_contact": n_contact, "n_free": max(4, int(n_distance) - n_contact)}
 
 
+@check_numbers(tolerance="positive", max_iterations="count", n_contact="count", n_free="count",
+               refine="count0")
 def fft_bem_contact_curves(
     height: xr.DataArray,
     *,
@@ -296,7 +303,14 @@ def fft_bem_contact_curves(
     ------
     ValueError
         A distance at or below the mean plane, NaN heights, ``distance=None`` for a stack or a
-        dask map, unknown ``path``/``precision``, bad tolerance.
+        dask map, unknown ``path``/``precision``, a tolerance that is not finite and > 0, a
+        ``max_iterations``, ``n_contact`` or ``n_free`` that is not an integer >= 1.
+
+    Warns
+    -----
+    ValidityWarning
+        Contact states that did not converge within ``max_iterations`` (eager maps), naming
+        their number and the argument to raise.
 
     Notes
     -----
@@ -332,9 +346,7 @@ def fft_bem_contact_curves(
         raise ValueError(f"path must be 'retract' or 'approach', got {path!r}.")
     if precision not in ("single", "double"):
         raise ValueError(f"precision must be 'single' or 'double', got {precision!r}.")
-    if not (tolerance > 0):
-        raise ValueError(f"tolerance must be a positive relative error, got {tolerance!r}.")
-    height = require(height, "length", name="height")
+    height = height_in_si(height)
     spacing = _spacing(height)
     if height.chunks is not None:
         check_core_not_chunked(height, ("y", "x"))
@@ -352,7 +364,7 @@ def fft_bem_contact_curves(
         )
     e_star = reduced_modulus(material, material2)
     sigma0s = np.abs(dp) if adhesion else np.zeros_like(dp)
-    stats = {"fft_calls": 0, "states": 0, "iterations": 0, "unconverged": 0, "diverged": 0}
+    stats = {"fft_calls": 0, "states": 0, "iterations": 0, "unconverged": 0}
     kw = dict(spacing=spacing, sigma0s=sigma0s, h_waters=hw, e_star=e_star, tolerance=tolerance,
               max_iterations=max_iterations, path=path, precision=precision,
               n_contact=n_contact, n_free=n_free, refine=refine, stats=stats)
@@ -453,7 +465,7 @@ def fft_bem_contact_curves(
     if height.chunks is None:
         ds.attrs.update(fft_calls=stats["fft_calls"], states=stats["states"],
                         iterations=stats["iterations"], unconverged=stats["unconverged"])
-        _warn_unconverged(stats, max_iterations, e_star)
+        _warn_unconverged(stats, max_iterations, tolerance, e_star)
     append_history(
         ds,
         f"fft_bem_contact_curves(tolerance={tolerance}, precision={precision!r}, "

@@ -45,8 +45,7 @@ from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material, hertz_modulus
 from .._core.references import PAPER, cite
-from .._core.units import require
-from .._core.validate import distance_array
+from .._core.validate import distance_array, height_in_si
 from ..surface.moments import moments_si, roughness_moments, summit_density
 from ._gw_kernels import (
     _VARS,
@@ -113,7 +112,7 @@ def summit_joint_density(height, curvature, *, moments: xr.Dataset, curvature_me
     m0, m2, m4 = moments_si(moments)
     if is_lazy(moments):
         raise ValueError("summit_joint_density needs eager moments: call moments.compute() first.")
-    h = require(height, "length", name="height") if isinstance(height, xr.DataArray) else xr.DataArray(
+    h = height_in_si(height) if isinstance(height, xr.DataArray) else xr.DataArray(
         np.asarray(height, dtype=float)
     )
     k = curvature if isinstance(curvature, xr.DataArray) else xr.DataArray(np.asarray(curvature, float))

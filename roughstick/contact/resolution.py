@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from .._core.conventions import append_history
-from .._core.units import require
+from .._core.validate import height_in_si
 from ..surface.generate import generate_surfaces
 from ..testing import make_topography
 from .adhesion import adhesion_summary
@@ -55,7 +55,7 @@ def resample_pixels(height: xr.DataArray, factor: float) -> xr.DataArray:
     """
     if not (np.isfinite(factor) and factor > 0):
         raise ValueError(f"factor must be a positive pixel-size ratio, got {factor!r}.")
-    height = require(height, "length", name="height")
+    height = height_in_si(height)
     if height.ndim != 2:
         raise ValueError("resample_pixels takes one (y, x) map; loop over a stack.")
     z = np.asarray(height.transpose("y", "x").values, dtype=float)
@@ -168,7 +168,7 @@ def resolution_study(
         how = (f"generated from the PSD at {spacing / k * 1e9:.3g} nm pixels (seed {seed}), "
                "block-averaged to the coarser pixels")
     else:
-        height = require(height, "length", name="height")
+        height = height_in_si(height)
         maps = {f: resample_pixels(height, f) for f in factors}
         how = ("coarser pixels: block averages of the map; finer: band-limited Fourier "
                "interpolation (no added roughness)")

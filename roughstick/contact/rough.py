@@ -27,7 +27,6 @@ from .._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, hertz_modulus, reduced_modulus
 from .._core.references import PAPER, cite
-from .._core.units import require
 from .._core.validate import (
     MIN_MAP_PIXELS,
     ValidityWarning,
@@ -36,6 +35,7 @@ from .._core.validate import (
     distance_array,
     external_stacklevel,
     grid_spacing,
+    height_in_si,
     relative_humidity_coordinate,
 )
 from . import _rough_kernels as _k
@@ -273,7 +273,7 @@ def contact_distance_grid(
     xarray.DataArray
         ``distance`` [m], ascending, dims ``("distance",)``.
     """
-    height = require(height, "length", name="height")
+    height = height_in_si(height)
     _check_eager_map(height)
     rh = relative_humidity_coordinate(relative_humidity)
     d, _ = _auto_curves(
@@ -447,7 +447,7 @@ def modified_dmt_curves(
     >>> ds.pressure.dims
     ('rh', 'distance')
     """
-    height = require(height, "length", name="height")
+    height = height_in_si(height)
     dx, dy = _spacing(height, "x"), _spacing(height, "y")
     check_core_not_chunked(height, ["y", "x"])
     check_has_roughness(height)

@@ -38,13 +38,13 @@ import numpy as np
 import xarray as xr
 
 from .._core.materials import POLYSILICON, Material, reduced_modulus
-from .._core.units import require
 from .._core.validate import (
     MIN_MAP_PIXELS,
     ValidityWarning,
     check_has_roughness,
     external_stacklevel,
     grid_spacing,
+    height_in_si,
 )
 from ..datasets import validity_map_path
 from ..surface.generate import surface_filter
@@ -168,7 +168,7 @@ def _groups_kernel(z, dy, dx):
 def _maps(height):
     """Checked height, its (lead..., y, x) view (first map of a lazy stack), values, maps, lead
     dims and spacings."""
-    height = require(height, "length", name="height")
+    height = height_in_si(height)
     # coordinate units other than m are converted (a map with x, y in nm has the same groups)
     dy, dx = (grid_spacing(height, c, min_pixels=MIN_MAP_PIXELS, purpose="the validity groups") for c in ("y", "x"))
     lead = [d for d in height.dims if d not in ("y", "x")]

@@ -18,6 +18,7 @@ import xarray as xr
 
 from roughstick._core.conventions import CURVE_VARIABLES
 from roughstick._core.materials import POLYSILICON, hertz_modulus
+from roughstick._core.validate import external_stacklevel
 from roughstick.contact import (
     ValidityWarning,
     adhesion_summary,
@@ -223,12 +224,12 @@ def bem_check(ds, model, threshold, n_check):
         warnings.warn(
             f"the FFT-BEM gives the failure samples at RH {model.rh:g} a median {ratio:.2f} of their "
             f"Eq. 16 response ({what}. Rerun with contact_model='fft_bem' (docs/rare_events.md).",
-            ValidityWarning, stacklevel=3)
+            ValidityWarning, stacklevel=external_stacklevel())
     elif n and ok < 0.5 * n:
         warnings.warn(
             f"only {ok} of {n} failure samples at RH {model.rh:g} stay above the threshold with the "
             f"FFT-BEM (median BEM / Eq. 16 response {ratio:.2f}): Eq. 16's model error moves them "
             "across it, so this probability carries that error (in the tail a few % on the "
             "threshold can change P by a factor). For the boundary-element value rerun with "
-            "contact_model='fft_bem' (docs/rare_events.md).", ValidityWarning, stacklevel=3)
+            "contact_model='fft_bem' (docs/rare_events.md).", ValidityWarning, stacklevel=external_stacklevel())
     return ds

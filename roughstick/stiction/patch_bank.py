@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from .._core.conventions import append_history, dataset_attrs
+from .._core.validate import external_stacklevel
 from ..contact import (
     ValidityWarning,
     adhesion_summary,
@@ -108,7 +109,7 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int) -> 
             f"{np.nanmin(ratio):.2f}): the bank's upper tail, which decides P(stuck) of short beams, is "
             "too high there, so such P(stuck) is overestimated (example bank, 30 % RH, 250 µm beams: 0.043 "
             "against 0.001). Build "
-            "the bank with model='fft_bem' (about 10 x the cost; docs/beam.md).", ValidityWarning, stacklevel=3)
+            "the bank with model='fft_bem' (about 10 x the cost; docs/beam.md).", ValidityWarning, stacklevel=external_stacklevel())
     return bank
 
 
@@ -171,7 +172,7 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
             f"patches of {patch:.3g} m are shorter than 4 correlation lengths of the PSD "
             f"({corr:.3g} m, 1/e of the autocorrelation): neighbouring patches of a real "
             "interface would not be independent, as the beam model assumes. Use a larger shape "
-            "or spacing (a patch >= 4 correlation lengths).", UserWarning, stacklevel=2)
+            "or spacing (a patch >= 4 correlation lengths).", UserWarning, stacklevel=external_stacklevel())
     if model == "modified_dmt":
         # once for the bank (expected groups of the PSD), not once per law
         warn_if_outside_validity(None, relative_humidity=list(rh), groups=groups)

@@ -19,23 +19,12 @@ from .._core.validate import (
     MIN_MAP_PIXELS,
     check_core_not_chunked,
     check_has_roughness,
+    check_height_dtype,
     check_plausible_height,
     grid_spacing,
 )
 
 __all__ = ["validate_height", "level"]
-
-
-def _check_dtype(height):
-    kind = np.dtype(height.dtype).kind
-    if kind not in "fiu":
-        what = {"b": "boolean (a mask?)", "c": "complex (an FFT?)", "O": "object",
-                "U": "text", "S": "bytes", "M": "date-time", "m": "time-delta"}.get(kind, kind)
-        raise TypeError(
-            f"height has dtype {height.dtype} ({what}); a height map holds real numbers. Pass the "
-            "heights themselves (e.g. np.abs(...) or .real only if that is what you mean), as "
-            "float."
-        )
 
 
 def validate_height(height: xr.DataArray) -> xr.DataArray:
@@ -70,7 +59,7 @@ def validate_height(height: xr.DataArray) -> xr.DataArray:
             f"height must be an xarray.DataArray, got {type(height).__name__}; wrap arrays with "
             "roughstick.testing.make_topography(values, spacing=...) or read them with read_afm."
         )
-    _check_dtype(height)
+    check_height_dtype(height)
     h = _units.require(height, "length", name=height.name or "height")
     dx = grid_spacing(h, "x", min_pixels=MIN_MAP_PIXELS)
     dy = grid_spacing(h, "y", min_pixels=MIN_MAP_PIXELS)

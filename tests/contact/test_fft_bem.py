@@ -225,7 +225,7 @@ def test_unconverged_states_are_flagged_on_a_soft_material():
         warnings.simplefilter("error", rs.ValidityWarning)
         stiff = rs.fft_bem_contact_curves(h, relative_humidity=[0.3])
     assert stiff.attrs["unconverged"] == 0
-    with pytest.warns(rs.ValidityWarning, match="far from convergence.*max_iterations"):
+    with pytest.warns(rs.ValidityWarning, match="did not converge.*Raise max_iterations"):
         soft = rs.fft_bem_contact_curves(h, relative_humidity=[0.3],
                                          material=rs.Material(youngs_modulus=1e9, poisson_ratio=0.3))
     assert soft.attrs["unconverged"] > 0
@@ -278,3 +278,28 @@ def test_a_neck_is_not_dropped_by_a_large_retraction_step():
     g, g_ref = (float(rs.adhesion_summary(x).adhesive_energy) for x in (auto, ref))
     assert g == pytest.approx(g_ref, rel=0.03)  # measured -0.1 %; 0.31 x before
     assert auto.sizes["distance"] <= 150
+
+
+@pytest.mark.parametrize("kw, said", [
+    ({"max_iterations": 0}, r"max_iterations=0: must be an integer >= 1; pass e\.g\. max_iterations=500"),
+    ({"max_iterations": 2.5}, r"max_iterations=2\.5: must be an integer >= 1"),
+    ({"tolerance": float("nan")}, r"tolerance=nan: must be a finite number > 0"),
+    ({"tolerance": float("inf")}, r"tolerance=inf: must be a finite number > 0"),
+    ({"n_contact": 0}, r"n_contact=0: must be an integer >= 1"),
+    ({"refine": -1}, r"refine=-1: must be an integer >= 0"),
+])
+def test_solver_settings_are_refused_before_any_work(kw, said):
+    """max_iterations=0 returned Γ several times too large (no iteration at all, every state
+    unconverged) with only a warning blaming the distance grid."""
+    h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
+    with pytest.raises(ValueError, match=said):
+        rs.fft_bem_contact_curves(h, relative_humidity=0.5, **kw)
+
+
+def test_an_unconverged_solve_says_which_argument_to_raise():
+    h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
+    with pytest.warns(rs.ValidityWarning, match=r"of \d+ contact states did not converge .*"
+                                                r"max_iterations=1 .*Raise max_iterations") as rec:
+        ds = rs.fft_bem_contact_curves(h, relative_humidity=0.5, max_iterations=1)
+    assert ds.attrs["unconverged"] > 0
+    assert rec[0].filename == __file__  # the user's line, not the argument check's wrapper
