@@ -27,20 +27,25 @@ __all__ = ["NUMBER_RULES", "check_number", "check_numbers"]
 NUMBER_RULES = {
     "finite": "a finite number",
     "positive": "a finite number > 0",
+    "limit": "a number > 0 (inf: no limit)",
     "nonnegative": "a finite number >= 0",
     "fraction": "a fraction strictly between 0 and 1",
     "fraction0": "a fraction in [0, 1)",
+    "fraction01": "a fraction in [0, 1]",
     "count": "an integer >= 1",
     "count0": "an integer >= 0",
     "seed": "an integer >= 0 (or None, a SeedSequence or a Generator)",
     "length": "a length in m, finite and > 0",
+    "angle": "an angle in rad between 0 and pi",
 }
 #: Plausible lengths [m] of rule ``"length"`` (below: a slip in pm or fm; above: µm or nm typed as m).
 PLAUSIBLE_ARGUMENT_LENGTH = (1e-13, 1e-2)
 
 
 def _shown(value) -> str:
-    """A value as the user would type it: 500, 0.001, nan, -1.0."""
+    """A value as the user would type it: 500, 0.001, nan, -1.0, True."""
+    if isinstance(value, (bool, np.bool_)):
+        return repr(bool(value))
     if isinstance(value, numbers.Integral):
         return str(int(value))
     if isinstance(value, numbers.Real):
@@ -67,7 +72,7 @@ def check_number(value, name: str, rule, *, example=None, fix: str = ""):
 
     Examples
     --------
-    >>> from roughstick._core.validate import check_number
+    >>> from roughstick._core.arguments import check_number
     >>> check_number(0, "max_iterations", "count", example=500)
     Traceback (most recent call last):
     ...
@@ -91,6 +96,8 @@ def check_number(value, name: str, rule, *, example=None, fix: str = ""):
         what += " (or None)"
     if fix:
         remedy = fix
+    elif key == "angle" and isinstance(value, numbers.Real) and math.isfinite(value) and value > math.pi:
+        remedy = f"radians: {name}=np.deg2rad({_shown(value)}) if it is in degrees"
     elif example is not None and example is not inspect.Parameter.empty:
         remedy = f"e.g. {name}={_shown(example)} (the default)"
     else:
@@ -102,13 +109,16 @@ def check_number(value, name: str, rule, *, example=None, fix: str = ""):
     v = float(value)
     if isinstance(key, tuple):
         ok = any(v == float(a) for a in key)
+    elif key == "limit":
+        ok = v > 0
     elif not math.isfinite(v):
         ok = False
     elif key in ("count", "count0", "seed"):
         ok = v == int(v) and v >= (1 if key == "count" else 0)
     else:
         ok = {"finite": True, "positive": v > 0, "nonnegative": v >= 0, "fraction": 0 < v < 1,
-              "fraction0": 0 <= v < 1, "length": v > 0}[key]
+              "fraction0": 0 <= v < 1, "fraction01": 0 <= v <= 1, "length": v > 0,
+              "angle": 0 <= v <= math.pi}[key]
     if not ok:
         raise ValueError(message)
     if key == "length":
@@ -128,7 +138,7 @@ def check_numbers(**rules):
 
     Examples
     --------
-    >>> from roughstick._core.validate import check_numbers
+    >>> from roughstick._core.arguments import check_numbers
     >>> @check_numbers(tolerance="positive", max_iterations="count")
     ... def solve(*, tolerance=1e-3, max_iterations=500):
     ...     return tolerance

@@ -540,7 +540,7 @@ def adhesive_energy_values(energy, *, name: str = "bank", units_fix: str = "") -
     if np.isnan(values).any():
         raise ValueError(f"{name} has NaN adhesive energies: drop those laws ({name}.dropna('law'))")
     if np.isinf(values).any() or (values < 0).any():
-        bad = values[np.isinf(values) | (values < 0)].ravel()[0]
+        bad = float(values[np.isinf(values) | (values < 0)].ravel()[0])
         raise ValueError(
             f"{name} has the adhesive energy {bad!r} J m-2: an adhesive energy (work of separation, "
             "Eq. 13) is finite and >= 0. Drop or fix those laws; a sign flip of pressures "
@@ -574,12 +574,12 @@ def check_layer_thickness(thickness, *, name: str, rh=None) -> None:
     if not bad.any():
         return
     v = float(t[bad].ravel()[0])
-    if rh is not None and np.ndim(rh) == np.ndim(t) and np.size(rh) == t.size:
-        at = f" at RH {float(np.asarray(rh, dtype=float)[bad].ravel()[0]):g}"
+    if rh is not None and not is_lazy(rh) and np.shape(rh) == t.shape:
+        at = f" at RH {float(np.asarray(getattr(rh, 'values', rh), dtype=float)[bad].ravel()[0]):g}"
     if np.isfinite(v) and v > MAX_LAYER_THICKNESS:
-        problem = (f"above {MAX_LAYER_THICKNESS:g} m: an adsorbed water layer is a few nm (the "
-                   "paper's 0.9e-9 m per surface), so the model almost surely returns nm. Return "
-                   f"metres (e.g. {v:g}e-9 for {v:g} nm)")
+        problem = (f", above {MAX_LAYER_THICKNESS:g} m: an adsorbed water layer is a few nm (the "
+                   "paper's 0.9e-9 m per surface), so the model almost surely returns nm. Make "
+                   f"it return metres (e.g. {v:g}e-9 for {v:g} nm)")
     else:
-        problem = "a layer thickness must be finite and >= 0 (in m, e.g. 1.8e-9)"
-    raise ValueError(f"the adsorbed_layer model {name} returned {v!r} m{at}: {problem}.")
+        problem = ": a layer thickness must be finite and >= 0 (in m, e.g. 1.8e-9)"
+    raise ValueError(f"the adsorbed_layer model {name} returned {v!r} m{at}{problem}.")

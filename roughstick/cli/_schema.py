@@ -164,7 +164,8 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "thickness": F("length", "beam thickness", default=2.62e-6),
             "gap": F("length", "beam underside to landing pad", default=1.9e-6),
             "youngs_modulus": F("pressure", "Young's modulus of the beam", default=164e9),
-            "patch_length": F("length", "length of one patch along the beam (default: thickness)"),
+            "patch_length": F("length", "length of one patch along the beam (default: thickness); at most "
+                              "the shortest of lengths"),
         },
         "surface": {
             "spacing": F("length", "pixel size of the patch surfaces", required=True),

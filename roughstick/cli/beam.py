@@ -22,6 +22,7 @@ import roughstick as rs
 
 from .._core.conventions import append_history, dataset_attrs
 from .._core.references import PAPER, cite
+from .._core.validate import adhesive_energy_values
 from ..io.netcdf import write as write_netcdf
 from ._common import LOG, claim_folder, finish_folder, small_p_problems
 from ._config import ConfigError, check_memory, parse, read_toml
@@ -65,6 +66,7 @@ def _run(args) -> int:
                          youngs_modulus=b["youngs_modulus"])
     rh = np.asarray(ens["relative_humidity"], dtype=float)
     _check_method(ens, path.name)
+    _check_patch(b, path.name)
     out = pathlib.Path(args.out) if args.out else _beside(path, o.get("folder") or "beam-output")
     claim_folder(out, command="beam", params={k: v for k, v in c.items() if k != "output"},
                  overwrite=args.overwrite or o["overwrite"], keep=[path],
@@ -73,6 +75,7 @@ def _run(args) -> int:
     bank = rs.build_patch_bank(_psd(s), relative_humidity=rh, n_law=bank_cfg["laws"], shape=shape,
                                spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["model"],
                                cache_dir=_beside(path, bank_cfg["cache"]))
+    _check_bank(bank, path.name)
     t1 = time.perf_counter()
     if ens["method"] != "count":
         return _run_subset(bank, b, ens, beam, out, t0, t1, overwrite=args.overwrite or o["overwrite"],
@@ -134,6 +137,33 @@ def _log_tail_check(bank) -> None:
                                        "(too few laws checked to bound it)" if "tail_bem_ratio_low" in bank.attrs
                                        else "(no interval: a bank cached before intervals were kept)")
                  for r, v, a, b in zip(bank.rh.values, ratio, lo, hi, strict=True)))
+
+
+def _check_patch(b: dict, source: str) -> None:
+    """The patch (default: the beam thickness) must fit on the shortest beam, checked before any work."""
+    given = b.get("patch_length") is not None
+    patch = float(b["patch_length"] if given else b["thickness"])
+    shortest = float(np.min(b["lengths"]))
+    if patch > shortest * (1 + 1e-9):
+        key = "[beam] patch_length" if given else "[beam] thickness (the default patch_length)"
+        raise ConfigError(
+            f"{source}: {key} = {patch * 1e6:g} um is longer than the shortest beam ([beam] lengths: "
+            f"{shortest * 1e6:g} um): the interface under a beam is cut into patches of that length. "
+            f"Set [beam] patch_length to at most '{shortest * 1e6:g} um', or remove the shorter "
+            "lengths from [beam] lengths."
+        )
+
+
+def _check_bank(bank, source: str) -> None:
+    """The bank's energies, checked (units, sign, physical bound) before the beams: a cached bank
+    that fails names its file and how to rebuild it."""
+    where = bank.attrs.get("cache_file")
+    try:
+        adhesive_energy_values(bank, name="the patch bank", units_fix=(
+            f"delete {where} (or set [bank] cache to another folder) to rebuild it" if where else
+            "report it: a bank built by roughstick is in J m-2"))
+    except ValueError as err:
+        raise ConfigError(f"{source}: [bank] {err}") from None
 
 
 def _check_method(ens: dict, source: str) -> None:

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
 from .._core.validate import (
@@ -65,6 +66,7 @@ def _check_tolerance(tolerance):
         )
 
 
+@check_numbers(connectivity=(4, 8), tolerance="positive", n_distance="count?")
 def rough_contact_curves(
     height: xr.DataArray,
     *,

@@ -41,6 +41,7 @@ import numbers
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material, hertz_modulus
@@ -277,6 +278,8 @@ def _as_moments(moments, moment_method, qmax) -> xr.Dataset:
     )
 
 
+@check_numbers(n_height="count", n_curvature="count", n_distance="count?", qmax="positive?",
+               apparent_area="positive?")
 def gw_contact_curves(
     moments,
     *,

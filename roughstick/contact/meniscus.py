@@ -13,9 +13,16 @@ import numpy as np
 import xarray as xr
 
 from .._core import constants as C
+from .._core.arguments import check_numbers
 from .._core.conventions import set_attrs
 from .._core.units import as_si
-from .._core.validate import as_relative_humidity, positive
+from .._core.validate import (
+    MAX_LAYER_THICKNESS,
+    as_relative_humidity,
+    check_layer_thickness,
+    check_plausible_value,
+    positive,
+)
 
 __all__ = [
     "kelvin_radius",
@@ -29,6 +36,8 @@ __all__ = [
 ]
 
 
+@check_numbers(temperature="positive", kelvin_length="length?", surface_tension="positive",
+               molar_volume="positive")
 def kelvin_radius(
     relative_humidity,
     *,
@@ -76,6 +85,7 @@ def kelvin_radius(
     return set_attrs(out, "kelvin_radius")
 
 
+@check_numbers(temperature="positive", molar_volume="positive")
 def laplace_pressure(
     relative_humidity, *, temperature=C.DEFAULT_TEMPERATURE, molar_volume=C.WATER_MOLAR_VOLUME
 ) -> xr.DataArray:
@@ -108,6 +118,7 @@ def laplace_pressure(
     return set_attrs(out, "laplace_pressure")
 
 
+@check_numbers(contact_angle_1="angle", contact_angle_2="angle", subtended_angle="angle")
 def meniscus_height(
     relative_humidity,
     *,
@@ -146,6 +157,7 @@ def meniscus_height(
     return set_attrs(out, "meniscus_height")
 
 
+@check_numbers(thickness="nonnegative", onset="fraction0", surfaces=(1, 2))
 def step_adsorbed_layer(
     thickness: float = C.ADSORBED_LAYER_THICKNESS,
     onset: float = C.ADSORBED_LAYER_ONSET_RH,
@@ -156,8 +168,8 @@ def step_adsorbed_layer(
     The paper's default (§2.1) is ``step_adsorbed_layer()``: 0.9 nm on each surface above 65 % RH,
     none below, so :math:`h_{a1} + h_{a2} = 1.8` nm above the onset.
     """
-    if thickness < 0:
-        raise ValueError(f"adsorbed layer thickness must be >= 0 (m), got {thickness!r}.")
+    check_plausible_value(thickness, name="thickness", kind="length", what="an adsorbed water layer",
+                          bounds=(1e-12, MAX_LAYER_THICKNESS / 2, C.ADSORBED_LAYER_THICKNESS))
 
     def model(rh):
         return xr.where(rh > onset, surfaces * thickness, 0.0)
@@ -172,6 +184,16 @@ def no_adsorbed_layer(rh):
 
 
 _LAYER_MODELS = {"paper": step_adsorbed_layer, "none": lambda: no_adsorbed_layer}
+
+
+def _layer_thickness(adsorbed_layer, rh: xr.DataArray):
+    """The model's total layer thickness [m] at ``rh``, checked: finite, >= 0 and not nm."""
+    model = _layer_model(adsorbed_layer)
+    out = model(rh)
+    name = getattr(model, "__name__", repr(model))
+    check_layer_thickness(out, name=name if name.startswith("step_") else f"{name!r}",
+                          rh=rh)
+    return out
 
 
 def _layer_model(adsorbed_layer) -> Callable:
@@ -194,15 +216,17 @@ def adsorbed_layer(relative_humidity, *, model="paper") -> xr.DataArray:
         RH as a fraction in (0, 1).
     model : {"paper", "none"} or callable
         ``"paper"``: 0.9 nm per surface above 65 % RH; ``"none"``: no layer; or a callable taking
-        the RH DataArray and returning the total thickness in metres.
+        the RH DataArray and returning the total thickness in metres (checked: finite, >= 0 and
+        at most 1e-7 m; more is nm returned as m, refused naming the callable).
     """
     rh = as_relative_humidity(relative_humidity)
-    out = _layer_model(model)(rh)
+    out = _layer_thickness(model, rh)
     if not isinstance(out, xr.DataArray):
         out = xr.zeros_like(rh) + out
     return set_attrs(out, "adsorbed_layer", model=getattr(_layer_model(model), "__name__", str(model)))
 
 
+@check_numbers(contact_angle_1="angle", contact_angle_2="angle", subtended_angle="angle")
 def water_height(
     relative_humidity,
     *,
@@ -244,6 +268,6 @@ def water_height(
         subtended_angle=subtended_angle,
         **kelvin_kwargs,
     )
-    layer = _layer_model(adsorbed_layer)(as_relative_humidity(relative_humidity))
+    layer = _layer_thickness(adsorbed_layer, as_relative_humidity(relative_humidity))
     out = h_men + layer
     return set_attrs(out, "water_height")

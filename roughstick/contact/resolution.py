@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history
 from .._core.validate import height_in_si
 from ..surface.generate import generate_surfaces
@@ -95,6 +96,7 @@ def resample_pixels(height: xr.DataArray, factor: float) -> xr.DataArray:
     return out
 
 
+@check_numbers(seed="seed")
 def resolution_study(
     height: xr.DataArray | None = None,
     *,

@@ -23,6 +23,7 @@ import warnings
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, hertz_modulus, reduced_modulus
@@ -176,6 +177,7 @@ def _auto_curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, n):
     return d, list(out)
 
 
+@check_numbers(connectivity=(4, 8))
 def modified_dmt_kernel(z, distance, *, water_height, laplace_pressure, spacing, hertz_modulus,
                         periodic, connectivity=4):
     r""":func:`modified_dmt_curves` (Eq. 16) of one eager map on numpy arrays, without checks.
@@ -223,6 +225,7 @@ def modified_dmt_kernel(z, distance, *, water_height, laplace_pressure, spacing,
                             periodic=bool(periodic), connectivity=_connectivity(connectivity))
 
 
+@check_numbers(connectivity=(4, 8), n="count?")
 def contact_distance_grid(
     height: xr.DataArray,
     *,
@@ -354,6 +357,7 @@ def _warn_if_not_hard(ds, height, e_star):
 # public entry point
 
 
+@check_numbers(connectivity=(4, 8), n_distance="count?")
 def modified_dmt_curves(
     height: xr.DataArray,
     *,

@@ -37,6 +37,7 @@ import numba as nb
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.validate import (
     MIN_MAP_PIXELS,
@@ -508,6 +509,7 @@ def _group_points(height, relative_humidity, material, material2, adsorbed_layer
             for j, r in enumerate(rh_values)]
 
 
+@check_numbers(tolerance="positive")
 def select_model(
     height: xr.DataArray,
     *,
@@ -579,6 +581,7 @@ def select_model(
 
 
 
+@check_numbers(tolerance="positive")
 def warn_if_outside_validity(
     height: xr.DataArray,
     *,

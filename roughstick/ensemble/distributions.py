@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, coord_attrs
 
 __all__ = ["ensemble_histogram", "ensemble_ecdf"]
@@ -33,6 +34,7 @@ def _hist_kernel(a, edges, density):
     return res.reshape(a.shape[:-1] + (edges.size - 1,))
 
 
+@check_numbers(bins="count")
 def ensemble_histogram(da: xr.DataArray, *, dim: str = "realization", bins=30, range=None,
                        density: bool = True) -> xr.DataArray:
     """Histogram along ``dim`` as a labelled DataArray (Fig. 17), one per remaining element.

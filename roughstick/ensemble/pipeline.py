@@ -25,6 +25,7 @@ import numpy as np
 import xarray as xr
 from scipy.stats import norm
 
+from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, dataset_attrs
 from .._core.references import PAPER, cite
 from .._core.validate import relative_humidity_array
@@ -91,6 +92,8 @@ def surface_shape(*, shape=None, size=None, spacing: float) -> tuple[int, int]:
     return shp
 
 
+@check_numbers(n="count", m0="positive?", num="count?", lower="finite", exceedance="fraction",
+               points_per_water_height="positive")
 def ensemble_distance_grid(
     psd=None,
     *,

@@ -22,6 +22,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, append_history
 from .._core.dask import as_seed_sequence
 from .._core.materials import POLYSILICON
@@ -96,6 +97,8 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
     return model, selection
 
 
+@check_numbers(seed="seed", connect_timeout="nonnegative", batch="count", tolerance="positive",
+               n_max="count", patience="count", level="fraction", chunks="count?")
 def run_ensemble(
     psd: xr.DataArray,
     *,
@@ -358,6 +361,7 @@ def _select_for_sizes(psd, shapes, spacing, rh, kwargs):
                 f"groups expected from the PSD at shapes {[tuple(s) for s in shapes]}: {reason}")
 
 
+@check_numbers(seed="seed")
 def surface_size_study(
     psd: xr.DataArray,
     *,

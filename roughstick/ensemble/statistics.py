@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 from scipy import special, stats
 
+from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, append_history, coord_attrs
 from .._core.dask import as_seed_sequence
 
@@ -50,6 +51,7 @@ def order_statistic_ranks(n: int, p: float, *, confidence: float) -> tuple[int, 
     return r, s
 
 
+@check_numbers(confidence="fraction")
 def median_interval(values, *, confidence: float = 0.95) -> tuple[float, float, float]:
     r"""Median of a few numbers and its distribution-free confidence interval.
 
@@ -144,6 +146,7 @@ def _bootstrap_kernel(a, probs, alpha, n_boot, entropy):
     return lo, hi
 
 
+@check_numbers(confidence="fraction", n_bootstrap="count", rng="seed")
 def quantile_interval(
     da: xr.DataArray,
     quantiles,
@@ -237,6 +240,7 @@ def quantile_interval(
     return out[0], out[1]
 
 
+@check_numbers(level="fraction", confidence="fraction", n_bootstrap="count", rng="seed")
 def confidence_band(
     ds,
     dim: str = "realization",
@@ -368,6 +372,7 @@ def _fmt(v: float, fmt: str) -> str:
     return format(v, fmt) if np.isfinite(v) else "nan"
 
 
+@check_numbers(scale="positive")
 def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: float = 1e3,
                  units: str = "mJ/m²", fmt: str = ".4g", median_interval: bool = False) -> list[str]:
     """One line per humidity: median, band and each band edge's own confidence interval.
@@ -467,6 +472,7 @@ def interval_method(method: str, *, confidence: float) -> str:
     return _METHODS[method]
 
 
+@check_numbers(confidence="fraction")
 def binomial_interval(successes, trials, *, confidence: float = 0.95, method: str = "wilson"):
     r"""Confidence interval of a proportion estimated from ``successes`` out of ``trials``.
 

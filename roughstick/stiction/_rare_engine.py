@@ -19,6 +19,7 @@ from roughstick._core.conventions import append_history, dataset_attrs
 from roughstick._core.references import cite
 from roughstick.io.netcdf import publish, write
 
+from .._core.arguments import check_numbers
 from .._core.dask import resolve_scheduler
 from . import _rare_kernels as _k
 from . import _rare_moves as _m
@@ -30,6 +31,22 @@ REFERENCES = cite(("au2001", "subset simulation, cv with the chain correlation f
                   ("papaioannou2015", "MCMC in subset simulation, adaptive spread"))
 
 _METHODS = ("subset", "monte_carlo")
+#: Rules (roughstick._core.arguments) of the sampler's settings, shared by its public callers.
+SETTING_RULES = dict(samples_per_level="count", level_probability="fraction", independent_runs="count",
+                     proposal_scale="positive", target_acceptance="fraction", max_levels="count",
+                     target_cv="positive?", max_evaluations="count?", confidence="fraction",
+                     seed="seed", chunks="count")
+#: ... and of the surface limit state of failure_probability (``lower`` is signed: a grid may
+#: start below the mean plane).
+SURFACE_RULES = dict(points_per_water_height="positive", lower="finite", connectivity=(4, 8),
+                     patches="count", check_failures="count0")
+
+
+def checked(*names, **more):
+    """:func:`roughstick._core.arguments.check_numbers` with the :data:`SETTING_RULES` of
+    ``names`` and the ``more`` rules."""
+    return check_numbers(**{n: SETTING_RULES[n] for n in names}, **more)
+
 _PROPOSALS = ("adaptive", "pcn", "shell")
 _FORMAT = "roughstick-rare-events/1"
 

@@ -29,7 +29,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .._core.validate import PLAUSIBLE_BEAM_LENGTH, check_plausible_value
+from .._core.arguments import check_numbers
+from .._core.validate import PLAUSIBLE_BEAM_LENGTH, adhesive_energy_values, check_plausible_value
 from ..ensemble.statistics import binomial_interval
 from . import _beam_kernels as K
 from . import cohesive_beam as CB
@@ -52,6 +53,26 @@ def _check_patch_length(patch_length):
 
 def _n_patches(length, patch_length):
     return int(np.ceil(length / patch_length - 1e-9))
+
+
+def _beam_axes(beam_length, patch_length, beam):
+    """(beam lengths, patch length) of a run, checked: lengths positive and plausible in m, the
+    patch no longer than the shortest beam (a beam holds at least one whole patch)."""
+    lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
+    if lengths.ndim != 1 or lengths.size == 0 or np.any(~np.isfinite(lengths)) or np.any(lengths <= 0):
+        raise ValueError(f"beam_length must be positive lengths in m, got {beam_length!r}")
+    check_plausible_value(lengths, name="beam_length", kind="length", bounds=PLAUSIBLE_BEAM_LENGTH,
+                          what="a MEMS beam")
+    patch_length = _check_patch_length(beam.interaction_zone_length if patch_length is None
+                                       else patch_length)
+    if patch_length > lengths.min() * (1 + 1e-9):
+        raise ValueError(
+            f"patch_length={patch_length:g} m is longer than the shortest beam (beam_length="
+            f"{lengths.min():g} m): the interface under a beam is cut into patches of that length, "
+            "so a beam shorter than one patch is not modelled. Pass a shorter patch_length (default: "
+            "the beam thickness, paper §5.2) or drop the beams shorter than the patch."
+        )
+    return lengths, patch_length
 
 
 def beam_crack_length(patch_energy, *, beam: Cantilever = PAPER_CANTILEVER, patch_length=None,
@@ -101,6 +122,11 @@ def beam_crack_length(patch_energy, *, beam: Cantilever = PAPER_CANTILEVER, patc
                          f"{m} patch energies on the last axis, got {energy.shape[-1]}")
     if np.isnan(energy[..., :m]).any():
         raise ValueError("patch_energy has NaN: drop or fill the failed laws of the bank first")
+    if patch_length > beam.length * (1 + 1e-9):
+        raise ValueError(f"patch_length={patch_length:g} m is longer than the beam ({beam.length:g} m): "
+                         "pass a patch_length of at most the beam length (default: its thickness)")
+    if (~np.isfinite(energy[..., :m]) | (energy[..., :m] < 0)).any():
+        raise ValueError("patch_energy must be finite and >= 0 (adhesive energies in J m-2)")
     lead = energy.shape[:-1]
     flat = energy[..., :m].reshape(-1, m)
     st = np.zeros(flat.shape[0]) if start is None else \
@@ -121,6 +147,7 @@ def _draw_indices(seed, realizations, n_law, n_patch):
     return out
 
 
+@check_numbers(n_realization="count", seed="seed", shape_points="count0", element_size="length")
 def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100, seed: int = 0,
                    protocol: str = "release", beam: Cantilever = PAPER_CANTILEVER,
                    patch_length=None, realizations=None, shape_points: int = 0,
@@ -131,16 +158,18 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
     Parameters
     ----------
     bank : xarray.DataArray
-        Adhesive energy [J m-2] over ``(law, rh)`` (:func:`roughstick.build_patch_bank`, or
-        any DataArray with those dims). Law ``k`` is one surface patch at every RH, so a patch
-        keeps its identity when RH changes. With ``model="cohesive"`` also a pressure bank
+        Adhesive energy over ``(law, rh)`` (:func:`roughstick.build_patch_bank`, or any
+        DataArray with those dims), in its ``units`` (J m-2 without them). Law ``k`` is one
+        surface patch at every RH, so a patch keeps its identity when RH changes. NaN, negative
+        or infinite energies are refused, and so are energies above 0.5 J m-2, more than a
+        water meniscus holds (mJ m-2 labelled J m-2). With ``model="cohesive"`` also a pressure bank
         [Pa] over ``(law, rh, gap)`` (:func:`roughstick.stiction.cohesive_beam.pressure_law_bank`).
     beam_length : float or sequence
         Beam lengths [m], 1 µm to 10 mm (a value outside, e.g. 300 meant as µm, is refused as
         a unit slip); all lengths share the patches of a realization (common random numbers),
         counted from the clamp.
     n_realization : int
-        Number of beams per length (ignored when ``realizations`` is given).
+        Number of beams per length, >= 1 (ignored when ``realizations`` is given).
     seed : int
         Root seed; realization ``r`` draws from ``SeedSequence(seed, spawn_key=(r,))``, so any
         subset/chunking of realizations gives bit-identical beams.
@@ -150,7 +179,7 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
     beam : Cantilever
         Thickness, gap, width and modulus (its length is replaced by ``beam_length``).
     patch_length : float, optional
-        Patch length [m], default the beam thickness (§5.2).
+        Patch length [m], default the beam thickness (§5.2); at most the shortest beam.
     realizations : sequence of int, optional
         Realization numbers to simulate (for chunked / distributed runs).
     shape_points : int
@@ -192,9 +221,7 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
     bank = bank.transpose("law", "rh")
     rh, lengths, patch_length, reals = _run_axes(bank, beam_length, n_realization, protocol,
                                                  beam, patch_length, realizations)
-    energy_bank = np.asarray(bank.values, dtype=float)
-    if np.isnan(energy_bank).any():
-        raise ValueError("bank has NaN adhesive energies: drop those laws (bank.dropna('law'))")
+    energy_bank = adhesive_energy_values(bank)
     m = _n_patches(lengths.max(), patch_length)
     idx = _draw_indices(seed, reals, energy_bank.shape[0], m)
     s = np.empty((len(reals), len(rh), len(lengths)))
@@ -217,15 +244,12 @@ def _run_axes(bank, beam_length, n_realization, protocol, beam, patch_length, re
     rh = bank["rh"].values if "rh" in bank.coords else np.arange(bank.sizes["rh"])
     if protocol == "step_up" and np.any(np.diff(rh) <= 0):
         raise ValueError("protocol='step_up' needs the bank's rh coordinate increasing")
-    lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
-    if np.any(~np.isfinite(lengths)) or np.any(lengths <= 0):
-        raise ValueError("beam_length must be positive lengths in m")
-    check_plausible_value(lengths, name="beam_length", kind="length", bounds=PLAUSIBLE_BEAM_LENGTH,
-                          what="a MEMS beam")
-    patch_length = _check_patch_length(beam.interaction_zone_length if patch_length is None
-                                       else patch_length)
+    lengths, patch_length = _beam_axes(beam_length, patch_length, beam)
     reals = np.arange(int(n_realization)) if realizations is None else \
         np.asarray(realizations, dtype=np.int64)
+    if reals.ndim != 1 or reals.size == 0:
+        raise ValueError(f"realizations must be a non-empty 1-D list of indices, got {realizations!r}; "
+                         "or pass n_realization=100")
     return rh, lengths, patch_length, reals
 
 
@@ -235,9 +259,9 @@ def _simulate_cohesive(bank, *, beam_length, n_realization, seed, protocol, beam
         raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
     if not {"law", "rh"} <= set(bank.dims):
         raise ValueError(f"bank must have dims ('law', 'rh'[, 'gap']), got {bank.dims}")
-    laws = CB.laws_by_rh(bank, **law_kwargs)
     rh, lengths, patch_length, reals = _run_axes(bank, beam_length, n_realization, protocol,
                                                  beam, patch_length, realizations)
+    laws = CB.laws_by_rh(bank, **law_kwargs)
     idx = _draw_indices(seed, reals, bank.sizes["law"], _n_patches(lengths.max(), patch_length))
     s, failed, attached, arc = CB.release_many(laws, idx, lengths, beam, patch_length,
                                                element_size=element_size, protocol=protocol)
@@ -299,6 +323,7 @@ def _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_po
     return ds
 
 
+@check_numbers(confidence="fraction")
 def stuck_probability(result: xr.Dataset, *, confidence: float = 0.95, method: str = "wilson"):
     """P(stuck) over ``realization`` with its binomial interval (Wilson by default).
 

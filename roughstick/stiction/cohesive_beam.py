@@ -39,6 +39,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
+from .._core.validate import adhesive_energy_values
 from ..contact import contact_distance_grid, rough_contact_curves
 from ..surface import generate_surfaces
 from . import _cohesive_kernels as K
@@ -51,6 +53,7 @@ SolverError = K.SolverError
 _PA_TO_HAT = 1e-9  # p_hat = p[Pa] * 1e-9  (pJ µm^-2 nm^-1)
 
 
+@check_numbers(law_range="length", contact_gap="length", stiffness="positive", gap_step="length")
 def short_range_pressure_law(adhesive_energy, *, law_range=2e-9, contact_gap=5e-9,
                              stiffness=1e17, gap_step=1e-11):
     r"""A short-range pressure law of work of separation ``adhesive_energy``: (pressure, gap).
@@ -160,6 +163,7 @@ def _mesh(laws: PatchLaws, patch_law, beam: Cantilever, patch_length, element_si
                       laws.g_lo, laws.dg)
 
 
+@check_numbers(patch_length="length?", element_size="length", step="length")
 def release_cohesive_beam(laws: PatchLaws, patch_law, *, beam: Cantilever = PAPER_CANTILEVER,
                           patch_length: float | None = None, element_size: float = 0.5e-6,
                           step: float = 1e-6) -> CohesiveRelease:
@@ -233,6 +237,7 @@ def release_cohesive_beam(laws: PatchLaws, patch_law, *, beam: Cantilever = PAPE
                            x_fine=0.8 * start)
 
 
+@check_numbers(patch_length="length?", element_size="length")
 def step_cohesive_beam(laws: PatchLaws, patch_law, previous: CohesiveRelease, *,
                        beam: Cantilever = PAPER_CANTILEVER, patch_length: float | None = None,
                        element_size: float = 0.5e-6) -> CohesiveRelease:
@@ -285,7 +290,7 @@ def laws_by_rh(bank: xr.DataArray, **law_kwargs) -> list[PatchLaws]:
         return [PatchLaws(bank.isel(rh=i).transpose("law", "gap").load())
                 for i in range(bank.sizes["rh"])]
     if set(bank.dims) == {"law", "rh"}:
-        e = np.asarray(bank.transpose("law", "rh").values, dtype=float)
+        e = adhesive_energy_values(bank.transpose("law", "rh"))
         return [PatchLaws.from_energy(e[:, i], **law_kwargs) for i in range(e.shape[1])]
     raise ValueError(f"bank must have dims ('law', 'rh') (adhesive energy, build_patch_bank) or "
                      f"('law', 'rh', 'gap') (pressure, pressure_law_bank), got {bank.dims}")
@@ -343,6 +348,7 @@ def release_many(laws: list[PatchLaws], idx, lengths, beam: Cantilever, patch_le
     return s, failed, attached, arc
 
 
+@check_numbers(n_law="count", spacing="length", seed="seed", n_gap="count")
 def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 100, shape=(64, 64),
                       spacing: float, seed: int = 0, model: str = "modified_dmt",
                       n_gap: int = 400) -> xr.DataArray:

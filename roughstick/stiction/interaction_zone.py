@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from ..datasets import TABLE4_VALUES
 from ..ensemble.pipeline import ensemble_distance_grid
@@ -43,6 +44,7 @@ _PRINTED_NOTE = (
 )
 
 
+@check_numbers(asperity_radius="length", asperity_density="positive")
 def cantilever_moments(
     *,
     roughness=TABLE4["roughness"],
@@ -79,6 +81,7 @@ def cantilever_moments(
     return moments_from_asperities(roughness=roughness, radius=asperity_radius, density=asperity_density)
 
 
+@check_numbers(asperity_radius="length", asperity_density="positive", qmax="positive")
 def cantilever_psd(
     *,
     roughness=TABLE4["roughness"],
@@ -136,6 +139,7 @@ def cantilever_psd(
 PAPER_HUMIDITIES = tuple(round(0.30 + 0.05 * i, 2) for i in range(14))
 
 
+@check_numbers(spacing="length")
 def interaction_zone_shape(beam: Cantilever = PAPER_CANTILEVER, *, spacing: float = 5e-9) -> tuple[int, int]:
     r"""Pixels ``(ny, nx)`` of the interaction zone :math:`\Delta s \times w` at ``spacing``.
 
@@ -159,6 +163,7 @@ def interaction_zone_shape(beam: Cantilever = PAPER_CANTILEVER, *, spacing: floa
     return ny, nx
 
 
+@check_numbers(spacing="length")
 def interaction_zone_psd(fit: xr.Dataset | None = None, *, beam: Cantilever = PAPER_CANTILEVER,
                          spacing: float = 5e-9, shape=None) -> xr.DataArray:
     r"""The Eq. 37 PSD evaluated exactly on the wave-vector grid of the interaction zone.
@@ -207,6 +212,7 @@ def _psd_on_grid(fit: xr.Dataset, shape, spacing) -> xr.DataArray:
     return out.drop_vars([c for c in out.coords if c not in ("qx", "qy")])
 
 
+@check_numbers(lower="finite", num="count")
 def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer="paper",
                              lower: float = 1.0, num: int = 200) -> xr.DataArray:
     r"""Distance grid for the interaction-zone ensembles, shared by both adsorbed-layer models.
@@ -235,6 +241,7 @@ def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer
     return grids[int(np.argmax([float(g[-1]) for g in grids]))]
 
 
+@check_numbers(n="count", spacing="length", seed="seed")
 def predict_adhesive_energy(
     psd=None,
     *,

@@ -18,6 +18,7 @@ import dask
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs
 from .._core.validate import external_stacklevel
 from ..contact import (
@@ -113,6 +114,7 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int) -> 
     return bank
 
 
+@check_numbers(n_law="count", spacing="length", seed="seed", check_tail="count0")
 def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000, shape=(64, 64),
                spacing: float, seed: int = 0, model: str = "modified_dmt",
                cache_dir=None, check_tail: int = 8) -> xr.DataArray:

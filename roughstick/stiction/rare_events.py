@@ -32,6 +32,7 @@ import xarray as xr
 
 from roughstick._core.conventions import append_history
 from roughstick._core.dask import as_seed_sequence
+from roughstick._core.validate import adhesive_energy_values
 from roughstick.contact import water_height
 
 from . import _rare_beam as _b
@@ -39,7 +40,7 @@ from . import _rare_engine as _e
 from . import _rare_surface as _s
 from ._rare_surface import ARTEFACT_RATIO  # noqa: F401  (the BEM re-check's artefact threshold)
 from .beam import PAPER_CANTILEVER, Cantilever, critical_adhesive_energy
-from .beam_model import PROTOCOLS, _check_patch_length, _n_patches
+from .beam_model import PROTOCOLS, _beam_axes, _n_patches
 
 __all__ = [
     "subset_simulation",
@@ -51,6 +52,7 @@ __all__ = [
 ]
 
 
+@_e.checked(*_e.SETTING_RULES)
 def subset_simulation(
     limit_state,
     *,
@@ -251,6 +253,7 @@ def _psd_token(amplitude):
     return hashlib.sha256(np.ascontiguousarray(amplitude).tobytes()).hexdigest()[:16]
 
 
+@_e.checked(*_e.SETTING_RULES, **_e.SURFACE_RULES)
 def failure_probability(
     psd,
     *,
@@ -465,6 +468,7 @@ def weakest_link(result: xr.Dataset, *, patches) -> xr.Dataset:
     return ds
 
 
+@_e.checked("target_cv", "max_evaluations", "seed", length="length?")
 def stiction_probability_subset(
     psd,
     *,
@@ -527,6 +531,7 @@ _BEAM_VARS = ("failure_probability", "failure_probability_lower", "failure_proba
               "coefficient_of_variation", "au_beck_cv", "n_evaluations", "converged")
 
 
+@_e.checked("target_cv", "max_evaluations", "samples_per_level", "seed")
 def beam_stiction_probability_subset(
     bank: xr.DataArray,
     *,
@@ -595,16 +600,11 @@ def beam_stiction_probability_subset(
         raise ValueError(f"bank must have dims ('law', 'rh') (an energy bank of build_patch_bank), got "
                          f"{bank.dims}; method='subset' works on the sharp-front model only")
     bank = bank.transpose("law", "rh")
-    energy = np.asarray(bank.values, dtype=float)
-    if np.isnan(energy).any():
-        raise ValueError("bank has NaN adhesive energies: drop those laws (bank.dropna('law'))")
+    energy = adhesive_energy_values(bank)
     rh = bank["rh"].values if "rh" in bank.coords else np.arange(bank.sizes["rh"])
     if protocol == "step_up" and np.any(np.diff(rh) <= 0):
         raise ValueError("protocol='step_up' needs the bank's rh coordinate increasing")
-    lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
-    if lengths.ndim != 1 or np.any(~np.isfinite(lengths)) or np.any(lengths <= 0):
-        raise ValueError(f"beam_length must be positive lengths in m, got {beam_length!r}")
-    patch_length = _check_patch_length(beam.interaction_zone_length if patch_length is None else patch_length)
+    lengths, patch_length = _beam_axes(beam_length, patch_length, beam)
     kterm = beam.stiffness_term  # K does not depend on the length
     options.setdefault("scheduler", "sync")  # microseconds per beam: dask tasks would cost more
     options.setdefault("chunks", 100_000)

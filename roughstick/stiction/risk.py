@@ -19,6 +19,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.units import as_si, require
 from .._core.validate import as_relative_humidity, check_core_not_chunked, check_positive_block
@@ -60,6 +61,7 @@ def _gamma_sample(adhesive_energy, dim):
     return g
 
 
+@check_numbers(confidence="fraction")
 def stiction_probability(
     adhesive_energy,
     *,
@@ -204,6 +206,7 @@ def _first_crossing_kernel(p, coord, level, late=False):
     return out
 
 
+@check_numbers(level="fraction")
 def crossing_humidity(probability: xr.Dataset | xr.DataArray, *, level: float = 0.5) -> xr.Dataset:
     r"""Relative humidity at which the stiction probability first reaches ``level``.
 
@@ -305,6 +308,7 @@ def _crossing_length_kernel(s, p, confidence):
     return out
 
 
+@check_numbers(level="fraction", confidence="fraction")
 def crossing_length(
     adhesive_energy,
     *,
@@ -471,6 +475,7 @@ def measured_adhesion(
     return ds
 
 
+@check_numbers(confidence="fraction")
 def stiction_risk(
     adhesive_energy,
     *,

@@ -43,10 +43,11 @@ import xarray as xr
 from dask.delayed import Delayed
 
 from .._core import units as _units
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import as_seed_sequence, is_lazy
 from .._core.references import PAPER, cite
-from .._core.validate import check_positive_block
+from .._core.validate import check_positive_block, external_stacklevel
 from ._generate_kernels import _centred_full, _filter, _generate_block
 from .spectrum import interpolate_psd, isotropic_to_2d
 
@@ -292,7 +293,7 @@ def _warn_if_extrapolated(needed_length: float, measured_length: float, how: str
             "wavelengths longer than that scan) is extrapolated. Generate surfaces no larger "
             "than the scan (size= or shape x spacing), or estimate the PSD on fewer, larger "
             "sub-maps so that it reaches lower q.",
-            ExtrapolatedPSDWarning, stacklevel=4,
+            ExtrapolatedPSDWarning, stacklevel=external_stacklevel(),
         )
 
 
@@ -487,6 +488,7 @@ def _seed_root(seed):
     return root, recorded
 
 
+@check_numbers(seed="seed")
 def generate_surfaces(
     psd,
     *,

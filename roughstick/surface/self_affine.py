@@ -10,6 +10,7 @@ import xarray as xr
 from scipy.optimize import least_squares
 
 from .._core import units as _units
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.references import PAPER, cite
@@ -130,6 +131,7 @@ def _fit_kernel(m0, m2, m4, qmax):
     return q0, s0, s1, f0 / m0 - 1, f2 / m2 - 1, f4 / m4 - 1
 
 
+@check_numbers(tolerance="limit")
 def fit_self_affine(*, m0, m2, m4, qmax, tolerance: float = 1e-6) -> xr.Dataset:
     r"""Solve Eq. 37 for :math:`(q_0, s_0, s_1)` from the moments and the cutoff (paper §5.2).
 

@@ -22,6 +22,7 @@ from scipy.interpolate import RegularGridInterpolator
 from scipy.signal import get_window
 
 from .._core import units as _units
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.references import PAPER, cite
@@ -279,6 +280,7 @@ def _split(height: xr.DataArray, n: int) -> xr.DataArray:
     return out.assign_coords(submap=np.arange(n)).transpose(..., "submap", "y", "x")
 
 
+@check_numbers(n="count")
 def submap_psd(
     height: xr.DataArray, *, n: int = 16, average_dims=None, window: str | None = "auto"
 ) -> xr.DataArray:
@@ -321,6 +323,7 @@ def submap_psd(
     return out
 
 
+@check_numbers(n="count", threshold="positive")
 def submap_variance_check(
     height: xr.DataArray, *, n: int = 16, reference=None, threshold: float = 0.03
 ) -> xr.Dataset:

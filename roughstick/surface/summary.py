@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs
 from .._core.references import PAPER, cite
 from .moments import (
@@ -60,6 +61,7 @@ def roughness_statistics(
     return ds
 
 
+@check_numbers(n="count")
 def psd_summary(
     height: xr.DataArray,
     *,

@@ -13,6 +13,7 @@ import xarray as xr
 from scipy.ndimage import distance_transform_edt
 
 from .._core import units as _units
+from .._core.arguments import check_numbers
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import is_lazy
 from .._core.validate import (
@@ -133,6 +134,7 @@ def _level_kernel(z, *, method, nan, max_nan_fraction, x, y):
     return out
 
 
+@check_numbers(max_nan_fraction="fraction01")
 def level(
     height: xr.DataArray,
     *,

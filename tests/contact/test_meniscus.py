@@ -75,7 +75,7 @@ def test_pluggable_adsorbed_layer():
     np.testing.assert_allclose(rs.adsorbed_layer([0.2, 0.5], model=custom).values, [0.0, 0.3e-9])
     with pytest.raises(ValueError, match="'paper', 'none' or a callable"):
         rs.water_height(0.5, adsorbed_layer="thick")
-    with pytest.raises(ValueError, match="thickness must be >= 0"):
+    with pytest.raises(ValueError, match=r"thickness=-1e-09: must be a finite number >= 0"):
         rs.step_adsorbed_layer(thickness=-1e-9)
 
 
@@ -127,3 +127,26 @@ def test_extreme_humidities_are_finite():
     h = rs.water_height(rh)
     assert np.all(np.isfinite(h.values)) and np.all(h.values > 0)
     assert float(h[1]) == pytest.approx(-2 * 0.53e-9 / np.log(0.999) + 1.8e-9)
+
+
+def test_a_layer_model_returning_nm_is_refused_naming_it():
+    """A callable returning nm (1.8 instead of 1.8e-9) gave Γ = 1.5e8 J m-2 with only a generic
+    warning; now the model's output is checked before any contact work."""
+    def layer_nm(rh):
+        return xr.where(rh > 0.65, 1.8, 0.0)
+
+    with pytest.raises(ValueError, match=r"adsorbed_layer model 'layer_nm' returned 1\.8 m at RH 0\.7, "
+                                         r"above 1e-07 m.*almost surely returns nm.*1\.8e-9"):
+        rs.water_height([0.5, 0.7], adsorbed_layer=layer_nm)
+    h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
+    for model in ("modified_dmt", "fft_bem"):
+        with pytest.raises(ValueError, match="'layer_nm' returned 1.8 m"):
+            rs.rough_contact_curves(h, relative_humidity=0.7, adsorbed_layer=layer_nm, model=model)
+    with pytest.raises(ValueError, match=r"returned -1e-09 m at RH 0\.5: a layer thickness must be finite and >= 0"):
+        rs.adsorbed_layer(0.5, model=lambda rh: -1e-9 + 0 * rh)
+    with pytest.raises(ValueError, match=r"returned nan m"):
+        rs.water_height(0.5, adsorbed_layer=lambda rh: np.nan)
+    with pytest.raises(ValueError, match=r"thickness=0\.9 m is implausible.*looks like nm.*thickness=0\.9e-9"):
+        rs.step_adsorbed_layer(thickness=0.9)
+    np.testing.assert_allclose(rs.water_height(0.7, adsorbed_layer=lambda rh: 1.8e-9 + 0 * rh),
+                               rs.water_height(0.7))  # metres: accepted

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+import roughstick as rs
 from roughstick.stiction.beam import PAPER_CANTILEVER, crack_length_from_adhesive_energy
 from roughstick.stiction.beam_model import beam_crack_length, simulate_beams
 
@@ -172,4 +173,54 @@ def test_beam_length_unit_slip_is_refused_by_name():
                                          r"\(plausible 1e-6 to 1e-2 m\); it looks like µm: give "
                                          r"it in m, e\.g\. beam_length=300e-6"):
         simulate_beams(_bank(), beam_length=[300], n_realization=2)
-    simulate_beams(_bank(), beam_length=[1e-6, 1e-2], n_realization=2)  # the bounds are allowed
+    simulate_beams(_bank(), beam_length=[1e-6, 1e-2], n_realization=2, patch_length=0.5e-6)  # the bounds are allowed
+
+
+def test_a_bank_in_mj_labelled_j_is_refused_with_the_fix():
+    """Energies in mJ m-2 read as J m-2 gave P(stuck) = 1 everywhere, without a word."""
+    mj = (_bank() * 1e3).assign_attrs(units="J m-2")
+    fix = r"look like mJ m-2: divide by 1000 \(bank / 1000\) or set bank\.attrs\['units'\] = 'mJ m-2'"
+    with pytest.raises(ValueError, match=r"bank has adhesive energies up to 395\.7 J m-2 .*above 0\.5 J m-2.*" + fix):
+        simulate_beams(mj, beam_length=[300e-6], n_realization=2)
+    with pytest.raises(ValueError, match=fix):
+        rs.beam_stiction_probability_subset(mj, beam_length=300e-6)
+    # labelled as what they are, the same energies give the same beams
+    got = simulate_beams(mj.assign_attrs(units="mJ m-2"), beam_length=[300e-6, 1500e-6], n_realization=30, seed=1)
+    ref = simulate_beams(_bank(), beam_length=[300e-6, 1500e-6], n_realization=30, seed=1)
+    np.testing.assert_array_equal(got.stuck.values, ref.stuck.values)
+    np.testing.assert_allclose(got.crack_length.values, ref.crack_length.values, rtol=1e-9)
+
+
+@pytest.mark.parametrize("bad, said", [(-1e-3, "-0.001 J m-2"), (np.inf, "inf J m-2")])
+def test_negative_or_infinite_energies_are_refused(bad, said):
+    bank = _bank().copy()
+    bank[3, 1] = bad
+    with pytest.raises(ValueError, match=rf"bank has the adhesive energy {said}.*finite and >= 0"):
+        simulate_beams(bank, beam_length=[300e-6], n_realization=2)
+    with pytest.raises(ValueError, match="finite and >= 0"):
+        rs.beam_stiction_probability_subset(bank, beam_length=300e-6)
+    with pytest.raises(ValueError, match="finite and >= 0"):
+        simulate_beams(bank, beam_length=[300e-6], n_realization=2, model="cohesive")
+    with pytest.raises(ValueError, match="patch_energy must be finite and >= 0"):
+        beam_crack_length(np.full(600, bad), beam=BEAM)
+
+
+def test_no_beams_is_an_error_not_nan():
+    """n_realization=0 returned P(stuck) = NaN."""
+    with pytest.raises(ValueError, match=r"n_realization=0: must be an integer >= 1; pass e\.g\. n_realization=100"):
+        simulate_beams(_bank(), beam_length=[300e-6], n_realization=0)
+    with pytest.raises(ValueError, match="realizations must be a non-empty"):
+        simulate_beams(_bank(), beam_length=[300e-6], realizations=[])
+
+
+def test_a_patch_longer_than_the_shortest_beam_is_refused():
+    """A 300 µm patch on 100-200 µm beams ran (each beam one patch longer than itself)."""
+    said = (r"patch_length=0\.0003 m is longer than the shortest beam \(beam_length=0\.0001 m\).*"
+            r"Pass a shorter patch_length")
+    with pytest.raises(ValueError, match=said):
+        simulate_beams(_bank(), beam_length=[100e-6, 200e-6], patch_length=300e-6, n_realization=2)
+    with pytest.raises(ValueError, match=said):
+        rs.beam_stiction_probability_subset(_bank(), beam_length=[100e-6, 200e-6], patch_length=300e-6)
+    with pytest.raises(ValueError, match=r"patch_length=0\.0003 m is longer than the beam"):
+        beam_crack_length(np.ones(10), beam=replace(BEAM, length=100e-6), patch_length=300e-6)
+    simulate_beams(_bank(), beam_length=[100e-6, 200e-6], patch_length=100e-6, n_realization=2)  # one patch

@@ -107,5 +107,5 @@ def test_the_bank_tail_is_rechecked_with_the_boundary_element_model(tmp_path):
         assert again.attrs["from_cache"] == 1 and again.attrs["tail_checked"] == 8
         bem_bank = build_patch_bank(_psd(), **{**kw, "n_law": 4}, model="fft_bem")
     assert "tail_bem_ratio" not in bem_bank.attrs
-    with pytest.raises(ValueError, match="check_tail must be >= 0"):
+    with pytest.raises(ValueError, match="check_tail=-1: must be an integer >= 0"):
         build_patch_bank(_psd(), check_tail=-1, **kw)

@@ -63,3 +63,34 @@ def test_cli_beam_cohesive_model_matches_the_python_call(tmp_path):
     assert c.sizes == s.sizes
     assert "cohesive" in str(c.attrs).lower() and "cohesive" not in str(s.attrs.get("beam_model", ""))
     assert (c.stuck.values == s.stuck.values).all()
+
+
+def test_cli_beam_patch_longer_than_a_beam_names_the_keys(tmp_path, capsys):
+    """A 300 µm patch on 100-200 µm beams ran; it is refused before the bank is built."""
+    cfg = tmp_path / "beam.toml"
+    cfg.write_text(CONFIG.replace('lengths = ["100 um", "300 um"]',
+                                  'lengths = ["100 um", "200 um"]\npatch_length = "300 um"'))
+    assert main(["beam", str(cfg)]) == 1
+    err = capsys.readouterr().err
+    assert ("[beam] patch_length = 300 um is longer than the shortest beam ([beam] lengths: 100 um)" in err
+            and "Set [beam] patch_length to at most '100 um'" in err), err
+    assert not (tmp_path / "beam-output").exists() and not (tmp_path / "beam-bank-cache").exists()
+
+
+def test_cli_beam_implausible_cached_bank_names_the_file(tmp_path, capsys):
+    """Energies a water meniscus cannot give (a bank in mJ m-2) are refused, naming the cache."""
+    cfg = tmp_path / "beam.toml"
+    cfg.write_text(CONFIG)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["beam", str(cfg), "--out", str(tmp_path / "a")]) == 0
+    capsys.readouterr()
+    (cached,) = (tmp_path / "beam-bank-cache").glob("patch_bank_*.nc")
+    ds = xr.load_dataset(cached)
+    ds["adhesive_energy"] = ds["adhesive_energy"] * 1e3 + 1.0  # mJ m-2 values, still labelled J m-2
+    ds.to_netcdf(cached)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["beam", str(cfg), "--out", str(tmp_path / "b")]) == 1
+    err = capsys.readouterr().err
+    assert "[bank] the patch bank has adhesive energies up to" in err and f"delete {cached}" in err, err
