@@ -144,3 +144,46 @@ def test_heights_in_m_labelled_nm_are_refused_with_the_fix(h):
         rs.power_spectrum(h.assign_attrs(units="nm"))  # values in m, labelled nm
     with pytest.raises(ValueError, match="below anything an AFM can measure"):
         rs.rough_contact_curves(h.assign_attrs(units="nm"), relative_humidity=0.5)
+
+
+# -- dtypes a height cannot have, at every entry point -----------------------------------------
+@pytest.mark.parametrize("dtype, what", [(bool, "boolean"), (complex, "complex"), (object, "object"),
+                                         ("datetime64[ns]", "date-time"), (str, "text")])
+def test_every_map_entry_point_refuses_a_dtype_a_height_cannot_have(h, dtype, what):
+    """The contact models took a complex map's real part (or a boolean map as 0/1 m, refused as
+    'flat'; a date-time map as 'rms 9.9e8 m, probably in nm')."""
+    bad = h.copy(data=np.zeros(h.shape, dtype)) if dtype == "datetime64[ns]" else h.astype(dtype)
+    calls = [rs.power_spectrum, rs.roughness_moments, rs.validate_height,
+             lambda m: rs.rough_contact_curves(m, relative_humidity=0.5),
+             lambda m: rs.rough_contact_curves(m, relative_humidity=0.5, model="gw"),
+             lambda m: rs.fft_bem_contact_curves(m, relative_humidity=0.5),
+             lambda m: rs.surface_groups(m, relative_humidity=0.5)]
+    for f in calls:
+        with pytest.raises(TypeError, match=f"dtype .*{what}.*a height map holds real numbers"):
+            f(bad)
+
+
+# -- spectra with no power or non-finite values ----------------------------------------------------
+def test_spectra_whose_moments_are_zero_or_not_finite_are_refused_naming_that(h):
+    """A zero PSD gave m0 = m2 = m4 = 0 and flat surfaces, a PSD with one NaN NaN moments, and a
+    cutoff below the PSD's wave numbers zero moments, all without a word."""
+    iso = rs.psd_isotropic(rs.power_spectrum(h))
+    zero = iso.copy(data=np.zeros(iso.shape))
+    for call, said in [
+        (lambda: rs.psd_moments(zero), r"m0 = 0\.0: m0 must be positive; the spectrum has no power"),
+        (lambda: rs.psd_moments(iso.where(iso.q != iso.q[3])), r"m0 is not finite \(nan\): m0 must be "
+                                                                r"positive and finite; the spectrum has NaN"),
+        (lambda: rs.psd_moments(iso, qmax=1.0), r"no power.*qmax=1 rad m-1.*the PSD's q start at"),
+        (lambda: rs.generate_surfaces(zero, n=1, shape=16, spacing=2e-8, seed=0),
+         r"zero everywhere: the surfaces would be flat"),
+        (lambda: rs.ensemble_distance_grid(psd=zero, shape=(16, 16), n=2, relative_humidity=[0.5]),
+         r"m0 = 0\.0: m0 must be positive; the spectrum has no power"),
+    ]:
+        with pytest.raises(ValueError, match=said) as err:
+            call()
+        assert "probably" not in str(err.value)
+    moments = rs.roughness_moments(h)
+    for bad, said in [(0.0, r"moments: m2 = 0\.0: m2 must be positive; the spectrum has no power"),
+                      (np.inf, r"moments: m2 is not finite \(inf\)")]:
+        with pytest.raises(ValueError, match=said):
+            rs.summit_density(moments.assign(m2=moments.m2.copy(data=bad)))

@@ -447,21 +447,24 @@ def height_in_si(height, *, name: str = "height") -> xr.DataArray:
 
 def check_moments(m0, m2, m4, *, what: str, fix: str) -> None:
     """Refuse eager spectral moments that are zero, negative or not finite, naming the moment,
-    ``what`` they came from and ``fix`` (lazy moments are not computed)."""
+    the problem, ``what`` they came from and ``fix`` (lazy moments are not computed)."""
     for key, m in (("m0", m0), ("m2", m2), ("m4", m4)):
         if is_lazy(m):
             continue
         v = np.asarray(getattr(m, "values", m), dtype=float)
-        if v.size and not np.all(np.isfinite(v)):
-            raise ValueError(
-                f"{what}: {key} is not finite ({float(v[~np.isfinite(v)].ravel()[0])!r}): the "
-                f"spectrum has NaN or inf values, or overflows. {fix}"
-            )
-        if v.size and np.any(v <= 0):
-            raise ValueError(
-                f"{what}: {key} = {float(v[v <= 0].ravel()[0])!r}: the spectrum has no power "
-                f"(zero everywhere, or nothing below the cutoff), so the surface would be flat. {fix}"
-            )
+        if not v.size:
+            continue
+        if not np.all(np.isfinite(v)):
+            problem = (f"is not finite ({float(v[~np.isfinite(v)].ravel()[0])!r}): {key} must be "
+                       "positive and finite; the spectrum has NaN or inf values, or overflows")
+        elif np.any(v == 0):
+            problem = (f"= 0.0: {key} must be positive; the spectrum has no power (zero everywhere, "
+                       "or nothing below the cutoff), so the surface would be flat")
+        elif np.any(v < 0):
+            problem = f"= {float(v[v < 0].ravel()[0])!r}: {key} must be positive (a variance)"
+        else:
+            continue
+        raise ValueError(f"{what}: {key} {problem}. {fix}")
 
 
 def distance_array(distance, *, min_size: int = 1) -> np.ndarray:

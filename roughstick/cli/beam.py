@@ -84,7 +84,7 @@ def _run(args) -> int:
                            seed=ens["seed"], protocol=ens["protocol"], beam=beam,
                            patch_length=b.get("patch_length"), model=ens["beam_model"])
     t2 = time.perf_counter()
-    write_netcdf(_provenance(ds, c, path, bank), out / "beam.nc", compute=True)
+    write_netcdf(_provenance(ds, c, path, bank), out / "beam.nc", compute=True, overwrite=True)
     finish_folder(out)
     src = "read from cache" if bank.attrs.get("from_cache") else "computed"
     LOG.info(f"bank: {bank.sizes['law']} laws x {bank.sizes['rh']} RH {src} in {t1 - t0:.1f} s "
@@ -188,7 +188,7 @@ def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite, provenance) -> in
         max_evaluations=ens["max_evaluations"], samples_per_level=ens["samples_per_level"],
         seed=ens["seed"], output=out / "levels", overwrite=overwrite)
     t2 = time.perf_counter()
-    write_netcdf(provenance(ds), out / "beam.nc", compute=True)
+    write_netcdf(provenance(ds), out / "beam.nc", compute=True, overwrite=True)
     finish_folder(out)
     src = "read from cache" if bank.attrs.get("from_cache") else "computed"
     n_law = int(ds.attrs["n_law"])

@@ -167,7 +167,7 @@ def _run(args):
             f"{args.model} --tolerance {args.tolerance} --out {args.out}"
     )
     out.parent.mkdir(parents=True, exist_ok=True)
-    netcdf.write(ds, out, compute=True)
+    netcdf.write(ds, out, compute=True, overwrite=True)  # checked: check_output_file
     for rh, g, deq in zip(np.atleast_1d(ds.rh.values), np.atleast_1d(summary.adhesive_energy.values),
                           np.atleast_1d(summary.equilibrium_distance.values), strict=True):
         print(f"RH {rh:.3g}: adhesive energy {g:.4g} J/m2, equilibrium distance {deq * 1e9:.3g} nm")

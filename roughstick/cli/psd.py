@@ -104,7 +104,7 @@ def _run(args):
     same_grid = "map" not in ds["spatial_m0"].dims
     lines = _moment_lines(ds, what, scans=all(scans)) if same_grid else []  # also sets their attrs
     out.parent.mkdir(parents=True, exist_ok=True)
-    netcdf.write(ds, out, compute=True)
+    netcdf.write(ds, out, compute=True, overwrite=True)  # checked: check_output_file
     if not same_grid:  # maps of different pixel sizes: m2, m4 depend on it, no mean
         lo, hi = ({k: float(getattr(ds[f"spatial_{k}"], f)()) for k in ("m0", "m2", "m4")} for f in ("min", "max"))
         LOG.info(f"{what}: sqrt(m0) = {lo['m0'] ** 0.5 * 1e9:.3g}-{hi['m0'] ** 0.5 * 1e9:.3g} nm, m2 = "

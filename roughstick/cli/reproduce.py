@@ -98,7 +98,7 @@ def _reproduce(out, *, quick, n, scheduler, overwrite, log):
             per_size[0], title=f"Fig. {14 + k}: {sample}, surfaces of {shapes[0] * 5e-3:.2f} µm ({scale} scale)")
         files.append(_save(fig, out / f"fig{14 + k}_curves_{sample}.png"))
         band = rs.confidence_band(both)
-        files.append(rs.io.netcdf.write(band, out / f"band_{sample}.nc", compute=True))
+        files.append(rs.io.netcdf.write(band, out / f"band_{sample}.nc", compute=True, overwrite=True))
         for size in band.surface_size.values:
             log(f"[{sample}, {size * 1e6:.2f} µm] apparent adhesive energy Γ:")
             for line in rs.band_summary(band.sel(surface_size=size)):

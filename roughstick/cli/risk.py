@@ -297,7 +297,7 @@ def _run(args):
             risk[name].attrs = coord_attrs(name, risk[name]) if name in ATTRS else risk[name].attrs
     risk.attrs["configuration"] = cfg_path.read_text()
     append_history(risk, f"roughstick risk {cfg_path.name}")
-    files = [rs.io.netcdf.write(risk, out / "risk.nc", compute=True)]
+    files = [rs.io.netcdf.write(risk, out / "risk.nc", compute=True, overwrite=True)]
 
     if c["output"]["figures"]:
         _, fig = figures.stiction_probability(risk, level=0.5 if 0.5 in levels else None)
@@ -323,7 +323,7 @@ def _run_subset(c, beam, lengths, out, *, overwrite):
     risk = _subset_risk(c, beam, lengths, out, overwrite=overwrite)
     risk.attrs["configuration"] = c["path"].read_text()
     append_history(risk, f"roughstick risk {c['path'].name} (method={r['method']})")
-    f = rs.io.netcdf.write(risk, out / "risk.nc", compute=True)
+    f = rs.io.netcdf.write(risk, out / "risk.nc", compute=True, overwrite=True)
     LOG.info(f"{r['method']}: P(stuck) [..] = {r['confidence']:.0%} interval, cv, model evaluations")
     for layer in risk.adsorbed_layer.values:
         for bl in risk.beam_length.values:

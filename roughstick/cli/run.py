@@ -92,7 +92,7 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
     band.attrs["title"] = f"{cfg.title}: ensemble band"
     band.attrs["configuration"] = cfg.path.read_text()
     path = cfg.folder / "band.nc"
-    rs.io.netcdf.write(band, path, compute=True)
+    rs.io.netcdf.write(band, path, compute=True, overwrite=True)
     written.append(path)
     if figures and cfg.figures:
         import matplotlib

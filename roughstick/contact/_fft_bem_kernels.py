@@ -191,7 +191,8 @@ def pk_solve(grid, base, p0=None, *, wet=None, sigma0=0.0, h0=0.0, tolerance=1e-
         gold = s1
         r = grid.displacement(t)
         num, den = _step_length(p, g, t, r)
-        if not den > 0:
+        if not den > 0:  # no direction left: the residual is that of the current state
+            err = max(np.sqrt(s1 / max(n, 1)), np.sqrt(s2 / max(n, 1))) / scale
             break
         changed, entered = _update(p, g, t, r, num / den)
         delta = 0.0 if entered else 1.0

@@ -25,6 +25,7 @@ from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
 from .._core.validate import (
     MIN_MAP_PIXELS,
+    check_height_dtype,
     check_plausible_height,
     distance_array,
     grid_spacing,
@@ -59,14 +60,14 @@ _GW_KWARGS = ("sphere_model", "curvature_limits", "height_cutoff", "curvature_me
 
 
 def _check_tolerance(tolerance):
-    if not (isinstance(tolerance, (int, float)) and tolerance > 0):
+    if not (isinstance(tolerance, (int, float)) and 0 < tolerance < np.inf):
         raise ValueError(
             f"tolerance must be a positive relative error (e.g. 0.1 for 10 %), got {tolerance!r}; "
             "the solver tolerance of fft_bem/bem is solver_tolerance=."
         )
 
 
-@check_numbers(connectivity=(4, 8), tolerance="positive", n_distance="count?")
+@check_numbers(connectivity=(4, 8), n_distance="count?")  # tolerance: _check_tolerance
 def rough_contact_curves(
     height: xr.DataArray,
     *,
@@ -158,6 +159,8 @@ def rough_contact_curves(
     if model not in CONTACT_MODELS:
         raise ValueError(f"model must be one of {CONTACT_MODELS}, got {model!r}.")
     _check_tolerance(tolerance)
+    if isinstance(height, xr.DataArray):
+        check_height_dtype(height)
     if getattr(height, "chunks", None) is None and hasattr(height, "dims"):
         values = np.asarray(height)
         infinite = np.isinf(values) if values.dtype.kind == "f" else None

@@ -151,6 +151,8 @@ def _fft_bem_kernel(z, *, spacing, distances, sigma0s, h_waters, e_star, toleran
         stats["states"] += len(states)
         stats["iterations"] += int(sum(st["iterations"] for st in states))
         stats["unconverged"] += int(sum(not st["converged"] for st in states))
+        stats["capped"] += int(sum(not st["converged"] and st["iterations"] >= max_iterations
+                                   for st in states))
         per_rh.append((dd, _states_to_arrays(states, dd, zmax, e_star, s0n, offset_per_pressure)))
         if on_curve is not None:
             on_curve()
@@ -190,18 +192,26 @@ def merge_humidity_grids(per_rh, zmax, names, unit, onto=None):
 
 
 def _warn_unconverged(stats, max_iterations, tolerance, e_star) -> None:
-    """Warn when states stopped unconverged (residual at or over 10 x the tolerance, or not
-    iterated at all): none on 64² maps of the five families on polysilicon; at E = 1 GPa 6-151
-    of 133-242 states of three humidities, with residuals of 8-27 (S1, S2, Table 4)."""
-    n, total = stats["unconverged"], stats["states"]
+    """Warn when states stopped unconverged (residual at or over 10 x the tolerance), saying how
+    many hit ``max_iterations`` and how many stalled before it: none on 64² maps of the five
+    families on polysilicon; at E = 1 GPa 6-151 of 133-242 states of three humidities, with
+    residuals of 8-27 (S1, S2, Table 4); on 16² zones the odd state stalls (the search direction
+    vanished with pixels still interpenetrating)."""
+    n, total, capped = stats["unconverged"], stats["states"], stats["capped"]
     if n:
+        how = []
+        if capped:
+            how.append(f"{capped} hit max_iterations={max_iterations} conjugate-gradient iterations per "
+                       "wet-set update: raise max_iterations (e.g. 2000)")
+        if n - capped:
+            how.append(f"{n - capped} stalled before it (no descent direction left): compare with "
+                       "model='bem'")
         warnings.warn(
             f"fft_bem: {n} of {total} contact states did not converge (residual >= 10 x "
-            f"tolerance={tolerance:g}) within max_iterations={max_iterations} conjugate-gradient "
-            f"iterations per wet-set update (E* = {e_star:.3g} Pa); their pressures, and Γ, "
-            "pull-off and d_eq built on them, are not trustworthy (see solver_residual). Raise "
-            "max_iterations (e.g. 2000); on a soft material the wet and contact sets may also "
-            "cycle, then compare with model='bem' on a few maps.", ValidityWarning, stacklevel=external_stacklevel())
+            f"tolerance={tolerance:g}, E* = {e_star:.3g} Pa); their pressures, and Γ, pull-off and "
+            f"d_eq built on them, are not trustworthy (see solver_residual). {'; '.join(how)}. On a "
+            "soft material the wet and contact sets may also cycle.",
+            ValidityWarning, stacklevel=external_stacklevel())
 
 
 def automatic_grid_counts(n_distance: int) -> dict:
@@ -364,7 +374,7 @@ def fft_bem_contact_curves(
         )
     e_star = reduced_modulus(material, material2)
     sigma0s = np.abs(dp) if adhesion else np.zeros_like(dp)
-    stats = {"fft_calls": 0, "states": 0, "iterations": 0, "unconverged": 0}
+    stats = {"fft_calls": 0, "states": 0, "iterations": 0, "unconverged": 0, "capped": 0}
     kw = dict(spacing=spacing, sigma0s=sigma0s, h_waters=hw, e_star=e_star, tolerance=tolerance,
               max_iterations=max_iterations, path=path, precision=precision,
               n_contact=n_contact, n_free=n_free, refine=refine, stats=stats)

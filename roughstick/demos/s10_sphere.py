@@ -31,10 +31,10 @@ def run(out, *, quick: bool = False) -> list[pathlib.Path]:
     _, fig = figures.fig1b_meniscus(n=46 if quick else 181)
     files.append(save_figure(fig, out / "fig1b_meniscus.png", dpi=120, bbox_inches="tight"))
     ds, fig = figures.fig3_sphere_models(n=401 if quick else 1401)
-    files.append(write(ds, out / "sphere_curves.nc", compute=True))
+    files.append(write(ds, out / "sphere_curves.nc", compute=True, overwrite=True))
     files.append(save_figure(fig, out / "fig3_sphere_models.png", dpi=120, bbox_inches="tight"))
     t1 = figures.table1()
-    files.append(write(t1, out / "table1.nc", compute=True))
+    files.append(write(t1, out / "table1.nc", compute=True, overwrite=True))
     p = out / "table1.csv"
     write_text_atomic(p, t1[["adhesive_energy", "printed", "relative_error"]].to_dataframe().to_csv())
     files.append(p)

@@ -42,7 +42,7 @@ def _maps(sample: str, quick: bool) -> xr.DataArray:
 
 
 def _write(ds: xr.Dataset, path: pathlib.Path) -> None:
-    netcdf.write(ds, path, compute=True)
+    netcdf.write(ds, path, compute=True, overwrite=True)
 
 
 def _write_csv(path, rows):

@@ -69,7 +69,7 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     rs.conventions.append_history(ds, f"roughstick demo s40_rough_contact quick={quick}")
     written.append(out / "rough_contact_S1.nc")
 
-    netcdf.write(ds, written[-1], compute=True)
+    netcdf.write(ds, written[-1], compute=True, overwrite=True)
     for k, s in summaries.items():
         g = ", ".join(f"{100 * r:.0f}%: {v * 1e3:.3g}" for r, v in zip(s.rh.values, s.adhesive_energy.values,
                                                                       strict=True))

@@ -39,7 +39,8 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
                              chunks=2, output=out / "ensemble_S1", progress=False).load()
     band = rs.confidence_band(ds)
     band.attrs["title"] = f"S1 PSD, {n} surfaces of {shape}²: 95 % band of the ensemble"
-    files = [out / "ensemble_S1", rs.io.netcdf.write(band, out / "ensemble_S1_band.nc", compute=True)]
+    files = [out / "ensemble_S1", rs.io.netcdf.write(band, out / "ensemble_S1_band.nc", compute=True,
+                                                          overwrite=True)]
     LOG.info("    apparent adhesive energy Γ of the S1 ensemble:")
     for line in rs.band_summary(band):
         LOG.info("      " + line)

@@ -69,7 +69,7 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     rs.conventions.set_coord_attrs(risk)
     risk.attrs.update(interaction_zone_shape=list(shape), interaction_zone_spacing=5e-9,
                       note="demo: interaction zone smaller than the paper's 524 x 6000 px")
-    files.append(rs.io.netcdf.write(risk, out / "cantilever_risk.nc", compute=True))
+    files.append(rs.io.netcdf.write(risk, out / "cantilever_risk.nc", compute=True, overwrite=True))
 
     _, fig = figures.fig20_adhesive_energy_bands(risk)
     fig.suptitle(f"predicted Γ, {n} surfaces of {shape[0]} x {shape[1]} px (demo size)")

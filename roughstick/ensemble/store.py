@@ -246,7 +246,7 @@ def write_block(folder: pathlib.Path, spec: Spec, manifest: dict, attrs: dict, i
     append_history(ds, f"run_ensemble block {i} (realizations), {j} (humidities) of run "
                        f"{spec.token}")
     name = block_name(i, j)
-    write(ds, folder / name, compute=True)
+    write(ds, folder / name, compute=True, overwrite=True)
     manifest["completed"].append(name)
     write_manifest(folder, manifest)
 

@@ -167,7 +167,7 @@ def written_names(folder) -> set[str] | None:
     return {line for line in text.splitlines() if line}
 
 
-def write(ds: xr.Dataset, path, *, compute: bool = False):
+def write(ds: xr.Dataset, path, *, compute: bool = False, overwrite: bool = False):
     """Write ``ds`` to CF NetCDF (netCDF4 engine, zlib level 4) atomically.
 
     Checks that every variable and coordinate carries ``units`` and ``long_name`` first. The data
@@ -183,6 +183,9 @@ def write(ds: xr.Dataset, path, *, compute: bool = False):
     compute : bool, default False
         If False, return a :class:`dask.delayed.Delayed` that performs the write (and the rename)
         when computed; if True, write now and return the path.
+    overwrite : bool, default False
+        Replace an existing ``path``; without it an existing file is refused before anything is
+        written (as the command line refuses it without ``--overwrite``).
 
     Returns
     -------
@@ -192,6 +195,8 @@ def write(ds: xr.Dataset, path, *, compute: bool = False):
     ------
     ValueError
         If a variable lacks ``units`` or ``long_name`` (see :func:`check_cf`).
+    FileExistsError
+        If ``path`` exists and ``overwrite`` is False.
 
     Examples
     --------
@@ -208,6 +213,11 @@ def write(ds: xr.Dataset, path, *, compute: bool = False):
     path = pathlib.Path(path)
     if not path.parent.exists():
         raise FileNotFoundError(f"folder {str(path.parent)!r} does not exist; create it first.")
+    if path.exists() and not overwrite:
+        raise FileExistsError(
+            f"{str(path)!r} exists ({'a folder' if path.is_dir() else 'a file'}); write refuses to "
+            "replace it: pass overwrite=True to replace it, or choose another path."
+        )
     ds, encoding = _prepare(ds)
     tmp = _tmp_name(path)
     if compute:

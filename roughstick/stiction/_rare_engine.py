@@ -204,7 +204,7 @@ class _Store:
         ds = lev.to_dataset(self.rattrs)
         ds.attrs = {"roughstick_params_hash": self.token, "run": run, "level": level,
                     "Conventions": "CF-1.10", "title": "one completed subset-simulation level"}
-        write(ds, self.path(run, level), compute=True)
+        write(ds, self.path(run, level), compute=True, overwrite=True)
 
 
 # ============================================================================ one level

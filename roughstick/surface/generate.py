@@ -303,6 +303,9 @@ def _values_checked(s: np.ndarray, what: str) -> np.ndarray:
     if np.any(s < 0):
         raise ValueError(f"the {what} has negative values (min {s.min():.3g}); a PSD is >= 0. "
                          "Clip them with psd.clip(min=0) if they are round-off.")
+    if not np.any(s > 0):
+        raise ValueError(f"the {what} is zero everywhere: the surfaces would be flat (m0 = 0). "
+                         "Check its values (units m4) and its q coordinate (rad m-1).")
     return s
 
 

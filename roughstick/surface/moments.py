@@ -33,7 +33,7 @@ from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material
 from .._core.references import cite
-from .._core.validate import check_core_not_chunked, check_positive_block
+from .._core.validate import check_core_not_chunked, check_moments, check_positive_block
 from .spectrum import _check_psd2d, _dq, _units_psd, _wavevector, power_spectrum
 from .topography import _refuse_constant_or_nan, validate_height
 
@@ -70,6 +70,10 @@ def _moments_dataset(m0, m2, m4, *, title: str, **extra_vars) -> xr.Dataset:
 _MOMENT_KIND = {"m0": "area", "m2": "dimensionless", "m4": "inverse_area"}
 
 
+def _show_q(qmax) -> str:
+    return f"{float(qmax):.4g}" if np.ndim(qmax) == 0 and not is_lazy(qmax) else "(given)"
+
+
 def moments_si(moments: xr.Dataset) -> tuple[xr.DataArray, xr.DataArray, xr.DataArray]:
     """``m0``, ``m2``, ``m4`` of a moments Dataset, checked and converted to SI (m2, 1, m-2).
 
@@ -79,7 +83,7 @@ def moments_si(moments: xr.Dataset) -> tuple[xr.DataArray, xr.DataArray, xr.Data
         ``moments`` is not a Dataset.
     ValueError
         A moment is missing, or its ``units`` are missing or not a power of a length
-        (:class:`roughstick.UnitsError`).
+        (:class:`roughstick.UnitsError`); an eager moment is zero, negative or not finite.
     """
     if not isinstance(moments, xr.Dataset):
         raise TypeError(
@@ -97,6 +101,8 @@ def moments_si(moments: xr.Dataset) -> tuple[xr.DataArray, xr.DataArray, xr.Data
         da = _units.require(moments[key], _MOMENT_KIND[key], name=f"moments[{key!r}]").copy(deep=False)
         da.attrs = {"units": da.attrs["units"]}
         out.append(da)
+    check_moments(*out, what="moments", fix="Moments of a rough surface are finite and > 0: check the "
+                  "map or PSD they came from (a flat map, a zero PSD, a cutoff below its wave numbers).")
     return out[0], out[1], out[2]
 
 
@@ -245,6 +251,13 @@ def psd_moments(psd: xr.DataArray, *, qmax=None, direction: str = "mean") -> xr.
     -------
     xarray.Dataset
         ``m0`` [m2], ``m2`` [1], ``m4`` [m-2].
+
+    Raises
+    ------
+    ValueError
+        A q grid that is not ascending, negative PSD values, or (eager PSDs) a moment that comes
+        out zero (no power, or none below ``qmax``) or not finite (NaN or inf values): the
+        message names which.
     """
     if direction not in ("mean", "x", "y"):
         raise ValueError(f"direction must be 'mean', 'x' or 'y', got {direction!r}.")
@@ -284,6 +297,12 @@ def psd_moments(psd: xr.DataArray, *, qmax=None, direction: str = "mean") -> xr.
         comp = {"x": [qx], "y": [qy], "mean": [qx, qy]}[direction]
         m2 = sum((s * c**2).sum(dims) for c in comp) * area / len(comp)
         m4 = sum((s * c**4).sum(dims) for c in comp) * area / len(comp)
+    cut = "" if qmax is None else f"; qmax={_show_q(qmax)} rad m-1 (289 rad/um is 2.89e8)"
+    if qmax is not None and "q" in psd.dims:
+        cut += f", the PSD's q start at {float(np.min(qv[qv > 0], initial=np.inf)):.4g}"
+    check_moments(m0, m2, m4, what="psd_moments", fix=(
+        "Check the PSD's values (non-zero, finite: drop or fill NaN with psd.dropna or "
+        f"psd.fillna(0)) and its q coordinate in rad m-1{cut}."))
     ds = _moments_dataset(m0, m2, m4, title="PSD moments")
     if qmax is not None:
         qm = qmax if isinstance(qmax, xr.DataArray) else xr.DataArray(qmax)

@@ -62,3 +62,18 @@ def test_open_refuses_partial_and_missing(tmp_path):
         rs.open_dataset(tmp_path)
     with pytest.raises(FileNotFoundError, match="does not exist"):
         nc.write(_ds(), tmp_path / "sub" / "a.nc", compute=True)
+
+
+def test_write_refuses_an_existing_file_unless_overwrite(tmp_path):
+    """rs.write replaced an unrelated file without a word (the command line refuses it)."""
+    path = tmp_path / "a.nc"
+    path.write_text("my notes")
+    for compute in (True, False):  # refused when called, before anything is written
+        with pytest.raises(FileExistsError, match=r"a\.nc' exists \(a file\); write refuses to replace it: "
+                                                  r"pass overwrite=True"):
+            rs.write(_ds(), path, compute=compute)
+    assert path.read_text() == "my notes" and [p.name for p in tmp_path.iterdir()] == ["a.nc"]
+    with pytest.raises(FileExistsError, match=r"exists \(a folder\)"):
+        rs.write(_ds(), tmp_path, compute=True)
+    rs.write(_ds(), path, compute=True, overwrite=True)
+    xr.testing.assert_equal(rs.open_dataset(path), _ds())
