@@ -31,10 +31,8 @@ from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.validate import (
     MIN_MAP_PIXELS,
-    ValidityWarning,
     check_core_not_chunked,
     check_has_roughness,
-    external_stacklevel,
     grid_spacing,
     height_in_si,
     relative_humidity_coordinate,
@@ -576,13 +574,6 @@ def bem_contact_curves(
             bem_solve_seconds=round(stats["solve_seconds"], 3),
             max_noncontact_deflection=stats["max_noncontact_deflection"],
         )
-        if stats["unconverged"]:
-            warnings.warn(
-                f"bem: {stats['unconverged']} contact state(s) stalled (residual above 10 x "
-                f"tolerance={tolerance:g} after retries={retries}, max_iterations={max_iterations}) "
-                "and were interpolated from their neighbours (solved = 0); raise max_iterations or "
-                "retries if they sit where Γ, the pull-off or d_eq are decided.",
-                ValidityWarning, stacklevel=external_stacklevel())
     append_history(
         ds,
         f"bem_contact_curves(tolerance={tolerance}, path={path!r}, "

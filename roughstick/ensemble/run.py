@@ -98,7 +98,7 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
 
 
 @check_numbers(seed="seed", connect_timeout="nonnegative", batch="count", tolerance="positive",
-               n_max="count", patience="count", level="fraction", chunks="count?")
+               n_max="count", patience="count", level="fraction")
 def run_ensemble(
     psd: xr.DataArray,
     *,
