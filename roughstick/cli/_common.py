@@ -30,12 +30,13 @@ import sys
 import time
 import warnings
 
+from .._core.remedy import config_key
 from .._core.units import parse_quantity
 from ..io.netcdf import WRITTEN_LOG, remove_partial_files, write_text_atomic, written_names
 
 __all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
            "user_message", "MARKER", "small_p_problems", "canonical_params", "check_scheduler",
-           "check_output_file", "NETCDF_SUFFIXES"]
+           "check_output_file", "NETCDF_SUFFIXES", "config_spellings", "fixed_spellings"]
 
 LOG = logging.getLogger("roughstick")
 
@@ -444,3 +445,26 @@ def small_p_problems(section: str, settings: dict) -> list[str]:
         problems.append(f"[{section}] max_evaluations = {settings['max_evaluations']} is below "
                         f"samples_per_level = {settings['samples_per_level']}: raise it (e.g. 20000)")
     return problems
+
+
+def config_spellings(*, contact_model: str, surface: str = "surface") -> dict:
+    """How the warnings of a command read from a configuration file spell their remedies
+    (:mod:`roughstick._core.remedy`): keys of its tables, the contact model in
+    ``[contact_model]``, the pixel in ``[surface]``."""
+    return {
+        "contact_model": config_key(contact_model, "contact_model"),
+        "spacing": config_key(surface, "spacing", fmt=lambda v: f'"{v * 1e9:.2g} nm"'),
+        "resolution": lambda v=None, **kw: (f"the same run with [{surface}] spacing doubled (its size "
+                                            "kept), compared with this one"),
+    }
+
+
+def fixed_spellings(command: str) -> dict:
+    """How the warnings of a command whose settings are fixed (``demo``, ``reproduce``) spell
+    their remedies: the key of a ``roughstick run`` configuration, where the user's own run
+    can change it."""
+    own = (f"in a `roughstick run` configuration (the settings of `roughstick {command}` are fixed: "
+           "`roughstick examples --out examples` writes configurations to start from)")
+    return {"contact_model": lambda v, **kw: f'[ensemble] contact_model = "{v}" {own}',
+            "spacing": lambda v, **kw: f'[surface] spacing = "{v * 1e9:.2g} nm" {own}',
+            "resolution": lambda v=None, **kw: "`roughstick curves MAP --rh ... --resolution`"}

@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 
 from ..demos import steps
-from ._common import LOG, claim_folder, finish_folder
+from ._common import LOG, claim_folder, finish_folder, fixed_spellings
 
 
 def _names() -> list[str]:
@@ -26,7 +26,7 @@ def register(sub):
     p.add_argument("--quick", action="store_true", help="smaller sizes (used by the tests)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace the results of another command or other options in --out")
-    p.set_defaults(func=_run)
+    p.set_defaults(func=_run, remedies=lambda args: fixed_spellings("demo"))
 
 
 def _run(args):

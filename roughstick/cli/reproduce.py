@@ -20,7 +20,15 @@ import roughstick as rs
 
 from ..paper import ensemble as figures
 from ..plotting.save import save_figure
-from ._common import LOG, check_scheduler, claim_folder, finish_folder, positive_int, run_status
+from ._common import (
+    LOG,
+    check_scheduler,
+    claim_folder,
+    finish_folder,
+    fixed_spellings,
+    positive_int,
+    run_status,
+)
 
 RH = {"S1": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9], "S2": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]}
 SCALES = {
@@ -42,7 +50,7 @@ def register(sub):
     p.add_argument("--n", type=positive_int, default=None, help="override the number of realizations (>= 1)")
     p.add_argument("--scheduler", default=None, help="'threads' (default) or tcp://host:port")
     p.add_argument("--overwrite", action="store_true", help="replace runs with other parameters in --out")
-    p.set_defaults(func=_run)
+    p.set_defaults(func=_run, remedies=lambda args: fixed_spellings("reproduce"))
 
 
 def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwrite=False, log=LOG.info):

@@ -19,13 +19,14 @@ import numpy as np
 
 import roughstick as rs
 
+from .._core.materials import POLYSILICON, material_attrs
 from ..plotting.ensemble import (
     plot_energy_band,
     plot_energy_distribution,
     plot_ensemble_curves,
 )
 from ..plotting.save import save_figure
-from ._common import LOG, check_scheduler, claim_folder, finish_folder
+from ._common import LOG, check_scheduler, claim_folder, config_spellings, finish_folder
 from ._config import load_config
 
 
@@ -45,7 +46,7 @@ def register(sub):
     p.add_argument("--overwrite", action="store_true",
                    help="replace a run with different parameters in the output folder")
     p.add_argument("--no-figures", action="store_true", help="write NetCDF only")
-    p.set_defaults(func=_run)
+    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="ensemble"))
 
 
 #: RunConfig fields that do not change the results (where and how they are computed).
@@ -53,8 +54,15 @@ _NOT_PARAMS = ("path", "folder", "overwrite", "scheduler", "connect_timeout", "p
 
 
 def run_params(cfg) -> dict:
-    """The parameters of a run that decide its results, as the output folder's marker records them."""
-    return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg) if f.name not in _NOT_PARAMS}
+    """The parameters of a run that decide its results, as the output folder's marker records them
+    (the contact model and material only when not the defaults, so earlier folders resume)."""
+    out = {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg) if f.name not in _NOT_PARAMS}
+    if out.get("contact_model") == "modified_dmt":
+        del out["contact_model"]
+    material = out.pop("material", POLYSILICON)
+    if material != POLYSILICON:
+        out["material"] = material_attrs(material)
+    return out
 
 
 def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] scheduler"):
@@ -76,7 +84,8 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
                                      lower=cfg.distance_lower)
     ens_dir = cfg.folder / "ensemble"
     log(f"{cfg.title}: n={cfg.n}, shape={shape}, spacing={cfg.spacing * 1e9:g} nm, "
-        f"RH={cfg.relative_humidity}, output {ens_dir}")
+        f"RH={cfg.relative_humidity}, contact model {cfg.contact_model}, material {cfg.material.name} "
+        f"(E = {cfg.material.youngs_modulus / 1e9:.4g} GPa, ν = {cfg.material.poisson_ratio:g}), output {ens_dir}")
     with warnings.catch_warnings():
         if said:  # already said above in the config's words, not once more from the generator
             warnings.simplefilter("ignore", rs.ExtrapolatedPSDWarning)
@@ -84,13 +93,17 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
             psd, n=cfg.n, shape=shape, spacing=cfg.spacing, relative_humidity=cfg.relative_humidity,
             seed=cfg.seed, chunks=cfg.chunks, distance=dist, adsorbed_layer=cfg.adsorbed_layer,
             output=ens_dir, overwrite=cfg.overwrite, scheduler=cfg.scheduler,
-            connect_timeout=cfg.connect_timeout, progress=cfg.progress, **cfg.auto,
+            connect_timeout=cfg.connect_timeout, progress=cfg.progress, material=cfg.material,
+            # the default model is not named: an ensemble stored before it could be keeps resuming
+            curves_kwargs={} if cfg.contact_model == "modified_dmt" else {"model": cfg.contact_model},
+            **cfg.auto,
         )
     ds = ds.load()
     written = [ens_dir]
     band = rs.confidence_band(ds)
     band.attrs["title"] = f"{cfg.title}: ensemble band"
     band.attrs["configuration"] = cfg.path.read_text()
+    band.attrs.update(material_attrs(cfg.material), contact_model=ds.attrs.get("contact_model", cfg.contact_model))
     path = cfg.folder / "band.nc"
     rs.io.netcdf.write(band, path, compute=True)
     written.append(path)
