@@ -74,7 +74,7 @@ def _fake_steps(monkeypatch, plan):
     from roughstick.cli import demo
 
     def make(name, files):
-        def run(out, *, quick):
+        def run(out, *, quick, **figure_options):
             if files is None:
                 raise KeyboardInterrupt
             for f in files:  # as the real steps write (io.netcdf.publish notes them as the run's)

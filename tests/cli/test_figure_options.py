@@ -1,0 +1,85 @@
+"""Output for reports from the command line: ``--format png|pdf|svg`` and ``--dpi`` on every command
+that draws, one definition for all."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from _configs import MOMENTS_PSD
+from test_figure_files import MAGIC, png_dpi
+
+import roughstick as rs
+from conftest import lognormal_gamma
+from roughstick.cli import build_parser, main
+
+RUN = """
+title = "report"
+""" + MOMENTS_PSD.lstrip("\n") + """[surface]
+shape = [64, 64]
+spacing = "5 nm"
+[ensemble]
+n = 4
+relative_humidity = [0.3, 0.9]
+seed = 7
+chunks = 2
+[output]
+folder = "out"
+figures = true
+"""
+
+
+def _risk_config(tmp_path):
+    g, _ = lognormal_gamma(n=25, rh=np.arange(0.3, 0.951, 0.05))
+    g = rs.conventions.set_attrs(g, "surface_adhesive_energy")
+    sample = xr.concat([g, 2 * g], dim=xr.DataArray(["none", "paper"], dims="adsorbed_layer"))
+    sample["adsorbed_layer"].attrs = {"units": "1", "long_name": "adsorbed water layer model"}
+    rs.io.netcdf.write(sample.to_dataset(name="adhesive_energy"), tmp_path / "gamma.nc", compute=True)
+    cfg = tmp_path / "risk.toml"
+    cfg.write_text('[output]\nfolder = "risk-out"\n'
+                   '[beam]\nlengths = ["250 um", "300 um", "350 um", "400 um", "500 um", "1500 um"]\n'
+                   '[ensemble]\nadhesive_energy = "gamma.nc"\n[risk]\nlevels = [0.5]\n')
+    return cfg
+
+
+def test_every_drawing_command_has_the_same_figure_options():
+    sub = build_parser()._subparsers._group_actions[0].choices
+    for name in ("demo", "run", "risk", "reproduce"):
+        opts = {a.dest: a for a in sub[name]._actions}
+        assert opts["figure_format"].option_strings == ["--format"] and opts["figure_format"].default == "png"
+        assert opts["dpi"].option_strings == ["--dpi"] and opts["dpi"].default == 200
+        assert opts["figure_format"].type is sub["demo"]._option_string_actions["--format"].type, name
+
+
+@pytest.mark.parametrize("fmt", ["pdf", "svg"])
+def test_run_and_risk_write_vector_figures(tmp_path, fmt, capsys):
+    (tmp_path / "c.toml").write_text(RUN)
+    assert main(["run", str(tmp_path / "c.toml"), "--format", fmt, "--dpi", "150"]) == 0
+    figs = sorted(p.name for p in (tmp_path / "out").iterdir() if p.suffix in (".png", ".pdf", ".svg"))
+    assert figs == [f"curves.{fmt}", f"energy_band.{fmt}", f"energy_ecdf.{fmt}"]
+    assert main(["risk", str(_risk_config(tmp_path)), "--format", fmt]) == 0
+    risk_figs = sorted(p.name for p in (tmp_path / "risk-out").iterdir() if p.suffix in (".png", ".pdf", ".svg"))
+    assert risk_figs == sorted(f"{n}.{fmt}" for n in ("stiction_probability", "stiction_vs_length",
+                                                     "adhesive_energy_bands", "crack_length"))
+    for p in [tmp_path / "out" / f for f in figs] + [tmp_path / "risk-out" / f for f in risk_figs]:
+        assert p.read_bytes().startswith(MAGIC[fmt]), p
+
+
+def test_default_png_at_200_dpi_and_bad_options_refused_before_work(tmp_path, capsys):
+    (tmp_path / "c.toml").write_text(RUN.replace("n = 4", "n = 2"))
+    assert main(["run", str(tmp_path / "c.toml"), "--dpi", "120"]) == 0
+    assert png_dpi(tmp_path / "out" / "energy_band.png") == pytest.approx(120, abs=0.1)
+    for bad, says in ((["--format", "jpg"], "--format='jpg': not a figure format; use 'png', 'pdf', 'svg'"),
+                      (["--dpi", "20000"], "--dpi='20000': give a whole number of dots per inch from 50 to 1200")):
+        with pytest.raises(SystemExit) as exc:
+            main(["demo", "--out", str(tmp_path / "demo"), *bad])
+        assert exc.value.code == 2 and says in capsys.readouterr().err
+        assert not (tmp_path / "demo").exists()
+
+
+def test_demo_writes_svg(tmp_path, capsys):
+    out = tmp_path / "demo"
+    assert main(["demo", "--quick", "--only", "sphere", "--out", str(out), "--format", "svg"]) == 0
+    svgs = sorted(p.name for p in out.iterdir() if p.suffix == ".svg")
+    assert svgs == ["fig1b_meniscus.svg", "fig3_sphere_models.svg"] and not list(out.glob("*.png"))
+    assert all((out / f).read_bytes().startswith(MAGIC["svg"]) for f in svgs)
