@@ -11,6 +11,7 @@ import numpy as np
 import xarray as xr
 
 from ..stiction.risk import crossing_humidity
+from ._legend import legend_beside
 
 __all__ = [
     "plot_stiction_probability",
@@ -28,7 +29,7 @@ def _axes(ax):
     import matplotlib.pyplot as plt
 
     if ax is None:
-        _, ax = plt.subplots(figsize=(6, 4), layout="constrained")
+        _, ax = plt.subplots(figsize=(7.2, 4), layout="constrained")
     return ax
 
 
@@ -98,7 +99,7 @@ def plot_stiction_probability(risk: xr.Dataset, *, ax=None, level=None, layer=No
     conf = ds.attrs.get("confidence_level", 0.95)
     ax.set(xlabel="relative humidity [%]", ylabel="P(beam stays stuck)", ylim=(-0.02, 1.02),
            title=f"stiction probability (bands: {conf:.0%} Monte-Carlo interval)")
-    ax.legend(fontsize="small")
+    legend_beside(ax, fontsize="small")
     return ax
 
 
@@ -135,7 +136,7 @@ def plot_stiction_vs_length(risk: xr.Dataset, *, rh=None, ax=None, layer=None):
             ax.fill_between(length, d.stiction_probability_lower, d.stiction_probability_upper,
                             color=line.get_color(), alpha=0.2, lw=0)
     ax.set(xlabel="beam length [µm]", ylabel="P(beam stays stuck)", ylim=(-0.02, 1.02))
-    ax.legend(fontsize="small")
+    legend_beside(ax, fontsize="small")
     return ax
 
 
@@ -196,7 +197,7 @@ def plot_adhesive_energy_band(risk: xr.Dataset, *, measured=None, ax=None, layer
                 label=m.attrs.get("label", "measured"))
     ax.set_yscale("log")
     ax.set(xlabel="relative humidity [%]", ylabel="apparent adhesive energy Γ [mJ m⁻²]")
-    ax.legend(fontsize="small")
+    legend_beside(ax, fontsize="small")
     return ax
 
 
@@ -244,8 +245,8 @@ def plot_crack_length_band(risk: xr.Dataset, *, measured=None, ax=None, layer=No
 
         on_right = mtransforms.blended_transform_factory(ax.transAxes, ax.transData)
         lengths = np.sort(ds.beam_length.values * _UM)
-        for k, bl in enumerate(lengths):
-            ax.axhline(bl, ls="--", lw=0.8, color="0.4", label="beam lengths l" if k == 0 else None)
+        for bl in lengths:
+            ax.axhline(bl, ls="--", lw=0.8, color="0.4", label="beam lengths l")  # one legend entry
         # one label per group of lines closer than 6 % of the axis height (no overprinting)
         y0, y1 = ax.get_ylim()
         groups = [[lengths[0]]]
@@ -262,7 +263,7 @@ def plot_crack_length_band(risk: xr.Dataset, *, measured=None, ax=None, layer=No
                 label=m.attrs.get("label", "measured"))
     ax.set(xlabel="relative humidity [%]", ylabel="crack length s [µm]",
            title="beams longer than s stay stuck")
-    ax.legend(fontsize="small")
+    legend_beside(ax, fontsize="small")
     return ax
 
 
@@ -286,7 +287,7 @@ def plot_cantilever_comparison(risk: xr.Dataset, *, measured=None, axes=None):
 
     layers = list(risk.adsorbed_layer.values) if "adsorbed_layer" in risk.dims else [None]
     if axes is None:
-        fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), sharey=True,
+        fig, axes = plt.subplots(1, len(layers), figsize=(6.8 * len(layers), 4), sharey=True,
                                  layout="constrained", squeeze=False)
         axes = axes[0]
     else:

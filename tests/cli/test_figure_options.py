@@ -1,5 +1,6 @@
 """Output for reports from the command line: ``--format png|pdf|svg`` and ``--dpi`` on every command
-that draws, one definition for all."""
+that draws, one definition for all, and every figure they save passes the figure lint (legends
+beside the data, not over it)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,8 @@ import numpy as np
 import pytest
 import xarray as xr
 from _configs import MOMENTS_PSD
+from _figure_lint import figure_problems
+from matplotlib.figure import Figure
 from test_figure_files import MAGIC, png_dpi
 
 import roughstick as rs
@@ -42,6 +45,20 @@ def _risk_config(tmp_path):
     return cfg
 
 
+@pytest.fixture
+def linted(monkeypatch):
+    """Every figure saved while the test runs, with the figure lint's findings."""
+    found = {}
+    save = Figure.savefig
+
+    def savefig(self, fname, *args, **kwargs):
+        found[str(fname)] = figure_problems(self)
+        return save(self, fname, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
+    return found
+
+
 def test_every_drawing_command_has_the_same_figure_options():
     sub = build_parser()._subparsers._group_actions[0].choices
     for name in ("demo", "run", "risk", "reproduce"):
@@ -52,7 +69,7 @@ def test_every_drawing_command_has_the_same_figure_options():
 
 
 @pytest.mark.parametrize("fmt", ["pdf", "svg"])
-def test_run_and_risk_write_vector_figures(tmp_path, fmt, capsys):
+def test_run_and_risk_write_vector_figures(tmp_path, fmt, capsys, linted):
     (tmp_path / "c.toml").write_text(RUN)
     assert main(["run", str(tmp_path / "c.toml"), "--format", fmt, "--dpi", "150"]) == 0
     figs = sorted(p.name for p in (tmp_path / "out").iterdir() if p.suffix in (".png", ".pdf", ".svg"))
@@ -63,6 +80,10 @@ def test_run_and_risk_write_vector_figures(tmp_path, fmt, capsys):
                                                      "adhesive_energy_bands", "crack_length"))
     for p in [tmp_path / "out" / f for f in figs] + [tmp_path / "risk-out" / f for f in risk_figs]:
         assert p.read_bytes().startswith(MAGIC[fmt]), p
+    # every figure `run` drew passes the whole lint; no legend of `run` or `risk` covers data
+    assert len(linted) == 7
+    assert not {k: v for k, v in linted.items() if v and "risk-out" not in k}
+    assert not {k: [p for p in v if "legend" in p] for k, v in linted.items() if any("legend" in p for p in v)}
 
 
 def test_default_png_at_200_dpi_and_bad_options_refused_before_work(tmp_path, capsys):
@@ -77,9 +98,14 @@ def test_default_png_at_200_dpi_and_bad_options_refused_before_work(tmp_path, ca
         assert not (tmp_path / "demo").exists()
 
 
-def test_demo_writes_svg(tmp_path, capsys):
+def test_demo_figures_in_svg_pass_the_legend_check(tmp_path, capsys, linted):
+    """The demo's ensemble and cantilever figures (fig17 and stiction_probability.png had their
+    legends over the data) written as SVG."""
     out = tmp_path / "demo"
-    assert main(["demo", "--quick", "--only", "sphere", "--out", str(out), "--format", "svg"]) == 0
+    assert main(["demo", "--quick", "--only", "ensemble", "cantilever", "--out", str(out), "--format", "svg"]) == 0
     svgs = sorted(p.name for p in out.iterdir() if p.suffix == ".svg")
-    assert svgs == ["fig1b_meniscus.svg", "fig3_sphere_models.svg"] and not list(out.glob("*.png"))
-    assert all((out / f).read_bytes().startswith(MAGIC["svg"]) for f in svgs)
+    assert svgs == ["crack_length.svg", "fig14_ensemble_curves.svg", "fig16_energy_band.svg",
+                    "fig17_energy_ecdf.svg", "fig20_adhesive_energy_bands.svg", "stiction_probability.svg"]
+    assert not list(out.glob("*.png"))
+    legend = {k: [p for p in v if "legend" in p] for k, v in linted.items()}
+    assert len(legend) == 6 and not {k: v for k, v in legend.items() if v}, legend
