@@ -1,4 +1,5 @@
-"""Figures a report can use as they are: legends beside the data, not over it."""
+"""Figures a report can use as they are: the band figure draws and says what the console prints
+(the median), legends beside the data, not over it."""
 
 from __future__ import annotations
 
@@ -13,6 +14,22 @@ from _figure_lint import figure_problems  # noqa: E402
 
 import roughstick as rs  # noqa: E402
 from conftest import lognormal_gamma  # noqa: E402
+from roughstick.plotting import plot_energy_band  # noqa: E402
+
+
+def test_energy_band_figure_draws_and_says_the_median():
+    """`roughstick run` prints the median of Γ per humidity; its band figure drew the mean and
+    labelled it "mean". The line is now the band's median, labelled so."""
+    g, _ = lognormal_gamma(n=40, rh=(0.3, 0.6, 0.9), sigma=1.5)  # skewed: mean far above median
+    ds = g.to_dataset()
+    ax = plot_energy_band(ds)
+    lines = [line for line in ax.lines if not line.get_label().startswith("_")]
+    assert [line.get_label() for line in lines] == ["median"]
+    np.testing.assert_allclose(lines[0].get_ydata(), g.median("realization").values * 1e3, rtol=1e-12)
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert not any("mean" in t for t in labels), labels
+    assert figure_problems(ax.figure) == []
+    plt.close("all")
 
 
 def test_risk_figures_keep_legends_off_the_data():

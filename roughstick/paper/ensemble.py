@@ -57,7 +57,7 @@ def fig14_ensemble_curves(ens: xr.Dataset, *, title: str | None = None):
 
 
 def fig16_energy_bands(ensembles: dict, *, title: str = "Fig. 16", labels: dict | None = None):
-    """Fig. 16: apparent adhesive energy Γ versus RH, mean and 95 % band, one panel per entry.
+    """Fig. 16: apparent adhesive energy Γ versus RH, median and 95 % band, one panel per entry.
 
     Parameters
     ----------

@@ -82,9 +82,13 @@ def plot_ensemble_curves(ds, *, rh=None, max_curves: int = 200, level: float = 0
 
 
 def plot_energy_band(ds, *, level: float = 0.95, ax=None, label: str | None = None):
-    """Apparent adhesive energy Γ (Eq. 13) versus RH: mean, ``level`` band and the band's uncertainty (Fig. 16).
+    """Apparent adhesive energy Γ (Eq. 13) versus RH: median, ``level`` band and the band's uncertainty (Fig. 16).
 
-    With a ``surface_size`` dimension one band per size is drawn; the legend sits beside the axes.
+    The line is the median over realizations (the band's middle quantile, what
+    :func:`roughstick.band_summary` prints and ``band.nc`` holds), the shaded band its central
+    ``level`` quantiles, the hatched bands the confidence interval of each band edge where the
+    sample bounds it. With a ``surface_size`` dimension one band per size is drawn; the legend
+    sits beside the axes.
 
     Returns
     -------
@@ -111,7 +115,7 @@ def plot_energy_band(ds, *, level: float = 0.95, ax=None, label: str | None = No
                 ax.fill_between(rh, np.where(ok, lo, np.nan), np.where(ok, hi, np.nan), color=c,
                                 alpha=0.15, hatch="//", lw=0,
                                 label="95 % CI of the band edges" if (k == 0 and j == 0) else None)
-        ax.plot(rh, b["g_mean"].values * 1e3, "o-", color=c, label=f"{name} mean".strip())
+        ax.plot(rh, q[1], "o-", color=c, label=f"{name} median".strip())
     ax.set_yscale("log")
     ax.set_xlabel("relative humidity [%]")
     ax.set_ylabel("Γ [mJ m$^{-2}$]")
