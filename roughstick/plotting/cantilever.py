@@ -106,6 +106,10 @@ def plot_stiction_probability(risk: xr.Dataset, *, ax=None, level=None, layer=No
 def plot_stiction_vs_length(risk: xr.Dataset, *, rh=None, ax=None, layer=None):
     """Stiction probability versus beam length at a few humidities, with its interval.
 
+    A marker (with its interval as an error bar) at each computed length; lines join neighbouring
+    lengths only, never across a gap in the computed lengths (a step more than twice the step
+    beside it), where nothing was computed.
+
     Parameters
     ----------
     risk : xarray.Dataset
@@ -128,16 +132,47 @@ def plot_stiction_vs_length(risk: xr.Dataset, *, rh=None, ax=None, layer=None):
         ds = ds.expand_dims(rh=[np.nan])
     if rh is not None:
         ds = ds.sel(rh=list(np.atleast_1d(rh)), method="nearest")
+    ds = ds.sortby("beam_length")
     length = ds.beam_length.values * _UM
+    runs = _contiguous_runs(length)
     for r in ds.rh.values:
         d = ds.sel(rh=r).transpose("beam_length", ...)
-        (line,) = ax.plot(length, d.stiction_probability, marker="o", ms=3, label=f"RH {r * 100:.0f} %")
+        p = np.asarray(d.stiction_probability, float)
+        color = None
+        for k, run in enumerate(runs):
+            (line,) = ax.plot(length[run], p[run], marker="o", ms=4, color=color,
+                              label=f"RH {r * 100:.0f} %" if k == 0 else None)
+            color = line.get_color()
         if "stiction_probability_lower" in d:
-            ax.fill_between(length, d.stiction_probability_lower, d.stiction_probability_upper,
-                            color=line.get_color(), alpha=0.2, lw=0)
+            lo, hi = np.asarray(d.stiction_probability_lower, float), np.asarray(d.stiction_probability_upper, float)
+            ax.errorbar(length, p, yerr=np.vstack([np.clip(p - lo, 0, None), np.clip(hi - p, 0, None)]),
+                        fmt="none", ecolor=color, elinewidth=0.8, capsize=2, alpha=0.7)
     ax.set(xlabel="beam length [µm]", ylabel="P(beam stays stuck)", ylim=(-0.02, 1.02))
     legend_beside(ax, fontsize="small")
     return ax
+
+
+def _contiguous_runs(x) -> list[slice]:
+    """Split sorted positions ``x`` into runs of neighbours: a step more than twice as long as the
+    step before or after it is a gap in the computed grid (a line drawn across it would show
+    values nothing computed).
+
+    Examples
+    --------
+    >>> _contiguous_runs([250, 300, 350, 400, 500, 1500])
+    [slice(0, 5, None), slice(5, 6, None)]
+    >>> _contiguous_runs([100, 200, 400, 800])  # a geometric grid has no gap
+    [slice(0, 4, None)]
+    """
+    x = np.asarray(x, dtype=float)
+    if x.size < 3:
+        return [slice(0, x.size)]
+    step = np.diff(x)
+    before = np.r_[np.inf, step[:-1]]
+    after = np.r_[step[1:], np.inf]
+    gaps = np.flatnonzero(step > 2 * np.minimum(before, after))
+    edges = [0, *(gaps + 1).tolist(), x.size]
+    return [slice(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
 
 def _band(ds, var, scale):
