@@ -11,6 +11,7 @@
   :func:`check_has_roughness` (a map with at least 2 finite pixels and a non-zero rms) and
   :func:`distance_array` (a distance grid);
 - dask: :func:`check_core_not_chunked` (core dimensions must be single chunks);
+- figures: :func:`figure_format` and :func:`figure_dpi` (what a saved figure may be);
 - :class:`ValidityWarning`, the warning of a model used outside its validity (declared here so
   that the models and :mod:`roughstick.contact.validity` share it).
 
@@ -44,6 +45,10 @@ __all__ = [
     "MIN_MAP_PIXELS",
     "distance_array",
     "check_core_not_chunked",
+    "FIGURE_FORMATS",
+    "FIGURE_DPI_RANGE",
+    "figure_format",
+    "figure_dpi",
     "ValidityWarning",
     "external_stacklevel",
 ]
@@ -456,3 +461,36 @@ def check_core_not_chunked(da: xr.DataArray, dims) -> None:
             f"but they are core dimensions of this computation. Rechunk first: "
             f".chunk({{{fix}}})."
         )
+
+
+# ------------------------------------------------------------------------------------ figures
+
+#: File formats a figure is saved in: a raster image and two vector formats for reports.
+FIGURE_FORMATS = ("png", "pdf", "svg")
+#: Plausible resolutions [dots per inch]: below, text is unreadable; above, a page-size figure
+#: needs gigabytes of memory to draw.
+FIGURE_DPI_RANGE = (50, 1200)
+
+
+def figure_format(value, *, name: str = "format") -> str:
+    """``value`` as one of :data:`FIGURE_FORMATS` (case and a leading dot ignored), or a
+    ``ValueError`` naming ``name`` and the formats to choose from."""
+    text = str(value).strip().lower().lstrip(".")
+    if text not in FIGURE_FORMATS:
+        raise ValueError(f"{name}={value!r}: not a figure format; use {', '.join(map(repr, FIGURE_FORMATS))} "
+                         "(pdf and svg are vector formats for reports).")
+    return text
+
+
+def figure_dpi(value, *, name: str = "dpi") -> int:
+    """``value`` as an integer resolution within :data:`FIGURE_DPI_RANGE`, or a ``ValueError``
+    naming ``name``, the value and the range."""
+    low, high = FIGURE_DPI_RANGE
+    try:
+        dpi = float(value)
+    except (TypeError, ValueError):
+        dpi = float("nan")
+    if not (np.isfinite(dpi) and dpi == int(dpi) and low <= dpi <= high) or isinstance(value, bool):
+        raise ValueError(f"{name}={value!r}: give a whole number of dots per inch from {low} to {high}, "
+                         "e.g. 200 for print or 600 for line art.")
+    return int(dpi)

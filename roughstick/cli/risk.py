@@ -26,9 +26,11 @@ from ..stiction.interaction_zone import TABLE4
 from ..stiction.rare_events import ARTEFACT_RATIO
 from ._common import (
     LOG,
+    add_figure_options,
     check_scheduler,
     claim_folder,
     config_spellings,
+    figure_options,
     finish_folder,
     run_status,
     small_p_problems,
@@ -46,6 +48,7 @@ def register(sub):
     p.add_argument("--out", default=None, help="output folder (default: [output] folder, else ./risk-output)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace the results of a run with other parameters in the output folder")
+    add_figure_options(p)
     p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="risk"))
 
 
@@ -327,14 +330,15 @@ def _run(args):
     files = [rs.io.netcdf.write(risk, out / "risk.nc", compute=True)]
 
     if c["output"]["figures"]:
+        save = figure_options(args)
         _, fig = figures.stiction_probability(risk, level=0.5 if 0.5 in levels else None)
-        files.append(save_figure(fig, out / "stiction_probability.png", dpi=120))
+        files.append(save_figure(fig, out / "stiction_probability.png", **save))
         _, fig = figures.stiction_vs_length(risk)
-        files.append(save_figure(fig, out / "stiction_vs_length.png", dpi=120))
+        files.append(save_figure(fig, out / "stiction_vs_length.png", **save))
         _, fig = figures.fig20_adhesive_energy_bands(risk, measured=measured)
-        files.append(save_figure(fig, out / "adhesive_energy_bands.png", dpi=120))
+        files.append(save_figure(fig, out / "adhesive_energy_bands.png", **save))
         _, fig = figures.crack_length(risk, measured=measured)
-        files.append(save_figure(fig, out / "crack_length.png", dpi=120))
+        files.append(save_figure(fig, out / "crack_length.png", **save))
 
     n = risk.sizes.get("realization", g.sizes.get("realization"))
     LOG.info(f"from n = {n} surfaces per layer; [..] = {r['confidence']:.0%} interval")

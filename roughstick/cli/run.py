@@ -4,8 +4,9 @@ Writes, into the config's output folder: ``ensemble/`` (one CF NetCDF file per b
 ``manifest.json``; an interrupted run resumes from it), ``band.nc`` (median, 95 % band, each band
 edge's own confidence interval, the run's parameters and, for ``n = "auto"``, whether it
 converged), and unless ``figures = false`` ``curves.png``, ``energy_band.png``,
-``energy_ecdf.png``. Every file appears under its final name only once complete. The scheduler
-and the output folder are checked, and the folder claimed for this run, before any work.
+``energy_ecdf.png`` (or ``.pdf``/``.svg`` with ``--format``, at ``--dpi``). Every file appears
+under its final name only once complete. The scheduler and the output folder are checked, and
+the folder claimed for this run, before any work.
 """
 
 from __future__ import annotations
@@ -25,8 +26,16 @@ from ..plotting.ensemble import (
     plot_energy_distribution,
     plot_ensemble_curves,
 )
-from ..plotting.save import save_figure
-from ._common import LOG, check_scheduler, claim_folder, config_spellings, finish_folder
+from ..plotting.save import DEFAULT_DPI, DEFAULT_FORMAT, save_figure
+from ._common import (
+    LOG,
+    add_figure_options,
+    check_scheduler,
+    claim_folder,
+    config_spellings,
+    figure_options,
+    finish_folder,
+)
 from ._config import load_config
 
 
@@ -46,6 +55,7 @@ def register(sub):
     p.add_argument("--overwrite", action="store_true",
                    help="replace a run with different parameters in the output folder")
     p.add_argument("--no-figures", action="store_true", help="write NetCDF only")
+    add_figure_options(p)
     p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="ensemble"))
 
 
@@ -65,8 +75,12 @@ def run_params(cfg) -> dict:
     return out
 
 
-def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] scheduler"):
+def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] scheduler",
+               figure_format=DEFAULT_FORMAT, dpi=DEFAULT_DPI):
     """Run a parsed :class:`roughstick.cli._config.RunConfig`; return the written paths.
+
+    Figures are saved as ``figure_format`` (png, pdf or svg) at ``dpi``
+    (:func:`roughstick.plotting.save_figure`).
 
     The output folder is claimed (:func:`roughstick.cli._common.claim_folder`) before any work,
     and marked complete once every file is written."""
@@ -114,13 +128,14 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
 
         fig = plot_ensemble_curves(ds)
         fig.suptitle(cfg.title)
-        written.append(save_figure(fig, cfg.folder / "curves.png"))
+        save = {"format": figure_format, "dpi": dpi}
+        written.append(save_figure(fig, cfg.folder / "curves.png", **save))
         ax = plot_energy_band(ds)
         ax.set_title(cfg.title)
-        written.append(save_figure(ax.figure, cfg.folder / "energy_band.png"))
+        written.append(save_figure(ax.figure, cfg.folder / "energy_band.png", **save))
         ax = plot_energy_distribution(ds)
         ax.set_title(cfg.title)
-        written.append(save_figure(ax.figure, cfg.folder / "energy_ecdf.png"))
+        written.append(save_figure(ax.figure, cfg.folder / "energy_ecdf.png", **save))
     log("apparent adhesive energy Γ:")
     for line in rs.band_summary(band, median_interval=True):
         log("  " + line)
@@ -155,8 +170,10 @@ def _run(args):
     if args.out is not None:
         overrides["folder"] = str(pathlib.Path(args.out).resolve())
     cfg = load_config(args.config, overrides=overrides)
+    opts = figure_options(args)
     files = run_config(cfg, figures=not args.no_figures,
-                       scheduler_from="--scheduler" if args.scheduler is not None else "[run] scheduler")
+                       scheduler_from="--scheduler" if args.scheduler is not None else "[run] scheduler",
+                       figure_format=opts["format"], dpi=opts["dpi"])
     for f in files:
         LOG.info(f"    {f}")
     return 0
