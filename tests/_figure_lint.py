@@ -3,8 +3,9 @@
 ``figure_problems(fig)`` lists what the reviewers found by eye in round 1: overprinted text
 (tick labels, axis labels, titles, legends, colour-bar labels), an axis offset such as ``1e-23``
 (a quantity plotted in the wrong unit), literal TeX (``^{1/3}`` outside ``$...$``), raw variable
-names as axis labels (a bare xarray plot), empty or near-empty panels, and reference lines
-(``axhline``/``axvline`` other than zero) that neither the legend nor a nearby text explains.
+names as axis labels (a bare xarray plot), empty or near-empty panels, reference lines
+(``axhline``/``axvline`` other than zero) that neither the legend nor a nearby text explains, and
+legends drawn over data (lines, markers, error bars, shaded bands; tested on the rendered boxes).
 Used by ``tests/test_notebooks.py`` on every figure of every notebook and by ``tests/paper``;
 ``tests/test_figure_lint.py`` shows that each check fires on a figure with that defect.
 """
@@ -117,6 +118,88 @@ def _text_problems(texts, labels, renderer):
     return out
 
 
+def _is_reference_line(line) -> bool:
+    x, y = np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)
+    return len(x) == 2 and ((y[0] == y[1] and tuple(x) == (0.0, 1.0)) or (x[0] == x[1] and tuple(y) == (0.0, 1.0)))
+
+
+def _finite_runs(xy):
+    """The pieces of a polyline between its NaN breaks (as drawn)."""
+    ok = np.isfinite(xy).all(axis=1)
+    edges = np.flatnonzero(np.diff(np.r_[0, ok.astype(int), 0]))
+    return [xy[a:b] for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+
+def _covered(ax, box):
+    """The data artists of ``ax`` drawn inside the display box ``box``: lines (their segments, or
+    their markers), scatter points, error bars and shaded areas. Reference lines and images are
+    not counted (a legend may sit over a grid line or a map's colour)."""
+    from matplotlib import cbook
+    from matplotlib.collections import LineCollection, PathCollection, PolyCollection
+    from matplotlib.path import Path
+
+    def inside(points):
+        return bool(np.any((points[:, 0] > box.x0) & (points[:, 0] < box.x1)
+                           & (points[:, 1] > box.y0) & (points[:, 1] < box.y1)))
+
+    hits = []
+    for line in ax.lines:
+        if not line.get_visible() or _is_reference_line(line):
+            continue
+        xy = np.column_stack([np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)])
+        if line.get_drawstyle() in cbook.STEP_LOOKUP_MAP and line.get_drawstyle() != "default" and len(xy):
+            xy = np.column_stack(cbook.STEP_LOOKUP_MAP[line.get_drawstyle()](xy[:, 0], xy[:, 1]))
+        drawn = line.get_linestyle() not in ("None", "none", "", " ") and line.get_linewidth() > 0
+        for run in _finite_runs(xy):
+            pts = line.get_transform().transform(run)
+            if inside(pts) or (drawn and len(pts) > 1 and Path(pts).intersects_bbox(box, filled=False)):
+                hits.append(line.get_label())
+                break
+    for coll in ax.collections:
+        if not coll.get_visible():
+            continue
+        if isinstance(coll, PathCollection) and len(coll.get_offsets()):  # scatter
+            pts = coll.get_offset_transform().transform(np.asarray(coll.get_offsets(), float))
+            if inside(pts[np.isfinite(pts).all(axis=1)]):
+                hits.append(coll.get_label())
+        elif isinstance(coll, (LineCollection, PolyCollection)):  # error bars, fill_between
+            filled = isinstance(coll, PolyCollection)
+            for path in coll.get_paths():
+                for run in _finite_runs(np.asarray(path.vertices, float)):
+                    pts = coll.get_transform().transform(run)
+                    if len(pts) > 1 and Path(pts, closed=filled).intersects_bbox(box, filled=filled):
+                        hits.append(coll.get_label())
+                        break
+                else:
+                    continue
+                break
+    return hits
+
+
+def _legend_problems(fig, renderer):
+    """A legend (of an axes or of the figure) drawn over the data of any panel it overlaps."""
+    from matplotlib.transforms import Bbox
+
+    out = []
+    legends = [ax.get_legend() for ax in fig.axes] + list(fig.legends)
+    for legend in legends:
+        if legend is None or not legend.get_visible():
+            continue
+        lb = legend.get_window_extent(renderer)
+        for ax in fig.axes:
+            if not ax.get_visible() or not ax.axison:
+                continue
+            box = Bbox.intersection(lb, ax.bbox)
+            if box is None or box.width < 4 or box.height < 4:
+                continue
+            hits = _covered(ax, box.padded(-2))
+            if hits:
+                names = sorted({h for h in hits if h and not h.startswith("_")})
+                out.append(f"{_name(ax)}: the legend covers data ({', '.join(names) or 'unlabelled'}); "
+                           "place it outside the axes or where the data leave room")
+    return out
+
+
 def figure_problems(fig) -> list[str]:
     """What a reader would stumble on in ``fig``, drawn as it would be saved (empty: none)."""
     fig.canvas.draw()
@@ -131,4 +214,4 @@ def figure_problems(fig) -> list[str]:
     for t in texts:
         if t.get_visible() and t.get_text().strip() and all(t is not u for u in unique):
             unique.append(t)
-    return out + _text_problems(unique, labels, renderer)
+    return out + _legend_problems(fig, renderer) + _text_problems(unique, labels, renderer)

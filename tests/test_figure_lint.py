@@ -40,6 +40,7 @@ DEFECTS = {
     "has no label": lambda ax: ax.axhline(0.3, ls="--"),
     "overprinted": lambda ax: ax.text(0.5, 1.01, "a note written over the title", transform=ax.transAxes,
                                       ha="center", va="bottom"),
+    "legend covers data": lambda ax: ax.legend(loc="upper center"),  # over the curve's crest
 }
 
 
@@ -63,4 +64,30 @@ def test_empty_panel_and_colour_bar_over_a_neighbour():
     problems = figure_problems(fig)
     assert any("empty panel" in p for p in problems), problems
     assert any("overprinted" in p for p in problems), problems
+    plt.close(fig)
+
+
+def test_legend_over_a_band_or_points_is_found_and_outside_the_axes_is_not():
+    """The legend check looks at what is drawn: shaded bands and scatter points count as data,
+    a legend placed outside the axes covers nothing, and nor does one beside the data."""
+    fig, axes = plt.subplots(1, 3, figsize=(12, 3), layout="constrained")
+    axes[0].fill_between(X, 0.2, 0.8, alpha=0.3, label="band")
+    axes[0].plot(X, 0.5 + 0.1 * np.sin(9 * X), label="median")
+    axes[1].scatter(np.tile(X, 5), np.repeat(np.linspace(0, 1, 5), len(X)), s=4, label="points")
+    for ax in axes[:2]:
+        ax.set(xlabel="x [nm]", ylabel="y [nm]", title=f"panel {ax.get_subplotspec().colspan.start}")
+        ax.legend(loc="center")
+    axes[2].plot(X, X, label="rising")
+    axes[2].set(xlabel="x [nm]", ylabel="y [nm]", title="outside")
+    axes[2].legend(loc="upper left", bbox_to_anchor=(1.02, 1.0))
+    problems = figure_problems(fig)
+    assert any("panel 0: the legend covers data (band, median)" in p for p in problems), problems
+    assert any("panel 1: the legend covers data (points)" in p for p in problems), problems
+    assert not any(p.startswith("outside:") for p in problems), problems
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(5, 3), layout="constrained")
+    ax.plot(X, X, label="rising")
+    ax.set(xlabel="x [nm]", ylabel="y [nm]", title="beside")
+    ax.legend(loc="upper left")  # the data run from lower left to upper right
+    assert figure_problems(fig) == []
     plt.close(fig)

@@ -2,7 +2,9 @@
 their PSDs and the demo give the same numbers as from the checkout (issue 11).
 
 The wheel is built from a copy of the files git tracks (so the checkout gets no build/ folder) and
-installed without dependencies into a virtual environment that sees this interpreter's packages.
+installed without dependencies into a fresh virtual environment whose ``.pth`` file lists the
+running interpreter's site-packages (``venv --system-site-packages`` would expose the *base*
+interpreter's packages, not those of a venv that runs the tests).
 The first test takes about 30 s with the wheel build; the full ``roughstick demo --quick`` /
 ``reproduce --quick --n 6`` comparison is ``slow`` (both together 261 s on the 2-core development
 machine: ``pytest -m slow tests/test_wheel.py``), and so is running a shipped example config
@@ -65,13 +67,28 @@ def wheel_env(tmp_path_factory):
     assert res.returncode == 0, res.stderr
     wheel = next((tmp / "dist").glob("roughstick-*.whl"))
     venv = tmp / "venv"
-    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True, **run)
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, **run)
     py = venv / "bin" / "python"
+    # The new venv sees the dependencies of the environment running the tests, whatever that is
+    # (a venv, a conda env, the system): a .pth file lists its site-packages. Plain path lines add
+    # those folders after the venv's own, without running their .pth files, so an editable install
+    # of the checkout there is not seen and the wheel's roughstick is the one imported.
+    res = subprocess.run([str(py), "-c", "import sysconfig; print(sysconfig.get_path('purelib'))"], **run)
+    own = pathlib.Path(res.stdout.strip())
+    (own / "_roughstick_test_parent_env.pth").write_text("\n".join(_site_packages()) + "\n")
     res = subprocess.run([str(py), "-m", "pip", "install", "-q", "--no-deps", "--force-reinstall", str(wheel)], **run)
     assert res.returncode == 0, res.stderr
     work = tmp / "elsewhere"  # not the checkout: nothing of it on the path
     work.mkdir()
     return {"python": py, "script": venv / "bin" / "roughstick", "cwd": work, "wheel": wheel}
+
+
+def _site_packages() -> list[str]:
+    """The running interpreter's site-packages folders (venv, system, user), as on its sys.path."""
+    import site
+
+    paths = [*site.getsitepackages(), site.getusersitepackages()]
+    return [p for p in dict.fromkeys(paths) if os.path.isdir(p) and p in sys.path]
 
 
 def _probe(python, cwd, *, isolated=False):

@@ -7,7 +7,8 @@ from dataclasses import dataclass
 from .constants import POLYSILICON_POISSON_RATIO, POLYSILICON_YOUNGS_MODULUS
 from .validate import PLAUSIBLE_MODULUS, check_plausible_value, check_positive_block
 
-__all__ = ["Material", "POLYSILICON", "reduced_modulus", "hertz_modulus"]
+__all__ = ["Material", "POLYSILICON", "MATERIALS", "material_from", "material_attrs",
+           "reduced_modulus", "hertz_modulus"]
 
 
 @dataclass(frozen=True)
@@ -47,6 +48,80 @@ class Material:
 
 #: Poly-silicon, E = 164 GPa, nu = 0.23 (paper §2.2.5).
 POLYSILICON = Material()
+
+#: Materials known by name (``material_from(name)``, the [material] table of the configuration
+#: files, ``roughstick curves --material``); another film is given by its elastic constants.
+MATERIALS = {"polysilicon": POLYSILICON}
+
+
+def _known(name: str) -> Material | None:
+    key = "".join(c for c in name.lower() if c.isalnum())
+    return MATERIALS.get({"polysi": "polysilicon"}.get(key, key))
+
+
+def material_from(name: str | None = None, *, youngs_modulus: float | None = None,
+                  poisson_ratio: float | None = None) -> Material:
+    """A material by name, or by its elastic constants.
+
+    Parameters
+    ----------
+    name : str, optional
+        A name of :data:`MATERIALS` (spelling and case are free: ``"poly-Si"``,
+        ``"polysilicon"``), whose constants the two keywords may replace; or, with both
+        keywords, the label of a film roughstick does not know by name. None: poly-silicon,
+        unless both constants are given.
+    youngs_modulus : float, optional
+        Young's modulus [Pa].
+    poisson_ratio : float, optional
+        Poisson ratio.
+
+    Returns
+    -------
+    Material
+
+    Raises
+    ------
+    ValueError
+        An unknown name without both constants, or one constant without a known name (naming
+        the known materials and the constants to give).
+
+    Examples
+    --------
+    >>> material_from("poly-Si").youngs_modulus
+    164000000000.0
+    >>> material_from("silicon nitride", youngs_modulus=250e9, poisson_ratio=0.23).name
+    'silicon nitride'
+    """
+    base = None if name is None else _known(name)
+    both = youngs_modulus is not None and poisson_ratio is not None
+    if base is None and not both:
+        if name is None and youngs_modulus is None and poisson_ratio is None:
+            return POLYSILICON
+        what = (f"no material named {name!r} is known (known: {sorted(MATERIALS)})" if name is not None
+                and base is None else "one elastic constant alone does not make a material")
+        raise ValueError(f"{what}; for another film give both youngs_modulus (e.g. 250 GPa) and "
+                         "poisson_ratio (e.g. 0.23), with the name as its label.")
+    base = POLYSILICON if base is None else base
+    if not both and youngs_modulus is None and poisson_ratio is None:
+        return base
+    if name is None:
+        label = "custom"
+    elif _known(name) is None:
+        label = name
+    else:
+        label = f"{base.name} (modified)"
+    new = Material(youngs_modulus=base.youngs_modulus if youngs_modulus is None else float(youngs_modulus),
+                    poisson_ratio=base.poisson_ratio if poisson_ratio is None else float(poisson_ratio),
+                    name=label)
+    same = (new.youngs_modulus, new.poisson_ratio) == (base.youngs_modulus, base.poisson_ratio)
+    return base if same and name is not None and _known(name) is not None else new
+
+
+def material_attrs(material: Material) -> dict:
+    """The attributes an output records for the material of both bodies (SI; prefixed, so a
+    beam's own ``youngs_modulus`` beside them keeps its meaning)."""
+    return {"material": material.name, "material_youngs_modulus": float(material.youngs_modulus),
+            "material_poisson_ratio": float(material.poisson_ratio)}
 
 
 def reduced_modulus(material1: Material = POLYSILICON, material2: Material | None = None) -> float:

@@ -18,6 +18,7 @@
 - scalar arguments (sign, finiteness, integers, fractions, plausible lengths) are checked by the
   rules of :mod:`roughstick._core.arguments` (its decorator ``check_numbers``), which builds on
   :func:`check_plausible_value` here;
+- figures: :func:`figure_format` and :func:`figure_dpi` (what a saved figure may be);
 - :class:`ValidityWarning`, the warning of a model used outside its validity (declared here so
   that the models and :mod:`roughstick.contact.validity` share it).
 
@@ -58,6 +59,10 @@ __all__ = [
     "MAX_ADHESIVE_ENERGY",
     "check_layer_thickness",
     "MAX_LAYER_THICKNESS",
+    "FIGURE_FORMATS",
+    "FIGURE_DPI_RANGE",
+    "figure_format",
+    "figure_dpi",
     "ValidityWarning",
     "external_stacklevel",
 ]
@@ -586,3 +591,36 @@ def check_layer_thickness(thickness, *, name: str, rh=None) -> None:
     else:
         problem = ": a layer thickness must be finite and >= 0 (in m, e.g. 1.8e-9)"
     raise ValueError(f"the adsorbed_layer model {name} returned {v!r} m{at}{problem}.")
+
+
+# ------------------------------------------------------------------------------------ figures
+
+#: File formats a figure is saved in: a raster image and two vector formats for reports.
+FIGURE_FORMATS = ("png", "pdf", "svg")
+#: Plausible resolutions [dots per inch]: below, text is unreadable; above, a page-size figure
+#: needs gigabytes of memory to draw.
+FIGURE_DPI_RANGE = (50, 1200)
+
+
+def figure_format(value, *, name: str = "format") -> str:
+    """``value`` as one of :data:`FIGURE_FORMATS` (case and a leading dot ignored), or a
+    ``ValueError`` naming ``name`` and the formats to choose from."""
+    text = str(value).strip().lower().lstrip(".")
+    if text not in FIGURE_FORMATS:
+        raise ValueError(f"{name}={value!r}: not a figure format; use {', '.join(map(repr, FIGURE_FORMATS))} "
+                         "(pdf and svg are vector formats for reports).")
+    return text
+
+
+def figure_dpi(value, *, name: str = "dpi") -> int:
+    """``value`` as an integer resolution within :data:`FIGURE_DPI_RANGE`, or a ``ValueError``
+    naming ``name``, the value and the range."""
+    low, high = FIGURE_DPI_RANGE
+    try:
+        dpi = float(value)
+    except (TypeError, ValueError):
+        dpi = float("nan")
+    if not (np.isfinite(dpi) and dpi == int(dpi) and low <= dpi <= high) or isinstance(value, bool):
+        raise ValueError(f"{name}={value!r}: give a whole number of dots per inch from {low} to {high}, "
+                         "e.g. 200 for print or 600 for line art.")
+    return int(dpi)

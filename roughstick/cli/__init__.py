@@ -1,7 +1,9 @@
 """The ``roughstick`` console script: a thin argparse front end over the public API.
 
 One module per sub-command, each defining ``register(subparsers)`` that adds the sub-command and
-a handler calling the public API only (no physics here): ``curves``, ``demo`` (every step of
+a handler calling the public API only (no physics here), and optionally ``remedies(args)``, how
+the warnings raised during the command spell their fixes (flags or configuration keys,
+:mod:`roughstick._core.remedy`): ``curves``, ``demo`` (every step of
 :mod:`roughstick.demos` on the bundled samples), ``examples`` (the shipped example configs), ``psd``, ``reproduce``, ``risk`` and ``run``
 (TOML configs read by :mod:`._config`). See docs/cli.md.
 """
@@ -12,6 +14,7 @@ import argparse
 import sys
 import warnings
 
+from .._core.remedy import spelled
 from .._core.version import __version__
 from . import beam, curves, demo, examples, psd, reproduce, risk, run
 from ._common import add_common_options, setup_logging, teardown_logging, user_message
@@ -50,7 +53,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help()
         return 2
     try:
-        with warnings.catch_warnings():  # restores warnings.showwarning afterwards
+        remedies = getattr(args, "remedies", None)  # the command's spelling of the fixes it names
+        with warnings.catch_warnings(), spelled(**(remedies(args) if remedies else {})):
             setup_logging(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))
             return int(args.func(args) or 0)
     except KeyboardInterrupt:

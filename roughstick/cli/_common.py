@@ -10,6 +10,8 @@
   other parameters') complete results are replaced only with ``--overwrite``, and their files
   are removed first; an unfinished (failed or killed) run never blocks the next.
 * :func:`check_scheduler` refuses a dask scheduler name before any work, naming the flag or key.
+* :func:`add_figure_options` gives every command that draws figures the same ``--format`` and
+  ``--dpi`` (:func:`figure_options` reads them back for :func:`roughstick.plotting.save_figure`).
 * :func:`user_message` turns the errors a user can fix (bad configuration, missing or damaged
   file, read-only folder, unreachable scheduler) into one line naming the fix; anything else is
   a bug and keeps its traceback.
@@ -30,12 +32,15 @@ import sys
 import time
 import warnings
 
+from .._core.remedy import config_key
 from .._core.units import parse_quantity
+from .._core.validate import figure_dpi, figure_format
 from ..io.netcdf import WRITTEN_LOG, remove_partial_files, write_text_atomic, written_names
+from ..plotting.save import DEFAULT_DPI, DEFAULT_FORMAT
 
-__all__ = ["LOG", "positive_int", "add_common_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
+__all__ = ["LOG", "positive_int", "add_common_options", "add_figure_options", "figure_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
            "user_message", "MARKER", "small_p_problems", "canonical_params", "check_scheduler",
-           "check_output_file", "NETCDF_SUFFIXES"]
+           "check_output_file", "NETCDF_SUFFIXES", "config_spellings", "fixed_spellings"]
 
 LOG = logging.getLogger("roughstick")
 
@@ -88,6 +93,42 @@ def add_common_options(p, *, overwrite: bool = True) -> None:
     if overwrite:
         p.add_argument("--overwrite", action="store_true",
                        help="replace results of another run in the output folder")
+
+
+def _figure_format(text: str) -> str:
+    import argparse
+
+    try:
+        return figure_format(text, name="--format")
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _figure_dpi(text: str) -> int:
+    import argparse
+
+    try:
+        return figure_dpi(text, name="--dpi")
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def add_figure_options(p) -> None:
+    """``--format png|pdf|svg`` and ``--dpi N`` on a sub-command that writes figures: one
+    definition for every command, checked by argparse before any work."""
+    p.add_argument("--format", dest="figure_format", type=_figure_format, default=DEFAULT_FORMAT,
+                   metavar="{png,pdf,svg}",
+                   help=f"file format of the figures (default {DEFAULT_FORMAT}; pdf and svg are vector "
+                        "formats for reports)")
+    p.add_argument("--dpi", type=_figure_dpi, default=DEFAULT_DPI,
+                   help=f"resolution of the figures in dots per inch, 50-1200 (default {DEFAULT_DPI}; "
+                        "for pdf/svg it applies to embedded images such as height maps)")
+
+
+def figure_options(args) -> dict:
+    """The figure options :func:`add_figure_options` parsed, as keyword arguments of
+    :func:`roughstick.plotting.save_figure` (``format``, ``dpi``)."""
+    return {"format": args.figure_format, "dpi": args.dpi}
 
 
 class _Below(logging.Filter):
@@ -444,3 +485,26 @@ def small_p_problems(section: str, settings: dict) -> list[str]:
         problems.append(f"[{section}] max_evaluations = {settings['max_evaluations']} is below "
                         f"samples_per_level = {settings['samples_per_level']}: raise it (e.g. 20000)")
     return problems
+
+
+def config_spellings(*, contact_model: str, surface: str = "surface") -> dict:
+    """How the warnings of a command read from a configuration file spell their remedies
+    (:mod:`roughstick._core.remedy`): keys of its tables, the contact model in
+    ``[contact_model]``, the pixel in ``[surface]``."""
+    return {
+        "contact_model": config_key(contact_model, "contact_model"),
+        "spacing": config_key(surface, "spacing", fmt=lambda v: f'"{v * 1e9:.2g} nm"'),
+        "resolution": lambda v=None, **kw: (f"the same run with [{surface}] spacing doubled (its size "
+                                            "kept), compared with this one"),
+    }
+
+
+def fixed_spellings(command: str) -> dict:
+    """How the warnings of a command whose settings are fixed (``demo``, ``reproduce``) spell
+    their remedies: the key of a ``roughstick run`` configuration, where the user's own run
+    can change it."""
+    own = (f"in a `roughstick run` configuration (the settings of `roughstick {command}` are fixed: "
+           "`roughstick examples --out examples` writes configurations to start from)")
+    return {"contact_model": lambda v, **kw: f'[ensemble] contact_model = "{v}" {own}',
+            "spacing": lambda v, **kw: f'[surface] spacing = "{v * 1e9:.2g} nm" {own}',
+            "resolution": lambda v=None, **kw: "`roughstick curves MAP --rh ... --resolution`"}

@@ -29,12 +29,13 @@ import xarray as xr
 
 import roughstick as rs
 
+from .._core.materials import POLYSILICON, Material, material_from
 from .._core.units import KINDS, UnitsError, parse_quantity
 from ..io.afm import bundled_map_names, resolve_map_path
 from ._schema import SCHEMAS, Field
 
 __all__ = ["ConfigError", "Field", "SCHEMAS", "parse", "read_toml", "RunConfig", "load_config",
-           "parse_quantity"]
+           "parse_quantity", "config_material"]
 
 
 class ConfigError(ValueError):
@@ -57,6 +58,7 @@ _RENAMED = {
     "asperity_density_per_um2": 'asperity_density = "80.1 um-2"',
     "qmax_rad_per_um": 'qmax = "289 rad/um"',
     "youngs_modulus_GPa": 'youngs_modulus = "164 GPa"',
+    "model": 'contact_model = "fft_bem" (the contact model has this one name in every command)',
 }
 _UNIT_SUFFIX = re.compile(r"^(?P<key>.+?)_(?P<unit>nm|um|mm|m|GPa|MPa|Pa|percent|pct|nm2|nm4)$")
 
@@ -316,6 +318,16 @@ def check_memory(shape, *, chunks: int = 1, where: str = "config") -> None:
             "(or fewer realizations per block: chunks), or run on a larger machine with --scheduler.")
 
 
+def config_material(table: dict, source: str = "config") -> Material:
+    """The parsed [material] table as a :class:`~roughstick.Material` (poly-silicon when empty),
+    or a :class:`ConfigError` naming the table and the keys to give."""
+    try:
+        return material_from(table.get("name"), youngs_modulus=table.get("youngs_modulus"),
+                             poisson_ratio=table.get("poisson_ratio"))
+    except ValueError as exc:
+        raise ConfigError(f"{source}: [material] {exc}") from None
+
+
 # ----------------------------------------------------------------------------- roughstick run
 
 
@@ -343,6 +355,8 @@ class RunConfig:
     scheduler: str | None
     connect_timeout: float
     progress: bool | None
+    contact_model: str = "modified_dmt"
+    material: Material = POLYSILICON
 
     def build_psd(self):
         """The PSD DataArray [m4] described by the ``[psd]`` table."""
@@ -483,4 +497,6 @@ def load_config(path, *, overrides: dict | None = None) -> RunConfig:
         scheduler=c["run"].get("scheduler"),
         connect_timeout=c["run"]["connect_timeout"],
         progress=c["run"].get("progress"),
+        contact_model=ens["contact_model"],
+        material=config_material(c["material"], path.name),
     )

@@ -39,7 +39,18 @@ _SMALL_P = {  # the small-probability methods' stopping rule: [risk] of risk, [e
     "target_cv": F("fraction", "method 'subset'/'monte_carlo': stop when the cv of P(stuck) is at most this", default=0.3),
     "max_evaluations": F("int", "method 'subset'/'monte_carlo': evaluations allowed per length, RH (and layer)", default=20000, minimum=10),
     "samples_per_level": F("int", "method 'subset': samples per level (a multiple of 5: p0 = 0.2)", default=1000, minimum=10)}
+#: The contact model, ONE key name in every command (its table differs: [ensemble] of run,
+#: [risk] of risk, [bank] of beam).
+_CONTACT_MODEL = ("contact model of rough_contact_curves: 'modified_dmt' (Eq. 16), 'gw', 'fft_bem', "
+                  "'bem' or 'auto' (the cheapest model measured within 10 % on these surfaces)")
 _COMMON = {
+    "material": {
+        "name": F("str", "material of both bodies: a name roughstick knows ('polysilicon', the "
+                  "default), or the label of the constants below"),
+        "youngs_modulus": F("pressure", "Young's modulus of both bodies, e.g. '250 GPa' (with "
+                            "poisson_ratio for a film roughstick does not know by name)"),
+        "poisson_ratio": F("number", "Poisson ratio of both bodies, e.g. 0.23", minimum=-1.0),
+    },
     "surface": {
         "spacing": F("length", "pixel size of the generated surfaces", required=True),
         "size": F("length", "side of the generated surfaces (or [y, x]); or give shape", many=True),
@@ -95,7 +106,10 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "distance_points": F("int", "points of the distance grid", default=200, minimum=8),
             "distance_lower": F("number", "bottom of the distance grid in units of the rms height",
                                 default=1.5, minimum=0.0),
+            "contact_model": F("choice", _CONTACT_MODEL, default="modified_dmt",
+                               choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
         },
+        "material": _COMMON["material"],
         "output": _COMMON["output"],
         "run": _COMMON["run"],
     },
@@ -104,7 +118,8 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "width": F("length", "beam width", default=30e-6),
             "thickness": F("length", "beam thickness", default=2.62e-6),
             "gap": F("length", "beam underside to landing pad", default=1.9e-6),
-            "youngs_modulus": F("pressure", "Young's modulus of the beam", default=164e9),
+            "youngs_modulus": F("pressure", "Young's modulus of the beam (default: the [material]'s, "
+                                "164 GPa for poly-silicon)"),
             "interaction_length": F("length", "Δs of the interaction zone (default: thickness)"),
             "lengths": F("length", "the beam lengths to assess", many=True),
         },
@@ -140,12 +155,15 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                                   "simulation of P(stuck) on zones of [surface] shape (small "
                                   "probabilities); 'monte_carlo': crude Monte Carlo on those zones",
                         default="count", choices=("count", "subset", "monte_carlo")), **_SMALL_P,
-            "contact_model": F("choice", "method 'subset'/'monte_carlo': contact model of each zone: "
-                               "'modified_dmt' (Eq. 16, ~1 ms per 128 x 128 zone; its failure states "
-                               "re-checked by the BEM) or 'fft_bem' (~45 ms; needed where Eq. 16's tail "
-                               "is an artefact, docs/rare_events.md)",
-                               default="modified_dmt", choices=("modified_dmt", "fft_bem")),
+            "contact_model": F("choice", "contact model: method 'count', that of the ensemble's "
+                               "surfaces (" + _CONTACT_MODEL.split(": ", 1)[1] + "); 'subset'/"
+                               "'monte_carlo', that of each zone: 'modified_dmt' (Eq. 16, ~1 ms per 128 x "
+                               "128 zone; its failure states re-checked by the BEM) or 'fft_bem' (~45 "
+                               "ms; needed where Eq. 16's tail is an artefact, docs/rare_events.md)",
+                               default="modified_dmt",
+                               choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
         },
+        "material": _COMMON["material"],
         "measured": {  # an array of tables: [[measured]]
             "label": F("str", "legend label", default="measured"),
             "file": F("path", "CSV: header 'relative_humidity,crack_length [um]' "
@@ -163,7 +181,8 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "width": F("length", "beam width", default=30e-6),
             "thickness": F("length", "beam thickness", default=2.62e-6),
             "gap": F("length", "beam underside to landing pad", default=1.9e-6),
-            "youngs_modulus": F("pressure", "Young's modulus of the beam", default=164e9),
+            "youngs_modulus": F("pressure", "Young's modulus of the beam (default: the [material]'s, "
+                                "164 GPa for poly-silicon)"),
             "patch_length": F("length", "length of one patch along the beam (default: thickness); at most "
                               "the shortest of lengths"),
         },
@@ -189,11 +208,13 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "laws": F("int", "patch laws in the bank (surfaces computed once per RH)", default=1000,
                       minimum=1),
             "seed": F("int", "root seed of the patch surfaces", default=0, minimum=0),
-            "model": F("choice", "contact model of the patch laws", default="modified_dmt",
-                       choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
+            "contact_model": F("choice", "contact model of the patch laws: " + _CONTACT_MODEL.split(": ", 1)[1],
+                               default="modified_dmt",
+                               choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
             "cache": F("path", "folder of the bank cache (relative to the file)",
                        default="beam-bank-cache"),
         },
+        "material": _COMMON["material"],
         "output": _COMMON["output"],
     },
 }

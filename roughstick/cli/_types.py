@@ -23,12 +23,13 @@ import numpy as np
 
 import roughstick as rs
 
+from .._core.materials import Material, material_from
 from .._core.units import parse_quantity
 from .._core.validate import PLAUSIBLE_SPACING
 from ._common import length_with_unit, refuse_bare_number
 
 __all__ = ["relative_humidity_arg", "pixel_size_arg", "wavevector_arg", "positive_float_arg",
-           "flag_value", "check_map_flags", "read_map"]
+           "flag_value", "check_map_flags", "read_map", "material_arg"]
 
 #: Heights spanning more than this [m] are not an AFM map (read_afm warns above it too).
 _PLAUSIBLE_SPAN = 1e-3
@@ -114,6 +115,26 @@ def flag_value(flag: str, convert, text):
         return convert(text)
     except argparse.ArgumentTypeError as exc:
         raise ValueError(f"{flag} {exc}") from None
+
+
+def material_arg(tokens, flag: str = "--material") -> Material:
+    """``--material NAME``, ``--material E NU`` or ``--material LABEL E NU``: a material known
+    by name (:data:`roughstick._core.materials.MATERIALS`), or Young's modulus with its unit and
+    the Poisson ratio; a ValueError naming the flag and the spellings otherwise."""
+    tokens = list(tokens)
+    example = f"e.g. {flag} polysilicon, or {flag} '250 GPa' 0.23 (a label first: {flag} SiN '250 GPa' 0.23)"
+    if len(tokens) not in (1, 2, 3):
+        raise ValueError(f"{flag} takes a name, or Young's modulus and Poisson ratio; {example}.")
+    name = tokens[0] if len(tokens) != 2 else None
+    try:
+        if len(tokens) == 1:
+            return material_from(name)
+        refuse_bare_number(tokens[-2], "GPa")
+        e = parse_quantity(tokens[-2], "pressure", name="Young's modulus")
+        nu = float(tokens[-1])
+        return material_from(name, youngs_modulus=e, poisson_ratio=nu)
+    except (ValueError, argparse.ArgumentTypeError) as exc:
+        raise ValueError(f"{flag} {' '.join(map(repr, tokens))}: {exc} ({example}).") from None
 
 
 def check_map_flags(path, *, spacing=None, units=None) -> None:

@@ -21,11 +21,13 @@ import numpy as np
 import roughstick as rs
 
 from .._core.conventions import append_history, dataset_attrs
+from .._core.materials import POLYSILICON, material_attrs
+from .._core.progress import staged_progress
 from .._core.references import PAPER, cite
 from .._core.validate import adhesive_energy_values
 from ..io.netcdf import write as write_netcdf
-from ._common import LOG, claim_folder, finish_folder, small_p_problems
-from ._config import ConfigError, check_memory, parse, read_toml
+from ._common import LOG, claim_folder, config_spellings, finish_folder, small_p_problems
+from ._config import ConfigError, check_memory, config_material, parse, read_toml
 
 __all__ = ["register"]
 
@@ -38,7 +40,7 @@ def register(sub):
                    help="output folder (default: [output] folder, else ./beam-output)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace results of another run in the output folder")
-    p.set_defaults(func=_run)
+    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="bank"))
 
 
 def _psd(surface: dict):
@@ -62,19 +64,23 @@ def _run(args) -> int:
     shape = s["shape"]
     shape = (shape, shape) if np.ndim(shape) == 0 else tuple(shape)
     check_memory(shape, where=f"{path.name} [surface] shape")
+    material = config_material(c["material"], path.name)
+    b.setdefault("youngs_modulus", material.youngs_modulus)  # the beam is made of the film
     beam = rs.Cantilever(width=b["width"], thickness=b["thickness"], gap=b["gap"],
                          youngs_modulus=b["youngs_modulus"])
     rh = np.asarray(ens["relative_humidity"], dtype=float)
     _check_method(ens, path.name)
     _check_patch(b, path.name)
     out = pathlib.Path(args.out) if args.out else _beside(path, o.get("folder") or "beam-output")
-    claim_folder(out, command="beam", params={k: v for k, v in c.items() if k != "output"},
+    claim_folder(out, command="beam", params={k: v for k, v in c.items() if k != "output"
+                                              and not (k == "material" and not v)},
                  overwrite=args.overwrite or o["overwrite"], keep=[path],
                  legacy_params={"config": path.read_text()})
     t0 = time.perf_counter()
     bank = rs.build_patch_bank(_psd(s), relative_humidity=rh, n_law=bank_cfg["laws"], shape=shape,
-                               spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["model"],
-                               cache_dir=_beside(path, bank_cfg["cache"]))
+                               spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["contact_model"],
+                               cache_dir=_beside(path, bank_cfg["cache"]),
+                               **({} if material == POLYSILICON else {"material": material}))
     _check_bank(bank, path.name)
     t1 = time.perf_counter()
     if ens["method"] != "count":
@@ -117,9 +123,9 @@ def _provenance(ds, c: dict, path: pathlib.Path, bank):
         relative_humidity=[float(v) for v in bank.rh.values],
         patch_shape=[int(v) for v in ((shape, shape) if np.ndim(shape) == 0 else shape)],
         patch_spacing=float(s["spacing"]), bank_laws=int(bank.sizes["law"]), bank_seed=int(bk["seed"]),
-        bank_model=str(bk["model"]), bank_cache_file=str(bank.attrs.get("cache_file", "")),
+        bank_model=str(bk["contact_model"]), bank_cache_file=str(bank.attrs.get("cache_file", "")),
         beam_seed=int(ens["seed"]), method=str(ens["method"]), beam_model=str(ens["beam_model"]),
-        configuration=path.read_text())
+        configuration=path.read_text(), **material_attrs(config_material(c["material"])))
     ds.attrs = attrs
     return append_history(ds, f"roughstick beam {path.name} (method={ens['method']})")
 
@@ -182,11 +188,13 @@ def _check_method(ens: dict, source: str) -> None:
 def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite, provenance) -> int:
     """P(stuck)(rh, beam_length) on the bank by subset simulation (or crude Monte Carlo)."""
     method = ens["method"]
-    ds = rs.beam_stiction_probability_subset(
-        bank, beam_length=np.asarray(b["lengths"], dtype=float), protocol=ens["protocol"], beam=beam,
-        patch_length=b.get("patch_length"), method=method, target_cv=ens["target_cv"],
-        max_evaluations=ens["max_evaluations"], samples_per_level=ens["samples_per_level"],
-        seed=ens["seed"], output=out / "levels", overwrite=overwrite)
+    points = bank.sizes["rh"] * len(b["lengths"])  # one line per level, the time left over all
+    with staged_progress(points, what=f"{method} (RH x length)", budget=ens["max_evaluations"]):
+        ds = rs.beam_stiction_probability_subset(
+            bank, beam_length=np.asarray(b["lengths"], dtype=float), protocol=ens["protocol"], beam=beam,
+            patch_length=b.get("patch_length"), method=method, target_cv=ens["target_cv"],
+            max_evaluations=ens["max_evaluations"], samples_per_level=ens["samples_per_level"],
+            seed=ens["seed"], output=out / "levels", overwrite=overwrite)
     t2 = time.perf_counter()
     write_netcdf(provenance(ds), out / "beam.nc", compute=True, overwrite=True)
     finish_folder(out)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import pathlib
-import re
 import sys
 import warnings
 
@@ -11,11 +10,14 @@ import numpy as np
 
 import roughstick as rs
 
+from .._core.materials import material_attrs
+from .._core.remedy import flag
 from .._core.units import parse_quantity
 from ..io import netcdf
 from ._common import check_output_file, length_with_unit, positive_int
 from ._types import (
     flag_value,
+    material_arg,
     pixel_size_arg,
     positive_float_arg,
     read_map,
@@ -75,20 +77,21 @@ def register(sub):
                    metavar="F",
                    help="pixel sizes relative to the map's (integers or their inverses; "
                    "default 0.5 1 2)")
-    p.set_defaults(func=_run)
+    p.add_argument("--material", nargs="+", default=None, metavar="NAME|E NU",
+                   help="material of both bodies (default polysilicon): a name roughstick knows, or "
+                   "Young's modulus with its unit and the Poisson ratio, e.g. --material '250 GPa' 0.23 "
+                   "(a label first: --material SiN '250 GPa' 0.23)")
+    p.set_defaults(func=_run, remedies=remedies)
 
 
-def _flags_only(message: str) -> str:
-    """The validity warning's remedy in command-line flags only (it names both spellings)."""
-    m = re.search(r"Remedy: rough_contact_curves\(\.\.\., model='auto', tolerance=([^)]*)\) "
-                  r"picks the cheapest model measured within the tolerance"
-                  r"(?: \(here model='(\w+)'\))?; on the command line: .*?--model auto "
-                  r"--tolerance [^ ]+?\.(?= |$)", message)
-    if m is None:
-        return message
-    here = f" (here --model {m.group(2)})" if m.group(2) else ""
-    return (message[:m.start()] + f"Remedy: --model auto --tolerance {m.group(1)} picks the "
-            f"cheapest model measured within the tolerance{here}." + message[m.end():])
+def remedies(args) -> dict:
+    """How the warnings of ``roughstick curves`` spell their remedies: its flags
+    (:mod:`roughstick._core.remedy`)."""
+    measured = ("the --resolution table this command prints below" if args.resolution else
+                "--resolution (add it to this command: Γ, pull-off and d_eq at half and twice the pixel)")
+    return {"contact_model": flag("--model", extra={"tolerance": "--tolerance"}),
+            "spacing": lambda v, **kw: f"a map generated at a pixel of {v * 1e9:.2g} nm",
+            "resolution": lambda v=None, **kw: measured}
 
 
 def _distance_grid(low: str, high: str, n: str) -> np.ndarray:
@@ -112,6 +115,7 @@ def _run(args):
     out = pathlib.Path(args.out)
     check_output_file(out, overwrite=args.overwrite)
     distance = None if args.distance is None else _distance_grid(*args.distance)  # before any work
+    material = material_arg(args.material) if args.material else rs.POLYSILICON
     h = read_map(args.map, spacing=args.spacing, units=args.units)
     n_distance = args.n_distance
     if n_distance is None and args.model in ("modified_dmt", "gw"):
@@ -130,16 +134,15 @@ def _run(args):
             adsorbed_layer=args.adsorbed_layer,
             model=args.model,
             tolerance=args.tolerance,
+            material=material,
             **kw,
         )
     for w in caught:
         if issubclass(w.category, rs.ValidityWarning):
             # on the command line the remedy is a flag: say it as a message, not a traceback line
-            print(f"roughstick curves: warning: {_flags_only(str(w.message))}", file=sys.stderr)
+            print(f"roughstick curves: warning: {w.message}", file=sys.stderr)
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    if "model_selection" in ds.attrs:
-        print(f"model: {ds.attrs['model_selection']}")
     summary = rs.adhesion_summary(ds)
     for name in summary.data_vars:
         ds[name] = summary[name]
@@ -147,7 +150,7 @@ def _run(args):
         res = rs.resolution_study(h, relative_humidity=list(args.rh),
                                   factors=args.resolution_factors,
                                   model=ds.attrs.get("contact_model", args.model),
-                                  adsorbed_layer=args.adsorbed_layer)
+                                  adsorbed_layer=args.adsorbed_layer, material=material)
         print(f"pixel-size sensitivity ({res.attrs['resampling']}):")
         r = res.transpose("pixel_size", ...)
         for i, px in enumerate(r.pixel_size.values):
@@ -162,9 +165,11 @@ def _run(args):
         for name in res.data_vars:
             ds[f"resolution_{name}"] = res[name].rename(pixel_size="resolution_pixel_size")
     ds.attrs["input_file"] = str(args.map)
+    ds.attrs.update(material_attrs(material))
     rs.conventions.append_history(
         ds, f"roughstick curves {args.map} --rh {' '.join(map(str, args.rh))} --model "
-            f"{args.model} --tolerance {args.tolerance} --out {args.out}"
+            f"{args.model} --tolerance {args.tolerance}"
+            + (f" --material {' '.join(args.material)}" if args.material else "") + f" --out {args.out}"
     )
     out.parent.mkdir(parents=True, exist_ok=True)
     netcdf.write(ds, out, compute=True, overwrite=True)  # checked: check_output_file

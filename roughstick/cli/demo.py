@@ -5,7 +5,14 @@ from __future__ import annotations
 import time
 
 from ..demos import steps
-from ._common import LOG, claim_folder, finish_folder
+from ._common import (
+    LOG,
+    add_figure_options,
+    claim_folder,
+    figure_options,
+    finish_folder,
+    fixed_spellings,
+)
 
 
 def _names() -> list[str]:
@@ -15,18 +22,20 @@ def _names() -> list[str]:
 def register(sub):
     p = sub.add_parser(
         "demo",
-        help="run the whole pipeline on the bundled samples; write NetCDF and PNG figures",
-        description="Run every demo step on the bundled samples and write NetCDF + PNG to --out. "
-                    "Re-running the same command rewrites the same files (the ensemble resumes).",
+        help="run the whole pipeline on the bundled samples; write NetCDF and figures",
+        description="Run every demo step on the bundled samples and write NetCDF files and figures "
+                    "(PNG, or PDF/SVG with --format) to --out. Re-running the same command rewrites "
+                    "the same files (the ensemble resumes).",
     )
     p.add_argument("--out", default="roughstick-demo", help="output folder (default ./roughstick-demo)")
     p.add_argument("--only", nargs="+", default=None, metavar="STEP",
                    help="run only the steps whose name contains one of these words "
                         "(steps: sphere, topography, rough_contact, ensemble, cantilever)")
     p.add_argument("--quick", action="store_true", help="smaller sizes (used by the tests)")
+    add_figure_options(p)
     p.add_argument("--overwrite", action="store_true",
                    help="replace the results of another command or other options in --out")
-    p.set_defaults(func=_run)
+    p.set_defaults(func=_run, remedies=lambda args: fixed_spellings("demo"))
 
 
 def _run(args):
@@ -51,7 +60,8 @@ def _run(args):
         name = mod.__name__.rsplit(".", 1)[-1]
         LOG.info(f"[{name}] ...")
         t0 = time.perf_counter()
-        files = mod.run(out, quick=args.quick)
+        opts = figure_options(args)
+        files = mod.run(out, quick=args.quick, figure_format=opts["format"], dpi=opts["dpi"])
         written += files
         LOG.info(f"[{name}] {len(files)} files in {time.perf_counter() - t0:.1f} s")
         for f in files:

@@ -1,6 +1,9 @@
 """``roughstick examples [NAME ...] [--out DIR]``: list, or copy, the example configurations
 shipped with roughstick (``examples/*.toml`` of the repository, package data of the wheel).
 
+Each file opens with a ``# description: ...`` line saying what question it answers; the listing
+prints it under the command that runs the file.
+
 Their maps are named ``bundled:S1A`` ... (the sample maps inside the package), so a copy runs
 from any folder; the output folders they name are relative to the copy.
 """
@@ -20,8 +23,8 @@ def register(sub):
         "examples",
         help="list the example configurations of run, risk and beam, or copy them to --out",
         description=(
-            "Without --out, list the example TOML configurations shipped with roughstick and the "
-            "command that runs each. With --out DIR, copy them (or the NAMEs given) into DIR, e.g. "
+            "Without --out, list the example TOML configurations shipped with roughstick, the "
+            "command that runs each and what it answers. With --out DIR, copy them (or the NAMEs given) into DIR, e.g. "
             "`roughstick examples --out examples` then `roughstick run "
             "examples/ensemble_S1_samples.toml`. Their sample maps are named bundled:S1A ..., so "
             "the copies run from any folder."
@@ -40,14 +43,14 @@ def _command(path: pathlib.Path) -> str:
     return next((c for c in ("run", "risk", "beam") if tables <= set(SCHEMAS[c])), "run")
 
 
-def _summary(path: pathlib.Path) -> str:
-    """The first comment line of the file, without a leading 'roughstick CMD FILE --'."""
+def description(path: pathlib.Path) -> str:
+    """What the example ``path`` answers: its ``# description: ...`` comment line (empty if none)."""
     for line in path.read_text().splitlines():
-        text = line.lstrip("# ").strip()
-        if line.startswith("#") and text:
-            head, sep, tail = text.partition(" -- ")
-            return tail.strip() if sep and head.startswith("roughstick ") else (
-                "" if text.startswith("roughstick ") else text)
+        head, sep, text = line.partition("description:")
+        if sep and head.strip() == "#":
+            return text.strip()
+        if line.strip() and not line.startswith("#"):
+            break  # the description sits in the opening comments
     return ""
 
 
@@ -64,8 +67,10 @@ def _run(args):
         print("example configurations shipped with roughstick (copy them with "
               "`roughstick examples --out examples`):")
         for name in picked:
-            summary = _summary(shipped[name])
-            print(f"  roughstick {_command(shipped[name])} examples/{name}" + (f"  # {summary}" if summary else ""))
+            print(f"  roughstick {_command(shipped[name])} examples/{name}")
+            text = description(shipped[name])
+            if text:
+                print(f"      {text}")
         return 0
     out = pathlib.Path(args.out)
     if out.exists() and not out.is_dir():

@@ -19,8 +19,18 @@ import xarray as xr
 import roughstick as rs
 
 from ..paper import ensemble as figures
-from ..plotting.save import save_figure
-from ._common import LOG, check_scheduler, claim_folder, finish_folder, positive_int, run_status
+from ..plotting.save import DEFAULT_DPI, DEFAULT_FORMAT, save_figure
+from ._common import (
+    LOG,
+    add_figure_options,
+    check_scheduler,
+    claim_folder,
+    figure_options,
+    finish_folder,
+    fixed_spellings,
+    positive_int,
+    run_status,
+)
 
 RH = {"S1": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9], "S2": [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]}
 SCALES = {
@@ -42,19 +52,22 @@ def register(sub):
     p.add_argument("--n", type=positive_int, default=None, help="override the number of realizations (>= 1)")
     p.add_argument("--scheduler", default=None, help="'threads' (default) or tcp://host:port")
     p.add_argument("--overwrite", action="store_true", help="replace runs with other parameters in --out")
-    p.set_defaults(func=_run)
+    add_figure_options(p)
+    p.set_defaults(func=_run, remedies=lambda args: fixed_spellings("reproduce"))
 
 
-def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwrite=False, log=LOG.info):
-    """Compute and plot Figs. 13-17; return the written paths."""
+def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwrite=False, log=LOG.info,
+              figure_format: str = DEFAULT_FORMAT, dpi: int = DEFAULT_DPI):
+    """Compute and plot Figs. 13-17 (figures as ``figure_format`` at ``dpi``); return the written paths."""
     # the paper (§4.2.1) generates surfaces up to 10.24 µm from the PSD of 1.28 µm sub-maps,
     # interpolated below its lowest wave number: said once in the log, not warned per size
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", rs.ExtrapolatedPSDWarning)
-        return _reproduce(out, quick=quick, n=n, scheduler=scheduler, overwrite=overwrite, log=log)
+        return _reproduce(out, quick=quick, n=n, scheduler=scheduler, overwrite=overwrite, log=log,
+                          save={"format": figure_format, "dpi": dpi})
 
 
-def _reproduce(out, *, quick, n, scheduler, overwrite, log):
+def _reproduce(out, *, quick, n, scheduler, overwrite, log, save):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -75,7 +88,7 @@ def _reproduce(out, *, quick, n, scheduler, overwrite, log):
                 "the PSD of the sub-maps interpolated below its lowest wave number")
         # Fig. 13: three generated surfaces
         _, fig = figures.fig13_surfaces(psd, shape=shapes[0], seed=13 + k, title=sample)
-        files.append(_save(fig, out / f"fig13_surfaces_{sample}.png"))
+        files.append(save_figure(fig, out / f"fig13_surfaces_{sample}.png", **save))
         dist = rs.ensemble_distance_grid(psd, shape=(shapes[1], shapes[1]), n=n,
                                          relative_humidity=RH[sample])
         per_size = []
@@ -96,7 +109,7 @@ def _reproduce(out, *, quick, n, scheduler, overwrite, log):
         # Figs. 14 (S1) and 15 (S2): curve sets at the smaller size
         _, fig = figures.fig14_ensemble_curves(
             per_size[0], title=f"Fig. {14 + k}: {sample}, surfaces of {shapes[0] * 5e-3:.2f} µm ({scale} scale)")
-        files.append(_save(fig, out / f"fig{14 + k}_curves_{sample}.png"))
+        files.append(save_figure(fig, out / f"fig{14 + k}_curves_{sample}.png", **save))
         band = rs.confidence_band(both)
         files.append(rs.io.netcdf.write(band, out / f"band_{sample}.nc", compute=True, overwrite=True))
         for size in band.surface_size.values:
@@ -105,17 +118,15 @@ def _reproduce(out, *, quick, n, scheduler, overwrite, log):
                 log("  " + line)
     # Fig. 16: Γ bands vs RH for both sizes, S1 (a) and S2 (b)
     _, fig = figures.fig16_energy_bands(results, title=f"Fig. 16 ({scale} scale)")
-    files.append(_save(fig, out / "fig16_energy_bands.png"))
+    files.append(save_figure(fig, out / "fig16_energy_bands.png", **save))
     # Fig. 17: distributions of Γ for S1, both sizes
     _, fig = figures.fig17_energy_distributions(
         results["S1"], rh_panels=[(0.3, 0.5, 0.6), (0.7, 0.8, 0.9)],
         title=f"Fig. 17: distribution of Γ, S1, two surface sizes ({scale} scale)")
-    files.append(_save(fig, out / "fig17_energy_distributions_S1.png"))
+    files.append(save_figure(fig, out / "fig17_energy_distributions_S1.png", **save))
     return files
 
 
-def _save(fig, path):
-    return save_figure(fig, path)
 
 
 def _run(args):
@@ -124,8 +135,9 @@ def _run(args):
     unfinished = run_status(args.out) == "running"  # a failed earlier run never blocks this one
     claim_folder(args.out, command="reproduce", params={"quick": args.quick, "n": args.n},
                  overwrite=args.overwrite)
+    opts = figure_options(args)
     files = reproduce(args.out, quick=args.quick, n=args.n, scheduler=args.scheduler,
-                      overwrite=args.overwrite or unfinished)
+                      overwrite=args.overwrite or unfinished, figure_format=opts["format"], dpi=opts["dpi"])
     finish_folder(args.out)
     for f in files:
         LOG.info(f"    {f}")

@@ -18,12 +18,24 @@ import xarray as xr
 import roughstick as rs
 
 from .._core.conventions import ATTRS, append_history, coord_attrs, set_attrs
+from .._core.materials import POLYSILICON, material_attrs
+from .._core.progress import staged_progress
 from ..paper import cantilever as figures
 from ..plotting.save import save_figure
 from ..stiction.interaction_zone import TABLE4
 from ..stiction.rare_events import ARTEFACT_RATIO
-from ._common import LOG, check_scheduler, claim_folder, finish_folder, run_status, small_p_problems
-from ._config import ConfigError, Field, check_memory, parse, read_toml
+from ._common import (
+    LOG,
+    add_figure_options,
+    check_scheduler,
+    claim_folder,
+    config_spellings,
+    figure_options,
+    finish_folder,
+    run_status,
+    small_p_problems,
+)
+from ._config import ConfigError, Field, check_memory, config_material, parse, read_toml
 
 
 def register(sub):
@@ -36,7 +48,8 @@ def register(sub):
     p.add_argument("--out", default=None, help="output folder (default: [output] folder, else ./risk-output)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace the results of a run with other parameters in the output folder")
-    p.set_defaults(func=_run)
+    add_figure_options(p)
+    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="risk"))
 
 
 def load_risk_config(path) -> dict:
@@ -76,12 +89,16 @@ def load_risk_config(path) -> dict:
             problems.append(f"[risk] method = {r['method']!r} simulates its own zones: remove "
                             "[ensemble] adhesive_energy, or use method = 'count' to read that sample")
         problems += small_p_problems("risk", r)
-    elif r["contact_model"] != "modified_dmt":
-        problems.append(f"[risk] contact_model = {r['contact_model']!r} applies to method = 'subset' or "
-                        "'monte_carlo' (method = 'count' reads the ensemble's modified-DMT curves): set "
-                        "method = 'subset', or remove contact_model")
+        if r["contact_model"] not in ("modified_dmt", "fft_bem"):
+            problems.append(f"[risk] contact_model = {r['contact_model']!r} applies to method = 'count'; the "
+                            f"zones of method = {r['method']!r} run on 'modified_dmt' or 'fft_bem'")
+    elif r["contact_model"] != "modified_dmt" and "adhesive_energy" in c["ensemble"]:
+        problems.append(f"[risk] contact_model = {r['contact_model']!r} computes Γ, which [ensemble] "
+                        "adhesive_energy gives: remove one of them")
     if problems:
         raise ConfigError(f"{path.name}: " + "; ".join(problems) + ".")
+    # the beam is made of the film: its modulus is the material's unless [beam] gives one
+    c["beam"].setdefault("youngs_modulus", config_material(c["material"], path.name).youngs_modulus)
     if "shape" in c["surface"]:
         check_memory(c["surface"]["shape"], chunks=c["ensemble"].get("chunks") or 1,
                      where=f"{path.name}: [surface]")
@@ -184,32 +201,39 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
     rh = list(ens["relative_humidity"])
     kw = {"scheduler": c["run"]["scheduler"]} if "scheduler" in c["run"] else {}
     kw["contact_model"] = r["contact_model"]
+    material = config_material(c["material"])
+    if material != POLYSILICON:  # the default is not named: earlier runs keep resuming
+        kw["material"] = material
     if r["method"] == "subset":
         kw["samples_per_level"] = r["samples_per_level"]
     per_layer = []
-    for layer in ens["adsorbed_layer"]:
-        per_length = []
-        for length in lengths:
-            LOG.info(f"[{layer}] l = {length * 1e6:g} um: {r['method']} on {s['shape'][0]} x {s['shape'][1]} px "
-                     f"zones ({r['contact_model']}), {len(rh)} humidities, target cv {r['target_cv']:g} ...")
-            ds = rs.stiction_probability_subset(
-                psd, relative_humidity=rh, shape=s["shape"], spacing=s["spacing"], length=length,
-                beam=beam, method=r["method"], target_cv=r["target_cv"],
-                max_evaluations=r["max_evaluations"], seed=ens["seed"], adsorbed_layer=layer,
-                confidence=r["confidence"], output=out / f"subset-{layer}-{length * 1e6:g}um",
-                overwrite=overwrite, **kw)
-            if "rh" not in ds.dims:
-                ds = ds.expand_dims("rh")
-            if "failures_confirmed_by_bem" in ds:  # a variable: attrs do not survive the concat below
-                conf = ds["failures_confirmed_by_bem"]  # "checked" dropped (0) where humidities differ
-                ds["failures_checked_by_bem"] = xr.full_like(conf, int(conf.attrs.get("checked", 0)), dtype=int)
-                ds["failures_checked_by_bem"].attrs = {"units": "1",
-                                                       "long_name": "failure states re-checked by the FFT-BEM"}
-            keep = list(_SUBSET_VARS) + [v for v in ("failures_confirmed_by_bem", "failure_bem_ratio",
-                                                    "failure_bem_ratio_low", "failure_bem_ratio_high",
-                                                    "failures_checked_by_bem") if v in ds]
-            per_length.append(ds[keep].drop_vars("water_height", errors="ignore"))
-        per_layer.append(xr.concat(per_length, dim=xr.DataArray(lengths, dims="beam_length", name="beam_length")))
+    # one line per level, with the time left over every layer, length and humidity
+    points = len(ens["adsorbed_layer"]) * len(lengths) * len(rh)
+    with staged_progress(points, what=r["method"].replace("_", " "), budget=r["max_evaluations"]) as prog:
+        for layer in ens["adsorbed_layer"]:
+            per_length = []
+            for length in lengths:
+                LOG.info(f"[{layer}] l = {length * 1e6:g} um: {r['method']} on {s['shape'][0]} x {s['shape'][1]} px "
+                         f"zones ({r['contact_model']}), {len(rh)} humidities, target cv {r['target_cv']:g} ...")
+                prog.context = f"[{layer}] l = {length * 1e6:g} um"
+                ds = rs.stiction_probability_subset(
+                    psd, relative_humidity=rh, shape=s["shape"], spacing=s["spacing"], length=length,
+                    beam=beam, method=r["method"], target_cv=r["target_cv"],
+                    max_evaluations=r["max_evaluations"], seed=ens["seed"], adsorbed_layer=layer,
+                    confidence=r["confidence"], output=out / f"subset-{layer}-{length * 1e6:g}um",
+                    overwrite=overwrite, **kw)
+                if "rh" not in ds.dims:
+                    ds = ds.expand_dims("rh")
+                if "failures_confirmed_by_bem" in ds:  # a variable: attrs do not survive the concat below
+                    conf = ds["failures_confirmed_by_bem"]  # "checked" dropped (0) where humidities differ
+                    ds["failures_checked_by_bem"] = xr.full_like(conf, int(conf.attrs.get("checked", 0)), dtype=int)
+                    ds["failures_checked_by_bem"].attrs = {"units": "1",
+                                                           "long_name": "failure states re-checked by the FFT-BEM"}
+                keep = list(_SUBSET_VARS) + [v for v in ("failures_confirmed_by_bem", "failure_bem_ratio",
+                                                        "failure_bem_ratio_low", "failure_bem_ratio_high",
+                                                        "failures_checked_by_bem") if v in ds]
+                per_length.append(ds[keep].drop_vars("water_height", errors="ignore"))
+            per_layer.append(xr.concat(per_length, dim=xr.DataArray(lengths, dims="beam_length", name="beam_length")))
     risk = xr.concat(per_layer, dim=xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer",
                                                  name="adsorbed_layer"))
     risk["beam_length"].attrs = dict(ATTRS["beam_length"])
@@ -219,6 +243,7 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
     cross["probability_level"].attrs = dict(ATTRS["probability_level"])
     for name in cross.data_vars:
         risk[name] = cross[name]
+    risk.attrs.update(material_attrs(material))
     risk.attrs.update({"method": r["method"], "target_cv": r["target_cv"], "contact_model": r["contact_model"],
                        "zone_shape": list(s["shape"]), "spacing": s["spacing"],
                        "probability_model": "pull-out proxy P(Gamma > Gamma_crit(l)) of paper section 5.2 "
@@ -245,8 +270,11 @@ def _gamma_samples(c, beam, out, *, overwrite):
     shape = s.get("shape")
     rh = ens["relative_humidity"]
     parts = []
+    model, material = c["risk"]["contact_model"], config_material(c["material"])
     for layer in layers:
-        kw = {}
+        kw = {"material": material}
+        if model != "modified_dmt":  # the default is not named: earlier ensembles keep resuming
+            kw["curves_kwargs"] = {"model": model}
         if ens["stream"]:
             kw["output"] = out / f"ensemble-{layer}"
             kw["overwrite"] = overwrite
@@ -277,7 +305,8 @@ def _run(args):
     # resumed when the parameters match and replaced otherwise
     check_scheduler(c["run"].get("scheduler"), where="[run] scheduler")  # before any work
     unfinished = run_status(out) == "running"
-    claim_folder(out, command="risk", params={k: v for k, v in c.items() if k not in ("output", "run", "path")},
+    claim_folder(out, command="risk", params={k: v for k, v in c.items() if k not in ("output", "run", "path")
+                                              and not (k == "material" and not v)},
                  overwrite=overwrite, keep=[cfg_path],
                  legacy_params={"config": cfg_path.read_text()})
     beam, lengths = _beam(c)
@@ -292,6 +321,7 @@ def _run(args):
     risk = rs.stiction_risk(g, length=lengths, beam=beam, levels=levels, confidence=r["confidence"],
                             interval=r["interval"], quantiles=r["quantiles"])
     risk["adhesive_energy"] = g
+    risk.attrs.update(material_attrs(config_material(c["material"])), contact_model=c["risk"]["contact_model"])
     for name in ("adsorbed_layer", "realization"):
         if name in risk.coords:
             risk[name].attrs = coord_attrs(name, risk[name]) if name in ATTRS else risk[name].attrs
@@ -300,14 +330,15 @@ def _run(args):
     files = [rs.io.netcdf.write(risk, out / "risk.nc", compute=True, overwrite=True)]
 
     if c["output"]["figures"]:
+        save = figure_options(args)
         _, fig = figures.stiction_probability(risk, level=0.5 if 0.5 in levels else None)
-        files.append(save_figure(fig, out / "stiction_probability.png", dpi=120))
+        files.append(save_figure(fig, out / "stiction_probability.png", **save))
         _, fig = figures.stiction_vs_length(risk)
-        files.append(save_figure(fig, out / "stiction_vs_length.png", dpi=120))
+        files.append(save_figure(fig, out / "stiction_vs_length.png", **save))
         _, fig = figures.fig20_adhesive_energy_bands(risk, measured=measured)
-        files.append(save_figure(fig, out / "adhesive_energy_bands.png", dpi=120))
+        files.append(save_figure(fig, out / "adhesive_energy_bands.png", **save))
         _, fig = figures.crack_length(risk, measured=measured)
-        files.append(save_figure(fig, out / "crack_length.png", dpi=120))
+        files.append(save_figure(fig, out / "crack_length.png", **save))
 
     n = risk.sizes.get("realization", g.sizes.get("realization"))
     LOG.info(f"from n = {n} surfaces per layer; [..] = {r['confidence']:.0%} interval")

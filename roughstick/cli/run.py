@@ -4,8 +4,9 @@ Writes, into the config's output folder: ``ensemble/`` (one CF NetCDF file per b
 ``manifest.json``; an interrupted run resumes from it), ``band.nc`` (median, 95 % band, each band
 edge's own confidence interval, the run's parameters and, for ``n = "auto"``, whether it
 converged), and unless ``figures = false`` ``curves.png``, ``energy_band.png``,
-``energy_ecdf.png``. Every file appears under its final name only once complete. The scheduler
-and the output folder are checked, and the folder claimed for this run, before any work.
+``energy_ecdf.png`` (or ``.pdf``/``.svg`` with ``--format``, at ``--dpi``). Every file appears
+under its final name only once complete. The scheduler and the output folder are checked, and
+the folder claimed for this run, before any work.
 """
 
 from __future__ import annotations
@@ -19,13 +20,22 @@ import numpy as np
 
 import roughstick as rs
 
+from .._core.materials import POLYSILICON, material_attrs
 from ..plotting.ensemble import (
     plot_energy_band,
     plot_energy_distribution,
     plot_ensemble_curves,
 )
-from ..plotting.save import save_figure
-from ._common import LOG, check_scheduler, claim_folder, finish_folder
+from ..plotting.save import DEFAULT_DPI, DEFAULT_FORMAT, save_figure
+from ._common import (
+    LOG,
+    add_figure_options,
+    check_scheduler,
+    claim_folder,
+    config_spellings,
+    figure_options,
+    finish_folder,
+)
 from ._config import load_config
 
 
@@ -45,7 +55,8 @@ def register(sub):
     p.add_argument("--overwrite", action="store_true",
                    help="replace a run with different parameters in the output folder")
     p.add_argument("--no-figures", action="store_true", help="write NetCDF only")
-    p.set_defaults(func=_run)
+    add_figure_options(p)
+    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="ensemble"))
 
 
 #: RunConfig fields that do not change the results (where and how they are computed).
@@ -53,12 +64,23 @@ _NOT_PARAMS = ("path", "folder", "overwrite", "scheduler", "connect_timeout", "p
 
 
 def run_params(cfg) -> dict:
-    """The parameters of a run that decide its results, as the output folder's marker records them."""
-    return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg) if f.name not in _NOT_PARAMS}
+    """The parameters of a run that decide its results, as the output folder's marker records them
+    (the contact model and material only when not the defaults, so earlier folders resume)."""
+    out = {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg) if f.name not in _NOT_PARAMS}
+    if out.get("contact_model") == "modified_dmt":
+        del out["contact_model"]
+    material = out.pop("material", POLYSILICON)
+    if material != POLYSILICON:
+        out["material"] = material_attrs(material)
+    return out
 
 
-def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] scheduler"):
+def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] scheduler",
+               figure_format=DEFAULT_FORMAT, dpi=DEFAULT_DPI):
     """Run a parsed :class:`roughstick.cli._config.RunConfig`; return the written paths.
+
+    Figures are saved as ``figure_format`` (png, pdf or svg) at ``dpi``
+    (:func:`roughstick.plotting.save_figure`).
 
     The output folder is claimed (:func:`roughstick.cli._common.claim_folder`) before any work,
     and marked complete once every file is written."""
@@ -76,7 +98,8 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
                                      lower=cfg.distance_lower)
     ens_dir = cfg.folder / "ensemble"
     log(f"{cfg.title}: n={cfg.n}, shape={shape}, spacing={cfg.spacing * 1e9:g} nm, "
-        f"RH={cfg.relative_humidity}, output {ens_dir}")
+        f"RH={cfg.relative_humidity}, contact model {cfg.contact_model}, material {cfg.material.name} "
+        f"(E = {cfg.material.youngs_modulus / 1e9:.4g} GPa, ν = {cfg.material.poisson_ratio:g}), output {ens_dir}")
     with warnings.catch_warnings():
         if said:  # already said above in the config's words, not once more from the generator
             warnings.simplefilter("ignore", rs.ExtrapolatedPSDWarning)
@@ -84,13 +107,17 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
             psd, n=cfg.n, shape=shape, spacing=cfg.spacing, relative_humidity=cfg.relative_humidity,
             seed=cfg.seed, chunks=cfg.chunks, distance=dist, adsorbed_layer=cfg.adsorbed_layer,
             output=ens_dir, overwrite=cfg.overwrite, scheduler=cfg.scheduler,
-            connect_timeout=cfg.connect_timeout, progress=cfg.progress, **cfg.auto,
+            connect_timeout=cfg.connect_timeout, progress=cfg.progress, material=cfg.material,
+            # the default model is not named: an ensemble stored before it could be keeps resuming
+            curves_kwargs={} if cfg.contact_model == "modified_dmt" else {"model": cfg.contact_model},
+            **cfg.auto,
         )
     ds = ds.load()
     written = [ens_dir]
     band = rs.confidence_band(ds)
     band.attrs["title"] = f"{cfg.title}: ensemble band"
     band.attrs["configuration"] = cfg.path.read_text()
+    band.attrs.update(material_attrs(cfg.material), contact_model=ds.attrs.get("contact_model", cfg.contact_model))
     path = cfg.folder / "band.nc"
     rs.io.netcdf.write(band, path, compute=True, overwrite=True)
     written.append(path)
@@ -101,13 +128,14 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
 
         fig = plot_ensemble_curves(ds)
         fig.suptitle(cfg.title)
-        written.append(save_figure(fig, cfg.folder / "curves.png"))
+        save = {"format": figure_format, "dpi": dpi}
+        written.append(save_figure(fig, cfg.folder / "curves.png", **save))
         ax = plot_energy_band(ds)
         ax.set_title(cfg.title)
-        written.append(save_figure(ax.figure, cfg.folder / "energy_band.png"))
+        written.append(save_figure(ax.figure, cfg.folder / "energy_band.png", **save))
         ax = plot_energy_distribution(ds)
         ax.set_title(cfg.title)
-        written.append(save_figure(ax.figure, cfg.folder / "energy_ecdf.png"))
+        written.append(save_figure(ax.figure, cfg.folder / "energy_ecdf.png", **save))
     log("apparent adhesive energy Γ:")
     for line in rs.band_summary(band, median_interval=True):
         log("  " + line)
@@ -142,8 +170,10 @@ def _run(args):
     if args.out is not None:
         overrides["folder"] = str(pathlib.Path(args.out).resolve())
     cfg = load_config(args.config, overrides=overrides)
+    opts = figure_options(args)
     files = run_config(cfg, figures=not args.no_figures,
-                       scheduler_from="--scheduler" if args.scheduler is not None else "[run] scheduler")
+                       scheduler_from="--scheduler" if args.scheduler is not None else "[run] scheduler",
+                       figure_format=opts["format"], dpi=opts["dpi"])
     for f in files:
         LOG.info(f"    {f}")
     return 0

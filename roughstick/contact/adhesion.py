@@ -14,6 +14,7 @@ import numpy as np
 import xarray as xr
 
 from .._core.conventions import append_history, set_attrs
+from .._core.remedy import spell
 from .._core.validate import check_core_not_chunked
 
 __all__ = ["CurveGridWarning", "adhesion_summary", "adhesion_summary_kernel", "adhesive_energy_kernel"]
@@ -125,7 +126,7 @@ def _grid_coverage_warning(p: xr.DataArray, d: np.ndarray, attrs: dict) -> None:
                 "no equilibrium: the surfaces collapse into full contact, which a very smooth or "
                 "flat map, a soft material or a very low humidity can cause; the model (rigid "
                 "asperities, Hertz per asperity) is outside its range there"
-                + (": use model='fft_bem'" if model in ("modified_dmt", "greenwood_williamson")
+                + (f": use {spell('contact_model', 'fft_bem')}" if model in ("modified_dmt", "greenwood_williamson")
                    else "") + "; widen the grid only to inspect the curve, e.g. " + lower))
     with np.errstate(invalid="ignore"):
         bad = (v[:, -1] > 0) & (~cross | (v[:, -1] > 1e-2 * scale)) & ~p_att

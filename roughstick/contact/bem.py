@@ -128,11 +128,12 @@ def _bem_kernel_unlocked(
     path,
     retries,
     stats,
-    on_point=None,
+    on_solve=None,
 ):
     """Curves of one map (numpy, SI in and out): arrays of shape (n_rh, n_distance).
 
-    ``on_point()`` is called after each (humidity, distance) point (progress)."""
+    ``on_solve()`` is called after each Tamaas solve, retries included (progress: the solves are
+    the cost; a state without contact costs a few FFTs)."""
     tm = _import_tamaas()
     L = _LENGTH_UNIT
     z = np.asarray(z, dtype=float)
@@ -223,6 +224,8 @@ def _bem_kernel_unlocked(
                     solver = _Solver(tm, zn, size, s0n, hn, tolerance, max_iterations)
                 t0 = time.perf_counter()
                 err, p, g = solver.solve(d - zbar)
+                if on_solve is not None:
+                    on_solve()
                 attempt = 0
                 while not (err <= 10 * tolerance) and attempt < retries and d < zmax:
                     # stalls happen now and then: retry from a fresh (cold) solver
@@ -230,6 +233,8 @@ def _bem_kernel_unlocked(
                     stats["retries"] += 1
                     trial = _Solver(tm, zn, size, s0n, hn, tolerance, max_iterations)
                     err2, p2, g2 = trial.solve(d - zbar)
+                    if on_solve is not None:
+                        on_solve()
                     if err2 < err or not np.isfinite(err):
                         err, p, g, solver = err2, p2, g2, trial
                 stats["solves"] += 1
@@ -261,8 +266,6 @@ def _bem_kernel_unlocked(
                     )
             for name, v in vals.items():
                 out_rh[ir][name][k] = v
-            if on_point is not None:
-                on_point()
     # a state where Tamaas stalled (residual above 10 x its tolerance after the retries) is not
     # a solution: it is interpolated between its humidity's solved neighbours, solved = 0 (one
     # such state, +131 MPa amid -7.7 MPa, took 69 % of Γ on a 64² Table-4 map at RH 0.05)
@@ -274,11 +277,13 @@ def _bem_kernel_unlocked(
 
 
 def _automatic_grids(height, rh_values, *, material, material2, adsorbed_layer, adhesion,
-                     n_distances) -> list[np.ndarray]:
+                     n_distances) -> tuple[list[np.ndarray], int]:
     """Per humidity, the distances [m] that fft_bem's automatic grid solves on this map: from a
     quarter step below the equilibrium, through the water range and on while a neck holds,
     refined around the pull-off (docs/fft_bem.md). A fixed span misses all of that on a rough,
-    stiff map at low humidity, where the water range is a fraction of a nanometre at max z."""
+    stiff map at low humidity, where the water range is a fraction of a nanometre at max z.
+    Also the number of those states in contact in fft_bem, the Tamaas solves to expect (states
+    above the highest summit held by a water neck included)."""
     counts = {} if n_distances is None else automatic_grid_counts(n_distances)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # about fft_bem's own values, not about its grid
@@ -286,7 +291,9 @@ def _automatic_grids(height, rh_values, *, material, material2, adsorbed_layer, 
                                    material2=material2, adsorbed_layer=adsorbed_layer,
                                    adhesion=adhesion, progress=False, **counts)
     solved = np.asarray(f["solved"].transpose("rh", "distance").values) > 0
-    return [f.distance.values[row] for row in solved]
+    touching = np.asarray(f["contact_fraction"].transpose("rh", "distance").values) > 0
+    below = f.distance.values < float(height.max())
+    return [f.distance.values[row] for row in solved], int(np.sum(solved & (touching | below)))
 
 
 @check_numbers(tolerance="positive", max_iterations="count", retries="count0",
@@ -362,10 +369,14 @@ def bem_contact_curves(
         ``False`` switches the capillary tension off (dry Hertz-type contact, used for
         validation); ``wet_fraction`` is then zero.
     progress : bool or None, default None
-        Before it starts, the run logs (logger ``roughstick``, INFO) its size and an estimate of
-        its time (:mod:`roughstick._core.progress`, within a factor ~3); runs estimated at 5 s or
-        more then show a progress bar (terminal; a widget in Jupyter with ipywidgets) or INFO
-        lines every 30 s (no terminal). ``True`` always shows it, ``False`` never.
+        Before it starts, the run logs (logger ``roughstick``, INFO) its size, the Tamaas solves
+        to expect (on the default grid: the states fft_bem found in contact, those above the
+        highest summit held by a water neck included) and an estimate of its time
+        (:mod:`roughstick._core.progress`, within a factor ~3); runs estimated at 5 s or more
+        then show their progress in solves, the cost, as a bar (terminal; a widget in Jupyter
+        with ipywidgets) or INFO lines every 30 s (no terminal), the time left at the measured
+        rate; a run measured outside a factor 3 of its estimate says so once, and shows its
+        progress from then on. ``True`` always shows it, ``False`` never.
 
     Returns
     -------
@@ -459,9 +470,9 @@ def bem_contact_curves(
     if distance is None:
         # per humidity, the grid fft_bem's automatic march solves for the same problem (cost:
         # see the docstring); its own message refuses stacks and dask maps
-        grids = _automatic_grids(height, rh_values, material=material, material2=material2,
-                                 adsorbed_layer=adsorbed_layer, adhesion=adhesion,
-                                 n_distances=n_distances)
+        grids, in_contact = _automatic_grids(height, rh_values, material=material, material2=material2,
+                                             adsorbed_layer=adsorbed_layer, adhesion=adhesion,
+                                             n_distances=n_distances)
         distance = np.concatenate(grids)
     dist = np.sort(np.unique(np.asarray(distance, dtype=float).ravel()))
     if dist.size < 2 or not np.all(np.isfinite(dist)):
@@ -499,7 +510,7 @@ def bem_contact_curves(
             path=path,
             retries=retries,
             stats=stats,
-            on_point=bar.update,
+            on_solve=bar.update,
         )
         return tuple(res[n] for n in names)
 
@@ -510,13 +521,19 @@ def bem_contact_curves(
     points = n_maps * sum(g.size for g in per_rh)
     below = n_maps * (sum(int(np.sum(g < float(height.max()))) for g in per_rh)
                       if height.chunks is None else len(rh_values) * dist.size)
+    if grids is not None:  # the states fft_bem found in contact: those above the summit included
+        below = max(below, in_contact)
     ny, nx = height.sizes["y"], height.sizes["x"]
+    # progress counts the solves (the cost), not the points: states without contact, marched
+    # after (retract) or before (approach) the solves, cost a few FFTs each; the time left is
+    # re-estimated from the measured seconds per solve
     bar = WorkProgress(
-        points,
+        below,
         what=(f"bem: {n_maps} map(s) of {ny} x {nx} pixels x {len(rh_values)} humidities x "
-              f"{dist.size} distances ({below} Tamaas solves)"),
+              f"{dist.size} distances ({points} points, {below} Tamaas solves)"),
         estimate=estimate_seconds("bem", (ny, nx), below),
         progress=progress,
+        unit="Tamaas solves",
     )
 
     log_level = tm.get_log_level()

@@ -17,12 +17,16 @@ It sits above the models and chooses between them; the models never import it:
 
 from __future__ import annotations
 
+import logging
+import threading
+
 import numpy as np
 import xarray as xr
 
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
+from .._core.progress import estimate_model_seconds, format_seconds
 from .._core.validate import (
     MIN_MAP_PIXELS,
     check_height_dtype,
@@ -110,7 +114,9 @@ def rough_contact_curves(
         grid when ``distance`` is None). ``"bem"``: the boundary-element reference
         :func:`roughstick.bem_contact_curves` (Tamaas extra). ``"auto"``: the cheapest model whose
         measured error bound at this surface's groups meets ``tolerance`` at every requested
-        humidity (:func:`roughstick.select_model`), recorded in ``attrs["model_selection"]``.
+        humidity (:func:`roughstick.select_model`), recorded in ``attrs["model_selection"]`` and
+        said before the work, with the chosen model's estimated time (logger ``roughstick``,
+        INFO).
     material, material2 : roughstick.Material
         The two bodies (``material2=None``: same as ``material``); poly-silicon by default.
     adsorbed_layer : {"paper", "none"} or callable
@@ -205,6 +211,7 @@ def rough_contact_curves(
         allowed = {"modified_dmt": (), "gw": _GW_KWARGS, "fft_bem": _FFT_BEM_KWARGS,
                    "bem": _BEM_KWARGS}[model]
         model_kwargs = {k: v for k, v in model_kwargs.items() if k in allowed}
+        _announce(model, reason, height, relative_humidity, distance, n_distance)
     allowed = {"modified_dmt": (), "gw": _GW_KWARGS, "fft_bem": _FFT_BEM_KWARGS,
                "bem": _BEM_KWARGS}[model]
     unexpected = sorted(set(model_kwargs) - set(allowed))
@@ -258,6 +265,21 @@ def rough_contact_curves(
         ds.attrs["model_selection"] = f"auto -> {model}: {reason}"
     return append_history(ds, f"rough_contact_curves(model={model!r})"
                               + (" chosen by model='auto'" if reason is not None else ""))
+
+
+def _announce(model, reason, height, relative_humidity, distance, n_distance) -> None:
+    """Say ``model="auto"``'s choice, why, and its estimated cost before the work starts (logger
+    ``roughstick``, INFO; DEBUG inside a task of a larger computation, which has its own)."""
+    lead = [d for d in height.dims if d not in ("y", "x")]
+    curves = int(np.prod([height.sizes[d] for d in lead])) * max(relative_humidity_values(relative_humidity).size, 1)
+    points = (np.size(distance) if distance is not None else
+              int(1.3 * n_distance) if n_distance is not None else 47)  # fft_bem's automatic grid
+    cost = estimate_model_seconds(model, (height.sizes["y"], height.sizes["x"]), curves, points)
+    main = threading.current_thread() is threading.main_thread()
+    logging.getLogger("roughstick").log(
+        logging.INFO if main else logging.DEBUG,
+        f"contact model auto -> {model} for {curves} curve(s) of {height.sizes['y']} x {height.sizes['x']} "
+        f"pixels, estimated {format_seconds(cost)} (within a factor ~3): {reason}")
 
 
 def _resolution_check(height, relative_humidity, adsorbed_layer) -> str:

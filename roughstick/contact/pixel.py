@@ -18,17 +18,21 @@ import warnings
 import numpy as np
 import xarray as xr
 
+from .._core.remedy import spell
 from .._core.validate import ValidityWarning, external_stacklevel
 from .meniscus import as_relative_humidity, water_height
 from .validity import _centred_moments_kernel, _maps, _neck_radius
 
-__all__ = ["RESOLVED_NECK_PIXELS", "PixelResolutionWarning", "warn_if_unresolved"]
+__all__ = ["RESOLVED_NECK_PIXELS", "FINE_PIXEL", "PixelResolutionWarning", "warn_if_unresolved"]
 
 #: Wetted-neck radius, in pixels, below which Γ depends on the pixel. Fixed on 76 maps (60
 #: untuned self-affine maps and the four families' 64² maps at four RH), checked on 60 more
 #: (docs/accuracy.md): of 75 maps whose fft_bem Γ moved by more than 10 % at half the pixel,
 #: 74 had a neck below 3 pixels.
 RESOLVED_NECK_PIXELS = 3.0
+#: About 1 nm: the pixel of the finest topography maps of such films. At or below it the warning
+#: does not ask for finer data but for the pixel's cost to be measured and quoted.
+FINE_PIXEL = 1.0e-9
 
 
 class PixelResolutionWarning(ValidityWarning):
@@ -42,9 +46,18 @@ def warn_if_unresolved(
     relative_humidity=None,
     adsorbed_layer="paper",
     groups: xr.Dataset | None = None,
+    spacing: float | None = None,
+    generated: bool | None = None,
     stacklevel: int | None = None,
 ) -> bool:
     """Warn (:class:`PixelResolutionWarning`) if the pixel does not resolve the water necks.
+
+    The warning names the remedy that exists for this surface, spelled where the user is
+    (:mod:`roughstick._core.remedy`): for generated surfaces a finer ``spacing`` (the value that
+    makes the neck span :data:`RESOLVED_NECK_PIXELS` pixels); for a measured map, or a pixel
+    already at or below :data:`FINE_PIXEL`, measuring what the pixel costs
+    (:func:`roughstick.resolution_study`, ``roughstick curves --resolution``) and quoting Γ with
+    that change, since finer data may not exist.
 
     Parameters
     ----------
@@ -58,6 +71,12 @@ def warn_if_unresolved(
     groups : xarray.Dataset, optional
         Groups with ``neck_pixels`` (:func:`roughstick.surface_groups`, or
         :func:`roughstick.expected_surface_groups` of an ensemble's PSD) instead of ``height``.
+    spacing : float, optional
+        Pixel size [m] of the surfaces ``groups`` describe (with ``height``: its own).
+    generated : bool, optional
+        Whether the surfaces are generated from a PSD (a finer ``spacing`` is then the remedy)
+        or measured. Default: True for ``groups``; for ``height``, True when its attributes are
+        those of :func:`roughstick.generate_surfaces` (``periodic = 1`` and a ``seed``).
     stacklevel : int, optional
         Default: the first frame outside roughstick (the user's line).
 
@@ -88,8 +107,12 @@ def warn_if_unresolved(
         hw = np.asarray(water_height(rh1, adsorbed_layer=adsorbed_layer).values, dtype=float)
         neck = xr.DataArray((_neck_radius(hw[None, :], m4[:, None]) / max(dx, dy)).reshape(
             *vals.shape[:-2], hw.size), dims=(*lead, "rh"), coords={"rh": rh1.values})
+        spacing = max(dx, dy)
+        if generated is None:
+            generated = int(height.attrs.get("periodic", 0)) == 1 and "seed" in height.attrs
     else:
         neck = groups["neck_pixels"]
+        generated = True if generated is None else generated
     if "rh" not in neck.dims:
         neck = neck.expand_dims(rh=[float(neck["rh"])] if "rh" in neck.coords else [np.nan])
     per_rh = neck.min([d for d in neck.dims if d != "rh"]) if neck.ndim > 1 else neck
@@ -101,15 +124,33 @@ def warn_if_unresolved(
     rh_list = ", ".join(f"{r:g}" for r in neck["rh"].values[low])
     maps = "" if neck.ndim == 1 else (
         f" (the worst of {int(np.prod([neck.sizes[d] for d in neck.dims if d != 'rh']))} maps)")
+    pixel = "" if spacing is None else f" ({spacing * 1e9:.3g} nm)"
     warnings.warn(
-        f"The pixel does not resolve the water necks at RH {rh_list}: the ring wetted around a "
-        f"typical summit spans {n:.1f} pixels at RH {float(neck['rh'][j]):g}{maps}, fewer than "
-        f"{RESOLVED_NECK_PIXELS:g}. There the pixel sets the adhesive energy as much as the model "
-        "does (on measured maps with such necks, Γ moved by more than 10 % at half the pixel on "
-        "most; docs/accuracy.md). Check it with roughstick.resolution_study(height, "
-        "relative_humidity=...) or `roughstick curves MAP --resolution`; the remedy is a map "
-        "with finer pixels (whose finer roughness is then checked anew).",
+        f"The pixel{pixel} does not resolve the water necks at RH {rh_list}: the ring wetted "
+        f"around a typical summit spans {n:.1f} pixels at RH {float(neck['rh'][j]):g}{maps}, fewer "
+        f"than {RESOLVED_NECK_PIXELS:g}. There the pixel sets the adhesive energy as much as the "
+        "model does (on measured maps with such necks, Γ moved by more than 10 % at half the "
+        "pixel on most; docs/accuracy.md)." + _remedy(n, spacing, generated),
         PixelResolutionWarning,
         stacklevel=external_stacklevel() if stacklevel is None else stacklevel,
     )
     return True
+
+
+def _remedy(neck_pixels: float, spacing: float | None, generated: bool) -> str:
+    """What to do, in the user's spelling: a finer spacing where one can be had (generated
+    surfaces above :data:`FINE_PIXEL`), otherwise what the pixel costs, measured."""
+    fine = spacing is not None and spacing <= FINE_PIXEL * (1 + 1e-6)  # coordinates' rounding
+    if generated and spacing is not None and not fine:
+        need = neck_pixels * spacing / RESOLVED_NECK_PIXELS
+        return (f" The remedy is a finer pixel for the generated surfaces: {spell('spacing', need)} "
+                f"or finer (the neck then spans {RESOLVED_NECK_PIXELS:g} pixels; "
+                f"{(spacing / need) ** 2:.1f} x the pixels to compute). What the present pixel "
+                f"costs: {spell('resolution')}.")
+    if fine:
+        return (f" A pixel of {spacing * 1e9:.2g} nm is already about as fine as topography maps "
+                "come, so finer data are not to be had: measure what the pixel costs here with "
+                f"{spell('resolution')}, and quote Γ with the change it reports.")
+    return (f" Measure what the pixel costs here with {spell('resolution')}: where Γ moves more "
+            "than you can accept, a scan with finer pixels is the remedy (its finer roughness is "
+            "then checked anew); where none can be made, quote Γ with the change it reports.")

@@ -28,6 +28,7 @@ from .._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, hertz_modulus, reduced_modulus
 from .._core.references import PAPER, cite
+from .._core.remedy import spell
 from .._core.validate import (
     MIN_MAP_PIXELS,
     ValidityWarning,
@@ -346,8 +347,8 @@ def _warn_if_not_hard(ds, height, e_star):
         f"{e_star / 1e9:.3g} GPa; pressure ratio |ΔP|/(E*·slope) = {ratio:.3g}, poly-silicon on the "
         "paper's surfaces <= 0.06) and pulls the flat into the roughness: the body is too soft "
         "for the model, whose Γ and pull-off then exceed the boundary-element model's by 1.7× "
-        "to 10^5× (measured). Remedy: rough_contact_curves(height, ..., model='fft_bem') (or "
-        "model='auto'); on the command line: roughstick curves MAP --model fft_bem.",
+        f"to 10^5× (measured). Remedy: {spell('contact_model', 'fft_bem')} (or "
+        f"{spell('contact_model', 'auto')}).",
         ValidityWarning,
         stacklevel=external_stacklevel(),
     )

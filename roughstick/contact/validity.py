@@ -39,6 +39,7 @@ import xarray as xr
 
 from .._core.arguments import check_numbers
 from .._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.remedy import spell
 from .._core.validate import (
     MIN_MAP_PIXELS,
     ValidityWarning,
@@ -600,10 +601,12 @@ def warn_if_outside_validity(
     ``groups`` (e.g. :func:`expected_surface_groups` of an ensemble's PSD) replaces the groups of
     ``height``, which may then be None.
 
-    The warning names the remedy that exists: ``rough_contact_curves(..., model="auto",
-    tolerance=...)`` (or ``model="fft_bem"``) and the CLI flags ``roughstick curves --model auto
-    --tolerance ...``; it points at the first frame outside roughstick (and outside dask/xarray),
-    i.e. the user's line. Python's default filter shows it once per line and message.
+    The warning names the remedy that exists, ``model="auto"`` with the tolerance, spelled where
+    the user is (:mod:`roughstick._core.remedy`: the argument of the function called from
+    Python, ``--model auto --tolerance ...`` in ``roughstick curves``, the ``contact_model``
+    key of a configuration file); it points at the first frame outside roughstick (and outside
+    dask/xarray), i.e. the user's line. Python's default filter shows it once per line and
+    message.
 
     Returns
     -------
@@ -631,10 +634,9 @@ def warn_if_outside_validity(
             break
     warnings.warn(
         f"{model} may be off by {bound} (> tolerance {tolerance:.0%}) on the {quantity} of this "
-        f"surface at RH {r:.2f}: {b.reason}. Remedy: rough_contact_curves(..., model='auto', "
-        f"tolerance={tolerance:g}) picks the cheapest model measured within the tolerance (here "
-        f"model={better!r}); on the command line: roughstick curves MAP --rh ... --model auto "
-        f"--tolerance {tolerance:g}. See docs/accuracy.md.",
+        f"surface at RH {r:.2f}: {b.reason}. Remedy: {spell('contact_model', 'auto', tolerance=tolerance)} "
+        f"picks the cheapest model measured within the tolerance (here {spell('contact_model', better)}). "
+        "See docs/accuracy.md.",
         ValidityWarning,
         stacklevel=external_stacklevel() if stacklevel is None else stacklevel,
     )

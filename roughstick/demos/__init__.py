@@ -1,9 +1,10 @@
 """Steps of ``roughstick demo``: each module ``sNN_<name>.py`` defines
 
-``run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]``
+``run(out: pathlib.Path, *, quick: bool, figure_format: str = "png", dpi: int = 200) -> list[pathlib.Path]``
 
-which computes on the bundled samples (:mod:`roughstick.datasets`), writes NetCDF and PNG files into
-``out`` and returns their paths. Steps run in the order of their names.
+which computes on the bundled samples (:mod:`roughstick.datasets`), writes NetCDF files and figures
+(PNG, PDF or SVG at ``dpi``, :func:`roughstick.plotting.save_figure`) into ``out`` and returns their
+paths. Steps run in the order of their names.
 """
 
 from __future__ import annotations

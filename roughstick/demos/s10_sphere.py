@@ -16,11 +16,13 @@ import pathlib
 from ..io.netcdf import write, write_text_atomic
 from ..paper import sphere as figures
 from ..paper.sphere import curves, table1  # noqa: F401  (kept importable from the demo step)
-from ..plotting.save import save_figure
+from ..plotting.save import DEFAULT_DPI, save_figure
 
 
-def run(out, *, quick: bool = False) -> list[pathlib.Path]:
-    """Write Fig. 1b, Fig. 3, the curves and Table 1 into ``out``; return the file paths."""
+def run(out, *, quick: bool = False, figure_format: str = "png",
+        dpi: int = DEFAULT_DPI) -> list[pathlib.Path]:
+    """Write Fig. 1b, Fig. 3 (as ``figure_format`` at ``dpi``), the curves and Table 1 into
+    ``out``; return the file paths."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -29,10 +31,12 @@ def run(out, *, quick: bool = False) -> list[pathlib.Path]:
     out.mkdir(parents=True, exist_ok=True)
     files = []
     _, fig = figures.fig1b_meniscus(n=46 if quick else 181)
-    files.append(save_figure(fig, out / "fig1b_meniscus.png", dpi=120, bbox_inches="tight"))
+    files.append(save_figure(fig, out / "fig1b_meniscus.png", format=figure_format, dpi=dpi,
+                             bbox_inches="tight"))
     ds, fig = figures.fig3_sphere_models(n=401 if quick else 1401)
     files.append(write(ds, out / "sphere_curves.nc", compute=True, overwrite=True))
-    files.append(save_figure(fig, out / "fig3_sphere_models.png", dpi=120, bbox_inches="tight"))
+    files.append(save_figure(fig, out / "fig3_sphere_models.png", format=figure_format, dpi=dpi,
+                             bbox_inches="tight"))
     t1 = figures.table1()
     files.append(write(t1, out / "table1.nc", compute=True, overwrite=True))
     p = out / "table1.csv"

@@ -26,7 +26,7 @@ from ..io import netcdf
 from ..io.netcdf import write_text_atomic
 from ..paper import topography as figures
 from ..paper.topography import QMAX_PAPER
-from ..plotting.save import save_figure
+from ..plotting.save import DEFAULT_DPI, save_figure
 
 
 def _maps(sample: str, quick: bool) -> xr.DataArray:
@@ -55,7 +55,8 @@ def _write_csv(path, rows):
         w.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in r.items()})
     write_text_atomic(path, f.getvalue())
 
-def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
+def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
+        dpi: int = DEFAULT_DPI) -> list[pathlib.Path]:
     """Compute the statistics and PSD figures; return the files written."""
     out = pathlib.Path(out)
     written = []
@@ -93,7 +94,7 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
 
     # Fig. 12: the three schemes for S1, scheme 3 for S2
     _, fig = figures.fig12_psd_schemes(schemes)
-    written.append(save_figure(fig, out / "fig12_psd_schemes.png"))
+    written.append(save_figure(fig, out / "fig12_psd_schemes.png", format=figure_format, dpi=dpi))
 
     # Table 4 -> Eq. 37 (both densities), Fig. 19
     fits = figures.table4_self_affine()
@@ -110,5 +111,5 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     written.append(t4)
     _, fig = figures.fig19_self_affine_psd(
         fits, measured={f"{s} (scheme 3)": schemes[s][16] for s in ("S1", "S2")})
-    written.append(save_figure(fig, out / "fig19_self_affine_psd.png"))
+    written.append(save_figure(fig, out / "fig19_self_affine_psd.png", format=figure_format, dpi=dpi))
     return written

@@ -23,7 +23,7 @@ import roughstick as rs
 
 from ..io import netcdf
 from ..paper import rough_contact as figures
-from ..plotting.save import save_figure
+from ..plotting.save import DEFAULT_DPI, save_figure
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 LOG = logging.getLogger("roughstick")
@@ -35,7 +35,8 @@ def _maps(quick: bool) -> dict:
     return {k: (v.isel(x=slice(0, n), y=slice(0, n)) if n else v) for k, v in maps.items()}
 
 
-def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
+def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
+        dpi: int = DEFAULT_DPI) -> list[pathlib.Path]:
     out = pathlib.Path(out)
     maps = _maps(quick)
     # the figures show the paper's model (Eq. 16) on purpose: where its measured error bound exceeds
@@ -57,11 +58,11 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
     written = []
     first = next(iter(curves))
     _, fig = figures.fig08_rough_curves(curves[first], name=first, relative_humidity=RH)
-    written.append(save_figure(fig, out / "fig08_rough_curves.png"))
+    written.append(save_figure(fig, out / "fig08_rough_curves.png", format=figure_format, dpi=dpi))
     _, fig = figures.fig10_mdmt_vs_gw(maps, curves, relative_humidity=RH)
-    written.append(save_figure(fig, out / "fig10_mdmt_vs_gw.png"))
+    written.append(save_figure(fig, out / "fig10_mdmt_vs_gw.png", format=figure_format, dpi=dpi))
     _, fig = figures.fig11_adhesion_vs_rh(summaries)
-    written.append(save_figure(fig, out / "fig11_adhesion_vs_rh.png"))
+    written.append(save_figure(fig, out / "fig11_adhesion_vs_rh.png", format=figure_format, dpi=dpi))
 
     ds = figures.curves_by_map(curves, summaries)
     ds.attrs = rs.conventions.dataset_attrs(

@@ -17,13 +17,14 @@ import warnings
 import roughstick as rs
 
 from ..paper import ensemble as figures
-from ..plotting.save import save_figure
+from ..plotting.save import DEFAULT_DPI, save_figure
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 LOG = logging.getLogger("roughstick")
 
 
-def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
+def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
+        dpi: int = DEFAULT_DPI) -> list[pathlib.Path]:
     out = pathlib.Path(out)
     n, shape = (16, 256) if quick else (48, 512)
     psd = rs.datasets.sample_psd("S1")
@@ -46,11 +47,11 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
         LOG.info("      " + line)
     _, fig = figures.fig14_ensemble_curves(
         ds, title=f"S1 PSD, {n} surfaces of {shape * 5e-3:.2f} µm (Fig. 14 at demo scale)")
-    files.append(save_figure(fig, out / "fig14_ensemble_curves.png"))
+    files.append(save_figure(fig, out / "fig14_ensemble_curves.png", format=figure_format, dpi=dpi))
     _, fig = figures.fig16_energy_bands({"S1": ds}, title="Γ vs RH (Fig. 16)",
                                         labels={"S1": f"{shape * 5e-3:.2f} µm"})
-    files.append(save_figure(fig, out / "fig16_energy_band.png"))
+    files.append(save_figure(fig, out / "fig16_energy_band.png", format=figure_format, dpi=dpi))
     _, fig = figures.fig17_energy_distributions(ds, rh_panels=[(0.3, 0.7, 0.9)],
                                                 title="distribution of Γ (Fig. 17)")
-    files.append(save_figure(fig, out / "fig17_energy_ecdf.png"))
+    files.append(save_figure(fig, out / "fig17_energy_ecdf.png", format=figure_format, dpi=dpi))
     return files

@@ -29,7 +29,7 @@ import roughstick as rs
 
 from ..io.netcdf import write_text_atomic
 from ..paper import cantilever as figures
-from ..plotting.save import save_figure
+from ..plotting.save import DEFAULT_DPI, save_figure
 
 LENGTHS = [250e-6, 300e-6, 350e-6, 400e-6, 500e-6, 1500e-6]
 PRINTED = {"q0": 19.4e6, "s0": 6.46e3 * 1e-36, "s1": 6.29e-3 * 1e-36}
@@ -53,7 +53,8 @@ def _table4(out: pathlib.Path) -> pathlib.Path:
     return path
 
 
-def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
+def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
+        dpi: int = DEFAULT_DPI) -> list[pathlib.Path]:
     out = pathlib.Path(out)
     files = [_table4(out)]
     shape, n = ((64, 512), 8) if quick else ((128, 1500), 20)
@@ -73,11 +74,11 @@ def run(out: pathlib.Path, *, quick: bool) -> list[pathlib.Path]:
 
     _, fig = figures.fig20_adhesive_energy_bands(risk)
     fig.suptitle(f"predicted Γ, {n} surfaces of {shape[0]} x {shape[1]} px (demo size)")
-    files.append(_save(fig, out / "fig20_adhesive_energy_bands.png"))
+    files.append(save_figure(fig, out / "fig20_adhesive_energy_bands.png", format=figure_format, dpi=dpi))
     _, fig = figures.stiction_probability(risk, level=0.5, lengths=[300e-6, 400e-6, 500e-6, 1500e-6])
-    files.append(_save(fig, out / "stiction_probability.png"))
+    files.append(save_figure(fig, out / "stiction_probability.png", format=figure_format, dpi=dpi))
     _, fig = figures.crack_length(risk)
-    files.append(_save(fig, out / "crack_length.png"))
+    files.append(save_figure(fig, out / "crack_length.png", format=figure_format, dpi=dpi))
     sel = {"probability_level": 0.5, "adsorbed_layer": "paper"}
     crossing = risk.crossing_humidity.sel(sel)
     lower, upper = risk.crossing_humidity_lower.sel(sel), risk.crossing_humidity_upper.sel(sel)
@@ -95,7 +96,3 @@ LOG = logging.getLogger("roughstick")
 def _pct(v):
     v = float(v)
     return "n/a" if np.isnan(v) else "<min RH" if v == -np.inf else ">max RH" if v == np.inf else f"{v * 100:.0f} %"
-
-
-def _save(fig, path):
-    return save_figure(fig, path)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import json
+import logging
 import math
 import pathlib
 import time
@@ -26,6 +27,8 @@ from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, append_history
 from .._core.dask import as_seed_sequence
 from .._core.materials import POLYSILICON
+from .._core.progress import estimate_model_seconds, format_seconds
+from .._core.remedy import argument, spelled
 from .._core.validate import distance_array, relative_humidity_array
 from ..contact.adhesion import adhesion_summary
 from ..contact.curves import CONTACT_MODELS, rough_contact_curves
@@ -88,13 +91,30 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
             f"auto -> {model} for every realization, chosen once for the ensemble from the "
             f"surface groups expected from the PSD at shape {tuple(shape)} "
             f"(roughstick.expected_surface_groups), not per map: {reason}")
-    elif warn and model != "bem":
-        warn_if_outside_validity(None, relative_humidity=rh, model=model, tolerance=tolerance,
-                                 quantity=quantity, material=material,
-                                 adsorbed_layer=adsorbed_layer, groups=groups)
-    if warn and model != "gw":  # the pixel models: does the pixel resolve the water necks?
-        warn_if_unresolved(groups=groups)
+        # said before any surface is computed, with what one surface will cost
+        logging.getLogger("roughstick").info(
+            f"{selection.split(': ', 1)[0]}: estimated "
+            f"{format_seconds(estimate_model_seconds(model, shape, len(rh)))} per surface "
+            f"(within a factor ~3); {reason}")
+    with spelled(**PYTHON_SPELLING):  # the remedies named in run_ensemble's arguments
+        if selection is None and warn and model != "bem":  # "auto"'s choice meets the tolerance
+            warn_if_outside_validity(None, relative_humidity=rh, model=model, tolerance=tolerance,
+                                     quantity=quantity, material=material,
+                                     adsorbed_layer=adsorbed_layer, groups=groups)
+        if warn and model != "gw":  # the pixel models: does the pixel resolve the water necks?
+            warn_if_unresolved(groups=groups, spacing=spacing)
     return model, selection
+
+
+#: How run_ensemble's warnings spell their remedies (:mod:`roughstick._core.remedy`).
+PYTHON_SPELLING = {
+    "contact_model": lambda v, tolerance=None, **kw: (
+        "curves_kwargs={" + f"'model': {v!r}" + ("" if tolerance is None else f", 'tolerance': {tolerance!r}")
+        + "}"),
+    "spacing": argument("spacing", fmt=lambda v: f"{v:.2g}"),
+    "resolution": lambda v=None, **kw: ("roughstick.resolution_study(psd=psd, shape=shape, spacing=spacing, "
+                                        "relative_humidity=...) (a generated surface at half and twice the pixel)"),
+}
 
 
 @check_numbers(seed="seed", connect_timeout="nonnegative", batch="count", tolerance="positive",

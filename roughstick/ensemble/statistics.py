@@ -375,13 +375,16 @@ def _fmt(v: float, fmt: str) -> str:
 @check_numbers(scale="positive")
 def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: float = 1e3,
                  units: str = "mJ/m²", fmt: str = ".4g", median_interval: bool = False) -> list[str]:
-    """One line per humidity: median, band and each band edge's own confidence interval.
+    """One line per humidity: median, band and each band edge's own confidence interval; then
+    one footnote per reason a value could not be bounded.
 
     With ``median_interval`` the median carries its own interval too, "(95% CI of the median
-    [a, b])", or "(n too small to bound the median: needs n >= 6)" (``roughstick run`` prints it).
+    [a, b])", or "(95% CI of the median: not bounded [2])" (``roughstick run`` prints it).
 
-    An edge that the sample cannot bound reads "n too small to bound this edge (needs n >= N)"
-    instead of a number, so a band from a few surfaces is never shown as if it were reliable.
+    An edge that the sample cannot bound reads "not bounded [1]" instead of a number, so a band
+    from a few surfaces is never shown as if it were reliable; the footnote after the lines says
+    why once for the whole block: "[1] n too small to bound a band edge (needs n >= N
+    realizations)".
     ``n`` is the number of members used at that humidity (``variable_n_samples``: NaN members
     are not counted; the fewest over any other dims).
     ``band`` is a :func:`confidence_band` result over ``(quantile, rh)``; values are multiplied by
@@ -389,11 +392,13 @@ def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: 
 
     Examples
     --------
-    >>> x = xr.DataArray(np.arange(20.0)[:, None] * [1.0], dims=("realization", "rh"),
-    ...                  coords={"rh": [0.5]}, name="g", attrs={"units": "J m-2", "long_name": "g"})
-    >>> print(rs.band_summary(rs.confidence_band(x), "g", scale=1, units="J/m²")[0])  # doctest: +NORMALIZE_WHITESPACE
-    RH 50%: median 9.5 J/m², 95% band [0.475, 18.52] from n = 20; 95% CI of the lower edge: n too small
-    to bound this edge (needs n >= 146), of the upper edge: n too small to bound this edge (needs n >= 146)
+    >>> x = xr.DataArray(np.arange(20.0)[:, None] * [1.0, 2.0], dims=("realization", "rh"),
+    ...                  coords={"rh": [0.5, 0.9]}, name="g", attrs={"units": "J m-2", "long_name": "g"})
+    >>> for line in rs.band_summary(rs.confidence_band(x), "g", scale=1, units="J/m²"):
+    ...     print(line)
+    RH 50%: median 9.5 J/m², 95% band [0.475, 18.52] from n = 20; 95% CI of the edges: not bounded [1]
+    RH 90%: median 19 J/m², 95% band [0.95, 37.05] from n = 20; 95% CI of the edges: not bounded [1]
+    [1] n too small to bound a band edge (needs n >= 146 realizations)
     """
     level, conf = float(band.attrs["level"]), float(band.attrs.get("confidence", 0.95))
     n = int(band.attrs.get("n_samples", band.attrs.get("n_members", 0)))
@@ -404,6 +409,11 @@ def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: 
     if has_ci:
         lo = band[f"{variable}_ci_lower"].transpose("quantile", ...).values * scale
         hi = band[f"{variable}_ci_upper"].transpose("quantile", ...).values * scale
+    notes: dict[str, str] = {}  # footnote text -> its marker, numbered as they first appear
+
+    def unbounded(why: str) -> str:
+        return "not bounded " + notes.setdefault(why, f"[{len(notes) + 1}]")
+
     rhs = band["rh"].values if "rh" in band[variable].dims else [None]
     lines = []
     for k, r in enumerate(rhs):
@@ -416,22 +426,26 @@ def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: 
         if median_interval and has_ci:
             a, b = lo[col][1], hi[col][1]
             med = (f" ({conf:.0%} CI of the median [{_fmt(a, fmt)}, {_fmt(b, fmt)}])" if np.isfinite(a) and np.isfinite(b)
-                   else f" (n too small to bound the median: needs n >= {min_samples_to_bound(0.5, confidence=conf)})")
+                   else f" ({conf:.0%} CI of the median: " + unbounded(
+                       f"n too small to bound the median (needs n >= {min_samples_to_bound(0.5, confidence=conf)} "
+                       "realizations)") + ")")
         head = (f"RH {r:.0%}: " if r is not None else "") + (
             f"median {_fmt(qq[1], fmt)} {units}{med}, {level:.0%} band [{_fmt(qq[0], fmt)}, "
             f"{_fmt(qq[2], fmt)}] from n = {n}")
         if not has_ci:
             lines.append(head + "; the band's own uncertainty was not computed")
             continue
+        edge_note = f"n too small to bound a band edge (needs n >= {need} realizations)"
+        bounded = [np.isfinite(lo[col][j]) and np.isfinite(hi[col][j]) for j in (0, 2)]
+        if not any(bounded):
+            lines.append(head + f"; {conf:.0%} CI of the edges: " + unbounded(edge_note))
+            continue
         parts = []
-        for j, side in ((0, "lower"), (2, "upper")):
-            a, b = lo[col][j], hi[col][j]
-            if np.isfinite(a) and np.isfinite(b):
-                parts.append(f"of the {side} edge [{_fmt(a, fmt)}, {_fmt(b, fmt)}]")
-            else:
-                parts.append(f"of the {side} edge: n too small to bound this edge (needs n >= {need})")
+        for j, side, ok in ((0, "lower", bounded[0]), (2, "upper", bounded[1])):
+            parts.append(f"of the {side} edge [{_fmt(lo[col][j], fmt)}, {_fmt(hi[col][j], fmt)}]" if ok
+                         else f"of the {side} edge: " + unbounded(edge_note))
         lines.append(head + f"; {conf:.0%} CI " + ", ".join(parts))
-    return lines
+    return lines + [f"{marker} {why}" for why, marker in notes.items()]
 
 
 # ----------------------------------------------------------------------------- proportions

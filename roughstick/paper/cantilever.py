@@ -19,7 +19,7 @@ def _layers(risk):
 def _panels(n, **kw):
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, n, figsize=(5.5 * n, 4), layout="constrained", squeeze=False, **kw)
+    fig, axes = plt.subplots(1, n, figsize=(6.8 * n, 4), layout="constrained", squeeze=False, **kw)
     return fig, axes[0]
 
 

@@ -57,7 +57,7 @@ def fig14_ensemble_curves(ens: xr.Dataset, *, title: str | None = None):
 
 
 def fig16_energy_bands(ensembles: dict, *, title: str = "Fig. 16", labels: dict | None = None):
-    """Fig. 16: apparent adhesive energy Γ versus RH, mean and 95 % band, one panel per entry.
+    """Fig. 16: apparent adhesive energy Γ versus RH, median and 95 % band, one panel per entry.
 
     Parameters
     ----------
@@ -75,7 +75,7 @@ def fig16_energy_bands(ensembles: dict, *, title: str = "Fig. 16", labels: dict 
         The bands of Γ (dim ``sample`` when more than one entry) with their own intervals.
     """
     plt = _plt()
-    fig, axes = plt.subplots(1, len(ensembles), figsize=(5 * len(ensembles), 3.8),
+    fig, axes = plt.subplots(1, len(ensembles), figsize=(6.2 * len(ensembles), 3.8),
                              constrained_layout=True, squeeze=False)
     bands = []
     for ax, (name, ens) in zip(axes[0], ensembles.items(), strict=True):
@@ -104,7 +104,7 @@ def fig17_energy_distributions(ens: xr.Dataset, *, rh_panels=((0.3, 0.7, 0.9),),
         ``cumulative_probability`` of Γ per humidity (:func:`roughstick.ensemble_ecdf`) and the figure.
     """
     plt = _plt()
-    fig, axes = plt.subplots(1, len(rh_panels), figsize=(5.5 * len(rh_panels), 4),
+    fig, axes = plt.subplots(1, len(rh_panels), figsize=(6.8 * len(rh_panels), 4),
                              constrained_layout=True, squeeze=False)
     for ax, rhs in zip(axes[0], rh_panels, strict=True):
         plot_energy_distribution(ens, rh=list(rhs), ax=ax)

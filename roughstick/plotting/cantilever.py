@@ -11,6 +11,7 @@ import numpy as np
 import xarray as xr
 
 from ..stiction.risk import crossing_humidity
+from ._legend import legend_beside
 
 __all__ = [
     "plot_stiction_probability",
@@ -28,7 +29,7 @@ def _axes(ax):
     import matplotlib.pyplot as plt
 
     if ax is None:
-        _, ax = plt.subplots(figsize=(6, 4), layout="constrained")
+        _, ax = plt.subplots(figsize=(7.2, 4), layout="constrained")
     return ax
 
 
@@ -98,12 +99,16 @@ def plot_stiction_probability(risk: xr.Dataset, *, ax=None, level=None, layer=No
     conf = ds.attrs.get("confidence_level", 0.95)
     ax.set(xlabel="relative humidity [%]", ylabel="P(beam stays stuck)", ylim=(-0.02, 1.02),
            title=f"stiction probability (bands: {conf:.0%} Monte-Carlo interval)")
-    ax.legend(fontsize="small")
+    legend_beside(ax, fontsize="small")
     return ax
 
 
 def plot_stiction_vs_length(risk: xr.Dataset, *, rh=None, ax=None, layer=None):
     """Stiction probability versus beam length at a few humidities, with its interval.
+
+    A marker (with its interval as an error bar) at each computed length; lines join neighbouring
+    lengths only, never across a gap in the computed lengths (a step more than twice the step
+    beside it), where nothing was computed.
 
     Parameters
     ----------
@@ -127,16 +132,47 @@ def plot_stiction_vs_length(risk: xr.Dataset, *, rh=None, ax=None, layer=None):
         ds = ds.expand_dims(rh=[np.nan])
     if rh is not None:
         ds = ds.sel(rh=list(np.atleast_1d(rh)), method="nearest")
+    ds = ds.sortby("beam_length")
     length = ds.beam_length.values * _UM
+    runs = _contiguous_runs(length)
     for r in ds.rh.values:
         d = ds.sel(rh=r).transpose("beam_length", ...)
-        (line,) = ax.plot(length, d.stiction_probability, marker="o", ms=3, label=f"RH {r * 100:.0f} %")
+        p = np.asarray(d.stiction_probability, float)
+        color = None
+        for k, run in enumerate(runs):
+            (line,) = ax.plot(length[run], p[run], marker="o", ms=4, color=color,
+                              label=f"RH {r * 100:.0f} %" if k == 0 else None)
+            color = line.get_color()
         if "stiction_probability_lower" in d:
-            ax.fill_between(length, d.stiction_probability_lower, d.stiction_probability_upper,
-                            color=line.get_color(), alpha=0.2, lw=0)
+            lo, hi = np.asarray(d.stiction_probability_lower, float), np.asarray(d.stiction_probability_upper, float)
+            ax.errorbar(length, p, yerr=np.vstack([np.clip(p - lo, 0, None), np.clip(hi - p, 0, None)]),
+                        fmt="none", ecolor=color, elinewidth=0.8, capsize=2, alpha=0.7)
     ax.set(xlabel="beam length [µm]", ylabel="P(beam stays stuck)", ylim=(-0.02, 1.02))
-    ax.legend(fontsize="small")
+    legend_beside(ax, fontsize="small")
     return ax
+
+
+def _contiguous_runs(x) -> list[slice]:
+    """Split sorted positions ``x`` into runs of neighbours: a step more than twice as long as the
+    step before or after it is a gap in the computed grid (a line drawn across it would show
+    values nothing computed).
+
+    Examples
+    --------
+    >>> _contiguous_runs([250, 300, 350, 400, 500, 1500])
+    [slice(0, 5, None), slice(5, 6, None)]
+    >>> _contiguous_runs([100, 200, 400, 800])  # a geometric grid has no gap
+    [slice(0, 4, None)]
+    """
+    x = np.asarray(x, dtype=float)
+    if x.size < 3:
+        return [slice(0, x.size)]
+    step = np.diff(x)
+    before = np.r_[np.inf, step[:-1]]
+    after = np.r_[step[1:], np.inf]
+    gaps = np.flatnonzero(step > 2 * np.minimum(before, after))
+    edges = [0, *(gaps + 1).tolist(), x.size]
+    return [slice(a, b) for a, b in zip(edges[:-1], edges[1:], strict=True)]
 
 
 def _band(ds, var, scale):
@@ -196,7 +232,7 @@ def plot_adhesive_energy_band(risk: xr.Dataset, *, measured=None, ax=None, layer
                 label=m.attrs.get("label", "measured"))
     ax.set_yscale("log")
     ax.set(xlabel="relative humidity [%]", ylabel="apparent adhesive energy Γ [mJ m⁻²]")
-    ax.legend(fontsize="small")
+    legend_beside(ax, fontsize="small")
     return ax
 
 
@@ -244,8 +280,8 @@ def plot_crack_length_band(risk: xr.Dataset, *, measured=None, ax=None, layer=No
 
         on_right = mtransforms.blended_transform_factory(ax.transAxes, ax.transData)
         lengths = np.sort(ds.beam_length.values * _UM)
-        for k, bl in enumerate(lengths):
-            ax.axhline(bl, ls="--", lw=0.8, color="0.4", label="beam lengths l" if k == 0 else None)
+        for bl in lengths:
+            ax.axhline(bl, ls="--", lw=0.8, color="0.4", label="beam lengths l")  # one legend entry
         # one label per group of lines closer than 6 % of the axis height (no overprinting)
         y0, y1 = ax.get_ylim()
         groups = [[lengths[0]]]
@@ -262,7 +298,7 @@ def plot_crack_length_band(risk: xr.Dataset, *, measured=None, ax=None, layer=No
                 label=m.attrs.get("label", "measured"))
     ax.set(xlabel="relative humidity [%]", ylabel="crack length s [µm]",
            title="beams longer than s stay stuck")
-    ax.legend(fontsize="small")
+    legend_beside(ax, fontsize="small")
     return ax
 
 
@@ -286,7 +322,7 @@ def plot_cantilever_comparison(risk: xr.Dataset, *, measured=None, axes=None):
 
     layers = list(risk.adsorbed_layer.values) if "adsorbed_layer" in risk.dims else [None]
     if axes is None:
-        fig, axes = plt.subplots(1, len(layers), figsize=(5.5 * len(layers), 4), sharey=True,
+        fig, axes = plt.subplots(1, len(layers), figsize=(6.8 * len(layers), 4), sharey=True,
                                  layout="constrained", squeeze=False)
         axes = axes[0]
     else:

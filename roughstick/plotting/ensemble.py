@@ -11,6 +11,7 @@ import numpy as np
 
 from ..ensemble.distributions import ensemble_ecdf, ensemble_histogram
 from ..ensemble.statistics import confidence_band
+from ._legend import legend_beside
 
 __all__ = ["plot_ensemble_curves", "plot_energy_band", "plot_energy_distribution"]
 
@@ -81,9 +82,13 @@ def plot_ensemble_curves(ds, *, rh=None, max_curves: int = 200, level: float = 0
 
 
 def plot_energy_band(ds, *, level: float = 0.95, ax=None, label: str | None = None):
-    """Apparent adhesive energy Γ (Eq. 13) versus RH: mean, ``level`` band and the band's uncertainty (Fig. 16).
+    """Apparent adhesive energy Γ (Eq. 13) versus RH: median, ``level`` band and the band's uncertainty (Fig. 16).
 
-    With a ``surface_size`` dimension one band per size is drawn.
+    The line is the median over realizations (the band's middle quantile, what
+    :func:`roughstick.band_summary` prints and ``band.nc`` holds), the shaded band its central
+    ``level`` quantiles, the hatched bands the confidence interval of each band edge where the
+    sample bounds it. With a ``surface_size`` dimension one band per size is drawn; the legend
+    sits beside the axes.
 
     Returns
     -------
@@ -91,7 +96,7 @@ def plot_energy_band(ds, *, level: float = 0.95, ax=None, label: str | None = No
     """
     plt = _plt()
     if ax is None:
-        _, ax = plt.subplots(figsize=(5, 3.6), constrained_layout=True)
+        _, ax = plt.subplots(figsize=(6.2, 3.6), constrained_layout=True)
     g = ds["adhesive_energy"]
     sizes = list(g["surface_size"].values) if "surface_size" in g.dims else [None]
     for k, s in enumerate(sizes):
@@ -110,16 +115,17 @@ def plot_energy_band(ds, *, level: float = 0.95, ax=None, label: str | None = No
                 ax.fill_between(rh, np.where(ok, lo, np.nan), np.where(ok, hi, np.nan), color=c,
                                 alpha=0.15, hatch="//", lw=0,
                                 label="95 % CI of the band edges" if (k == 0 and j == 0) else None)
-        ax.plot(rh, b["g_mean"].values * 1e3, "o-", color=c, label=f"{name} mean".strip())
+        ax.plot(rh, q[1], "o-", color=c, label=f"{name} median".strip())
     ax.set_yscale("log")
     ax.set_xlabel("relative humidity [%]")
     ax.set_ylabel("Γ [mJ m$^{-2}$]")
-    ax.legend(fontsize="small")
+    legend_beside(ax, fontsize="small")
     return ax
 
 
 def plot_energy_distribution(ds, *, rh=None, kind: str = "ecdf", ax=None, bins: int = 30):
-    """Distribution of Γ over realizations at given humidities, per surface size (Fig. 17).
+    """Distribution of Γ over realizations at given humidities, per surface size (Fig. 17); the
+    legend sits beside the axes.
 
     Parameters
     ----------
@@ -137,7 +143,7 @@ def plot_energy_distribution(ds, *, rh=None, kind: str = "ecdf", ax=None, bins: 
     """
     plt = _plt()
     if ax is None:
-        _, ax = plt.subplots(figsize=(5.5, 3.8), constrained_layout=True)
+        _, ax = plt.subplots(figsize=(6.8, 3.8), constrained_layout=True)
     g = ds["adhesive_energy"].compute()
     rhs = list(g.rh.values) if rh is None else list(np.atleast_1d(rh))
     sizes = list(g["surface_size"].values) if "surface_size" in g.dims else [None]
@@ -160,5 +166,5 @@ def plot_energy_distribution(ds, *, rh=None, kind: str = "ecdf", ax=None, bins: 
                 raise ValueError(f"kind must be 'ecdf' or 'histogram', got {kind!r}.")
     ax.set_xscale("log")
     ax.set_xlabel("Γ [mJ m$^{-2}$]")
-    ax.legend(fontsize="small", ncol=2)
+    legend_beside(ax, fontsize="small")
     return ax

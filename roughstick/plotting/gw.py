@@ -6,6 +6,7 @@ import numpy as np
 import xarray as xr
 
 from ..contact.adhesion import adhesion_summary
+from ._legend import legend_beside
 
 __all__ = ["plot_gw_cutoff_study"]
 
@@ -35,7 +36,8 @@ def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
     Notes
     -----
     Distances in nm, pressures in MPa (positive repulsive), :math:`\Gamma` (Eq. 13) in mJ m-2
-    on a log axis; the no-cutoff value is drawn as a dashed line.
+    on a log axis; the no-cutoff value is drawn as a dashed line. The Γ panel's legend sits beside
+    it (the curves span the whole panel).
     """
     import matplotlib.pyplot as plt
 
@@ -49,7 +51,7 @@ def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
     rh_sel = list(dict.fromkeys(float(r) for r in rh_sel))
     n = len(rh_sel) + 1
     if axes is None:
-        fig, axes = plt.subplots(1, n, figsize=(4.2 * n, 3.6), constrained_layout=True)
+        fig, axes = plt.subplots(1, n, figsize=(4.2 * n + 1.8, 3.6), constrained_layout=True)
     else:
         if len(axes) != n:
             raise ValueError(f"axes must hold {n} Axes (one per humidity plus one for Gamma).")
@@ -87,6 +89,6 @@ def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
                 ax.plot([], [], ls="none", label=f"RH {100 * r:.0f} %, no cutoff: Γ = {no_cut:.1e} mJ m⁻²")
     ax.set_xlabel(r"height cutoff $h_\mathrm{max}\,/\,\sqrt{m_0}$")
     ax.set_ylabel("Γ [mJ m⁻²]")
-    ax.legend(fontsize="small")
+    legend_beside(ax, fontsize="small")
     ax.set_title("GW adhesive energy (Eq. 13)")
     return fig

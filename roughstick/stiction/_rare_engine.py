@@ -21,6 +21,7 @@ from roughstick.io.netcdf import publish, write
 
 from .._core.arguments import check_numbers
 from .._core.dask import resolve_scheduler
+from .._core.progress import StagedProgress, current_staged_progress
 from . import _rare_kernels as _k
 from . import _rare_moves as _m
 
@@ -36,16 +37,15 @@ SETTING_RULES = dict(samples_per_level="count", level_probability="fraction", in
                      proposal_scale="positive", target_acceptance="fraction", max_levels="count",
                      target_cv="positive?", max_evaluations="count?", confidence="fraction",
                      seed="seed", chunks="count")
-#: ... and of the surface limit state of failure_probability (``lower`` is signed: a grid may
-#: start below the mean plane).
+#: ... and of failure_probability's surface limit state (``lower`` signed: below the mean plane).
 SURFACE_RULES = dict(points_per_water_height="positive", lower="finite", connectivity=(4, 8),
                      patches="count", check_failures="count0")
 
 
 def checked(*names, **more):
-    """:func:`roughstick._core.arguments.check_numbers` with the :data:`SETTING_RULES` of
-    ``names`` and the ``more`` rules."""
+    """``check_numbers`` with the :data:`SETTING_RULES` of ``names`` and the ``more`` rules."""
     return check_numbers(**{n: SETTING_RULES[n] for n in names}, **more)
+
 
 _PROPOSALS = ("adaptive", "pcn", "shell")
 _FORMAT = "roughstick-rare-events/1"
@@ -327,7 +327,8 @@ def _blocks(items, size):
 
 # ============================================================================ the engine
 class _Engine:
-    def __init__(self, model, noise_shape, threshold, settings, root, chunks, scheduler, store):
+    def __init__(self, model, noise_shape, threshold, settings, root, chunks, scheduler, store,
+                 max_evaluations=None):
         self.model = model
         self.noise_shape = tuple(int(v) for v in noise_shape)
         self.y_star = float(threshold)
@@ -338,6 +339,14 @@ class _Engine:
         self.scheduler = scheduler
         self.store = store
         _m.check_proposal(settings.proposal, model)
+        # one line per level with the time left (the caller's progress counts the points of a
+        # whole command; alone, this estimate is one point)
+        self.progress = current_staged_progress() or StagedProgress(
+            1, what=settings.method.replace("_", " "), budget=max_evaluations)
+        self.progress.start_point(f"RH {model.rh:g}" if isinstance(getattr(model, "rh", None), float) else "")
+        if settings.method == "subset":  # a run started is completed: up to max_levels levels
+            self.progress.set_cap(settings.samples + (settings.max_levels - 1) * (settings.samples - 1))
+        self._computed = True
 
     # -- level 0: independent samples ------------------------------------------------------
     def level0(self, run, offset, n):
@@ -447,6 +456,7 @@ class _Engine:
         levels = []
         lev = self._load_or(r, 0, lambda: (self.level0(r, offset, n), None))
         levels.append(lev)
+        self._report(r, levels)
         scale = self.s.scale
         while not lev.final:
             j = len(levels)
@@ -455,12 +465,25 @@ class _Engine:
             prev = lev
             lev = self._load_or(r, j, lambda j=j, prev=prev, scale=scale: self.level(r, j, prev, scale))
             levels.append(lev)
+            self._report(r, levels)
         return levels
 
+    def _report(self, r, levels):
+        """The progress line of the level just completed (INFO, logger ``roughstick``)."""
+        lev, j = levels[-1], len(levels) - 1
+        where = f"batch {r + 1}" if self.s.method == "monte_carlo" else f"run {r + 1}, level {j}"
+        goal = ("failure threshold" if lev.final else
+                f"threshold {lev.next_threshold:.4g} of {self.y_star:.4g}")
+        p = float(np.prod([lv.probability for lv in levels]))
+        self.progress.stage(f"{where} done ({goal}; P {'=' if lev.final else 'so far'} {p:.3g})",
+                            evaluations=lev.evaluations, computed=self._computed)
+
     def _load_or(self, r, j, compute):
+        self._computed = True
         if self.store is not None:
             lev = self.store.load(r, j)
             if lev is not None:
+                self._computed = False  # read back: not timed
                 return lev
         lev, _ = compute()
         if self.store is not None:

@@ -133,7 +133,10 @@ def correlation_factor(indicator_chains, p: float) -> float:
               R(k) = \overline{I_{c,l} I_{c,l+k}} - p^2,\quad R(0) = p(1 - p),
 
     the average over all pairs at lag :math:`k` inside a chain, :math:`L` the mean chain
-    length (chains of unequal length are allowed). 0 when :math:`p \in \{0, 1\}`.
+    length (chains of unequal length are allowed). 0 when :math:`p \in \{0, 1\}`. The states of
+    a Metropolis chain are positively correlated, so a negative estimate is sampling noise of
+    short chains: it is clipped at 0 (the binomial variance), never below, which would make the
+    level's variance (1 - p)/(n p) (1 + gamma) negative.
     """
     if not 0.0 < p < 1.0:
         return 0.0
@@ -153,7 +156,7 @@ def correlation_factor(indicator_chains, p: float) -> float:
         if pairs == 0 or k >= L:
             break
         gamma += 2.0 * (1.0 - k / L) * ((num / pairs - p * p) / r0)
-    return float(gamma)
+    return max(float(gamma), 0.0)
 
 
 def level_cv2(p: float, n: int, gamma: float) -> float:

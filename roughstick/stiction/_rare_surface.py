@@ -18,6 +18,7 @@ import xarray as xr
 
 from roughstick._core.conventions import CURVE_VARIABLES
 from roughstick._core.materials import POLYSILICON, hertz_modulus
+from roughstick._core.remedy import argument, spell, spelled
 from roughstick._core.validate import external_stacklevel
 from roughstick.contact import (
     ValidityWarning,
@@ -177,6 +178,15 @@ class SurfaceResponse:
                    for k in range(self.patches))
 
 
+def material_token(material) -> str:
+    """How a material enters a run's resume token: the name for poly-silicon and None (runs
+    stored before other films could be set keep resuming), every constant otherwise (two films
+    of one name but other moduli are other runs)."""
+    if material is None or material == POLYSILICON:
+        return getattr(material, "name", repr(material))
+    return repr(material)
+
+
 def bem_check(ds, model, threshold, n_check):
     """Re-evaluate up to ``n_check`` failure samples of an Eq. 16 run with the FFT-BEM.
 
@@ -216,6 +226,8 @@ def bem_check(ds, model, threshold, n_check):
         ds[name] = xr.DataArray(v, attrs={  # order statistics; NaN: too few states checked to bound it
             "units": "1", "checked": n, "confidence": 0.95,
             "long_name": f"{side} end of the 95 % distribution-free interval of failure_bem_ratio"})
+    with spelled(contact_model=argument("contact_model")):  # failure_probability's argument
+        rerun = spell("contact_model", "fft_bem")
     if n and ratio < ARTEFACT_RATIO:
         what = (f"only {ok} of {n} stay above the threshold): this probability is made of modified-DMT "
                 "(Eq. 16) artefacts" if ok < 0.5 * n else
@@ -223,7 +235,7 @@ def bem_check(ds, model, threshold, n_check):
                 f"{1 / ratio:.1f} x, so this probability is likely overestimated")
         warnings.warn(
             f"the FFT-BEM gives the failure samples at RH {model.rh:g} a median {ratio:.2f} of their "
-            f"Eq. 16 response ({what}. Rerun with contact_model='fft_bem' (docs/rare_events.md).",
+            f"Eq. 16 response ({what}. Rerun with {rerun} (docs/rare_events.md).",
             ValidityWarning, stacklevel=external_stacklevel())
     elif n and ok < 0.5 * n:
         warnings.warn(
@@ -231,5 +243,5 @@ def bem_check(ds, model, threshold, n_check):
             f"FFT-BEM (median BEM / Eq. 16 response {ratio:.2f}): Eq. 16's model error moves them "
             "across it, so this probability carries that error (in the tail a few % on the "
             "threshold can change P by a factor). For the boundary-element value rerun with "
-            "contact_model='fft_bem' (docs/rare_events.md).", ValidityWarning, stacklevel=external_stacklevel())
+            f"{rerun} (docs/rare_events.md).", ValidityWarning, stacklevel=external_stacklevel())
     return ds

@@ -20,6 +20,8 @@ import xarray as xr
 
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs
+from .._core.materials import POLYSILICON
+from .._core.remedy import argument, spell, spelled
 from .._core.validate import external_stacklevel
 from ..contact import (
     ValidityWarning,
@@ -35,14 +37,20 @@ from ..surface import generate_surfaces
 __all__ = ["build_patch_bank"]
 
 
-def _key(psd, rh, n_law, shape, spacing, seed, model):
+def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON):
     h = hashlib.sha256()
     h.update(np.ascontiguousarray(psd.values, dtype=float).tobytes())
     for c in psd.coords:
         h.update(np.asarray(psd[c].values, dtype=float).tobytes())
     h.update(json.dumps([list(map(float, rh)), int(n_law), list(shape), float(spacing), seed,
                          model]).encode())
+    if material != POLYSILICON:  # poly-silicon banks keep the names they were cached under
+        h.update(repr(material).encode())
     return h.hexdigest()[:16]
+
+
+#: How build_patch_bank's warnings spell their remedies (:mod:`roughstick._core.remedy`).
+_SPELLING = {"contact_model": argument("model", call="build_patch_bank")}
 
 
 #: median BEM/Eq. 16 ratio of the bank's largest laws below which it warns: on the example bank
@@ -55,7 +63,7 @@ TAIL_RATIO_WARN = 0.8
 _LAWS_PER_PART = 25
 
 
-def _law_energies(psd, laws, rh, shape, spacing, seed, model) -> np.ndarray:
+def _law_energies(psd, laws, rh, shape, spacing, seed, model, material=POLYSILICON) -> np.ndarray:
     """Adhesive energies (Eq. 13) of the patches ``laws`` at the humidities ``rh``: (law, rh)."""
     # realization k always comes from SeedSequence child k: the same law whatever the parts
     surf = generate_surfaces(psd, realizations=laws, shape=shape, spacing=spacing,
@@ -63,17 +71,17 @@ def _law_energies(psd, laws, rh, shape, spacing, seed, model) -> np.ndarray:
     values = np.empty((len(laws), len(rh)))
     for k in range(len(laws)):
         curves = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh),
-                                      model=model, check_validity=False)
+                                      model=model, material=material, check_validity=False)
         values[k] = adhesion_summary(curves)["adhesive_energy"].transpose("rh").values
     return values
 
 
-def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir):
+def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material=POLYSILICON):
     """Adhesive energies of laws [start, stop) (read back from its part file when cached)."""
     file = None if parts_dir is None else parts_dir / f"laws_{start:07d}_{stop:07d}.npy"
     if file is not None and file.exists():
         return np.load(file)
-    values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model)
+    values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model, material)
     if file is not None:
         parts_dir.mkdir(parents=True, exist_ok=True)
         tmp = file.with_suffix(".tmp.npy")
@@ -82,7 +90,8 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir):
     return values
 
 
-def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int) -> xr.DataArray:
+def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int,
+                material=POLYSILICON) -> xr.DataArray:
     """Re-evaluate the ``n_check`` laws of largest Eq. 16 energy at each RH with the FFT-BEM.
 
     Sets ``attrs["tail_bem_ratio"]`` (per RH, the median over those laws of BEM Γ / Eq. 16 Γ),
@@ -99,25 +108,27 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int) -> 
     ratio, lo, hi = (np.full(values.shape[1], np.nan) for _ in range(3))
     for j, rh in enumerate(bank.rh.values):
         top = np.argsort(values[:, j], kind="stable")[::-1][:k]
-        bem = _law_energies(psd, top, [float(rh)], shape, spacing, seed, "fft_bem")[:, 0]
+        bem = _law_energies(psd, top, [float(rh)], shape, spacing, seed, "fft_bem", material)[:, 0]
         ratio[j], lo[j], hi[j] = median_interval(bem / values[top, j], confidence=0.95)
     bank.attrs.update(tail_bem_ratio=ratio, tail_bem_ratio_low=lo, tail_bem_ratio_high=hi, tail_checked=k)
     low = bank.rh.values[ratio < TAIL_RATIO_WARN]
     if low.size:
+        with spelled(**_SPELLING):
+            fix = spell("contact_model", "fft_bem")
         warnings.warn(
             f"the {k} largest patch energies of the modified-DMT bank are {1 / np.nanmin(ratio):.1f} x "
             f"their boundary-element values at RH {', '.join(f'{v:g}' for v in low)} (median BEM/Eq. 16 "
             f"{np.nanmin(ratio):.2f}): the bank's upper tail, which decides P(stuck) of short beams, is "
             "too high there, so such P(stuck) is overestimated (example bank, 30 % RH, 250 µm beams: 0.043 "
             "against 0.001). Build "
-            "the bank with model='fft_bem' (about 10 x the cost; docs/beam.md).", ValidityWarning, stacklevel=external_stacklevel())
+            f"the bank with {fix} (about 10 x the cost; docs/beam.md).", ValidityWarning, stacklevel=external_stacklevel())
     return bank
 
 
 @check_numbers(n_law="count", spacing="length", seed="seed", check_tail="count0")
 def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000, shape=(64, 64),
                spacing: float, seed: int = 0, model: str = "modified_dmt",
-               cache_dir=None, check_tail: int = 8) -> xr.DataArray:
+               cache_dir=None, check_tail: int = 8, material=None) -> xr.DataArray:
     r"""Adhesive energies of ``n_law`` random patches at each RH: the law bank of the beam model.
 
     Parameters
@@ -145,6 +156,8 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         With ``model="modified_dmt"``: re-evaluate this many laws of largest energy at each RH
         with the FFT-BEM (``attrs["tail_bem_ratio"]``, the median BEM/Eq. 16 ratio; a
         ValidityWarning below :data:`TAIL_RATIO_WARN`); 0 skips the check.
+    material : roughstick.Material, optional
+        Both bodies' material (default poly-silicon); part of the cache key.
 
     Returns
     -------
@@ -165,8 +178,9 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.self_affine_psd(q, ...)) "
                         f"so the cache can key on its values, got {type(psd).__name__}")
     shape = tuple(int(v) for v in shape)
+    material = POLYSILICON if material is None else material
     groups = expected_surface_groups(psd, shape=shape, spacing=float(spacing),
-                                     relative_humidity=list(rh))
+                                     relative_humidity=list(rh), material=material)
     corr = float(groups["corr_over_L"]) * shape[1] * float(spacing)
     patch = min(shape) * float(spacing)
     if patch < 4 * corr:
@@ -177,32 +191,34 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
             "or spacing (a patch >= 4 correlation lengths).", UserWarning, stacklevel=external_stacklevel())
     if model == "modified_dmt":
         # once for the bank (expected groups of the PSD), not once per law
-        warn_if_outside_validity(None, relative_humidity=list(rh), groups=groups)
+        with spelled(**_SPELLING):
+            warn_if_outside_validity(None, relative_humidity=list(rh), groups=groups, material=material)
     path = None
     if cache_dir is not None:
-        key = _key(psd, rh, n_law, shape, spacing, seed, model)
+        key = _key(psd, rh, n_law, shape, spacing, seed, model, material)
         path = Path(cache_dir) / f"patch_bank_{key}.nc"
         if path.exists():
             out = xr.load_dataarray(path)
             if check and int(out.attrs.get("tail_checked", -1)) != min(check, int(n_law)):
-                out = _tail_check(out, psd, shape, float(spacing), seed, check)  # an older cache
+                out = _tail_check(out, psd, shape, float(spacing), seed, check, material)  # an older cache
             out.attrs.update(cache_file=str(path), from_cache=1)
             return out
     parts_dir = None if path is None else path.with_name(path.stem + ".parts")
     blocks = [(a, min(a + _LAWS_PER_PART, int(n_law))) for a in range(0, int(n_law), _LAWS_PER_PART)]
-    tasks = [dask.delayed(_part)(psd, a, b, rh, shape, float(spacing), seed, model, parts_dir)
+    tasks = [dask.delayed(_part)(psd, a, b, rh, shape, float(spacing), seed, model, parts_dir, material)
              for a, b in blocks]
     values = np.concatenate(dask.compute(*tasks, scheduler="threads"), axis=0)
     out = xr.DataArray(values, {"law": np.arange(int(n_law)), "rh": rh}, ("law", "rh"),
                        name="adhesive_energy",
                        attrs={"units": "J m-2", "long_name": "adhesive energy of a patch (Eq. 13)",
                               "contact_model": model, "seed": int(seed),
+                              "material": repr(material),
                               "correlation_length": corr,
                               "independence": "patch laws drawn independently; checked: patch "
                                               f"{patch:.3g} m vs 4 correlation lengths "
                                               f"{4 * corr:.3g} m"})
     if check:
-        out = _tail_check(out, psd, shape, float(spacing), seed, check)
+        out = _tail_check(out, psd, shape, float(spacing), seed, check, material)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(".tmp")

@@ -199,7 +199,7 @@ def subset_simulation(
             "threshold": float(threshold), "entropy": str(root.entropy), "spawn": list(root.spawn_key),
             "noise_shape": list(noise_shape)}, sort_keys=True).encode()).hexdigest()[:16]
         store = _e._Store(output, h, overwrite, info, response_attrs or {})
-    eng = _e._Engine(limit_state, noise_shape, threshold, settings, root, chunks, scheduler, store)
+    eng = _e._Engine(limit_state, noise_shape, threshold, settings, root, chunks, scheduler, store, max_evaluations)
 
     if not (isinstance(independent_runs, (int, np.integer)) and independent_runs >= 1):
         raise ValueError(f"independent_runs must be an integer >= 1, got {independent_runs!r}.")
@@ -361,7 +361,7 @@ def failure_probability(
     hw = np.atleast_1d(water_height(rh_in, adsorbed_layer=adsorbed_layer).values)
     ptoken = _psd_token(to_surface.amplitude)
     units = "J m-2" if quantity == "adhesive_energy" else "Pa"
-    mat = [getattr(m, "name", repr(m)) for m in (material, material2)]
+    mat = [_s.material_token(m) for m in (material, material2)]
     out = []
     for i, rh in enumerate(rh_in):
         model = _s.SurfaceResponse(

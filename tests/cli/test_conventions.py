@@ -89,7 +89,7 @@ def test_demo_quiet_and_folder_claims(tmp_path, capsys):
 def test_ctrl_c_is_one_line_and_says_resume(monkeypatch, tmp_path, capsys):
     from roughstick.cli import demo
 
-    def interrupted(out, *, quick):
+    def interrupted(out, *, quick, **figure_options):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(demo, "steps", lambda: [type("M", (), {"__name__": "x.s10_sphere",
@@ -102,7 +102,7 @@ def test_ctrl_c_is_one_line_and_says_resume(monkeypatch, tmp_path, capsys):
 def test_bugs_keep_their_traceback(monkeypatch, tmp_path):
     from roughstick.cli import demo
 
-    def bug(out, *, quick):
+    def bug(out, *, quick, **figure_options):
         raise AttributeError("'NoneType' object has no attribute 'x'")
 
     monkeypatch.setattr(demo, "steps", lambda: [type("M", (), {"__name__": "x.s10_sphere",

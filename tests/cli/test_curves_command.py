@@ -24,7 +24,9 @@ def test_model_auto_and_tolerance_reach_the_dispatcher(tmp_path, capsys):
     assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.7",
                  "--model", "auto", "--tolerance", "0.1", "--out", str(out)]) == 0
     text = capsys.readouterr()
-    assert "model: auto -> " in text.out
+    # the choice, why and its cost are said before the work, so before the results
+    said = text.out.index("contact model auto -> ")
+    assert "estimated about" in text.out[said:] and said < text.out.index("RH 0.7: adhesive energy")
     assert "warning" not in text.err  # auto never warns about its own choice
     with xr.open_dataset(out) as ds:
         chosen = ds.attrs["contact_model"]

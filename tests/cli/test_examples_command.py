@@ -57,3 +57,19 @@ def test_bad_names_and_existing_files_are_refused_with_the_fix(tmp_path, capsys)
 def test_missing_config_names_the_examples_command(tmp_path, capsys):
     assert main(["run", str(tmp_path / "missing.toml")]) == 1
     assert "roughstick examples --out examples" in capsys.readouterr().err
+
+
+def test_each_example_says_what_it_answers(capsys):
+    """The listing named the files but not what each computes (two printed nothing at all): every
+    shipped example opens with a one-line ``# description:`` that the listing prints under it."""
+    from roughstick.cli.examples import description
+
+    shipped = rs.datasets.example_configs()
+    texts = {name: description(path) for name, path in shipped.items()}
+    assert all(len(t) > 40 and "\n" not in t for t in texts.values()), texts
+    assert len(set(texts.values())) == len(texts)  # each its own
+    assert main(["examples"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    for name, text in texts.items():
+        k = next(i for i, line in enumerate(lines) if line.endswith(f" examples/{name}"))
+        assert lines[k + 1].strip() == text, name

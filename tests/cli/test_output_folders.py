@@ -74,7 +74,7 @@ def _fake_steps(monkeypatch, plan):
     from roughstick.cli import demo
 
     def make(name, files):
-        def run(out, *, quick):
+        def run(out, *, quick, **figure_options):
             if files is None:
                 raise KeyboardInterrupt
             for f in files:  # as the real steps write (io.netcdf.publish notes them as the run's)
@@ -214,7 +214,9 @@ def test_run_prints_the_median_with_its_interval(tmp_path, capsys):
     assert f"95% CI of the median [{lo:.4g}, {hi:.4g}]" in line
     assert lo < float(band.adhesive_energy.sel(quantile=0.5).squeeze()) * 1e3 < hi
     assert main(["run", str(_cfg(tmp_path, n=4, rh="[0.9]")), "--out", str(tmp_path / "o4")]) == 0
-    assert "n too small to bound the median: needs n >= 6" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "CI of the median: not bounded [1])" in out
+    assert "[1] n too small to bound the median (needs n >= 6 realizations)" in out
 
 
 def test_risk_bem_check_line_says_its_interval():

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -113,8 +115,11 @@ def test_cli_risk_subset_method_is_checked_before_work(tmp_path, capsys):
     assert c["risk"]["method"] == "subset" and c["risk"]["target_cv"] == 0.2
     assert c["risk"]["samples_per_level"] == 1000 and c["risk"]["max_evaluations"] == 20000
     assert c["risk"]["contact_model"] == "modified_dmt"
-    cfg.write_text('[risk]\ncontact_model = "fft_bem"\n')  # counting reads Eq. 16 curves
-    with pytest.raises(ConfigError, match="contact_model = 'fft_bem' applies to method = 'subset'"):
+    cfg.write_text('[risk]\ncontact_model = "auto"\n')  # counting: the ensemble's model
+    assert load_risk_config(cfg)["risk"]["contact_model"] == "auto"
+    cfg.write_text('[risk]\ncontact_model = "fft_bem"\n[ensemble]\nadhesive_energy = "g.nc"\n')
+    (tmp_path / "g.nc").write_text("")
+    with pytest.raises(ConfigError, match="contact_model = 'fft_bem' computes Γ, which"):
         load_risk_config(cfg)
     cfg.write_text('[risk]\nmethod = "subset"\ncontact_model = "bem"\n[surface]\nshape = [16, 16]\n')
     assert main(["risk", str(cfg)]) == 1
@@ -185,3 +190,38 @@ def test_cli_risk_subset_on_the_boundary_element_model(tmp_path, capsys):
     assert dmt.attrs["contact_model"] == "modified_dmt"
     assert not np.array_equal(dmt.stiction_probability.values, bem.stiction_probability.values)
     assert "failures_confirmed_by_bem" in dmt
+
+
+def test_cli_risk_subset_shows_each_level_with_the_time_left(tmp_path, capsys):
+    """`roughstick risk` on method = 'subset' printed one line, then nothing until the end: each
+    completed level now prints a line with its threshold, the evaluations and the time left,
+    re-estimated from what has run; --quiet keeps them out."""
+    from roughstick.cli import main
+
+    cfg = tmp_path / "r.toml"
+    cfg.write_text(
+        '[output]\nfolder = "out"\n'
+        '[beam]\nlengths = ["105 um", "400 um"]\n'
+        '[surface]\nshape = [16, 16]\n'
+        '[ensemble]\nrelative_humidity = [0.5]\nadsorbed_layer = ["paper"]\nseed = 3\n'
+        '[run]\nscheduler = "sync"\n'
+        '[risk]\nmethod = "subset"\nsamples_per_level = 50\ntarget_cv = 0.9\nmax_evaluations = 300\n'
+        "levels = [0.01]\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", rs.ValidityWarning)  # printed by the command
+        assert main(["risk", str(cfg)]) == 0
+    text = capsys.readouterr()
+    # the BEM re-check's remedy is the key of this file, not failure_probability's argument
+    assert '[risk] contact_model = "fft_bem"' in text.err and "contact_model='" not in text.err
+    out = text.out.splitlines()
+    levels = [i for i, line in enumerate(out) if line.startswith("subset [paper] l = ")]
+    assert len(levels) >= 3, out  # the short beam needs several levels, the long one one
+    assert levels[-1] < next(i for i, line in enumerate(out) if line.startswith("subset: P(stuck)"))
+    first, last = out[levels[0]], out[levels[-1]]
+    assert "(point 1 of 2): run 1, level 0 done (threshold " in first
+    assert "at most" in first and "evaluations per point)" in first
+    assert "(point 2 of 2)" in last and "left (as the 1 point done)" in last  # re-estimated
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        assert main(["risk", str(cfg), "-q", "--overwrite"]) == 0
+    assert "level 0 done" not in capsys.readouterr().out

@@ -101,7 +101,8 @@ def test_run_end_to_end_resume_and_refuse(tmp_path, capsys):
     stdout = capsys.readouterr().out
     assert "RH 30%: median" in stdout
     # 4 surfaces cannot bound a 95 % band: said, not shown as a number (issue 16 item 1)
-    assert "n too small to bound this edge (needs n >= 146)" in stdout
+    assert "CI of the edges: not bounded [" in stdout
+    assert stdout.count("n too small to bound a band edge (needs n >= 146 realizations)") == 1
     assert band.attrs["band_edges_bounded"] == 0 and band.attrs["seed"] == "7"
     # the same command again: nothing to compute, same numbers
     before = ens.adhesive_energy.values

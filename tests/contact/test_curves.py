@@ -85,3 +85,32 @@ def test_heights_in_nm_labelled_m_are_refused_with_the_fix():
     for model in ("modified_dmt", "fft_bem", "gw", "auto"):
         with pytest.raises(ValueError, match=r"rms height .*attrs\['units'\] = 'nm'"):
             rs.rough_contact_curves(wrong, relative_humidity=0.5, model=model)
+
+
+def test_auto_says_its_choice_and_cost_before_the_work(caplog, monkeypatch):
+    """model="auto" explained its choice only after computing (attrs): it is now said, with the
+    chosen model's estimated cost, before the chosen model is called."""
+    import logging
+
+    from roughstick.contact import curves as dispatch
+
+    caplog.set_level(logging.INFO, logger="roughstick")
+    said_when_called = {}
+    for name in ("modified_dmt_curves", "gw_contact_curves", "fft_bem_contact_curves", "bem_contact_curves"):
+        real = getattr(dispatch, name)
+
+        def spy(*args, _real=real, _name=name, **kwargs):
+            said_when_called[_name] = [r.getMessage() for r in caplog.records
+                                       if r.getMessage().startswith("contact model auto -> ")]
+            return _real(*args, **kwargs)
+
+        monkeypatch.setattr(dispatch, name, spy)
+    h = rs.datasets.surface_family("smooth", shape=(32, 32), seed=1, n=1).isel(realization=0).compute()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.PixelResolutionWarning)
+        ds = rs.rough_contact_curves(h, relative_humidity=[0.5, 0.9], model="auto")
+    chosen = ds.attrs["contact_model"]
+    (said,) = said_when_called[{"modified_dmt": "modified_dmt_curves", "gw": "gw_contact_curves",
+                                "fft_bem": "fft_bem_contact_curves", "bem": "bem_contact_curves"}[chosen]]
+    assert said.startswith(f"contact model auto -> {chosen} for 2 curve(s) of 32 x 32 pixels, estimated about")
+    assert ds.attrs["model_selection"].split(": ", 1)[1] in said  # the same reason as recorded

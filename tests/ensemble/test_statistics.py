@@ -117,8 +117,10 @@ def test_band_too_small_says_so_and_large_band_carries_intervals():
     assert b.attrs["band_edges_bounded"] == 0 and b.attrs["n_samples_to_bound_band_edges"] == 146
     assert not np.isinf(b["adhesive_energy_ci_lower"]).any()  # NaN, never -inf in a file
     lines = rs.band_summary(b)
-    assert len(lines) == small.sizes["rh"]
-    assert all("n too small to bound this edge (needs n >= 146)" in s and "n = 48" in s for s in lines)
+    # one line per humidity, each marking its edges, and the reason said once, as a footnote
+    assert len(lines) == small.sizes["rh"] + 1
+    assert all("CI of the edges: not bounded [1]" in s and "n = 48" in s for s in lines[:-1])
+    assert lines[-1] == "[1] n too small to bound a band edge (needs n >= 146 realizations)"
     big = _sample(400).rename("adhesive_energy").assign_attrs(units="J m-2", long_name="g")
     b = rs.confidence_band(big)
     assert b.attrs["band_edges_bounded"] == 1
@@ -126,6 +128,25 @@ def test_band_too_small_says_so_and_large_band_carries_intervals():
     assert not any("too small" in s for s in lines)
     lo = b["adhesive_energy_ci_lower"].sel(quantile=0.025).values[0] * 1e3
     assert f"lower edge [{lo:.4g}," in lines[0]
+
+
+def test_band_summary_says_why_an_edge_is_unbounded_once_per_block():
+    """A block of many humidities from a small ensemble said "n too small to bound this edge
+    (needs n >= 146)" twice on every line; now each line carries a marker and the reason comes
+    once, after the block (the median's too, with ``median_interval``)."""
+    rng = np.random.default_rng(1)
+    g = xr.DataArray(rng.lognormal(size=(16, 6)), dims=("realization", "rh"),
+                     coords={"rh": np.linspace(0.3, 0.8, 6)}, name="adhesive_energy",
+                     attrs={"units": "J m-2", "long_name": "g"})
+    lines = rs.band_summary(rs.confidence_band(g), median_interval=True)
+    text = "\n".join(lines)
+    assert text.count("needs n >= 146") == 1 and text.count("n too small") == 1
+    assert len(lines) == 6 + 1 and all(line.endswith("CI of the edges: not bounded [1]") for line in lines[:6])
+    tiny = rs.band_summary(rs.confidence_band(g.isel(realization=slice(0, 4))), median_interval=True)
+    assert "\n".join(tiny).count("needs n >= 6 realizations") == 1  # the median's reason, once
+    assert tiny[-2:] == ["[1] n too small to bound the median (needs n >= 6 realizations)",
+                         "[2] n too small to bound a band edge (needs n >= 146 realizations)"]
+    assert all("CI of the median: not bounded [1])" in line for line in tiny[:6])
 
 
 def test_band_keeps_run_parameters():
@@ -172,7 +193,7 @@ def test_band_counts_only_the_members_it_used(backend):
     np.testing.assert_allclose(band.adhesive_energy.sel(rh=[0.5]), kept.adhesive_energy)
     assert kept.attrs["n_samples"] == int(band.adhesive_energy_n_samples.sel(rh=0.5))
     lines = rs.band_summary(band)
-    for r, line in zip(x.rh.values, lines, strict=True):
+    for r, line in zip(x.rh.values, lines[:x.sizes["rh"]], strict=True):
         assert f"from n = {int(used.sel(rh=r))};" in line, line
 
 

@@ -505,3 +505,12 @@ def test_stiction_probability_subset_matches_the_counting_estimator():
     ch = rs.crossing_humidity(ds[["stiction_probability", "stiction_probability_lower",
                                   "stiction_probability_upper"]], level=0.1)
     assert {"crossing_humidity", "crossing_humidity_lower", "crossing_humidity_upper"} <= set(ch)
+
+
+def test_anticorrelated_chains_never_give_a_negative_level_variance():
+    """Short chains can show a negative lag correlation by chance; the level's squared cv stays
+    at least the binomial one (it went negative, and a risk run stopped on math.sqrt)."""
+    chains = [np.array([1.0, 0.0] * 3), np.array([0.0, 1.0] * 3)]  # p = 0.5, lag-1 correlation -1
+    gamma = _k.correlation_factor(chains, 0.5)
+    assert gamma == 0.0
+    assert _k.level_cv2(0.5, 12, gamma) == pytest.approx(0.5 / (12 * 0.5))
