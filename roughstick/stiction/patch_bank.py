@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from .._core.conventions import append_history, dataset_attrs
+from .._core.validate import relative_humidity_array
 from ..contact import (
     ValidityWarning,
     adhesion_summary,
@@ -150,9 +151,7 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         ``attrs["from_cache"]`` telling whether it was read back; ``tail_bem_ratio`` and
         ``tail_checked`` (see ``check_tail``).
     """
-    rh = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
-    if np.any((rh <= 0) | (rh >= 1)):
-        raise ValueError("relative_humidity must be fractions in (0, 1), e.g. 0.6 not 60")
+    rh = relative_humidity_array(relative_humidity)
     if int(n_law) < 1:
         raise ValueError("n_law must be at least 1")
     if int(check_tail) < 0:

@@ -32,6 +32,7 @@ import xarray as xr
 
 from roughstick._core.conventions import append_history
 from roughstick._core.dask import as_seed_sequence
+from roughstick._core.validate import relative_humidity_array
 from roughstick.contact import water_height
 
 from . import _rare_beam as _b
@@ -345,9 +346,7 @@ def failure_probability(
     xarray.Dataset
         The variables of :func:`subset_simulation` along ``rh``.
     """
-    rh_in = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
-    if rh_in.ndim != 1 or np.any(~((rh_in > 0) & (rh_in < 1))):
-        raise ValueError(f"relative_humidity must be fractions in (0, 1), got {relative_humidity!r}.")
+    rh_in = relative_humidity_array(relative_humidity)
     if quantity not in _s.QUANTITIES:
         raise ValueError(f"quantity must be one of {_s.QUANTITIES}, got {quantity!r}.")
     if not (np.isfinite(threshold) and threshold > 0):

@@ -48,9 +48,11 @@ def test_rh_fraction_or_percent(text, value):
 
 @pytest.mark.parametrize("text, says", [
     ("60", "RH is a fraction in (0, 1): did you mean 0.6 or '60 %'?"),
-    ("1", "saturation (1) is outside"), ("0", "a percentage, e.g. '60 %'"),
-    ("120 %", "strictly between 0 and 100 %"), ("abc", "is not a relative humidity"),
-    ("nan", "is not a relative humidity")])
+    ("1", "1 is saturation (RH 100 %), outside the models' range (0, 1): give at most e.g. 0.99"),
+    ("0", "e.g. 0.6 or '60 %'; 0 is dry air"),
+    ("120 %", "strictly between 0 and 100 %"), ("abc", "not a relative humidity"),
+    ("nan", "not a relative humidity"), ("100 %", "100 % is saturation"),
+    ("120", "120 is not a relative humidity")])
 def test_rh_refused_with_the_fix(text, says):
     with pytest.raises(argparse.ArgumentTypeError, match=None) as err:
         relative_humidity_arg(text)
