@@ -393,7 +393,7 @@ def grid_spacing(da: xr.DataArray, dim: str, *, min_pixels: int = 8,
     if n < min_pixels:
         raise ValueError(
             f"the map has {n} pixel(s) along {dim!r}; {purpose} need(s) at least "
-            f"{min_pixels} x {min_pixels} pixels."
+            f"{min_pixels} x {min_pixels} pixels: give a larger map (crop less, or a larger scan)."
         )
     if dim not in da.coords:
         raise ValueError(

@@ -38,6 +38,7 @@ from .rough import modified_dmt_curves
 from .validity import (
     MODEL_COST_ORDER,
     VALIDITY_BOUND,
+    NoModelMeetsTolerance,
     select_model,
     warn_if_outside_validity,
 )
@@ -192,8 +193,8 @@ def rough_contact_curves(
         try:
             model, reason = select_model(height, tolerance=tolerance, quantity=quantity,
                                          candidates=candidates, **common)
-        except ValueError as err:
-            raise ValueError(
+        except NoModelMeetsTolerance as err:  # only the NaN pixels kept the BEM models out
+            raise NoModelMeetsTolerance(
                 f"{err} The map has NaN pixels, which the boundary-element models (fft_bem, "
                 "bem) cannot take: crop or fill them, or pass model='modified_dmt' knowingly."
             ) from None

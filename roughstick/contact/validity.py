@@ -508,6 +508,10 @@ def _group_points(height, relative_humidity, material, material2, adsorbed_layer
             for j, r in enumerate(rh_values)]
 
 
+class NoModelMeetsTolerance(ValueError):
+    """No model allowed to :func:`select_model` meets the tolerance on this surface."""
+
+
 def select_model(
     height: xr.DataArray,
     *,
@@ -569,7 +573,7 @@ def select_model(
         notes.append(f"{method} bound "
                      f"{'unbounded' if np.isinf(b.upper) else format(b.upper, '.1%')} at RH {r:.2f}")
     if "bem" not in candidates:
-        raise ValueError(
+        raise NoModelMeetsTolerance(
             f"no allowed model ({', '.join(candidates)}) meets the tolerance {tolerance:.0%} on "
             "this surface: " + "; ".join(notes) + ". Raise the tolerance or allow the "
             "boundary-element models."
