@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import warnings
 from pathlib import Path
 
@@ -67,11 +68,27 @@ def _law_energies(psd, laws, rh, shape, spacing, seed, model) -> np.ndarray:
     return values
 
 
+def _set_aside(file: Path, why: BaseException, what: str) -> None:
+    """Move an unreadable cache file out of the way (``<name>.corrupt``), saying so."""
+    aside = file.with_name(file.name + ".corrupt")
+    os.replace(file, aside)
+    reason = (str(why).strip().splitlines() or [type(why).__name__])[0][:160]
+    warnings.warn(f"the patch-bank cache file {str(file)!r} could not be read ({reason}); moved it "
+                  f"to {aside.name} and {what} (delete {aside.name} when you no longer need it).",
+                  UserWarning, stacklevel=4)
+
+
 def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir):
     """Adhesive energies of laws [start, stop) (read back from its part file when cached)."""
     file = None if parts_dir is None else parts_dir / f"laws_{start:07d}_{stop:07d}.npy"
     if file is not None and file.exists():
-        return np.load(file)
+        try:
+            values = np.load(file)
+            if values.shape != (stop - start, len(rh)):
+                raise ValueError(f"it holds an array of shape {values.shape}, not {(stop - start, len(rh))}")
+            return values
+        except (OSError, ValueError, EOFError) as exc:
+            _set_aside(file, exc, f"recomputing laws {start}-{stop - 1}")
     values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model)
     if file is not None:
         parts_dir.mkdir(parents=True, exist_ok=True)
@@ -113,6 +130,33 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int) -> 
     return bank
 
 
+def _read_cached(path: Path, n_law: int, rh) -> xr.DataArray | None:
+    """The bank cached in ``path``; None, after moving it aside with a warning, when it cannot be
+    read or does not hold this bank (a damaged, truncated or foreign file)."""
+    try:
+        out = xr.load_dataarray(path)
+        if out.dims != ("law", "rh") or out.sizes["law"] != n_law or not np.array_equal(out["rh"].values, rh):
+            raise ValueError(f"it holds {dict(out.sizes)}, not {n_law} laws at RH {list(map(float, rh))}")
+        return out
+    except (OSError, ValueError, KeyError, RuntimeError, TypeError) as exc:
+        _set_aside(path, exc, "rebuilding the bank")
+        return None
+
+
+def _check_cache_writable(folder: Path) -> None:
+    """Refuse a cache folder the bank cannot be stored in, before computing it."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / f".probe-{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        raise PermissionError(
+            f"cannot write the patch-bank cache folder {str(folder)!r} ({exc.strerror or exc}); pass a "
+            "writable cache_dir= (or cache_dir=None to compute the bank without caching it)."
+        ) from exc
+
+
 def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000, shape=(64, 64),
                spacing: float, seed: int = 0, model: str = "modified_dmt",
                cache_dir=None, check_tail: int = 8) -> xr.DataArray:
@@ -138,7 +182,9 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         Directory of the on-disk cache; ``None`` computes without caching. The laws are computed
         in parts of 25 by dask's threads (both cores; a law is the same whatever the parts);
         with a cache each finished part is stored, so an interrupted bank resumes where it
-        stopped.
+        stopped. A cache file that cannot be read (damaged, truncated, not this bank) is moved
+        aside to ``<name>.corrupt`` with a warning and the bank rebuilt. A folder that cannot be
+        written is refused before any law is computed (``PermissionError``).
     check_tail : int
         With ``model="modified_dmt"``: re-evaluate this many laws of largest energy at each RH
         with the FFT-BEM (``attrs["tail_bem_ratio"]``, the median BEM/Eq. 16 ratio; a
@@ -178,12 +224,13 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
     if cache_dir is not None:
         key = _key(psd, rh, n_law, shape, spacing, seed, model)
         path = Path(cache_dir) / f"patch_bank_{key}.nc"
-        if path.exists():
-            out = xr.load_dataarray(path)
+        out = _read_cached(path, int(n_law), rh) if path.exists() else None
+        if out is not None:
             if check and int(out.attrs.get("tail_checked", -1)) != min(check, int(n_law)):
                 out = _tail_check(out, psd, shape, float(spacing), seed, check)  # an older cache
             out.attrs.update(cache_file=str(path), from_cache=1)
             return out
+        _check_cache_writable(path.parent)  # before any law is computed
     parts_dir = None if path is None else path.with_name(path.stem + ".parts")
     blocks = [(a, min(a + _LAWS_PER_PART, int(n_law))) for a in range(0, int(n_law), _LAWS_PER_PART)]
     tasks = [dask.delayed(_part)(psd, a, b, rh, shape, float(spacing), seed, model, parts_dir)
