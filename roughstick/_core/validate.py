@@ -171,16 +171,16 @@ def fraction_advice(value, *, quantity: str = "fraction", percent: bool = False,
     Returns
     -------
     str or None
-        One sentence (no trailing period), e.g. "RH is a fraction in (0, 1): did you mean 0.3 or
-        '30 %'?"; None for a value in (0, 1).
+        One sentence (no trailing period), e.g. "RH must lie strictly between 0 and 1 (a
+        fraction): did you mean 0.3 or '30 %'?"; None for a value in (0, 1).
 
     Examples
     --------
     >>> from roughstick._core.validate import fraction_advice
     >>> fraction_advice(30.0, quantity="relative_humidity")
-    "RH is a fraction in (0, 1): did you mean 0.3 or '30 %'?"
+    "RH must lie strictly between 0 and 1 (a fraction): did you mean 0.3 or '30 %'?"
     >>> fraction_advice(1.0, quantity="relative_humidity", spell_percent=False)
-    "1 is saturation (RH 100 %), outside the models' range (0, 1): give at most e.g. 0.99"
+    "RH must lie strictly between 0 and 1: 1 is saturation (RH 100 %), outside the models' range; give at most e.g. 0.99"
     >>> fraction_advice(1.5, quantity="ratio", label="target_cv")
     'target_cv must lie strictly between 0 and 1 (a ratio such as 0.3, not a percentage)'
     """
@@ -191,41 +191,45 @@ def fraction_advice(value, *, quantity: str = "fraction", percent: bool = False,
         return None
     rh = quantity == "relative_humidity"
     what = label or ("RH" if rh else "the value")
-    pct = " or '{}'" if spell_percent else ""
-    if not np.isfinite(v):
-        return (("not a relative humidity" if rh else "not a number")
-                + f": {what} is a fraction in (0, 1), e.g. 0.6"
-                + (", or a percentage, e.g. '60 %'" if spell_percent else ""))
+    head = f"{what} must lie strictly between 0 and 1"
+
+    def pct(text: str) -> str:  # the percentage spelling, where it can be written
+        return f" or '{text}'" if spell_percent else ""
+
     if quantity == "ratio":
-        return f"{what} must lie strictly between 0 and 1 (a ratio such as 0.3, not a percentage)"
+        return f"{head} (a ratio such as 0.3, not a percentage)"
+    example = "0.6" if rh else "0.5"
+    if not np.isfinite(v):
+        return f"{head} (a fraction, e.g. {example}{pct(example[2:] + '0 %')}); this is not a number"
     if percent:
         p = v * 100
         if p <= 0:
             return (f"{what} must lie strictly between 0 and 100 %"
                     + (" (0 % is dry air, outside the models' range)" if rh else "") + ", e.g. '30 %'")
-        if p == 100:
-            return ("100 % is saturation, outside the models' range (RH strictly between 0 and "
-                    "100 %): give at most e.g. '99 %'" if rh else
-                    f"{what} must lie strictly between 0 and 100 % (100 % itself is excluded): "
-                    "give e.g. '99 %'")
-        return (f"{p:g} % is not a relative humidity: RH lies strictly between 0 and 100 % "
-                "(100 % is saturation), e.g. '60 %'" if rh else
-                f"{p:g} % is more than 100 %: {what} lies strictly between 0 and 100 %, e.g. '95 %'")
+        if rh:
+            return ("100 % is saturation, outside the models' range: RH must lie strictly between 0 and "
+                    "100 %; give at most e.g. '99 %'" if p == 100 else
+                    f"{p:g} % is not a relative humidity: RH must lie strictly between 0 and 100 % "
+                    "(100 % is saturation), e.g. '60 %'")
+        return (f"{what} must lie strictly between 0 and 100 % (100 % itself is excluded): give e.g. '99 %'"
+                if p == 100 else f"{what} must lie strictly between 0 and 100 % ({p:g} % is not), e.g. '50 %'")
     if v <= 0:
-        return (f"{what} is a fraction in (0, 1), e.g. 0.6" + pct.format("60 %")
+        return (f"{head} (a fraction, e.g. {example}{pct(example[2:] + '0 %')})"
                 + (("; 0 is dry air, outside the models' range" if v == 0 else "; it cannot be negative")
                    if rh else ""))
     if v == 1:
-        return ("1 is saturation (RH 100 %), outside the models' range (0, 1): give at most e.g. 0.99"
-                + (pct.format("99 %") if spell_percent else "") if rh else
-                f"{what} must lie strictly between 0 and 1 (1 itself is excluded): give e.g. 0.99")
+        return (f"{head}: 1 is saturation (RH 100 %), outside the models' range; give at most e.g. "
+                f"0.99{pct('99 %')}" if rh else f"{head} (1 itself is excluded): give e.g. 0.99")
+    if v < 2:  # just above 1: not a percentage typed for a fraction
+        return f"{head} (a fraction, e.g. {example})" + (f"; {v:g} is above saturation (1)" if rh else "")
     if v < 100:
-        return f"{what} is a fraction in (0, 1): did you mean {v / 100:g}" + pct.format(f"{v:g} %") + "?"
+        return f"{head} (a fraction): did you mean {v / 100:g}{pct(f'{v:g} %')}?"
     if v == 100 and rh:
-        return ("100 would be 100 %, saturation, outside the models' range (0, 1): give at most "
-                "e.g. 0.99" + pct.format("99 %"))
-    return (f"{v:g} is not " + ("a relative humidity" if rh else "a fraction") + f": {what} is a "
-            "fraction in (0, 1), e.g. 0.6" + (", or a percentage below 100 %, e.g. '60 %'" if spell_percent else ""))
+        return (f"{head}: 100 would be 100 %, saturation, outside the models' range; give at most e.g. "
+                f"0.99{pct('99 %')}")
+    return (f"{head} (a fraction, e.g. {example}"
+            + (f", or a percentage below 100 %, e.g. '{example[2:]}0 %'" if spell_percent else "") + ")"
+            + (f"; {v:g} is not a relative humidity" if rh else ""))
 
 
 def as_fraction(value, *, name: str, quantity: str = "fraction", spell_percent: bool = True,
@@ -593,3 +597,4 @@ def check_core_not_chunked(da: xr.DataArray, dims) -> None:
             f"but they are core dimensions of this computation. Rechunk first: "
             f".chunk({{{fix}}})."
         )
+

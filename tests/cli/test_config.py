@@ -222,10 +222,10 @@ def test_unknown_bundled_map_in_psd_files_lists_the_bundled_names(tmp_path):
     "text, says, never",
     [
         ("[ensemble]\nrelative_humidity = [0.5, 1.0]\n",
-         r"relative_humidity\[1\] = 1.0: 1 is saturation \(RH 100 %\), outside the models' range "
-         r"\(0, 1\): give at most e.g. 0.99", "0.01"),
+         r"relative_humidity\[1\] = 1.0: RH must lie strictly between 0 and 1: 1 is saturation "
+         r"\(RH 100 %\), outside the models' range; give at most e.g. 0.99", "0.01"),
         ('[ensemble]\nrelative_humidity = ["120 %"]\n',
-         r"'120 %': 120 % is not a relative humidity: RH lies strictly between 0 and 100 %", "0.012"),
+         r"'120 %': 120 % is not a relative humidity: RH must lie strictly between 0 and 100 %", "0.012"),
         ("[risk]\ntarget_cv = 1.5\n",
          r"target_cv = 1.5: target_cv must lie strictly between 0 and 1 \(a ratio such as 0.3, not a "
          r"percentage\)", "0.015"),

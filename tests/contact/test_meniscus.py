@@ -105,8 +105,8 @@ def test_numpy_and_dask_agree_and_stay_lazy(backend):
 
 @pytest.mark.parametrize("bad, says", [
     (0.0, "0 is dry air"), (1.0, r"1 is saturation \(RH 100 %\).*at most e.g. 0.99"),
-    (1.5, r"RH is a fraction in \(0, 1\)"), (-0.2, "cannot be negative"),
-    (30.0, r"did you mean 0.3\?"), (np.nan, "not a relative humidity")])
+    (1.5, r"1.5 is above saturation"), (-0.2, "cannot be negative"),
+    (30.0, r"did you mean 0.3\?"), (np.nan, "this is not a number")])
 def test_relative_humidity_outside_unit_interval(bad, says):
     with pytest.raises(ValueError, match=says):
         rs.laplace_pressure(bad)
@@ -119,7 +119,7 @@ def test_relative_humidity_errors_for_dataarrays():
         rs.water_height(xr.DataArray([0.5], dims="rh", attrs={"units": "m"}))
     lazy = xr.DataArray([0.5, 1.5], dims="rh", attrs={"units": "1"}).chunk({"rh": 1})
     out = rs.laplace_pressure(lazy)  # validated at compute time
-    with pytest.raises(ValueError, match=r"RH is a fraction in \(0, 1\)"):
+    with pytest.raises(ValueError, match="strictly between 0 and 1"):
         out.compute()
     with pytest.raises(ValueError, match="1-D sequence or a DataArray"):
         rs.kelvin_radius(np.full((2, 2), 0.5))
