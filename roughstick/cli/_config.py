@@ -32,7 +32,7 @@ import xarray as xr
 import roughstick as rs
 
 from .._core.units import KINDS, UnitsError, parse_quantity
-from .._core.validate import as_fraction
+from .._core.validate import as_fraction, physical_memory
 from ..io.afm import bundled_map_names, resolve_map_path
 from ._schema import SCHEMAS, Field
 
@@ -293,21 +293,12 @@ def parse(raw: dict, command: str, *, base, source: str = "config", schema=None)
 BYTES_PER_PIXEL = 32 * 8
 
 
-def _physical_memory() -> int | None:
-    try:
-        import os
-
-        return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - not POSIX
-        return None
-
-
 def check_memory(shape, *, chunks: int = 1, where: str = "config") -> None:
     """Refuse, before allocating anything, surfaces whose blocks cannot fit in this machine's
     memory, naming the size and the fix."""
     ny, nx = shape
     need = ny * nx * BYTES_PER_PIXEL * max(1, int(chunks))
-    have = _physical_memory()
+    have = physical_memory()
     if have is not None and need > have:
         raise ConfigError(
             f"{where}: surfaces of {ny} x {nx} px in blocks of {chunks} need about {need / 2**30:.0f} GiB, "

@@ -33,6 +33,7 @@ from .._core.validate import (
     MIN_MAP_PIXELS,
     check_core_not_chunked,
     check_has_roughness,
+    check_map_fits_in_memory,
     grid_spacing,
     relative_humidity_coordinate,
 )
@@ -436,6 +437,7 @@ def bem_contact_curves(
         raise ValueError(f"path must be 'retract' or 'approach', got {path!r}.")
     if not (tolerance > 0):
         raise ValueError(f"tolerance must be positive, got {tolerance!r}.")
+    check_map_fits_in_memory(height, model="bem")
     height = require(height, "length", name="height")
     spacing = [grid_spacing(height, dim, min_pixels=MIN_MAP_PIXELS, purpose="the boundary-element solver")
                for dim in ("y", "x")]

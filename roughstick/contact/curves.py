@@ -25,6 +25,7 @@ from .._core.materials import POLYSILICON
 from .._core.units import require
 from .._core.validate import (
     MIN_MAP_PIXELS,
+    check_map_fits_in_memory,
     check_plausible_height,
     distance_array,
     grid_spacing,
@@ -157,6 +158,11 @@ def rough_contact_curves(
     if model not in CONTACT_MODELS:
         raise ValueError(f"model must be one of {CONTACT_MODELS}, got {model!r}.")
     _check_tolerance(tolerance)
+    if isinstance(height, xr.DataArray):  # before anything is allocated ("auto": the cheapest model)
+        key = "gw" if model == "auto" else model
+        check_map_fits_in_memory(height, model="fft_bem_double" if key == "fft_bem" and
+                                 model_kwargs.get("precision") == "double" else key,
+                                 what="model='auto' (even with its cheapest model, gw)" if model == "auto" else None)
     if getattr(height, "chunks", None) is None and hasattr(height, "dims"):
         values = np.asarray(height)
         infinite = np.isinf(values) if values.dtype.kind == "f" else None

@@ -37,7 +37,12 @@ from .._core.materials import POLYSILICON, Material, reduced_modulus
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
-from .._core.validate import MIN_MAP_PIXELS, check_core_not_chunked, check_has_roughness
+from .._core.validate import (
+    MIN_MAP_PIXELS,
+    check_core_not_chunked,
+    check_has_roughness,
+    check_map_fits_in_memory,
+)
 from . import _fft_bem_kernels as _k
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 from .periodic import count_periodic_clusters, periodic_offset_coefficient
@@ -334,6 +339,7 @@ def fft_bem_contact_curves(
         raise ValueError(f"precision must be 'single' or 'double', got {precision!r}.")
     if not (tolerance > 0):
         raise ValueError(f"tolerance must be a positive relative error, got {tolerance!r}.")
+    check_map_fits_in_memory(height, model="fft_bem_double" if precision == "double" else "fft_bem")
     height = require(height, "length", name="height")
     spacing = _spacing(height)
     if height.chunks is not None:

@@ -46,7 +46,7 @@ from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material, hertz_modulus
 from .._core.references import PAPER, cite
 from .._core.units import require
-from .._core.validate import distance_array
+from .._core.validate import check_map_fits_in_memory, distance_array
 from ..surface.moments import moments_si, roughness_moments, summit_density
 from ._gw_kernels import (
     _VARS,
@@ -264,6 +264,7 @@ def _gw_auto_distance(m0, m2, m4, dP, hw, kw, n=None):
 
 def _as_moments(moments, moment_method, qmax) -> xr.Dataset:
     if isinstance(moments, xr.DataArray):
+        check_map_fits_in_memory(moments, model="gw")
         return roughness_moments(moments, method=moment_method, qmax=qmax)
     if isinstance(moments, xr.Dataset):
         if moment_method != "spline" or qmax is not None:

@@ -33,6 +33,7 @@ from .._core.validate import (
     ValidityWarning,
     check_core_not_chunked,
     check_has_roughness,
+    check_map_fits_in_memory,
     distance_array,
     external_stacklevel,
     grid_spacing,
@@ -447,6 +448,7 @@ def modified_dmt_curves(
     >>> ds.pressure.dims
     ('rh', 'distance')
     """
+    check_map_fits_in_memory(height, model="modified_dmt")  # before anything is allocated
     height = require(height, "length", name="height")
     dx, dy = _spacing(height, "x"), _spacing(height, "y")
     check_core_not_chunked(height, ["y", "x"])

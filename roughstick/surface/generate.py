@@ -31,7 +31,6 @@ import contextlib
 import contextvars
 import hashlib
 import numbers
-import os
 import threading
 import warnings
 from collections.abc import Sequence
@@ -46,7 +45,7 @@ from .._core import units as _units
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import as_seed_sequence, is_lazy
 from .._core.references import PAPER, cite
-from .._core.validate import check_positive_block
+from .._core.validate import check_fits_in_memory, check_positive_block
 from ._generate_kernels import _centred_full, _filter, _generate_block
 from .spectrum import interpolate_psd, isotropic_to_2d
 
@@ -149,25 +148,13 @@ def _grid(psd, shape, size, spacing):
     return shape_p, spacing_p
 
 
-def _physical_memory() -> float | None:
-    try:
-        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
-        return None
-
-
 def _check_fits_in_memory(shape) -> None:
     """Refuse, before allocating, a map whose filter and one realization cannot fit in memory."""
     ny, nx = shape
     # float64 filter (ny, nx/2+1) + its complex spectrum + the real map: ~ 4 x 8 bytes per pixel
     need = 32.0 * ny * (nx // 2 + 1) + 8.0 * ny * nx
-    have = _physical_memory()
-    if have is not None and need > have:
-        raise MemoryError(
-            f"a {ny} x {nx} surface needs about {need / 2**30:.3g} GiB for its spectral filter and "
-            f"one map, more than this machine's {have / 2**30:.3g} GiB; use a smaller shape or "
-            "size (or a coarser spacing)."
-        )
+    check_fits_in_memory(need, what=f"a {ny} x {nx} surface", detail="for its spectral filter and one map",
+                         fix="use a smaller shape or size (or a coarser spacing)")
 
 
 def _realizations(n, realizations):
