@@ -24,7 +24,7 @@ import xarray as xr
 
 from .._core.conventions import ATTRS, append_history
 from .._core.dask import as_seed_sequence
-from .._core.materials import POLYSILICON
+from .._core.materials import POLYSILICON, as_material
 from .._core.validate import distance_array, relative_humidity_array
 from ..contact.adhesion import adhesion_summary
 from ..contact.curves import CONTACT_MODELS, rough_contact_curves
@@ -159,8 +159,8 @@ def run_ensemble(
         Common distance grid [m]; default :func:`ensemble_distance_grid`.
     adsorbed_layer : {"paper", "none"} or callable, default "paper"
         Adsorbed-layer model (§2.1).
-    material : roughstick.Material, optional
-        Both bodies' material (default poly-silicon).
+    material : roughstick.Material or str, optional
+        Both bodies' material (default poly-silicon; ``"poly-Si"``/``"polysilicon"`` name it).
     output : str or pathlib.Path, optional
         Stream results into this folder (one CF NetCDF file per block plus ``manifest.json``) as
         blocks complete, resuming from any blocks already there, and return the Dataset opened from
@@ -258,7 +258,7 @@ def run_ensemble(
         raise ValueError(f"spacing must be a positive length in m, got {spacing!r}.")
     shp = surface_shape(shape=shape, size=size, spacing=spacing)
     rh = relative_humidity_array(relative_humidity)
-    material = POLYSILICON if material is None else material
+    material = POLYSILICON if material is None else as_material(material)
     curves_kwargs = dict(curves_kwargs or {})
     model = selection = None
     if curves is None:
@@ -342,7 +342,7 @@ def _select_for_sizes(psd, shapes, spacing, rh, kwargs):
     each humidity must meet the tolerance: :func:`roughstick.select_model` on the stacked groups
     expected from the PSD), and the reason."""
     ck = dict(kwargs["curves_kwargs"])
-    material = kwargs.get("material") or POLYSILICON
+    material = as_material(kwargs.get("material") or POLYSILICON)
     with warnings.catch_warnings():
         if kwargs.get("generate") is not None:  # the PSD filter of generate_surfaces is not used
             warnings.simplefilter("ignore", ExtrapolatedPSDWarning)

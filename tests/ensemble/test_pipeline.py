@@ -102,6 +102,20 @@ def test_bad_input(kw, match):
         toy_run(**{"n": 4, **kw})
 
 
+def test_material_by_name_or_refused_naming_the_names():
+    """run_ensemble(material="silicon") raised AttributeError ('str' object has no attribute
+    'poisson_ratio') from deep inside the validity check."""
+    with pytest.raises(ValueError, match=r"material='silicon' is not a material roughstick knows; known "
+                                         r"names: 'poly-silicon'.*roughstick.Material\(youngs_modulus="):
+        rs.run_ensemble(rs.datasets.sample_psd("S2"), n=2, shape=32, spacing=5e-9, relative_humidity=[0.5],
+                        material="silicon")
+    with pytest.raises(TypeError, match="must be a roughstick.Material or a known name"):
+        toy_run(n=2, material=164e9)
+    named, default = toy_run(n=2, material="poly-Si"), toy_run(n=2)
+    assert named.attrs["material"] == default.attrs["material"] == repr(rs.POLYSILICON)
+    assert rs.reduced_modulus("polysilicon") == rs.reduced_modulus(rs.POLYSILICON)
+
+
 def test_bad_shapes():
     with pytest.raises(ValueError, match="exactly one of shape"):
         rs.run_ensemble(toy_psd(), n=2, shape=16, size=1e-6, spacing=5e-9, relative_humidity=RH, **TOY)
