@@ -167,7 +167,7 @@ def written_names(folder) -> set[str] | None:
     return {line for line in text.splitlines() if line}
 
 
-def write(ds: xr.Dataset, path, *, compute: bool = False):
+def write(ds: xr.Dataset, path, *, compute: bool = True):
     """Write ``ds`` to CF NetCDF (netCDF4 engine, zlib level 4) atomically.
 
     Checks that every variable and coordinate carries ``units`` and ``long_name`` first. The data
@@ -180,9 +180,9 @@ def write(ds: xr.Dataset, path, *, compute: bool = False):
         Data to write; lazy (dask) data are computed chunk by chunk during the write.
     path : str or pathlib.Path
         Destination file.
-    compute : bool, default False
-        If False, return a :class:`dask.delayed.Delayed` that performs the write (and the rename)
-        when computed; if True, write now and return the path.
+    compute : bool, default True
+        If True, write now and return the path (as xarray's ``to_netcdf``); if False, return a
+        :class:`dask.delayed.Delayed` that performs the write (and the rename) when computed.
 
     Returns
     -------
@@ -199,7 +199,7 @@ def write(ds: xr.Dataset, path, *, compute: bool = False):
     >>> ds = xr.Dataset({"a": ("x", [1.0, 2.0], {"units": "m", "long_name": "a length"})})
     >>> ds["x"] = ("x", [0, 1], {"units": "1", "long_name": "index"})
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "a.nc"
-    >>> rs.io.netcdf.write(ds, p, compute=True).name
+    >>> rs.write(ds, p).name
     'a.nc'
     >>> float(rs.open_dataset(p)["a"].sum())
     3.0
