@@ -168,9 +168,11 @@ def run_ensemble(
     overwrite : bool, default False
         Replace a different run in ``output``.
     scheduler : None, "threads", "sync", "processes", str or distributed.Client
-        Where blocks run when streaming or with ``n="auto"``: local threads by default, or an
-        existing dask.distributed cluster by its address (``"tcp://host:8786"``) or client. The lazy
-        result (no ``output``) computes with whatever dask scheduler is active.
+        Where blocks run when streaming or with ``n="auto"``: by default the active dask scheduler
+        (an active ``distributed.Client``, which is the default once created; else one set with
+        ``dask.config.set(scheduler=...)``; else local threads), or an existing dask.distributed
+        cluster by its address (``"tcp://host:8786"``) or client. The lazy result (no
+        ``output``) computes with whatever dask scheduler is active.
     connect_timeout : float, default 5
         Seconds to wait for a scheduler address to answer before raising ``ConnectionError``.
     progress : bool, optional

@@ -139,7 +139,8 @@ def subset_simulation(
         Model evaluations per dask task (level 0: samples; higher levels: whole chains).
         Results do not depend on it.
     scheduler : None, str or distributed.Client
-        ``None``/"threads", "sync", "processes", a scheduler address or a Client.
+        ``None`` (the active dask scheduler: an active Client, else ``dask.config``'s, else
+        threads), "threads", "sync", "processes", a scheduler address or a Client.
         ("processes" starts a worker pool for every round of the chains: slow; prefer threads
         or a distributed Client.)
     output : path, optional
