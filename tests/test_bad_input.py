@@ -108,9 +108,9 @@ def test_surfaces_too_large_for_memory_are_refused_before_allocating(h):
 def test_contact_maps_too_large_for_memory_are_refused_before_allocating(call, monkeypatch):
     """The memory a contact model needs is estimated from the map size first (here on a machine
     of 8 MiB), not found out by numpy after the work has started."""
-    from roughstick._core import validate
+    from roughstick._core import memory
 
-    monkeypatch.setattr(validate, "physical_memory", lambda: 8 * 2**20)
+    monkeypatch.setattr(memory, "physical_memory", lambda: 8 * 2**20)
     big = rs.datasets.surface_family("smooth", shape=(256, 256), seed=1)
     with pytest.raises(MemoryError, match=r"on a 256 x 256 map needs about 0.0[0-9]+ GiB \(6.55e\+04 pixels, "
                                           r"~\d+ bytes each\), more than this machine's 0.00781 GiB of memory; "
@@ -119,10 +119,10 @@ def test_contact_maps_too_large_for_memory_are_refused_before_allocating(call, m
 
 
 def test_cli_map_too_large_for_memory_is_one_line(monkeypatch, tmp_path, capsys):
-    from roughstick._core import validate
+    from roughstick._core import memory
     from roughstick.cli import main
 
-    monkeypatch.setattr(validate, "physical_memory", lambda: 8 * 2**20)
+    monkeypatch.setattr(memory, "physical_memory", lambda: 8 * 2**20)
     assert main(["curves", "bundled:S1A", "--rh", "0.5", "--out", str(tmp_path / "c.nc")]) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "needs about" in err and "this machine's 0.00781 GiB" in err

@@ -31,8 +31,9 @@ import xarray as xr
 
 import roughstick as rs
 
+from .._core.memory import physical_memory
 from .._core.units import KINDS, UnitsError, parse_quantity
-from .._core.validate import as_fraction, physical_memory
+from .._core.validate import as_fraction
 from ..io.afm import bundled_map_names, resolve_map_path
 from ._schema import SCHEMAS, Field
 

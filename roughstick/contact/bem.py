@@ -26,6 +26,7 @@ from .._core.conventions import (
     set_coord_attrs,
 )
 from .._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.memory import check_map_fits_in_memory
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
@@ -33,7 +34,6 @@ from .._core.validate import (
     MIN_MAP_PIXELS,
     check_core_not_chunked,
     check_has_roughness,
-    check_map_fits_in_memory,
     grid_spacing,
     relative_humidity_coordinate,
 )

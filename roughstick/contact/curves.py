@@ -22,10 +22,10 @@ import xarray as xr
 
 from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
+from .._core.memory import check_map_fits_in_memory
 from .._core.units import require
 from .._core.validate import (
     MIN_MAP_PIXELS,
-    check_map_fits_in_memory,
     check_plausible_height,
     distance_array,
     grid_spacing,

@@ -34,15 +34,11 @@ from .._core.conventions import (
     set_coord_attrs,
 )
 from .._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.memory import check_map_fits_in_memory
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
-from .._core.validate import (
-    MIN_MAP_PIXELS,
-    check_core_not_chunked,
-    check_has_roughness,
-    check_map_fits_in_memory,
-)
+from .._core.validate import MIN_MAP_PIXELS, check_core_not_chunked, check_has_roughness
 from . import _fft_bem_kernels as _k
 from .meniscus import as_relative_humidity, laplace_pressure, water_height
 from .periodic import count_periodic_clusters, periodic_offset_coefficient

@@ -44,9 +44,10 @@ import xarray as xr
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material, hertz_modulus
+from .._core.memory import check_map_fits_in_memory
 from .._core.references import PAPER, cite
 from .._core.units import require
-from .._core.validate import check_map_fits_in_memory, distance_array
+from .._core.validate import distance_array
 from ..surface.moments import moments_si, roughness_moments, summit_density
 from ._gw_kernels import (
     _VARS,

@@ -26,6 +26,7 @@ import xarray as xr
 from .._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, hertz_modulus, reduced_modulus
+from .._core.memory import check_map_fits_in_memory
 from .._core.references import PAPER, cite
 from .._core.units import require
 from .._core.validate import (
@@ -33,7 +34,6 @@ from .._core.validate import (
     ValidityWarning,
     check_core_not_chunked,
     check_has_roughness,
-    check_map_fits_in_memory,
     distance_array,
     external_stacklevel,
     grid_spacing,

@@ -21,7 +21,8 @@ import xarray as xr
 
 from .._core import units as _units
 from .._core.conventions import ATTRS, append_history, set_coord_attrs
-from .._core.validate import check_positive_block, physical_memory
+from .._core.memory import physical_memory
+from .._core.validate import check_positive_block
 
 __all__ = ["read_afm"]
 

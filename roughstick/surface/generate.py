@@ -44,8 +44,9 @@ from dask.delayed import Delayed
 from .._core import units as _units
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import as_seed_sequence, is_lazy
+from .._core.memory import check_fits_in_memory
 from .._core.references import PAPER, cite
-from .._core.validate import check_fits_in_memory, check_positive_block
+from .._core.validate import check_positive_block
 from ._generate_kernels import _centred_full, _filter, _generate_block
 from .spectrum import interpolate_psd, isotropic_to_2d
 
