@@ -1,7 +1,8 @@
 """ONE home for the input checks every stage shares, each declared once (cf. MetPy's helpers).
 
-- positivity: :func:`check_positive_block` (plain arrays) and :func:`positive` (floats, 1-D
-  sequences or DataArrays with ``units``; lazy data are checked lazily);
+- positivity: :func:`check_positive_block` (plain arrays) and :func:`positive` (floats, strings
+  with a unit such as ``"2 nm"``, 1-D sequences or DataArrays with ``units``; lazy data are
+  checked lazily); :func:`as_length`, one length (``spacing``, ``size`` ...) in m;
 - relative humidity: :func:`as_relative_humidity` (the public coercion, a DataArray of fractions),
   :func:`relative_humidity_coordinate` (known in advance: it becomes the ``rh`` coordinate),
   :func:`relative_humidity_array` (a 1-D list of distinct humidities, e.g. of an ensemble) and
@@ -29,11 +30,12 @@ import xarray as xr
 
 from .conventions import ATTRS
 from .dask import is_lazy
-from .units import as_si, factor, require
+from .units import as_si, factor, parse_quantity, require
 
 __all__ = [
     "check_positive_block",
     "positive",
+    "as_length",
     "as_relative_humidity",
     "as_fraction",
     "fraction_advice",
@@ -101,11 +103,17 @@ def positive(value, kind: str | None, name: str, fix: str = "", *, dim: str | No
              allow_zero: bool = False, finite: bool = False, arrays: bool = False):
     """``value`` in SI (``kind`` of :mod:`roughstick._core.units`, None: already SI), checked > 0.
 
-    Floats come back as ``float``; a DataArray is converted with its ``units`` and checked (lazily,
-    at compute time, when dask-backed); a 1-D sequence becomes a DataArray along ``dim`` when
-    ``dim`` is given; other arrays are refused unless ``arrays`` (then returned as arrays).
+    Floats come back as ``float``; a string with its unit (``"100 nm"``, with ``kind``) is
+    converted by :func:`roughstick._core.units.parse_quantity`, and so is each string of a
+    sequence; a DataArray is converted with its ``units`` and checked (lazily, at compute time,
+    when dask-backed); a 1-D sequence becomes a DataArray along ``dim`` when ``dim`` is given;
+    other arrays are refused unless ``arrays`` (then returned as arrays).
     """
     kw = dict(allow_zero=allow_zero, finite=finite)
+    if kind is not None and isinstance(value, str):
+        value = parse_quantity(value, kind, name=name)
+    elif kind is not None and isinstance(value, (list, tuple)) and any(isinstance(v, str) for v in value):
+        value = [parse_quantity(v, kind, name=f"{name}[{i}]") for i, v in enumerate(value)]
     if isinstance(value, xr.DataArray):
         da = require(value, kind, name=name) if kind is not None else value
         if da.chunks is None:
@@ -132,6 +140,28 @@ def positive(value, kind: str | None, name: str, fix: str = "", *, dim: str | No
         f"{name} must be a scalar, a 1-D sequence or a DataArray with named dims; got shape "
         f"{arr.shape}. Wrap it in xarray.DataArray(..., dims=...) with a 'units' attribute."
     )
+
+
+def as_length(value, *, name: str) -> float:
+    """One positive, finite length in m from a number (m), a string with its unit (``"2 nm"``,
+    :func:`roughstick._core.units.parse_quantity`) or a 0-d DataArray with length ``units``: the
+    one parser of the length arguments (``spacing``, ``size`` ...) of every function.
+
+    Examples
+    --------
+    >>> from roughstick._core.validate import as_length
+    >>> as_length("2 nm", name="spacing"), as_length(5e-9, name="spacing")
+    (2e-09, 5e-09)
+    """
+    if isinstance(value, xr.DataArray):
+        if value.ndim != 0:
+            raise ValueError(f"{name} must be one length, got a DataArray with dims {value.dims}.")
+        value = float(require(value, "length", name=name))
+    elif isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value.item()
+    v = parse_quantity(value, "length", name=name)
+    check_positive_block(v, name, "Pass a positive length, e.g. '5 nm' or 5e-9 (m).", finite=True)
+    return v
 
 
 # ------------------------------------------------------------------------- relative humidity

@@ -42,6 +42,7 @@ from .._core.units import require
 from .._core.validate import (
     MIN_MAP_PIXELS,
     ValidityWarning,
+    as_length,
     check_has_roughness,
     external_stacklevel,
     grid_spacing,
@@ -311,8 +312,8 @@ def expected_surface_groups(
         2-D ``(qy, qx)`` or isotropic ``(q)`` PSD, as for :func:`roughstick.generate_surfaces`.
     shape : int or (int, int)
         Surface shape ``(ny, nx)`` in pixels.
-    spacing : float
-        Pixel size [m].
+    spacing : float or str
+        Pixel size [m], or with its unit (``"5 nm"``).
     relative_humidity, material, material2, adsorbed_layer
         As in :func:`surface_groups`.
 
@@ -322,6 +323,7 @@ def expected_surface_groups(
         The variables of :func:`surface_groups` over ``rh``.
     """
     shp = (int(shape), int(shape)) if np.ndim(shape) == 0 else tuple(int(v) for v in shape)
+    spacing = as_length(spacing, name="spacing")
     f = surface_filter(psd, shape=shp, spacing=spacing)
     qy = np.asarray(f["qy"].values, dtype=float)
     qx = np.asarray(f["qx"].values, dtype=float)

@@ -25,7 +25,7 @@ import xarray as xr
 from .._core.conventions import ATTRS, append_history
 from .._core.dask import as_seed_sequence
 from .._core.materials import POLYSILICON, as_material
-from .._core.validate import distance_array, relative_humidity_array
+from .._core.validate import as_length, distance_array, relative_humidity_array
 from ..contact.adhesion import adhesion_summary
 from ..contact.curves import CONTACT_MODELS, rough_contact_curves
 from ..contact.pixel import warn_if_unresolved
@@ -145,10 +145,10 @@ def run_ensemble(
         band changes are recorded in ``attrs``. ``"auto"`` computes (it must look at the results).
     relative_humidity : sequence of float
         Humidities as fractions in (0, 1); becomes the ``rh`` dimension.
-    spacing : float
-        Pixel size [m].
-    size, shape : float or (float, float), int or (int, int)
-        Surface side(s) in metres, or in pixels; give exactly one.
+    spacing : float or str
+        Pixel size [m], or with its unit (``"5 nm"``).
+    size, shape : float, str or (float, float), int or (int, int)
+        Surface side(s) in metres (or with a unit, ``"1.28 um"``), or in pixels; give exactly one.
     seed : int or numpy.random.SeedSequence, default 0
         Root seed; realization ``k`` uses its child ``k`` whatever the chunking.
     chunks : int or dict, optional
@@ -255,9 +255,7 @@ def run_ensemble(
                 "roughstick.self_affine_psd(numpy.geomspace(1e5, 1e10, 2000), "
                 "**roughstick.datasets.family_parameters(name))." if callable(psd) else "")
         raise TypeError(f"psd must be an xarray.DataArray, got {type(psd).__name__}.{hint}")
-    spacing = float(spacing)
-    if not spacing > 0:
-        raise ValueError(f"spacing must be a positive length in m, got {spacing!r}.")
+    spacing = as_length(spacing, name="spacing")
     shp = surface_shape(shape=shape, size=size, spacing=spacing)
     rh = relative_humidity_array(relative_humidity)
     material = POLYSILICON if material is None else as_material(material)
@@ -408,6 +406,7 @@ def surface_size_study(
         raise ValueError("give exactly one of sizes= (m) or shapes= (pixels).")
     if "output" in kwargs:
         raise ValueError("surface_size_study does not stream; call run_ensemble(output=...) per size.")
+    spacing = as_length(spacing, name="spacing")
     shp = [surface_shape(size=s, spacing=spacing) for s in sizes] if sizes is not None else [
         surface_shape(shape=s, spacing=spacing) for s in shapes
     ]

@@ -22,7 +22,7 @@ import xarray as xr
 from .._core import units as _units
 from .._core.conventions import ATTRS, append_history, set_coord_attrs
 from .._core.memory import physical_memory
-from .._core.validate import check_positive_block
+from .._core.validate import as_length
 
 __all__ = ["read_afm"]
 
@@ -90,9 +90,7 @@ _NETCDF = {".nc", ".nc4", ".netcdf", ".cdf"}
 
 def _length(value, name: str) -> float:
     """A length as float m: a number (m) or a string such as ``"5 nm"``."""
-    v = _units.parse_quantity(value, "length", name=name)
-    check_positive_block(v, name, "Pass a positive length, e.g. '5 nm' or 5e-9 (m).", finite=True)
-    return v
+    return as_length(value, name=name)
 
 
 _LINE_SCAN = ("roughstick's contact, ensemble and generation analyses need a 2-D height map; "

@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from .._core.conventions import append_history, dataset_attrs
-from .._core.validate import relative_humidity_array
+from .._core.validate import as_length, relative_humidity_array
 from ..contact import (
     ValidityWarning,
     adhesion_summary,
@@ -172,8 +172,8 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         Number of patches (laws).
     shape : (int, int)
         Pixels of a patch; with ``spacing`` the patch size (the interaction zone, §5.2).
-    spacing : float
-        Pixel size [m].
+    spacing : float or str
+        Pixel size [m], or with its unit (``"20 nm"``).
     seed : int
         Root seed of the patches (one SeedSequence child per patch, as generate_surfaces does).
     model : str
@@ -203,6 +203,7 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
     if int(check_tail) < 0:
         raise ValueError(f"check_tail must be >= 0 (laws re-checked with the BEM), got {check_tail}")
     check = int(check_tail) if model == "modified_dmt" else 0
+    spacing = as_length(spacing, name="spacing")
     if not isinstance(psd, xr.DataArray):
         raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.self_affine_psd(q, ...)) "
                         f"so the cache can key on its values, got {type(psd).__name__}")

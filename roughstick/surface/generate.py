@@ -46,7 +46,7 @@ from .._core.conventions import append_history, set_attrs
 from .._core.dask import as_seed_sequence, is_lazy
 from .._core.memory import check_fits_in_memory
 from .._core.references import PAPER, cite
-from .._core.validate import check_positive_block
+from .._core.validate import as_length
 from ._generate_kernels import _centred_full, _filter, _generate_block
 from .spectrum import interpolate_psd, isotropic_to_2d
 
@@ -77,8 +77,10 @@ def _pair(value, name: str):
     """A scalar or a (y, x) pair → tuple of two."""
     if value is None:
         return None
-    if isinstance(value, (str, bytes)):
+    if isinstance(value, bytes) or (isinstance(value, str) and name == "shape"):
         raise ValueError(f"{name} must be a number or a (y, x) pair, got {value!r}.")
+    if isinstance(value, str):  # a length with its unit, e.g. "5 nm"
+        return value, value
     if isinstance(value, Sequence) or isinstance(value, np.ndarray):
         vals = list(np.asarray(value, dtype=object).ravel())
         if len(vals) != 2:
@@ -88,13 +90,7 @@ def _pair(value, name: str):
 
 
 def _length(value, name: str) -> float:
-    if isinstance(value, xr.DataArray):
-        value = float(_units.require(value, "length", name=name))
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name} must be a length in m, got {value!r}.")
-    value = float(value)
-    check_positive_block(value, name, "Pass a length in m.", finite=True)
-    return value
+    return as_length(value, name=name)
 
 
 def _grid(psd, shape, size, spacing):
@@ -522,10 +518,11 @@ def generate_surfaces(
     shape : int or (int, int), optional
         Pixels ``(ny, nx)``; any sizes >= 2 (powers of two are not required). Default for a 2D
         PSD DataArray without ``size``: the PSD grid shape.
-    size : float or (float, float), optional
-        Physical size ``(Ly, Lx)`` [m]; with ``spacing`` it must be a whole number of pixels.
-    spacing : float or (float, float), optional
-        Pixel size ``(dy, dx)`` [m]. Two of ``shape``, ``size``, ``spacing`` are needed; if
+    size : float, str or (float, float), optional
+        Physical size ``(Ly, Lx)`` [m], or with its unit (``"1.28 um"``); with ``spacing`` it
+        must be a whole number of pixels.
+    spacing : float, str or (float, float), optional
+        Pixel size ``(dy, dx)`` [m], or with its unit (``"5 nm"``). Two of ``shape``, ``size``, ``spacing`` are needed; if
         ``spacing`` is missing it is taken from the PSD's ``spacing_y``/``spacing_x`` attrs.
     seed : int, numpy.random.SeedSequence, numpy.random.Generator or None
         Root seed; recorded in ``attrs['seed']``. ``None`` draws a fresh root seed (recorded).
