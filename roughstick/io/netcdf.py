@@ -199,7 +199,7 @@ def write(ds: xr.Dataset, path, *, compute: bool = True):
     >>> ds = xr.Dataset({"a": ("x", [1.0, 2.0], {"units": "m", "long_name": "a length"})})
     >>> ds["x"] = ("x", [0, 1], {"units": "1", "long_name": "index"})
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "a.nc"
-    >>> rs.write(ds, p).name
+    >>> rs.io.netcdf.write(ds, p, compute=True).name
     'a.nc'
     >>> float(rs.open_dataset(p)["a"].sum())
     3.0

@@ -68,13 +68,18 @@ def _law_energies(psd, laws, rh, shape, spacing, seed, model) -> np.ndarray:
     return values
 
 
-def _set_aside(file: Path, why: BaseException, what: str) -> None:
-    """Move an unreadable cache file out of the way (``<name>.corrupt``), saying so."""
-    aside = file.with_name(file.name + ".corrupt")
-    os.replace(file, aside)
+def _set_aside(file: Path, why: BaseException, what: str, *, keep: bool = True) -> None:
+    """Move an unreadable cache file out of the way (``<name>.corrupt``; a part of an unfinished
+    bank, an intermediate, is deleted), saying so."""
     reason = (str(why).strip().splitlines() or [type(why).__name__])[0][:160]
-    warnings.warn(f"the patch-bank cache file {str(file)!r} could not be read ({reason}); moved it "
-                  f"to {aside.name} and {what} (delete {aside.name} when you no longer need it).",
+    aside = file.with_name(file.name + ".corrupt")
+    if keep:
+        os.replace(file, aside)
+        done = f"moved it to {aside.name} and {what} (delete {aside.name} when you no longer need it)"
+    else:
+        file.unlink()
+        done = f"deleted it and {what}"
+    warnings.warn(f"the patch-bank cache file {str(file)!r} could not be read ({reason}); {done}.",
                   UserWarning, stacklevel=4)
 
 
@@ -88,7 +93,7 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir):
                 raise ValueError(f"it holds an array of shape {values.shape}, not {(stop - start, len(rh))}")
             return values
         except (OSError, ValueError, EOFError) as exc:
-            _set_aside(file, exc, f"recomputing laws {start}-{stop - 1}")
+            _set_aside(file, exc, f"recomputing laws {start}-{stop - 1}", keep=False)
     values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model)
     if file is not None:
         parts_dir.mkdir(parents=True, exist_ok=True)
@@ -183,8 +188,9 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         in parts of 25 by dask's threads (both cores; a law is the same whatever the parts);
         with a cache each finished part is stored, so an interrupted bank resumes where it
         stopped. A cache file that cannot be read (damaged, truncated, not this bank) is moved
-        aside to ``<name>.corrupt`` with a warning and the bank rebuilt. A folder that cannot be
-        written is refused before any law is computed (``PermissionError``).
+        aside to ``<name>.corrupt`` with a warning and the bank rebuilt (a damaged part is
+        deleted and recomputed). A folder that cannot be written is refused before any law is
+        computed (``PermissionError``).
     check_tail : int
         With ``model="modified_dmt"``: re-evaluate this many laws of largest energy at each RH
         with the FFT-BEM (``attrs["tail_bem_ratio"]``, the median BEM/Eq. 16 ratio; a

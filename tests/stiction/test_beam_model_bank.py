@@ -55,6 +55,20 @@ def test_a_damaged_cache_file_is_named_set_aside_and_rebuilt(tmp_path):
     np.testing.assert_array_equal(rebuilt.values, first.values)
     np.testing.assert_array_equal(again.values, first.values)
     assert (tmp_path / f"{path.name}.corrupt").read_bytes().startswith(b"CDF\x01")
+    # a damaged part of an interrupted bank is recomputed too
+    other = {**kwargs, "seed": 5}
+    from roughstick.stiction import patch_bank as pb
+
+    key = pb._key(_psd(), np.array([0.5]), 2, (16, 16), 40e-9, 5, "modified_dmt")
+    parts = tmp_path / f"patch_bank_{key}.parts"
+    parts.mkdir()
+    (parts / "laws_0000000_0000002.npy").write_bytes(b"\x93NUMPY truncated")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        with pytest.warns(UserWarning, match=r"laws_0000000_0000002.npy' could not be read.*recomputing laws 0-1"):
+            resumed = build_patch_bank(_psd(), **other)
+        plain = build_patch_bank(_psd(), **{**other, "cache_dir": None})
+    np.testing.assert_array_equal(resumed.values, plain.values)
 
 
 def test_a_cache_folder_that_cannot_be_written_is_refused_before_any_law(tmp_path, monkeypatch):
