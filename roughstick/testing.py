@@ -13,6 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ._core.conventions import ATTRS, set_coord_attrs
+from ._core.validate import as_length
 
 __all__ = [
     "assert_units", "assert_same_result", "make_topography", "sphere_topography", "raise_if_dask_computes",
@@ -56,7 +57,8 @@ def assert_same_result(a, b) -> None:
 
 
 def make_topography(values, *, spacing: float = 5e-9, periodic: bool = False, name: str = "height") -> xr.DataArray:
-    """Wrap a 2-D array of heights [m] as a ``height`` DataArray (y, x) with pixel-centre coords.
+    """Wrap a 2-D array of heights [m] as a ``height`` DataArray (y, x) with pixel-centre coords
+    (``spacing`` in m, or with its unit: ``"5 nm"``).
 
     Examples
     --------
@@ -65,6 +67,7 @@ def make_topography(values, *, spacing: float = 5e-9, periodic: bool = False, na
     (('y', 'x'), array([5.e-10, 1.5e-09]))
     """
     values = np.asarray(values, dtype=float)
+    spacing = as_length(spacing, name="spacing")
     ny, nx = values.shape[-2:]
     da = xr.DataArray(
         values,
@@ -79,8 +82,10 @@ def make_topography(values, *, spacing: float = 5e-9, periodic: bool = False, na
 def sphere_topography(radius: float, *, n: int = 65, spacing: float, apex: float = 0.0) -> xr.DataArray:
     """A spherical cap of ``radius`` [m] with its apex at height ``apex``, centred on an n x n grid.
 
-    Pixels outside the sphere's footprint are set to the lowest height of the cap.
+    Pixels outside the sphere's footprint are set to the lowest height of the cap. ``radius``
+    and ``spacing`` are in m, or strings with their unit (``"200 nm"``).
     """
+    radius, spacing = as_length(radius, name="radius"), as_length(spacing, name="spacing")
     c = (np.arange(n) - (n - 1) / 2) * spacing
     X, Y = np.meshgrid(c, c)
     r2 = X**2 + Y**2

@@ -98,6 +98,54 @@ def test_surfaces_too_large_for_memory_are_refused_before_allocating(h):
         rs.surface_filter(lambda q: 1e-36 + 0 * q, shape=(10**6, 10**6), spacing=5e-9)
 
 
+@pytest.mark.parametrize("call", [
+    lambda m: rs.rough_contact_curves(m, relative_humidity=0.5),
+    lambda m: rs.rough_contact_curves(m, relative_humidity=0.5, model="auto"),
+    lambda m: rs.modified_dmt_curves(m, relative_humidity=0.5),
+    lambda m: rs.fft_bem_contact_curves(m, relative_humidity=0.5),
+    lambda m: rs.gw_contact_curves(m, relative_humidity=0.5),
+], ids=["rough_contact_curves", "auto", "modified_dmt", "fft_bem", "gw"])
+def test_contact_maps_too_large_for_memory_are_refused_before_allocating(call, monkeypatch):
+    """The memory a contact model needs is estimated from the map size first (here on a machine
+    of 8 MiB), not found out by numpy after the work has started."""
+    from roughstick._core import memory
+
+    monkeypatch.setattr(memory, "physical_memory", lambda: 8 * 2**20)
+    big = rs.datasets.surface_family("smooth", shape=(256, 256), seed=1)
+    with pytest.raises(MemoryError, match=r"on a 256 x 256 map needs about 0.0[0-9]+ GiB \(6.55e\+04 pixels, "
+                                          r"~\d+ bytes each\), more than this machine's 0.00781 GiB of memory; "
+                                          r"crop it \(e.g. height.isel\(y=slice\(0, \d+\), x=slice.*coarsen it"):
+        call(big)
+
+
+def test_cli_map_too_large_for_memory_is_one_line(monkeypatch, tmp_path, capsys):
+    from roughstick._core import memory
+    from roughstick.cli import main
+
+    monkeypatch.setattr(memory, "physical_memory", lambda: 8 * 2**20)
+    assert main(["curves", "bundled:S1A", "--rh", "0.5", "--out", str(tmp_path / "c.nc")]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "needs about" in err and "this machine's 0.00781 GiB" in err
+    assert not (tmp_path / "c.nc").exists()
+
+
+def test_a_lazy_map_too_large_for_memory_is_not_told_to_rechunk():
+    """A lazy 200000² map split in blocks: refused for its memory (one map is one block), not
+    told to rechunk into one block of 300 GB; nothing is computed."""
+    import dask.array as dsa
+    import xarray as xr
+
+    n = 200_000
+    c = (np.arange(n) + 0.5) * 5e-9
+    lazy = xr.DataArray(dsa.zeros((n, n), chunks=(4096, 4096)), dims=("y", "x"), name="height",
+                        coords={"y": c, "x": c}, attrs={"units": "m"})
+    with rs.testing.raise_if_dask_computes():
+        with pytest.raises(MemoryError, match=r"200000 x 200000 map needs about .* GiB.*rechunking cannot help"):
+            rs.rough_contact_curves(lazy, relative_humidity=0.5, distance=[0.0, 1e-9])
+        with pytest.raises(MemoryError, match=r"fft_bem contact model on a 200000 x 200000 map"):
+            rs.fft_bem_contact_curves(lazy, relative_humidity=0.5, distance=[0.0, 1e-9])
+
+
 def test_plain_numpy_array_to_the_contact_models_names_the_wrapper():
     """Item 10: `rough_contact_curves(numpy array)` gave AttributeError: ... no attribute 'attrs'."""
     z = np.random.default_rng(0).normal(size=(16, 16)) * 1e-9

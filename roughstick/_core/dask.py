@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import dask
 import numpy as np
 import xarray as xr
 
-__all__ = ["is_lazy", "realization_rng", "as_seed_sequence", "resolve_scheduler"]
+__all__ = ["is_lazy", "realization_rng", "as_seed_sequence", "resolve_scheduler", "owns_client"]
 
 
 def is_lazy(obj) -> bool:
@@ -44,9 +45,24 @@ def realization_rng(root: np.random.SeedSequence, index: int) -> np.random.Gener
 
 
 def resolve_scheduler(scheduler, connect_timeout: float = 5.0):
-    """None/"threads"/"sync"/"processes" → (None, name); "tcp://..." or a Client → (client, None)."""
+    """Where roughstick's own computations run: ``(client, None)`` or ``(None, local scheduler)``.
+
+    ``None`` follows dask's convention: the active scheduler, i.e. an active
+    ``distributed.Client`` (creating one makes it the default), else one set with
+    ``dask.config.set(scheduler=...)``, else local threads. ``"threads"``/``"sync"``/
+    ``"processes"`` name a local scheduler; ``"tcp://..."`` connects a new client (the caller
+    closes it: :func:`owns_client`); a ``Client`` is used as it is.
+    """
     if scheduler is None:
-        return None, "threads"
+        active = dask.config.get("scheduler", None)
+        if active in ("dask.distributed", "distributed"):
+            try:
+                from distributed import default_client
+
+                return default_client(), None
+            except (ImportError, ValueError):  # the client has gone: its setting lingers
+                return None, "threads"
+        return None, "threads" if active is None else active
     if isinstance(scheduler, str) and scheduler in ("threads", "threading", "sync", "synchronous", "processes"):
         return None, scheduler
     try:
@@ -69,3 +85,9 @@ def resolve_scheduler(scheduler, connect_timeout: float = 5.0):
         f"scheduler must be None, 'threads', 'sync', 'processes', a 'tcp://host:port' address or a "
         f"distributed.Client; got {scheduler!r}."
     )
+
+
+def owns_client(scheduler) -> bool:
+    """True when :func:`resolve_scheduler` opened the client for ``scheduler`` (an address), so
+    the caller closes it; a client passed in or active in the session is left open."""
+    return isinstance(scheduler, str) and "://" in scheduler

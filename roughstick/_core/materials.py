@@ -124,12 +124,45 @@ def material_attrs(material: Material) -> dict:
             "material_poisson_ratio": float(material.poisson_ratio)}
 
 
+def as_material(material, *, name: str = "material") -> Material:
+    """A :class:`Material`, or a name of :data:`MATERIALS` (spelling and case free: ``"poly-Si"``,
+    ``"polysilicon"``, ``"poly-silicon"``), as a :class:`Material`; anything else is refused
+    naming the known names and how to build one.
+
+    Examples
+    --------
+    >>> from roughstick._core.materials import as_material
+    >>> as_material("poly-Si").youngs_modulus
+    164000000000.0
+    """
+    if isinstance(material, Material):
+        return material
+    build = ("for another solid build one, e.g. roughstick.Material(youngs_modulus=70e9, "
+             "poisson_ratio=0.17, name='fused silica') (SI units)")
+    if isinstance(material, str):
+        known = _known(material)
+        if known is not None:
+            return known
+        hint = ""
+        if material.strip().lower() in ("silicon", "si", "c-si", "mono-si", "single-crystal silicon"):
+            hint = (" Single-crystal silicon is anisotropic (E from 130 to 188 GPa with the direction): "
+                    "give a Material for your orientation, e.g. roughstick.Material(youngs_modulus=169e9, "
+                    "poisson_ratio=0.064, name='Si [110]'), or 'poly-silicon' for a polycrystalline film.")
+        raise ValueError(f"{name}={material!r} is not a material roughstick knows; known names: "
+                         "'poly-silicon' (also 'polysilicon', 'poly-Si': E = 164 GPa, nu = 0.23); "
+                         f"{build}.{hint}")
+    raise TypeError(f"{name} must be a roughstick.Material or a known name ('poly-silicon'), got "
+                    f"{type(material).__name__}; {build}.")
+
+
 def reduced_modulus(material1: Material = POLYSILICON, material2: Material | None = None) -> float:
     r"""Contact modulus :math:`E^* = [(1-\nu_1^2)/E_1 + (1-\nu_2^2)/E_2]^{-1}` [Pa].
 
     Two poly-silicon bodies give 86.6 GPa. ``material2=None`` means the same as ``material1``.
+    Either may be a :class:`Material` or a known name (:data:`MATERIAL_NAMES`).
     """
-    m2 = material1 if material2 is None else material2
+    material1 = as_material(material1)
+    m2 = material1 if material2 is None else as_material(material2, name="material2")
     return 1.0 / (
         (1 - material1.poisson_ratio**2) / material1.youngs_modulus
         + (1 - m2.poisson_ratio**2) / m2.youngs_modulus

@@ -1,11 +1,14 @@
 """ONE home for the input checks every stage shares, each declared once (cf. MetPy's helpers).
 
-- positivity: :func:`check_positive_block` (plain arrays) and :func:`positive` (floats, 1-D
-  sequences or DataArrays with ``units``; lazy data are checked lazily);
+- positivity: :func:`check_positive_block` (plain arrays) and :func:`positive` (floats, strings
+  with a unit such as ``"2 nm"``, 1-D sequences or DataArrays with ``units``; lazy data are
+  checked lazily); :func:`as_length`, one length (``spacing``, ``size`` ...) in m;
 - relative humidity: :func:`as_relative_humidity` (the public coercion, a DataArray of fractions),
   :func:`relative_humidity_coordinate` (known in advance: it becomes the ``rh`` coordinate),
   :func:`relative_humidity_array` (a 1-D list of distinct humidities, e.g. of an ensemble) and
   :func:`relative_humidity_values` (best-effort values to look up, never computing dask data);
+- fractions: :func:`as_fraction` and :func:`fraction_advice` (the one advice for a humidity,
+  probability or ratio outside (0, 1), from Python, a flag or a config file);
 - grids: :func:`grid_spacing` (uniform ascending pixel-centre coordinates of a map),
   :func:`check_plausible_height` (pixel size and rms height plausible in m),
   :func:`check_has_roughness` (a map with at least 2 finite pixels and a non-zero rms) and
@@ -35,12 +38,16 @@ import xarray as xr
 
 from .conventions import ATTRS
 from .dask import is_lazy
-from .units import as_si, factor, require
+from .units import as_si, factor, parse_quantity, require
 
 __all__ = [
     "check_positive_block",
     "positive",
+    "as_length",
     "as_relative_humidity",
+    "as_fraction",
+    "fraction_advice",
+    "FRACTION_QUANTITIES",
     "relative_humidity_coordinate",
     "relative_humidity_array",
     "relative_humidity_values",
@@ -115,11 +122,17 @@ def positive(value, kind: str | None, name: str, fix: str = "", *, dim: str | No
              allow_zero: bool = False, finite: bool = False, arrays: bool = False):
     """``value`` in SI (``kind`` of :mod:`roughstick._core.units`, None: already SI), checked > 0.
 
-    Floats come back as ``float``; a DataArray is converted with its ``units`` and checked (lazily,
-    at compute time, when dask-backed); a 1-D sequence becomes a DataArray along ``dim`` when
-    ``dim`` is given; other arrays are refused unless ``arrays`` (then returned as arrays).
+    Floats come back as ``float``; a string with its unit (``"100 nm"``, with ``kind``) is
+    converted by :func:`roughstick._core.units.parse_quantity`, and so is each string of a
+    sequence; a DataArray is converted with its ``units`` and checked (lazily, at compute time,
+    when dask-backed); a 1-D sequence becomes a DataArray along ``dim`` when ``dim`` is given;
+    other arrays are refused unless ``arrays`` (then returned as arrays).
     """
     kw = dict(allow_zero=allow_zero, finite=finite)
+    if kind is not None and isinstance(value, str):
+        value = parse_quantity(value, kind, name=name)
+    elif kind is not None and isinstance(value, (list, tuple)) and any(isinstance(v, str) for v in value):
+        value = [parse_quantity(v, kind, name=f"{name}[{i}]") for i, v in enumerate(value)]
     if isinstance(value, xr.DataArray):
         da = require(value, kind, name=name) if kind is not None else value
         if da.chunks is None:
@@ -148,19 +161,174 @@ def positive(value, kind: str | None, name: str, fix: str = "", *, dim: str | No
     )
 
 
+def as_length(value, *, name: str) -> float:
+    """One positive, finite length in m from a number (m), a string with its unit (``"2 nm"``,
+    :func:`roughstick._core.units.parse_quantity`) or a 0-d DataArray with length ``units``: the
+    one parser of the length arguments (``spacing``, ``size`` ...) of every function.
+
+    Examples
+    --------
+    >>> from roughstick._core.validate import as_length
+    >>> as_length("2 nm", name="spacing"), as_length(5e-9, name="spacing")
+    (2e-09, 5e-09)
+    """
+    if isinstance(value, xr.DataArray):
+        if value.ndim != 0:
+            raise ValueError(f"{name} must be one length, got a DataArray with dims {value.dims}.")
+        value = float(require(value, "length", name=name))
+    elif isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value.item()
+    v = parse_quantity(value, "length", name=name)
+    check_positive_block(v, name, "Pass a positive length, e.g. '5 nm' or 5e-9 (m).", finite=True)
+    return v
+
+
 # ------------------------------------------------------------------------- relative humidity
 
 _RH_ATTRS = {"units": "1", "long_name": "relative humidity", "standard_name": "relative_humidity"}
 
+#: The quantities given as a fraction in (0, 1), for :func:`fraction_advice` and :func:`as_fraction`:
+#: ``relative_humidity`` (1 is saturation), ``fraction`` (a probability, level, confidence or
+#: quantile: a number from 1 to 100 is likely a percentage) and ``ratio`` (a relative size such
+#: as a coefficient of variation or a tolerance: not a percentage, so none is guessed).
+FRACTION_QUANTITIES = ("relative_humidity", "fraction", "ratio")
 
-def _check_rh_block(a):
+
+def fraction_advice(value, *, quantity: str = "fraction", percent: bool = False,
+                    spell_percent: bool = True, label: str | None = None) -> str | None:
+    """What is wrong with ``value`` as a fraction in (0, 1), and how to write it; None when valid.
+
+    The one source of the advice given for a fraction typed wrong, from Python, a command-line
+    flag or a configuration file.
+
+    Parameters
+    ----------
+    value : float
+        The value as a fraction (a percentage already divided by 100).
+    quantity : {"relative_humidity", "fraction", "ratio"}
+        What the value is (:data:`FRACTION_QUANTITIES`): RH (1 is saturation, outside the models'
+        range), a probability-like fraction (a number from 1 to 100 is taken for a percentage),
+        or a ratio (a relative size, never a percentage).
+    percent : bool
+        The value was written as a percentage (``"120 %"``, or a DataArray in ``%``).
+    spell_percent : bool
+        The place the value was written also accepts ``"30 %"`` (a flag or a config file; a
+        Python float does not).
+    label : str, optional
+        The name of the quantity in the advice (default "RH" or "the value").
+
+    Returns
+    -------
+    str or None
+        One sentence (no trailing period), e.g. "RH must lie strictly between 0 and 1 (a
+        fraction): did you mean 0.3 or '30 %'?"; None for a value in (0, 1).
+
+    Examples
+    --------
+    >>> from roughstick._core.validate import fraction_advice
+    >>> fraction_advice(30.0, quantity="relative_humidity")
+    "RH must lie strictly between 0 and 1 (a fraction): did you mean 0.3 or '30 %'?"
+    >>> fraction_advice(1.0, quantity="relative_humidity", spell_percent=False)
+    "RH must lie strictly between 0 and 1: 1 is saturation (RH 100 %), outside the models' range; give at most e.g. 0.99"
+    >>> fraction_advice(1.5, quantity="ratio", label="target_cv")
+    'target_cv must lie strictly between 0 and 1 (a ratio such as 0.3, not a percentage)'
+    """
+    if quantity not in FRACTION_QUANTITIES:  # a bug of the caller, not a user error
+        raise ValueError(f"unknown fraction quantity {quantity!r}; one of {FRACTION_QUANTITIES}.")
+    v = float(value)
+    if 0 < v < 1:
+        return None
+    rh = quantity == "relative_humidity"
+    what = label or ("RH" if rh else "the value")
+    head = f"{what} must lie strictly between 0 and 1"
+
+    def pct(text: str) -> str:  # the percentage spelling, where it can be written
+        return f" or '{text}'" if spell_percent else ""
+
+    if quantity == "ratio":
+        return f"{head} (a ratio such as 0.3, not a percentage)"
+    example = "0.6" if rh else "0.5"
+    if not np.isfinite(v):
+        return f"{head} (a fraction, e.g. {example}{pct(example[2:] + '0 %')}); this is not a number"
+    if percent:
+        p = v * 100
+        if p <= 0:
+            return (f"{what} must lie strictly between 0 and 100 %"
+                    + (" (0 % is dry air, outside the models' range)" if rh else "") + ", e.g. '30 %'")
+        if rh:
+            return ("100 % is saturation, outside the models' range: RH must lie strictly between 0 and "
+                    "100 %; give at most e.g. '99 %'" if p == 100 else
+                    f"{p:g} % is not a relative humidity: RH must lie strictly between 0 and 100 % "
+                    "(100 % is saturation), e.g. '60 %'")
+        return (f"{what} must lie strictly between 0 and 100 % (100 % itself is excluded): give e.g. '99 %'"
+                if p == 100 else f"{what} must lie strictly between 0 and 100 % ({p:g} % is not), e.g. '50 %'")
+    if v <= 0:
+        return (f"{head} (a fraction, e.g. {example}{pct(example[2:] + '0 %')})"
+                + (("; 0 is dry air, outside the models' range" if v == 0 else "; it cannot be negative")
+                   if rh else ""))
+    if v == 1:
+        return (f"{head}: 1 is saturation (RH 100 %), outside the models' range; give at most e.g. "
+                f"0.99{pct('99 %')}" if rh else f"{head} (1 itself is excluded): give e.g. 0.99")
+    if v < 2:  # just above 1: not a percentage typed for a fraction
+        return f"{head} (a fraction, e.g. {example})" + (f"; {v:g} is above saturation (1)" if rh else "")
+    if v < 100:
+        return f"{head} (a fraction): did you mean {v / 100:g}{pct(f'{v:g} %')}?"
+    if v == 100 and rh:
+        return (f"{head}: 100 would be 100 %, saturation, outside the models' range; give at most e.g. "
+                f"0.99{pct('99 %')}")
+    return (f"{head} (a fraction, e.g. {example}"
+            + (f", or a percentage below 100 %, e.g. '{example[2:]}0 %'" if spell_percent else "") + ")"
+            + (f"; {v:g} is not a relative humidity" if rh else ""))
+
+
+def as_fraction(value, *, name: str, quantity: str = "fraction", spell_percent: bool = True,
+                label: str | None = None) -> float:
+    """A fraction in (0, 1) from a number or a percentage string (``"30 %"``).
+
+    Raises ``ValueError`` ``"<name> = <value>: <advice>."`` with the advice of
+    :func:`fraction_advice` (``label`` names the quantity in it).
+
+    Examples
+    --------
+    >>> from roughstick._core.validate import as_fraction
+    >>> as_fraction("30 %", name="relative_humidity", quantity="relative_humidity")
+    0.3
+    """
+    percent = False
+    v = value
+    if isinstance(value, str):
+        s = value.strip()
+        percent = s.endswith("%")
+        try:
+            v = float(s[:-1].strip() if percent else s)
+        except ValueError:
+            v = np.nan
+        if percent:
+            v = v / 100.0
+    elif isinstance(value, bool) or not (isinstance(value, numbers.Real)
+                                         or (isinstance(value, np.ndarray) and value.ndim == 0)):
+        v = np.nan
+    advice = fraction_advice(v, quantity=quantity, percent=percent, spell_percent=spell_percent,
+                             label=label)
+    if advice is not None:
+        raise ValueError(f"{name} = {value!r}: {_sentence(advice)}")
+    return float(v)
+
+
+def _sentence(advice: str) -> str:
+    return advice if advice.endswith("?") else advice + "."
+
+
+def _check_rh_block(a, percent: bool = False):
     a = np.asarray(a, dtype=float)
     bad = ~((a > 0) & (a < 1))
     if np.any(bad):
-        v = a[bad].ravel()[0]
+        v = float(a[bad].ravel()[0])
+        shown = f"'{v * 100:g} %'" if percent else repr(v)
         raise ValueError(
-            f"relative_humidity must lie strictly between 0 and 1 (a fraction, not %), got {float(v)!r}. "
-            "Pass e.g. 0.3 for 30 % RH."
+            f"relative_humidity = {shown}: "
+            + _sentence(fraction_advice(v, quantity="relative_humidity", percent=percent,
+                                        spell_percent=False))
         )
     return a
 
@@ -177,7 +345,9 @@ def as_relative_humidity(relative_humidity) -> xr.DataArray:
     >>> rs.as_relative_humidity([0.3, 0.7]).rh.values
     array([0.3, 0.7])
     """
+    percent = False
     if isinstance(relative_humidity, xr.DataArray):
+        percent = str(relative_humidity.attrs.get("units", "")).strip() in ("%", "percent")
         da = require(relative_humidity, "dimensionless", name="relative_humidity")
     else:
         arr = np.asarray(relative_humidity, dtype=float)
@@ -191,10 +361,11 @@ def as_relative_humidity(relative_humidity) -> xr.DataArray:
                 f"got an array of shape {arr.shape}. Wrap it in a DataArray with named dims."
             )
     if da.chunks is None:
-        _check_rh_block(da.data)
+        _check_rh_block(da.data, percent)
         out = da
     else:
-        out = xr.apply_ufunc(_check_rh_block, da, dask="parallelized", output_dtypes=[float])
+        out = xr.apply_ufunc(_check_rh_block, da, kwargs={"percent": percent}, dask="parallelized",
+                             output_dtypes=[float])
     out = out.copy(deep=False)
     out.attrs = dict(_RH_ATTRS)
     if "rh" in out.coords:
@@ -275,7 +446,7 @@ def grid_spacing(da: xr.DataArray, dim: str, *, min_pixels: int = 8,
     if n < min_pixels:
         raise ValueError(
             f"the map has {n} pixel(s) along {dim!r}; {purpose} need(s) at least "
-            f"{min_pixels} x {min_pixels} pixels."
+            f"{min_pixels} x {min_pixels} pixels: give a larger map (crop less, or a larger scan)."
         )
     if dim not in da.coords:
         raise ValueError(

@@ -466,6 +466,8 @@ def user_message(exc: BaseException) -> str | None:
         return f"the disk is full while writing {exc.filename!r}; free space or choose another --out."
     if isinstance(exc, OSError):
         return f"{exc.filename or 'a file'}: {exc.strerror or exc}."
+    if isinstance(exc, MemoryError) and str(exc):  # sized before allocating (or numpy's own)
+        return str(exc)
     if isinstance(exc, ValueError):  # our validation errors (ConfigError, UnitsError ...)
         msg = str(exc)
         for py, flag in _FLAGS.items():

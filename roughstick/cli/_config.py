@@ -5,8 +5,10 @@ One dialect for ``roughstick run``, ``roughstick risk`` and ``roughstick beam`` 
 * a dimensional quantity is a string with its unit, ``spacing = "5 nm"``, ``qmax = "289 rad/um"``,
   ``youngs_modulus = "164 GPa"``; a bare number is refused with the fix (``spacing = 5`` would
   otherwise be 5 m), and so is a unit in the key name (``spacing_nm``);
-* relative humidity is a fraction, ``relative_humidity = [0.3, 0.5]`` (or ``"30 %"``); values
-  above 1 are refused as percent typed where a fraction is expected, naming the fraction;
+* relative humidity is a fraction, ``relative_humidity = [0.3, 0.5]`` (or ``"30 %"``); a value
+  outside (0, 1) is refused with the advice of :func:`roughstick._core.validate.fraction_advice`
+  (30: "did you mean 0.3"; 1: saturation; "120 %": not a humidity; a ratio such as ``target_cv``
+  is never taken for a percentage);
 * integers are integers (``seed = 1.9``, ``shape = [64.7, 64]`` and ``n = 0`` are refused),
   booleans are TOML booleans (``figures = "no"`` is refused);
 * unknown tables and keys are refused, with the closest known key;
@@ -30,7 +32,9 @@ import xarray as xr
 import roughstick as rs
 
 from .._core.materials import POLYSILICON, Material, material_from
+from .._core.memory import physical_memory
 from .._core.units import KINDS, UnitsError, parse_quantity
+from .._core.validate import as_fraction
 from ..io.afm import bundled_map_names, resolve_map_path
 from ._schema import SCHEMAS, Field
 
@@ -158,18 +162,14 @@ def _one(value, f: Field, name: str, base: pathlib.Path):
             raise ConfigError(f"{name} = {value!r}: must be >= {f.minimum:g}.")
         return float(value)
     if k in ("fraction", "relative_humidity"):
-        if isinstance(value, str) and value.strip().endswith("%"):
-            try:
-                value = float(value.strip()[:-1]) / 100.0
-            except ValueError:
-                raise ConfigError(f"{name} = {value!r}: expected a fraction like 0.3 or '30 %'.") from None
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
             raise ConfigError(f"{name} = {value!r}: expected a fraction like 0.3 (or the string '30 %').")
-        if not 0 < value < 1:
-            fix = (f" It looks like percent: write {value / 100:g} (fractions) or \"{value:g} %\"."
-                   if 1 <= value < 100 else "")
-            raise ConfigError(f"{name} = {value!r}: must be a fraction in (0, 1).{fix}")
-        return float(value)
+        quantity = k if k == "relative_humidity" else ("fraction" if f.percent else "ratio")
+        label = "RH" if k == "relative_humidity" else name.rsplit(".", 1)[-1].split("[")[0]
+        try:
+            return as_fraction(value, name=name, quantity=quantity, label=label)
+        except ValueError as exc:
+            raise ConfigError(str(exc)) from None
     if k == "bool":
         if not isinstance(value, bool):
             raise ConfigError(f"{name} = {value!r}: expected true or false (TOML booleans, no quotes).")
@@ -296,21 +296,12 @@ def parse(raw: dict, command: str, *, base, source: str = "config", schema=None)
 BYTES_PER_PIXEL = 32 * 8
 
 
-def _physical_memory() -> int | None:
-    try:
-        import os
-
-        return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - not POSIX
-        return None
-
-
 def check_memory(shape, *, chunks: int = 1, where: str = "config") -> None:
     """Refuse, before allocating anything, surfaces whose blocks cannot fit in this machine's
     memory, naming the size and the fix."""
     ny, nx = shape
     need = ny * nx * BYTES_PER_PIXEL * max(1, int(chunks))
-    have = _physical_memory()
+    have = physical_memory()
     if have is not None and need > have:
         raise ConfigError(
             f"{where}: surfaces of {ny} x {nx} px in blocks of {chunks} need about {need / 2**30:.0f} GiB, "

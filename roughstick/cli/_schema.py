@@ -21,7 +21,9 @@ class Field:
     required) or one of ``int``, ``number``, ``fraction``, ``bool``, ``str``, ``choice``,
     ``path``, ``map`` (a path, or ``"bundled:S1A"`` for a sample map shipped with roughstick),
     ``n`` (an integer >= 1 or "auto"), ``shape`` (an integer or [ny, nx]),
-    ``relative_humidity``; ``many`` makes it a list of those.
+    ``relative_humidity``; ``many`` makes it a list of those. For a ``fraction``, ``percent``
+    says whether a number from 1 to 100 may be a percentage typed for it (a probability, a
+    confidence); False for a ratio (a coefficient of variation, a tolerance).
     """
 
     kind: str
@@ -32,11 +34,13 @@ class Field:
     minimum: float | None = None
     choices: tuple = ()
     power: int = 1
+    percent: bool = True
 
 
 F = Field
 _SMALL_P = {  # the small-probability methods' stopping rule: [risk] of risk, [ensemble] of beam
-    "target_cv": F("fraction", "method 'subset'/'monte_carlo': stop when the cv of P(stuck) is at most this", default=0.3),
+    "target_cv": F("fraction", "method 'subset'/'monte_carlo': stop when the cv of P(stuck) is at most this", default=0.3,
+                   percent=False),
     "max_evaluations": F("int", "method 'subset'/'monte_carlo': evaluations allowed per length, RH (and layer)", default=20000, minimum=10),
     "samples_per_level": F("int", "method 'subset': samples per level (a multiple of 5: p0 = 0.2)", default=1000, minimum=10)}
 #: The contact model, ONE key name in every command (its table differs: [ensemble] of run,
@@ -100,7 +104,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "adsorbed_layer": F("choice", "adsorbed water layer model", default="paper",
                                 choices=("paper", "none")),
             "batch": F("int", "n = 'auto': surfaces added per batch", minimum=1),
-            "tolerance": F("fraction", "n = 'auto': relative change of the band that stops it"),
+            "tolerance": F("fraction", "n = 'auto': relative change of the band that stops it", percent=False),
             "n_max": F("int", "n = 'auto': at most this many surfaces", minimum=1),
             "patience": F("int", "n = 'auto': consecutive stable batches", minimum=1),
             "distance_points": F("int", "points of the distance grid", default=200, minimum=8),

@@ -25,7 +25,7 @@ import roughstick as rs
 
 from .._core.materials import Material, material_from
 from .._core.units import parse_quantity
-from .._core.validate import PLAUSIBLE_SPACING
+from .._core.validate import PLAUSIBLE_SPACING, as_fraction
 from ._common import length_with_unit, refuse_bare_number
 
 __all__ = ["relative_humidity_arg", "pixel_size_arg", "wavevector_arg", "positive_float_arg",
@@ -42,31 +42,11 @@ _ARRAY_SUFFIXES = {".npy", ".txt", ".csv", ".asc", ".dat", ".xyz"}
 def relative_humidity_arg(text: str) -> float:
     """argparse type of ``--rh``: a fraction in (0, 1) (``0.6``) or a percentage (``"60 %"``,
     ``60%``); returns the fraction. A bare number from 1 to 100 is refused as a likely percentage,
-    with both spellings of the fix."""
-    s = str(text).strip()
-    percent = s.endswith("%")
+    with both spellings of the fix (:func:`roughstick._core.validate.fraction_advice`)."""
     try:
-        v = float(s[:-1].strip() if percent else s)
-    except ValueError:
-        v = math.nan
-    if not math.isfinite(v):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a relative humidity; write a fraction such "
-                                         "as 0.6 or a percentage such as '60 %'")
-    if percent:
-        if not 0 < v < 100:
-            raise argparse.ArgumentTypeError(f"{text!r}: a percentage must lie strictly between 0 and "
-                                             "100 %, e.g. '60 %'")
-        return v / 100.0
-    if 0 < v < 1:
-        return v
-    if v == 1:
-        raise argparse.ArgumentTypeError(f"{text!r}: RH is a fraction in (0, 1) and saturation (1) is outside "
-                                         "the models' range; give e.g. 0.95 or '95 %'")
-    if 1 < v < 100:
-        raise argparse.ArgumentTypeError(f"{text!r}: RH is a fraction in (0, 1): did you mean {v / 100:g} "
-                                         f"or '{v:g} %'?")
-    raise argparse.ArgumentTypeError(f"{text!r}: RH is a fraction in (0, 1), e.g. 0.6, or a percentage, "
-                                     "e.g. '60 %'")
+        return as_fraction(str(text), name="--rh", quantity="relative_humidity")
+    except ValueError as exc:  # argparse names the flag: "argument --rh: '60': ..."
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("--rh = ").rstrip(".")) from None
 
 
 def pixel_size_arg(text: str) -> str:

@@ -77,10 +77,18 @@ def _run(args) -> int:
                  overwrite=args.overwrite or o["overwrite"], keep=[path],
                  legacy_params={"config": path.read_text()})
     t0 = time.perf_counter()
-    bank = rs.build_patch_bank(_psd(s), relative_humidity=rh, n_law=bank_cfg["laws"], shape=shape,
-                               spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["contact_model"],
-                               cache_dir=_beside(path, bank_cfg["cache"]),
-                               **({} if material == POLYSILICON else {"material": material}))
+    psd, cache = _psd(s), _beside(path, bank_cfg["cache"])
+    try:
+        bank = rs.build_patch_bank(psd, relative_humidity=rh, n_law=bank_cfg["laws"], shape=shape,
+                                   spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["contact_model"],
+                                   cache_dir=cache,
+                                   **({} if material == POLYSILICON else {"material": material}))
+    except OSError as exc:  # the bank writes only into its cache folder
+        cause = exc.__cause__ if isinstance(exc.__cause__, OSError) else exc
+        raise ConfigError(
+            f"{path.name}: cannot write the patch-bank cache folder {str(cache)!r} "
+            f"({cause.strerror or cause}); set [bank] cache in {path.name} to a writable folder "
+            "(relative to the file), e.g. cache = \"~/roughstick-bank-cache\".") from None
     _check_bank(bank, path.name)
     t1 = time.perf_counter()
     if ens["method"] != "count":

@@ -27,6 +27,7 @@ from .._core.conventions import (
     set_coord_attrs,
 )
 from .._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.memory import check_map_fits_in_memory
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.validate import (
@@ -448,6 +449,7 @@ def bem_contact_curves(
         )
     if path not in ("retract", "approach"):
         raise ValueError(f"path must be 'retract' or 'approach', got {path!r}.")
+    check_map_fits_in_memory(height, model="bem")
     height = height_in_si(height)
     spacing = [grid_spacing(height, dim, min_pixels=MIN_MAP_PIXELS, purpose="the boundary-element solver")
                for dim in ("y", "x")]

@@ -26,6 +26,7 @@ import xarray as xr
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history
 from .._core.materials import POLYSILICON
+from .._core.memory import check_map_fits_in_memory
 from .._core.progress import estimate_model_seconds, format_seconds
 from .._core.validate import (
     MIN_MAP_PIXELS,
@@ -44,6 +45,7 @@ from .rough import modified_dmt_curves
 from .validity import (
     MODEL_COST_ORDER,
     VALIDITY_BOUND,
+    NoModelMeetsTolerance,
     select_model,
     warn_if_outside_validity,
 )
@@ -165,7 +167,11 @@ def rough_contact_curves(
     if model not in CONTACT_MODELS:
         raise ValueError(f"model must be one of {CONTACT_MODELS}, got {model!r}.")
     _check_tolerance(tolerance)
-    if isinstance(height, xr.DataArray):
+    if isinstance(height, xr.DataArray):  # before anything is allocated ("auto": the cheapest model)
+        key = "gw" if model == "auto" else model
+        check_map_fits_in_memory(height, model="fft_bem_double" if key == "fft_bem" and
+                                 model_kwargs.get("precision") == "double" else key,
+                                 what="model='auto' (even with its cheapest model, gw)" if model == "auto" else None)
         check_height_dtype(height)
     if getattr(height, "chunks", None) is None and hasattr(height, "dims"):
         values = np.asarray(height)
@@ -203,8 +209,8 @@ def rough_contact_curves(
         try:
             model, reason = select_model(height, tolerance=tolerance, quantity=quantity,
                                          candidates=candidates, **common)
-        except ValueError as err:
-            raise ValueError(
+        except NoModelMeetsTolerance as err:  # only the NaN pixels kept the BEM models out
+            raise NoModelMeetsTolerance(
                 f"{err} The map has NaN pixels, which the boundary-element models (fft_bem, "
                 "bem) cannot take: crop or fill them, or pass model='modified_dmt' knowingly."
             ) from None

@@ -35,6 +35,7 @@ from .._core.conventions import (
     set_coord_attrs,
 )
 from .._core.materials import POLYSILICON, Material, reduced_modulus
+from .._core.memory import check_map_fits_in_memory
 from .._core.progress import WorkProgress, estimate_seconds
 from .._core.references import cite
 from .._core.units import require
@@ -356,6 +357,7 @@ def fft_bem_contact_curves(
         raise ValueError(f"path must be 'retract' or 'approach', got {path!r}.")
     if precision not in ("single", "double"):
         raise ValueError(f"precision must be 'single' or 'double', got {precision!r}.")
+    check_map_fits_in_memory(height, model="fft_bem_double" if precision == "double" else "fft_bem")
     height = height_in_si(height)
     spacing = _spacing(height)
     if height.chunks is not None:

@@ -45,6 +45,7 @@ from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material, hertz_modulus
+from .._core.memory import check_map_fits_in_memory
 from .._core.references import PAPER, cite
 from .._core.validate import distance_array, height_in_si
 from ..surface.moments import moments_si, roughness_moments, summit_density
@@ -264,6 +265,7 @@ def _gw_auto_distance(m0, m2, m4, dP, hw, kw, n=None):
 
 def _as_moments(moments, moment_method, qmax) -> xr.Dataset:
     if isinstance(moments, xr.DataArray):
+        check_map_fits_in_memory(moments, model="gw")
         return roughness_moments(moments, method=moment_method, qmax=qmax)
     if isinstance(moments, xr.Dataset):
         if moment_method != "spline" or qmax is not None:

@@ -27,6 +27,7 @@ from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, hertz_modulus, reduced_modulus
+from .._core.memory import check_map_fits_in_memory
 from .._core.references import PAPER, cite
 from .._core.remedy import spell
 from .._core.validate import (
@@ -452,6 +453,7 @@ def modified_dmt_curves(
     >>> ds.pressure.dims
     ('rh', 'distance')
     """
+    check_map_fits_in_memory(height, model="modified_dmt")  # before anything is allocated
     height = height_in_si(height)
     dx, dy = _spacing(height, "x"), _spacing(height, "y")
     check_core_not_chunked(height, ["y", "x"])

@@ -43,6 +43,7 @@ from .._core.remedy import spell
 from .._core.validate import (
     MIN_MAP_PIXELS,
     ValidityWarning,
+    as_length,
     check_has_roughness,
     external_stacklevel,
     grid_spacing,
@@ -313,8 +314,8 @@ def expected_surface_groups(
         2-D ``(qy, qx)`` or isotropic ``(q)`` PSD, as for :func:`roughstick.generate_surfaces`.
     shape : int or (int, int)
         Surface shape ``(ny, nx)`` in pixels.
-    spacing : float
-        Pixel size [m].
+    spacing : float or str
+        Pixel size [m], or with its unit (``"5 nm"``).
     relative_humidity, material, material2, adsorbed_layer
         As in :func:`surface_groups`.
 
@@ -324,6 +325,7 @@ def expected_surface_groups(
         The variables of :func:`surface_groups` over ``rh``.
     """
     shp = (int(shape), int(shape)) if np.ndim(shape) == 0 else tuple(int(v) for v in shape)
+    spacing = as_length(spacing, name="spacing")
     f = surface_filter(psd, shape=shp, spacing=spacing)
     qy = np.asarray(f["qy"].values, dtype=float)
     qx = np.asarray(f["qx"].values, dtype=float)
@@ -510,6 +512,10 @@ def _group_points(height, relative_humidity, material, material2, adsorbed_layer
             for j, r in enumerate(rh_values)]
 
 
+class NoModelMeetsTolerance(ValueError):
+    """No model allowed to :func:`select_model` meets the tolerance on this surface."""
+
+
 @check_numbers(tolerance="positive")
 def select_model(
     height: xr.DataArray,
@@ -572,7 +578,7 @@ def select_model(
         notes.append(f"{method} bound "
                      f"{'unbounded' if np.isinf(b.upper) else format(b.upper, '.1%')} at RH {r:.2f}")
     if "bem" not in candidates:
-        raise ValueError(
+        raise NoModelMeetsTolerance(
             f"no allowed model ({', '.join(candidates)}) meets the tolerance {tolerance:.0%} on "
             "this surface: " + "; ".join(notes) + ". Raise the tolerance or allow the "
             "boundary-element models."

@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 from dask.callbacks import Callback
 
-from .._core.dask import resolve_scheduler
+from .._core.dask import owns_client, resolve_scheduler
 from .._core.progress import interactive, tqdm_class
 from .pipeline import compute_block
 from .statistics import confidence_band
@@ -138,18 +138,10 @@ def stream(spec, n, folder, *, overwrite, scheduler, connect_timeout, progress, 
     try:
         compute_blocks(spec, todo, client, local, on_block, progress)
     finally:
-        if client is not None and not _is_client(scheduler):
+        if client is not None and owns_client(scheduler):
             client.close()
     finish_manifest(folder, spec, manifest, n)
     return len(todo)
-
-
-def _is_client(obj) -> bool:
-    try:
-        from distributed import Client
-    except ImportError:  # pragma: no cover
-        return False
-    return isinstance(obj, Client)
 
 
 def _band_change(old: xr.Dataset, new: xr.Dataset, variables) -> dict:
@@ -211,7 +203,7 @@ def auto_ensemble(spec, *, batch, tolerance, n_max, patience, level, folder, str
                     break
             prev = band
     finally:
-        if client is not None and not _is_client(scheduler):
+        if client is not None and owns_client(scheduler):
             client.close()
     converged = stable >= patience
     ds = ds.copy()

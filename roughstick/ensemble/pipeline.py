@@ -28,7 +28,7 @@ from scipy.stats import norm
 from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, dataset_attrs
 from .._core.references import PAPER, cite
-from .._core.validate import relative_humidity_array
+from .._core.validate import as_length, relative_humidity_array
 from .._core.version import __version__
 from ..contact.adhesion import adhesion_summary, equilibrium_crossings
 from ..contact.curves import rough_contact_curves
@@ -62,8 +62,9 @@ def _water_heights(rh: np.ndarray, adsorbed_layer) -> np.ndarray:
 def surface_shape(*, shape=None, size=None, spacing: float) -> tuple[int, int]:
     """Pixels ``(ny, nx)`` of the surfaces from ``shape`` (pixels) or ``size`` (m) and ``spacing``.
 
-    Exactly one of ``shape`` and ``size`` (each a number or a ``(y, x)`` pair); a size must be a
-    whole number of pixels; both sides at least 4 pixels.
+    Exactly one of ``shape`` and ``size`` (each a number or a ``(y, x)`` pair; a size and the
+    spacing in m or with their unit, ``"1.28 um"``); a size must be a whole number of pixels; both
+    sides at least 4 pixels.
 
     Examples
     --------
@@ -72,6 +73,7 @@ def surface_shape(*, shape=None, size=None, spacing: float) -> tuple[int, int]:
     """
     if (shape is None) == (size is None):
         raise ValueError("give exactly one of shape=(ny, nx) (pixels) or size=(Ly, Lx) (m).")
+    spacing = as_length(spacing, name="spacing")
     if shape is not None:
         shp = (int(shape), int(shape)) if np.ndim(shape) == 0 else tuple(int(s) for s in shape)
         if np.ndim(shape) == 0 and int(shape) != shape or any(
@@ -79,7 +81,7 @@ def surface_shape(*, shape=None, size=None, spacing: float) -> tuple[int, int]:
         ):
             raise ValueError(f"shape must be integers, got {shape!r}.")
     else:
-        sz = (float(size), float(size)) if np.ndim(size) == 0 else tuple(float(s) for s in size)
+        sz = tuple(as_length(s, name="size") for s in ((size, size) if np.ndim(size) == 0 else size))
         shp = tuple(int(round(s / spacing)) for s in sz)
         for s, n in zip(sz, shp, strict=True):
             if n < 1 or not math.isclose(n * spacing, s, rel_tol=1e-6):

@@ -26,10 +26,10 @@ import xarray as xr
 from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, append_history
 from .._core.dask import as_seed_sequence
-from .._core.materials import POLYSILICON
+from .._core.materials import POLYSILICON, as_material
 from .._core.progress import estimate_model_seconds, format_seconds
 from .._core.remedy import argument, spelled
-from .._core.validate import distance_array, relative_humidity_array
+from .._core.validate import as_length, distance_array, relative_humidity_array
 from ..contact.adhesion import adhesion_summary
 from ..contact.curves import CONTACT_MODELS, rough_contact_curves
 from ..contact.pixel import warn_if_unresolved
@@ -168,10 +168,10 @@ def run_ensemble(
         band changes are recorded in ``attrs``. ``"auto"`` computes (it must look at the results).
     relative_humidity : sequence of float
         Humidities as fractions in (0, 1); becomes the ``rh`` dimension.
-    spacing : float
-        Pixel size [m].
-    size, shape : float or (float, float), int or (int, int)
-        Surface side(s) in metres, or in pixels; give exactly one.
+    spacing : float or str
+        Pixel size [m], or with its unit (``"5 nm"``).
+    size, shape : float, str or (float, float), int or (int, int)
+        Surface side(s) in metres (or with a unit, ``"1.28 um"``), or in pixels; give exactly one.
     seed : int or numpy.random.SeedSequence, default 0
         Root seed; realization ``k`` uses its child ``k`` whatever the chunking.
     chunks : int or dict, optional
@@ -182,8 +182,8 @@ def run_ensemble(
         Common distance grid [m]; default :func:`ensemble_distance_grid`.
     adsorbed_layer : {"paper", "none"} or callable, default "paper"
         Adsorbed-layer model (§2.1).
-    material : roughstick.Material, optional
-        Both bodies' material (default poly-silicon).
+    material : roughstick.Material or str, optional
+        Both bodies' material (default poly-silicon; ``"poly-Si"``/``"polysilicon"`` name it).
     output : str or pathlib.Path, optional
         Stream results into this folder (one CF NetCDF file per block plus ``manifest.json``) as
         blocks complete, resuming from any blocks already there, and return the Dataset opened from
@@ -191,9 +191,11 @@ def run_ensemble(
     overwrite : bool, default False
         Replace a different run in ``output``.
     scheduler : None, "threads", "sync", "processes", str or distributed.Client
-        Where blocks run when streaming or with ``n="auto"``: local threads by default, or an
-        existing dask.distributed cluster by its address (``"tcp://host:8786"``) or client. The lazy
-        result (no ``output``) computes with whatever dask scheduler is active.
+        Where blocks run when streaming or with ``n="auto"``: by default the active dask scheduler
+        (an active ``distributed.Client``, which is the default once created; else one set with
+        ``dask.config.set(scheduler=...)``; else local threads), or an existing dask.distributed
+        cluster by its address (``"tcp://host:8786"``) or client. The lazy result (no
+        ``output``) computes with whatever dask scheduler is active.
     connect_timeout : float, default 5
         Seconds to wait for a scheduler address to answer before raising ``ConnectionError``.
     progress : bool, optional
@@ -276,12 +278,10 @@ def run_ensemble(
                 "roughstick.self_affine_psd(numpy.geomspace(1e5, 1e10, 2000), "
                 "**roughstick.datasets.family_parameters(name))." if callable(psd) else "")
         raise TypeError(f"psd must be an xarray.DataArray, got {type(psd).__name__}.{hint}")
-    spacing = float(spacing)
-    if not spacing > 0:
-        raise ValueError(f"spacing must be a positive length in m, got {spacing!r}.")
+    spacing = as_length(spacing, name="spacing")
     shp = surface_shape(shape=shape, size=size, spacing=spacing)
     rh = relative_humidity_array(relative_humidity)
-    material = POLYSILICON if material is None else material
+    material = POLYSILICON if material is None else as_material(material)
     curves_kwargs = dict(curves_kwargs or {})
     model = selection = None
     if curves is None:
@@ -365,7 +365,7 @@ def _select_for_sizes(psd, shapes, spacing, rh, kwargs):
     each humidity must meet the tolerance: :func:`roughstick.select_model` on the stacked groups
     expected from the PSD), and the reason."""
     ck = dict(kwargs["curves_kwargs"])
-    material = kwargs.get("material") or POLYSILICON
+    material = as_material(kwargs.get("material") or POLYSILICON)
     with warnings.catch_warnings():
         if kwargs.get("generate") is not None:  # the PSD filter of generate_surfaces is not used
             warnings.simplefilter("ignore", ExtrapolatedPSDWarning)
@@ -430,6 +430,7 @@ def surface_size_study(
         raise ValueError("give exactly one of sizes= (m) or shapes= (pixels).")
     if "output" in kwargs:
         raise ValueError("surface_size_study does not stream; call run_ensemble(output=...) per size.")
+    spacing = as_length(spacing, name="spacing")
     shp = [surface_shape(size=s, spacing=spacing) for s in sizes] if sizes is not None else [
         surface_shape(shape=s, spacing=spacing) for s in shapes
     ]

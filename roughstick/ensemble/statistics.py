@@ -19,6 +19,7 @@ from scipy import special, stats
 from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, append_history, coord_attrs
 from .._core.dask import as_seed_sequence
+from .._core.validate import as_fraction
 
 __all__ = [
     "confidence_band",
@@ -98,10 +99,8 @@ def min_samples_to_bound(p: float, *, confidence: float) -> int:
     >>> rs.min_samples_to_bound(0.025, confidence=0.95), rs.min_samples_to_bound(0.5, confidence=0.95)
     (146, 6)
     """
-    if not 0 < p < 1:
-        raise ValueError(f"p must lie in (0, 1), got {p!r}.")
-    if not 0 < confidence < 1:
-        raise ValueError(f"confidence must lie in (0, 1), got {confidence!r}.")
+    as_fraction(p, name="p", label="p", spell_percent=False)
+    as_fraction(confidence, name="confidence", label="confidence", spell_percent=False)
     a = (1.0 - confidence) / 2.0
     n = max(1, int(np.floor(np.log(a) / np.log(max(p, 1 - p)))) - 1)
     while True:  # the closed form gives a start; the ranks of order_statistic_ranks decide
@@ -198,8 +197,7 @@ def quantile_interval(
     probs = np.atleast_1d(np.asarray(quantiles, dtype=float))
     if np.any((probs < 0) | (probs > 1)):
         raise ValueError(f"quantiles must lie in [0, 1], got {probs.tolist()}.")
-    if not 0 < confidence < 1:
-        raise ValueError(f"confidence must lie in (0, 1), got {confidence!r}.")
+    as_fraction(confidence, name="confidence", label="confidence", spell_percent=False)
     if dim not in da.dims:
         raise ValueError(f"{da.name!r} has no dimension {dim!r} (dims {da.dims}).")
     alpha = 1 - confidence
@@ -299,8 +297,7 @@ def confidence_band(
     >>> b["g"].values, float(b["g_mean"])
     (array([ 24.975, 499.5  , 974.025]), 499.5)
     """
-    if not 0 < level < 1:
-        raise ValueError(f"level must lie in (0, 1), got {level!r}.")
+    as_fraction(level, name="level", label="level", spell_percent=False)
     _labelled(ds, "confidence_band")
     if isinstance(ds, xr.DataArray):
         name = ds.name or "data"

@@ -12,7 +12,6 @@ config's ``[psd] files``): :func:`resolve_map_path`. A real file of that name al
 
 from __future__ import annotations
 
-import os
 import pathlib
 import warnings
 from importlib import resources
@@ -22,7 +21,8 @@ import xarray as xr
 
 from .._core import units as _units
 from .._core.conventions import ATTRS, append_history, set_coord_attrs
-from .._core.validate import check_positive_block
+from .._core.memory import physical_memory
+from .._core.validate import as_length
 
 __all__ = ["read_afm"]
 
@@ -90,9 +90,7 @@ _NETCDF = {".nc", ".nc4", ".netcdf", ".cdf"}
 
 def _length(value, name: str) -> float:
     """A length as float m: a number (m) or a string such as ``"5 nm"``."""
-    v = _units.parse_quantity(value, "length", name=name)
-    check_positive_block(v, name, "Pass a positive length, e.g. '5 nm' or 5e-9 (m).", finite=True)
-    return v
+    return as_length(value, name=name)
 
 
 _LINE_SCAN = ("roughstick's contact, ensemble and generation analyses need a 2-D height map; "
@@ -351,11 +349,8 @@ def _check_npy_fits(path) -> None:
     except (ValueError, OSError):
         return  # np.load reports a damaged header
     need = float(np.prod(shape, dtype=float)) * max(dtype.itemsize, 8)  # read, then as float64
-    try:
-        have = float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
-        return
-    if need > have:
+    have = physical_memory()
+    if have is not None and need > have:
         raise MemoryError(
             f"{pathlib.Path(path).name} holds a {' x '.join(map(str, shape))} {dtype} array "
             f"(about {need / 2**30:.3g} GiB as float64), more than this machine's "

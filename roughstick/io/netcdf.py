@@ -167,7 +167,7 @@ def written_names(folder) -> set[str] | None:
     return {line for line in text.splitlines() if line}
 
 
-def write(ds: xr.Dataset, path, *, compute: bool = False, overwrite: bool = False):
+def write(ds: xr.Dataset, path, *, compute: bool = True, overwrite: bool = False):
     """Write ``ds`` to CF NetCDF (netCDF4 engine, zlib level 4) atomically.
 
     Checks that every variable and coordinate carries ``units`` and ``long_name`` first. The data
@@ -180,9 +180,9 @@ def write(ds: xr.Dataset, path, *, compute: bool = False, overwrite: bool = Fals
         Data to write; lazy (dask) data are computed chunk by chunk during the write.
     path : str or pathlib.Path
         Destination file.
-    compute : bool, default False
-        If False, return a :class:`dask.delayed.Delayed` that performs the write (and the rename)
-        when computed; if True, write now and return the path.
+    compute : bool, default True
+        If True, write now and return the path (as xarray's ``to_netcdf``); if False, return a
+        :class:`dask.delayed.Delayed` that performs the write (and the rename) when computed.
     overwrite : bool, default False
         Replace an existing ``path``; without it an existing file is refused before anything is
         written (as the command line refuses it without ``--overwrite``).

@@ -20,7 +20,7 @@ from roughstick._core.references import cite
 from roughstick.io.netcdf import publish, write
 
 from .._core.arguments import check_numbers
-from .._core.dask import resolve_scheduler
+from .._core.dask import owns_client, resolve_scheduler
 from .._core.progress import StagedProgress, current_staged_progress
 from . import _rare_kernels as _k
 from . import _rare_moves as _m
@@ -297,16 +297,8 @@ def _compute(fn, model, blocks, scheduler, **kwargs):
             return client.gather(client.compute(tasks))
         return list(dask.compute(*tasks, scheduler=local))
     finally:
-        if client is not None and not _is_client(scheduler):
+        if client is not None and owns_client(scheduler):
             client.close()
-
-
-def _is_client(obj):
-    try:
-        from distributed import Client
-    except ImportError:  # pragma: no cover
-        return False
-    return isinstance(obj, Client)
 
 
 def _level0_block(model, indices, *, entropy, spawn_key, noise_shape):

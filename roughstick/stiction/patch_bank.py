@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import warnings
 from pathlib import Path
 
@@ -22,7 +23,7 @@ from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs
 from .._core.materials import POLYSILICON
 from .._core.remedy import argument, spell, spelled
-from .._core.validate import external_stacklevel
+from .._core.validate import as_length, external_stacklevel, relative_humidity_array
 from ..contact import (
     ValidityWarning,
     adhesion_summary,
@@ -76,11 +77,32 @@ def _law_energies(psd, laws, rh, shape, spacing, seed, model, material=POLYSILIC
     return values
 
 
+def _set_aside(file: Path, why: BaseException, what: str, *, keep: bool = True) -> None:
+    """Move an unreadable cache file out of the way (``<name>.corrupt``; a part of an unfinished
+    bank, an intermediate, is deleted), saying so."""
+    reason = (str(why).strip().splitlines() or [type(why).__name__])[0][:160]
+    aside = file.with_name(file.name + ".corrupt")
+    if keep:
+        os.replace(file, aside)
+        done = f"moved it to {aside.name} and {what} (delete {aside.name} when you no longer need it)"
+    else:
+        file.unlink()
+        done = f"deleted it and {what}"
+    warnings.warn(f"the patch-bank cache file {str(file)!r} could not be read ({reason}); {done}.",
+                  UserWarning, stacklevel=4)
+
+
 def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material=POLYSILICON):
     """Adhesive energies of laws [start, stop) (read back from its part file when cached)."""
     file = None if parts_dir is None else parts_dir / f"laws_{start:07d}_{stop:07d}.npy"
     if file is not None and file.exists():
-        return np.load(file)
+        try:
+            values = np.load(file)
+            if values.shape != (stop - start, len(rh)):
+                raise ValueError(f"it holds an array of shape {values.shape}, not {(stop - start, len(rh))}")
+            return values
+        except (OSError, ValueError, EOFError) as exc:
+            _set_aside(file, exc, f"recomputing laws {start}-{stop - 1}", keep=False)
     values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model, material)
     if file is not None:
         parts_dir.mkdir(parents=True, exist_ok=True)
@@ -125,6 +147,33 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int,
     return bank
 
 
+def _read_cached(path: Path, n_law: int, rh) -> xr.DataArray | None:
+    """The bank cached in ``path``; None, after moving it aside with a warning, when it cannot be
+    read or does not hold this bank (a damaged, truncated or foreign file)."""
+    try:
+        out = xr.load_dataarray(path)
+        if out.dims != ("law", "rh") or out.sizes["law"] != n_law or not np.array_equal(out["rh"].values, rh):
+            raise ValueError(f"it holds {dict(out.sizes)}, not {n_law} laws at RH {list(map(float, rh))}")
+        return out
+    except (OSError, ValueError, KeyError, RuntimeError, TypeError) as exc:
+        _set_aside(path, exc, "rebuilding the bank")
+        return None
+
+
+def _check_cache_writable(folder: Path) -> None:
+    """Refuse a cache folder the bank cannot be stored in, before computing it."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / f".probe-{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        raise PermissionError(
+            f"cannot write the patch-bank cache folder {str(folder)!r} ({exc.strerror or exc}); pass a "
+            "writable cache_dir= (or cache_dir=None to compute the bank without caching it)."
+        ) from exc
+
+
 @check_numbers(n_law="count", spacing="length", seed="seed", check_tail="count0")
 def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000, shape=(64, 64),
                spacing: float, seed: int = 0, model: str = "modified_dmt",
@@ -141,8 +190,8 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         Number of patches (laws).
     shape : (int, int)
         Pixels of a patch; with ``spacing`` the patch size (the interaction zone, §5.2).
-    spacing : float
-        Pixel size [m].
+    spacing : float or str
+        Pixel size [m], or with its unit (``"20 nm"``).
     seed : int
         Root seed of the patches (one SeedSequence child per patch, as generate_surfaces does).
     model : str
@@ -151,7 +200,10 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         Directory of the on-disk cache; ``None`` computes without caching. The laws are computed
         in parts of 25 by dask's threads (both cores; a law is the same whatever the parts);
         with a cache each finished part is stored, so an interrupted bank resumes where it
-        stopped.
+        stopped. A cache file that cannot be read (damaged, truncated, not this bank) is moved
+        aside to ``<name>.corrupt`` with a warning and the bank rebuilt (a damaged part is
+        deleted and recomputed). A folder that cannot be written is refused before any law is
+        computed (``PermissionError``).
     check_tail : int
         With ``model="modified_dmt"``: re-evaluate this many laws of largest energy at each RH
         with the FFT-BEM (``attrs["tail_bem_ratio"]``, the median BEM/Eq. 16 ratio; a
@@ -166,14 +218,13 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         ``attrs["from_cache"]`` telling whether it was read back; ``tail_bem_ratio`` and
         ``tail_checked`` (see ``check_tail``).
     """
-    rh = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
-    if np.any((rh <= 0) | (rh >= 1)):
-        raise ValueError("relative_humidity must be fractions in (0, 1), e.g. 0.6 not 60")
+    rh = relative_humidity_array(relative_humidity)
     if int(n_law) < 1:
         raise ValueError("n_law must be at least 1")
     if int(check_tail) < 0:
         raise ValueError(f"check_tail must be >= 0 (laws re-checked with the BEM), got {check_tail}")
     check = int(check_tail) if model == "modified_dmt" else 0
+    spacing = as_length(spacing, name="spacing")
     if not isinstance(psd, xr.DataArray):
         raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.self_affine_psd(q, ...)) "
                         f"so the cache can key on its values, got {type(psd).__name__}")
@@ -197,12 +248,13 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
     if cache_dir is not None:
         key = _key(psd, rh, n_law, shape, spacing, seed, model, material)
         path = Path(cache_dir) / f"patch_bank_{key}.nc"
-        if path.exists():
-            out = xr.load_dataarray(path)
+        out = _read_cached(path, int(n_law), rh) if path.exists() else None
+        if out is not None:
             if check and int(out.attrs.get("tail_checked", -1)) != min(check, int(n_law)):
                 out = _tail_check(out, psd, shape, float(spacing), seed, check, material)  # an older cache
             out.attrs.update(cache_file=str(path), from_cache=1)
             return out
+        _check_cache_writable(path.parent)  # before any law is computed
     parts_dir = None if path is None else path.with_name(path.stem + ".parts")
     blocks = [(a, min(a + _LAWS_PER_PART, int(n_law))) for a in range(0, int(n_law), _LAWS_PER_PART)]
     tasks = [dask.delayed(_part)(psd, a, b, rh, shape, float(spacing), seed, model, parts_dir, material)

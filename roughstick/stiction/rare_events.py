@@ -32,7 +32,7 @@ import xarray as xr
 
 from roughstick._core.conventions import append_history
 from roughstick._core.dask import as_seed_sequence
-from roughstick._core.validate import adhesive_energy_values
+from roughstick._core.validate import adhesive_energy_values, relative_humidity_array
 from roughstick.contact import water_height
 
 from . import _rare_beam as _b
@@ -140,7 +140,8 @@ def subset_simulation(
         Model evaluations per dask task (level 0: samples; higher levels: whole chains).
         Results do not depend on it.
     scheduler : None, str or distributed.Client
-        ``None``/"threads", "sync", "processes", a scheduler address or a Client.
+        ``None`` (the active dask scheduler: an active Client, else ``dask.config``'s, else
+        threads), "threads", "sync", "processes", a scheduler address or a Client.
         ("processes" starts a worker pool for every round of the chains: slow; prefer threads
         or a distributed Client.)
     output : path, optional
@@ -348,9 +349,7 @@ def failure_probability(
     xarray.Dataset
         The variables of :func:`subset_simulation` along ``rh``.
     """
-    rh_in = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
-    if rh_in.ndim != 1 or np.any(~((rh_in > 0) & (rh_in < 1))):
-        raise ValueError(f"relative_humidity must be fractions in (0, 1), got {relative_humidity!r}.")
+    rh_in = relative_humidity_array(relative_humidity)
     if quantity not in _s.QUANTITIES:
         raise ValueError(f"quantity must be one of {_s.QUANTITIES}, got {quantity!r}.")
     if not (np.isfinite(threshold) and threshold > 0):

@@ -31,7 +31,6 @@ import contextlib
 import contextvars
 import hashlib
 import numbers
-import os
 import threading
 import warnings
 from collections.abc import Sequence
@@ -46,8 +45,9 @@ from .._core import units as _units
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import as_seed_sequence, is_lazy
+from .._core.memory import check_fits_in_memory
 from .._core.references import PAPER, cite
-from .._core.validate import check_positive_block, external_stacklevel
+from .._core.validate import as_length, external_stacklevel
 from ._generate_kernels import _centred_full, _filter, _generate_block
 from .spectrum import interpolate_psd, isotropic_to_2d
 
@@ -78,8 +78,10 @@ def _pair(value, name: str):
     """A scalar or a (y, x) pair → tuple of two."""
     if value is None:
         return None
-    if isinstance(value, (str, bytes)):
+    if isinstance(value, bytes) or (isinstance(value, str) and name == "shape"):
         raise ValueError(f"{name} must be a number or a (y, x) pair, got {value!r}.")
+    if isinstance(value, str):  # a length with its unit, e.g. "5 nm"
+        return value, value
     if isinstance(value, Sequence) or isinstance(value, np.ndarray):
         vals = list(np.asarray(value, dtype=object).ravel())
         if len(vals) != 2:
@@ -89,13 +91,7 @@ def _pair(value, name: str):
 
 
 def _length(value, name: str) -> float:
-    if isinstance(value, xr.DataArray):
-        value = float(_units.require(value, "length", name=name))
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name} must be a length in m, got {value!r}.")
-    value = float(value)
-    check_positive_block(value, name, "Pass a length in m.", finite=True)
-    return value
+    return as_length(value, name=name)
 
 
 def _grid(psd, shape, size, spacing):
@@ -150,25 +146,13 @@ def _grid(psd, shape, size, spacing):
     return shape_p, spacing_p
 
 
-def _physical_memory() -> float | None:
-    try:
-        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (AttributeError, ValueError, OSError):  # pragma: no cover - not POSIX
-        return None
-
-
 def _check_fits_in_memory(shape) -> None:
     """Refuse, before allocating, a map whose filter and one realization cannot fit in memory."""
     ny, nx = shape
     # float64 filter (ny, nx/2+1) + its complex spectrum + the real map: ~ 4 x 8 bytes per pixel
     need = 32.0 * ny * (nx // 2 + 1) + 8.0 * ny * nx
-    have = _physical_memory()
-    if have is not None and need > have:
-        raise MemoryError(
-            f"a {ny} x {nx} surface needs about {need / 2**30:.3g} GiB for its spectral filter and "
-            f"one map, more than this machine's {have / 2**30:.3g} GiB; use a smaller shape or "
-            "size (or a coarser spacing)."
-        )
+    check_fits_in_memory(need, what=f"a {ny} x {nx} surface", detail="for its spectral filter and one map",
+                         fix="use a smaller shape or size (or a coarser spacing)")
 
 
 def _realizations(n, realizations):
@@ -539,10 +523,11 @@ def generate_surfaces(
     shape : int or (int, int), optional
         Pixels ``(ny, nx)``; any sizes >= 2 (powers of two are not required). Default for a 2D
         PSD DataArray without ``size``: the PSD grid shape.
-    size : float or (float, float), optional
-        Physical size ``(Ly, Lx)`` [m]; with ``spacing`` it must be a whole number of pixels.
-    spacing : float or (float, float), optional
-        Pixel size ``(dy, dx)`` [m]. Two of ``shape``, ``size``, ``spacing`` are needed; if
+    size : float, str or (float, float), optional
+        Physical size ``(Ly, Lx)`` [m], or with its unit (``"1.28 um"``); with ``spacing`` it
+        must be a whole number of pixels.
+    spacing : float, str or (float, float), optional
+        Pixel size ``(dy, dx)`` [m], or with its unit (``"5 nm"``). Two of ``shape``, ``size``, ``spacing`` are needed; if
         ``spacing`` is missing it is taken from the PSD's ``spacing_y``/``spacing_x`` attrs.
     seed : int, numpy.random.SeedSequence, numpy.random.Generator or None
         Root seed; recorded in ``attrs['seed']``. ``None`` draws a fresh root seed (recorded).

@@ -31,7 +31,7 @@ from scipy.interpolate import CubicSpline
 from .._core import units as _units
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
-from .._core.materials import POLYSILICON, Material
+from .._core.materials import POLYSILICON, Material, as_material
 from .._core.references import cite
 from .._core.validate import check_core_not_chunked, check_moments, check_positive_block
 from .spectrum import _check_psd2d, _dq, _units_psd, _wavevector, power_spectrum
@@ -591,6 +591,7 @@ def plasticity_index(
     ----------
     Greenwood and Williamson (1966), https://doi.org/10.1098/rspa.1966.0242
     """
+    material = as_material(material)
     H = hardness if hardness is not None else material.hardness
     if H is None or not H > 0:
         raise ValueError(

@@ -62,7 +62,7 @@ def test_relative_humidity_forms():
         relative_humidity_array([0.3, 0.3])
     with pytest.raises(ValueError, match="empty"):
         relative_humidity_array([])
-    with pytest.raises(ValueError, match="strictly between 0 and 1"):
+    with pytest.raises(ValueError, match=r"did you mean 0.3\?"):
         relative_humidity_array([30.0])
 
 
@@ -124,3 +124,33 @@ def test_cantilever_unit_slip_is_refused_by_name(field, value, hint):
     with pytest.raises(ValueError, match=rf"Cantilever\.{field}={value:g} .*implausible.*"
                                          rf"Cantilever\.{field}={hint}"):
         rs.Cantilever(**{field: value})
+
+
+@pytest.mark.parametrize("value, says", [
+    (1.0, r"relative_humidity = 1.0: RH must lie strictly between 0 and 1: 1 is saturation \(RH 100 %\), "
+          r"outside the models' range; give at most e.g. 0.99\."),
+    (30.0, r"relative_humidity = 30.0: RH must lie strictly between 0 and 1 \(a fraction\): did you mean 0.3\?"),
+    (1.2, r"relative_humidity = 1.2: .*1.2 is above saturation \(1\)\."),
+    (120.0, r"\(a fraction, e.g. 0.6\); 120 is not a relative humidity\."),
+    (xr.DataArray(120.0, attrs={"units": "%"}),
+     r"relative_humidity = '120 %': 120 % is not a relative humidity: RH must lie strictly between 0 and 100 %"),
+    (xr.DataArray(100.0, attrs={"units": "%"}), r"'100 %': 100 % is saturation.*at most e.g. '99 %'"),
+])
+def test_relative_humidity_advice_fits_the_value(value, says):
+    """One converter: RH 1 is saturation (not "0.01"), 120 % is not a humidity (not "0.012")."""
+    with pytest.raises(ValueError, match=says) as err:
+        rs.as_relative_humidity(value)
+    assert "0.01" not in str(err.value) and "0.012" not in str(err.value)
+
+
+def test_fraction_advice_is_the_same_from_python_flags_and_configs():
+    from roughstick._core.validate import as_fraction, fraction_advice
+
+    assert fraction_advice(0.5, quantity="relative_humidity") is None
+    assert as_fraction("30 %", name="rh", quantity="relative_humidity") == pytest.approx(0.3)
+    assert fraction_advice(95.0, label="confidence") == ("confidence must lie strictly between 0 and 1 (a "
+                                                         "fraction): did you mean 0.95 or '95 %'?")
+    assert fraction_advice(95.0, label="confidence", spell_percent=False).endswith("did you mean 0.95?")
+    assert "not a percentage" in fraction_advice(30.0, quantity="ratio", label="tolerance")
+    with pytest.raises(ValueError, match=r"confidence = 95: confidence must lie .* did you mean 0.95\?"):
+        rs.min_samples_to_bound(0.5, confidence=95)

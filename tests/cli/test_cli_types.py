@@ -47,10 +47,12 @@ def test_rh_fraction_or_percent(text, value):
 
 
 @pytest.mark.parametrize("text, says", [
-    ("60", "RH is a fraction in (0, 1): did you mean 0.6 or '60 %'?"),
-    ("1", "saturation (1) is outside"), ("0", "a percentage, e.g. '60 %'"),
-    ("120 %", "strictly between 0 and 100 %"), ("abc", "is not a relative humidity"),
-    ("nan", "is not a relative humidity")])
+    ("60", "RH must lie strictly between 0 and 1 (a fraction): did you mean 0.6 or '60 %'?"),
+    ("1", "1 is saturation (RH 100 %), outside the models' range; give at most e.g. 0.99 or '99 %'"),
+    ("0", "e.g. 0.6 or '60 %'); 0 is dry air"),
+    ("120 %", "strictly between 0 and 100 %"), ("abc", "this is not a number"),
+    ("nan", "this is not a number"), ("100 %", "100 % is saturation"),
+    ("120", "120 is not a relative humidity")])
 def test_rh_refused_with_the_fix(text, says):
     with pytest.raises(argparse.ArgumentTypeError, match=None) as err:
         relative_humidity_arg(text)
@@ -65,7 +67,7 @@ def test_curves_rh_percent_and_the_likely_percent(capsys, nm_map, tmp_path):
         assert np.atleast_1d(ds.rh.values).tolist() == [0.6]
     msg = _err(capsys, ["curves", str(nm_map), "--spacing", "5 nm", "--units", "nm", "--rh", "60",
                         "--out", str(tmp_path / "d.nc")], 2)
-    assert msg.endswith("argument --rh: '60': RH is a fraction in (0, 1): did you mean 0.6 or '60 %'?")
+    assert msg.endswith("argument --rh: '60': RH must lie strictly between 0 and 1 (a fraction): did you mean 0.6 or '60 %'?")
     assert not _python_words(msg)
 
 

@@ -75,7 +75,7 @@ def test_run_and_risk_share_tables():
         ('spacing = "5 nm"', "spacing_nm = 5", r'Units go in the value.*spacing = "<number> nm"'),
         ('qmax = "289 rad/um"', "qmax = 289e6", r'has no unit.*rad/um'),
         ("relative_humidity = [0.3, 0.9]", "relative_humidity = [30, 90]",
-         r"looks like percent: write 0.3"),
+         r"did you mean 0.3 or .30 %.\?"),
         ("relative_humidity = [0.3, 0.9]", "rh_percent = [0.3, 0.5]",
          r"unknown key 'rh_percent'.*relative_humidity = \[0.3, 0.5\]"),
         ("relative_humidity = [0.3, 0.9]", "relative_humidity = [0.3, 0.3]", "repeated"),
@@ -125,10 +125,10 @@ def test_command_line_overrides_validated(tmp_path, capsys):
         ("[beam]\nwidth = 30\n", r'width = 30 has no unit.*width = "30 nm"'),
         ("[beam]\nyoungs_modulus = \"164 nm\"\n", "pressure unit"),
         ("[humidity]\nrh_percent = [30, 50]\n", r"\[ensemble\] relative_humidity = \[0.3, 0.5\]"),
-        ("[ensemble]\nrelative_humidity = [30, 50]\n", "looks like percent"),
+        ("[ensemble]\nrelative_humidity = [30, 50]\n", "did you mean 0.3"),
         ("[ensemble]\nrealizations = 20\n", "Write n instead"),
         ("[risk]\ninterval = \"wilsen\"\n", r"must be one of \['wilson'"),
-        ("[risk]\nlevels = [5, 50, 95]\n", r"looks like percent: write 0.05"),
+        ("[risk]\nlevels = [5, 50, 95]\n", r"did you mean 0.05 or .5 %.\?"),
         ("[output]\ndirectory = \"x\"\n", "Write folder instead"),
         ("[ensemble]\nn = 0\n", "integer >= 1"),
         ("[surface]\nshape = [64.7, 64]\n", "integers >= 8"),
@@ -161,7 +161,7 @@ def test_cli_risk_refuses_bad_config_without_leaving_a_folder(tmp_path, capsys):
     p = tmp_path / "risk.toml"
     p.write_text('[output]\nfolder = "out"\n[risk]\nlevels = [5, 50]\n')
     assert main(["risk", str(p)]) == 1
-    assert "looks like percent" in capsys.readouterr().err
+    assert "did you mean 0.05" in capsys.readouterr().err
     assert not (tmp_path / "out").exists()
 
 
@@ -216,3 +216,26 @@ def test_unknown_bundled_map_in_psd_files_lists_the_bundled_names(tmp_path):
     p.write_text(SAMPLES_RUN.replace("FILES", '["data/S1A.nc"]'))  # a missing file: the bundled names
     with pytest.raises(ConfigError, match="not found .the sample maps shipped with roughstick are named bundled:S1A"):
         load_config(p)
+
+
+@pytest.mark.parametrize(
+    "text, says, never",
+    [
+        ("[ensemble]\nrelative_humidity = [0.5, 1.0]\n",
+         r"relative_humidity\[1\] = 1.0: RH must lie strictly between 0 and 1: 1 is saturation "
+         r"\(RH 100 %\), outside the models' range; give at most e.g. 0.99", "0.01"),
+        ('[ensemble]\nrelative_humidity = ["120 %"]\n',
+         r"'120 %': 120 % is not a relative humidity: RH must lie strictly between 0 and 100 %", "0.012"),
+        ("[risk]\ntarget_cv = 1.5\n",
+         r"target_cv = 1.5: target_cv must lie strictly between 0 and 1 \(a ratio such as 0.3, not a "
+         r"percentage\)", "0.015"),
+        ("[risk]\nconfidence = 1.0\n", r"confidence = 1.0: .*1 itself is excluded.*0.99", "0.01"),
+    ],
+)
+def test_fractions_out_of_range_get_the_right_advice(tmp_path, text, says, never):
+    """Saturation, a percentage above 100 % and a ratio are not percentages typed for a fraction."""
+    p = tmp_path / "risk.toml"
+    p.write_text(text)
+    with pytest.raises(ConfigError, match=says) as err:
+        load_risk_config(p)
+    assert never not in str(err.value)

@@ -65,7 +65,7 @@ def test_quantities():
     "kw, match",
     [
         ({"rh": "[]"}, "relative_humidity is empty"),
-        ({"rh": "[30, 50]"}, "looks like percent: write 0.3"),
+        ({"rh": "[30, 50]"}, r"did you mean 0.3 or '30 %'\?"),
         ({"n": "0"}, "integer >= 1 or 'auto'"),
         ({"n": "'lots'"}, "expected an integer or 'auto'"),
         ({"extra": "[bogus]\nx = 1\n"}, "unknown table"),

@@ -103,9 +103,12 @@ def test_numpy_and_dask_agree_and_stay_lazy(backend):
         xr.testing.assert_allclose(out.compute(), ref[name])
 
 
-@pytest.mark.parametrize("bad", [0.0, 1.0, 1.5, -0.2, 30.0, np.nan])
-def test_relative_humidity_outside_unit_interval(bad):
-    with pytest.raises(ValueError, match="strictly between 0 and 1.*0.3 for 30 %"):
+@pytest.mark.parametrize("bad, says", [
+    (0.0, "0 is dry air"), (1.0, r"1 is saturation \(RH 100 %\).*at most e.g. 0.99"),
+    (1.5, r"1.5 is above saturation"), (-0.2, "cannot be negative"),
+    (30.0, r"did you mean 0.3\?"), (np.nan, "this is not a number")])
+def test_relative_humidity_outside_unit_interval(bad, says):
+    with pytest.raises(ValueError, match=says):
         rs.laplace_pressure(bad)
 
 

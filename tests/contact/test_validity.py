@@ -207,6 +207,19 @@ def test_bad_tolerance_quantity_and_nan_maps():
         assert ds.attrs["contact_model"] in ("gw", "modified_dmt")
 
 
+@pytest.mark.parametrize("z, says", [
+    (np.zeros((64, 64)), r"height is flat \(constant"),
+    (np.full((16, 16), 3e-9), r"height is flat \(constant"),
+    (np.ones((1, 1)) * 1e-9, r"1 pixel\(s\) along 'y'.*at least 8 x 8 pixels: give a larger map"),
+    (np.random.default_rng(1).normal(size=(4, 4)) * 1e-9, r"4 pixel\(s\) along 'y'.*give a larger map"),
+])
+def test_auto_on_a_map_without_roughness_names_the_real_problem(z, says):
+    """model='auto' on a constant or tiny map (no NaN pixel) says so, not "the map has NaN pixels"."""
+    with pytest.raises(ValueError, match=says) as err:
+        rs.rough_contact_curves(make_topography(z, spacing=5e-9), relative_humidity=0.5, model="auto")
+    assert "NaN" not in str(err.value)
+
+
 def test_expected_groups_from_the_psd_match_generated_maps():
     """The PSD-side expectation of the groups (no map generated) agrees with the mean of the
     map estimators over generated surfaces, within their sampling error."""

@@ -75,3 +75,20 @@ def test_auto_converged_saved_in_the_run_folder(tmp_path):
     assert reopened.attrs["auto_converged"] == 0 and reopened.attrs["n_final"] == 4
     band = rs.confidence_band(reopened[["adhesive_energy"]])
     assert band.attrs["auto_converged"] == 0
+
+
+def test_an_active_client_is_the_default_scheduler(tmp_path):
+    """As for any dask computation, an active distributed.Client runs run_ensemble(output=...)'s
+    blocks without scheduler=; the numbers are those of local threads, and the client stays open."""
+    distributed = pytest.importorskip("distributed")
+
+    run = dict(n=4, chunks=2, rh=RH[:2])
+    local = toy_run(output=tmp_path / "threads", **run).compute(scheduler="sync")
+    with distributed.LocalCluster(n_workers=1, processes=False, threads_per_worker=2,
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
+        with distributed.get_task_stream(client) as stream:
+            on_client = toy_run(output=tmp_path / "client", **run)
+        blocks = [t["key"] for t in stream.data if str(t["key"]).startswith("roughstick-ensemble-block")]
+        assert len(blocks) == 2  # both blocks ran on the client's worker
+        assert client.submit(sum, [1, 2]).result() == 3  # not closed by roughstick
+    assert_same_values(local, on_client.compute(scheduler="sync"))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -100,6 +102,46 @@ def test_rh_chunk_blocks_and_seed_changes_results():
 def test_bad_input(kw, match):
     with pytest.raises(ValueError, match=match):
         toy_run(**{"n": 4, **kw})
+
+
+def test_material_by_name_or_refused_naming_the_names():
+    """run_ensemble(material="silicon") raised AttributeError ('str' object has no attribute
+    'poisson_ratio') from deep inside the validity check."""
+    with pytest.raises(ValueError, match=r"material='silicon' is not a material roughstick knows; known "
+                                         r"names: 'poly-silicon'.*roughstick.Material\(youngs_modulus="):
+        rs.run_ensemble(rs.datasets.sample_psd("S2"), n=2, shape=32, spacing=5e-9, relative_humidity=[0.5],
+                        material="silicon")
+    with pytest.raises(TypeError, match="must be a roughstick.Material or a known name"):
+        toy_run(n=2, material=164e9)
+    named, default = toy_run(n=2, material="poly-Si"), toy_run(n=2)
+    assert named.attrs["material"] == default.attrs["material"] == repr(rs.POLYSILICON)
+    assert rs.reduced_modulus("polysilicon") == rs.reduced_modulus(rs.POLYSILICON)
+
+
+def test_lengths_with_their_unit_everywhere():
+    """spacing="5 nm" worked in read_afm, the CLI and TOML but run_ensemble and
+    generate_surfaces raised "could not convert string to float": one parser for lengths."""
+    psd = rs.datasets.sample_psd("S2")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the validity and pixel warnings of this small run
+        with_units = rs.run_ensemble(psd, n=2, size="0.32 um", spacing="5 nm", relative_humidity=[0.5], seed=1)
+        in_m = rs.run_ensemble(psd, n=2, size=0.32e-6, spacing=5e-9, relative_humidity=[0.5], seed=1)
+    assert with_units.attrs["params_hash"] == in_m.attrs["params_hash"]
+    assert with_units.sizes == in_m.sizes and with_units.attrs["surface_shape"] == in_m.attrs["surface_shape"]
+    a = rs.generate_surfaces(psd, n=1, shape=32, spacing="5 nm", seed=3)
+    b = rs.generate_surfaces(psd, n=1, size="160 nm", spacing=5e-9, seed=3)
+    np.testing.assert_array_equal(a.values, b.values)
+    xr.testing.assert_identical(rs.expected_surface_groups(psd, shape=32, spacing="5 nm", relative_humidity=0.5),
+                                rs.expected_surface_groups(psd, shape=32, spacing=5e-9, relative_humidity=0.5))
+    h = rs.testing.sphere_topography("200 nm", n=17, spacing="2 nm")  # 200 * 1e-9: 1 ulp from 200e-9
+    xr.testing.assert_allclose(h, rs.testing.sphere_topography(200e-9, n=17, spacing=2e-9), rtol=1e-14)
+    f = rs.sphere_force([1e-9], model="dmt", radius="200 nm", relative_humidity=0.5)
+    xr.testing.assert_allclose(f, rs.sphere_force([1e-9], model="dmt", radius=200e-9, relative_humidity=0.5),
+                               rtol=1e-14)
+    with pytest.raises(ValueError, match=r"spacing = '2 parsecs': unknown length unit"):
+        rs.run_ensemble(psd, n=2, shape=32, spacing="2 parsecs", relative_humidity=[0.5])
+    with pytest.raises(ValueError, match=r"spacing\[y\] must be positive and finite, got -2e-09"):
+        rs.generate_surfaces(psd, n=1, shape=32, spacing="-2 nm")
 
 
 def test_bad_shapes():

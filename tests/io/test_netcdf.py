@@ -32,10 +32,17 @@ def test_cf_check_names_missing_attrs(tmp_path):
     assert not list(tmp_path.iterdir())
 
 
+def test_write_writes_now_by_default_as_xarray_does(tmp_path):
+    """rs.write(ds, path) returned a Delayed and wrote nothing unless compute=True."""
+    path = rs.write(_ds(lazy=True), tmp_path / "now.nc")
+    assert path == tmp_path / "now.nc" and [p.name for p in tmp_path.iterdir()] == ["now.nc"]
+    xr.testing.assert_equal(rs.open_dataset(path), _ds())
+
+
 def test_write_delayed_atomic_and_roundtrip(tmp_path):
     path = tmp_path / "a.nc"
     d = _ds(lazy=True)
-    task = nc.write(d, path)
+    task = nc.write(d, path, compute=False)
     assert isinstance(task, Delayed)
     assert not path.exists()  # only a temporary file until the write completes
     assert all(".tmp-" in p.name for p in tmp_path.iterdir())

@@ -1,5 +1,7 @@
 """The patch-law bank: one patch per law at every RH, cached on disk and reused."""
 
+import pathlib
+import re
 import warnings
 
 import numpy as np
@@ -37,8 +39,56 @@ def test_bank_cached_and_reused(tmp_path):
     assert ds.crack_length.dims == ("realization", "rh", "beam_length")
 
 
+def test_a_damaged_cache_file_is_named_set_aside_and_rebuilt(tmp_path):
+    kwargs = dict(relative_humidity=[0.5], n_law=2, shape=(16, 16), spacing=40e-9, seed=4,
+                  cache_dir=tmp_path, check_tail=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        first = build_patch_bank(_psd(), **kwargs)
+        path = pathlib.Path(first.attrs["cache_file"])
+        path.write_bytes(b"CDF\x01 truncated by a full disk")
+        with pytest.warns(UserWarning, match=rf"cache file '{re.escape(str(path))}' could not be read.*"
+                                             rf"moved it to {path.name}.corrupt and rebuilding"):
+            rebuilt = build_patch_bank(_psd(), **kwargs)
+        again = build_patch_bank(_psd(), **kwargs)  # the next run reads the rebuilt file
+    assert rebuilt.attrs["from_cache"] == 0 and again.attrs["from_cache"] == 1
+    np.testing.assert_array_equal(rebuilt.values, first.values)
+    np.testing.assert_array_equal(again.values, first.values)
+    assert (tmp_path / f"{path.name}.corrupt").read_bytes().startswith(b"CDF\x01")
+    # a damaged part of an interrupted bank is recomputed too
+    other = {**kwargs, "seed": 5}
+    from roughstick.stiction import patch_bank as pb
+
+    key = pb._key(_psd(), np.array([0.5]), 2, (16, 16), 40e-9, 5, "modified_dmt")
+    parts = tmp_path / f"patch_bank_{key}.parts"
+    parts.mkdir()
+    (parts / "laws_0000000_0000002.npy").write_bytes(b"\x93NUMPY truncated")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        with pytest.warns(UserWarning, match=r"laws_0000000_0000002.npy' could not be read.*recomputing laws 0-1"):
+            resumed = build_patch_bank(_psd(), **other)
+        plain = build_patch_bank(_psd(), **{**other, "cache_dir": None})
+    np.testing.assert_array_equal(resumed.values, plain.values)
+
+
+def test_a_cache_folder_that_cannot_be_written_is_refused_before_any_law(tmp_path, monkeypatch):
+    from roughstick.stiction import patch_bank as pb
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("a law was computed before the cache folder was checked")
+
+    monkeypatch.setattr(pb, "_law_energies", no_work)
+    (tmp_path / "a-file").write_text("")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        with pytest.raises(PermissionError, match=r"cannot write the patch-bank cache folder .*a-file/cache.*"
+                                                  r"pass a writable cache_dir="):
+            build_patch_bank(_psd(), relative_humidity=[0.5], n_law=2, shape=(16, 16), spacing=40e-9,
+                             cache_dir=tmp_path / "a-file" / "cache")
+
+
 def test_bank_bad_input():
-    with pytest.raises(ValueError, match="fractions"):
+    with pytest.raises(ValueError, match=r"did you mean 0.6\?"):
         build_patch_bank(_psd(), relative_humidity=60, spacing=1e-8)
     with pytest.raises(TypeError, match="DataArray"):
         build_patch_bank(lambda q: q, relative_humidity=0.5, spacing=1e-8)

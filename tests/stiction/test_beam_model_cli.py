@@ -28,6 +28,32 @@ def test_cli_beam(tmp_path, capsys):
     assert ds.sizes == {"realization": 20, "rh": 2, "beam_length": 2}
 
 
+def test_cli_beam_cache_folder_problems_name_the_cache_key(tmp_path, capsys):
+    """A cache folder that cannot be written names [bank] cache (not --out); a damaged cache file
+    is set aside and rebuilt, so the next run works."""
+    (tmp_path / "a-file").write_text("")
+    cfg = tmp_path / "beam.toml"
+    cfg.write_text(CONFIG + 'cache = "a-file/cache"\n')
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["beam", str(cfg), "--out", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err
+    assert "cannot write the patch-bank cache folder" in err and "a-file/cache" in err
+    assert "set [bank] cache in beam.toml" in err and "--out" not in err
+    cfg.write_text(CONFIG)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["beam", str(cfg), "--out", str(tmp_path / "out")]) == 0
+        (bank,) = (tmp_path / "beam-bank-cache").glob("patch_bank_*.nc")
+        bank.write_bytes(b"not netcdf")
+        capsys.readouterr()
+        warnings.simplefilter("always", UserWarning)
+        assert main(["beam", str(cfg), "--out", str(tmp_path / "out")]) == 0
+    err = capsys.readouterr().err
+    assert f"{bank}' could not be read" in err and f"moved it to {bank.name}.corrupt and rebuilding" in err
+    assert bank.with_name(bank.name + ".corrupt").exists() and xr.load_dataarray(bank).sizes["law"] == 3
+
+
 def test_cli_beam_bad_key(tmp_path, capsys):
     cfg = tmp_path / "beam.toml"
     cfg.write_text("[beam]\nlength = 3\n")
