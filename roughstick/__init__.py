@@ -14,6 +14,9 @@ functions are re-exported here (``__all__`` gathers the subpackages' own, as Met
 are used as modules.
 """
 
+import importlib
+import warnings
+
 from . import (
     accessor,  # registers the .rough accessor on DataArray and Dataset
     contact,
@@ -28,6 +31,7 @@ from ._core import constants, conventions, materials
 from ._core.materials import *  # noqa: F403
 from ._core.units import UnitsError
 from ._core.version import __version__
+from ._renamed import RENAMED
 from .contact import *  # noqa: F403
 from .ensemble import *  # noqa: F403
 from .io import *  # noqa: F403
@@ -40,3 +44,15 @@ __all__ = sorted(
     for mod in (materials, io, surface, contact, ensemble, stiction)
     for name in mod.__all__
 )
+
+
+def __getattr__(name: str):
+    """Serve an old top-level name from its new home (:mod:`roughstick._renamed`), saying so."""
+    target = RENAMED.get(name)
+    if target is None:
+        raise AttributeError(f"module 'roughstick' has no attribute {name!r}")
+    module, _, attr = target.rpartition(".")
+    obj = getattr(importlib.import_module(f"roughstick.{module}"), attr)
+    warnings.warn(f"roughstick.{name} is now roughstick.{target}; the old name will be removed",
+                  DeprecationWarning, stacklevel=2)
+    return obj
