@@ -29,7 +29,7 @@ def renamed_keywords(**old_to_new: str):
     >>> with warnings.catch_warnings(record=True) as caught:
     ...     warnings.simplefilter("always")
     ...     f(tolerance=0.1), str(caught[0].message)
-    (0.1, "f(tolerance=...) is now f(accuracy=...); the old keyword will be removed")
+    (0.1, 'f(tolerance=...) is now f(accuracy=...); the old keyword will be removed')
     """
 
     def decorate(func):
