@@ -6,8 +6,8 @@ A reference page is one directive (inside ``{eval-rst}`` on a MyST page)::
     .. namespace:: roughstick.contact
     ```
 
-which writes the namespace's docstring, a summary table of every name in its ``__all__`` (in that
-order) and then each name's full documentation (autodoc + numpydoc). Nothing is listed by hand, so
+which writes the namespace's docstring, a table of every name (with its docstring's first
+paragraph) in its ``__all__`` (in that order) and then each name's full documentation (autodoc + numpydoc). Nothing is listed by hand, so
 a name added to or removed from ``__all__`` appears on or leaves the page at the next build.
 
 ``.. namespace:: roughstick`` (the top level) lists each name of ``roughstick.__all__`` under the
@@ -44,6 +44,16 @@ def public_namespaces(package: str = "roughstick") -> list[str]:
         if getattr(mod, "__all__", None):
             found.append(mod.__name__)
     return found
+
+
+def _summary(obj) -> str:
+    """The first paragraph of an object's own docstring, on one line (autosummary's first
+    sentence would stop at the period of "Eqs. 1-6")."""
+    doc = obj.__doc__ if isinstance(obj.__doc__, str) else None
+    if not doc or (not inspect.isclass(obj) and not callable(obj) and doc == type(obj).__doc__):
+        return ""
+    first = inspect.cleandoc(doc).split("\n\n", 1)[0]
+    return " ".join(line.strip() for line in first.splitlines())
 
 
 def _directive_for(obj) -> str:
@@ -84,8 +94,10 @@ class NamespaceDirective(SphinxDirective):
                            location=self.get_location())
         homes = self._homes(modname, mod, names)
         lines = [f".. automodule:: {modname}", "", f".. currentmodule:: {modname}", "",
-                 ".. autosummary::", ""]
-        lines += [f"   {homes.get(name, name)}" for name in names]
+                 ".. list-table::", "   :widths: 30 70", ""]
+        for name in names:
+            target = homes.get(name, name)
+            lines += [f"   * - :py:obj:`{target}`", f"     - {_summary(getattr(mod, name))}"]
         lines += [""]
         for name in names:
             if name not in homes:
