@@ -15,6 +15,7 @@ import warnings
 from .._core.version import __version__
 from . import beam, curves, demo, examples, psd, reproduce, risk, run
 from ._common import add_common_options, setup_logging, teardown_logging, user_message
+from ._process import release_folders
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
@@ -64,4 +65,5 @@ def main(argv: list[str] | None = None) -> int:
         print(f"roughstick {args.command}: error: {msg}", file=sys.stderr)
         return 1
     finally:
+        release_folders()  # however the command ended, its output folders are free for the next
         teardown_logging()
