@@ -121,6 +121,13 @@ def tqdm_class():
     return tqdm
 
 
+def foreground() -> bool:
+    """True in the thread that runs the caller's work: the main thread, or the thread a
+    ``roughstick`` command runs in (marked ``roughstick_foreground``), not a pool's worker."""
+    t = threading.current_thread()
+    return t is threading.main_thread() or getattr(t, "roughstick_foreground", False)
+
+
 class WorkProgress:
     """Announce a long computation with its estimated cost, then report its progress.
 
@@ -136,8 +143,9 @@ class WorkProgress:
         Estimated seconds (:func:`estimate_seconds`).
     progress : bool or None
         ``True``: always show progress; ``False``: only the start line (INFO); ``None``: show it
-        when the estimate is at least 5 s and this is the main thread (not a task of an ensemble,
-        whose own progress is shown). Shown as a tqdm bar when :func:`interactive` (a
+        when the estimate is at least 5 s and this is the caller's own thread (the main thread, or
+        the thread a ``roughstick`` command runs in; not a task of an ensemble, whose own progress
+        is shown). Shown as a tqdm bar when :func:`interactive` (a
         widget in Jupyter with ipywidgets), else as INFO log lines.
     every : float
         Seconds between log lines (non-interactive).
@@ -157,7 +165,7 @@ class WorkProgress:
         self.lines = False
         self._lock = threading.Lock()
         long = estimate is None or estimate >= PROGRESS_THRESHOLD
-        if progress is None and threading.current_thread() is not threading.main_thread():
+        if progress is None and not foreground():
             long = False  # a task of a larger computation (an ensemble block): it has its own
         show = progress if progress is not None else long
         est = "" if estimate is None else (

@@ -1,9 +1,12 @@
-"""What a ``roughstick`` command process does about other processes.
+"""What a ``roughstick`` command process does about other processes and about its own end.
 
 * :func:`lock_folder`: one run writes into an output folder at a time. The lock file
   :data:`LOCK` names the process holding it; a second run is refused before it touches anything
   (naming the first and ``--out``); the lock of a run that is gone (killed, failed, its machine
   down) is taken over, so it never blocks the next run. :func:`release_folders` removes it.
+* :func:`run_stoppable`: one Ctrl-C ends the command's process within moments, whatever it is
+  computing or writing, leaving no partial file and no lock, and what was complete for the re-run
+  to resume.
 """
 
 from __future__ import annotations
@@ -13,13 +16,18 @@ import contextlib
 import json
 import os
 import pathlib
+import signal
 import socket
+import sys
 import threading
 import time
 
 import psutil
 
-__all__ = ["LOCK", "LOCK_REFRESH", "LOCK_EXPIRES", "lock_folder", "release_folders"]
+from ..io.netcdf import remove_own_partial_files
+
+__all__ = ["LOCK", "LOCK_REFRESH", "LOCK_EXPIRES", "lock_folder", "release_folders", "run_stoppable",
+           "interrupted_message"]
 
 #: File saying which process is writing an output folder now (:func:`lock_folder`).
 LOCK = ".roughstick-lock"
@@ -189,3 +197,78 @@ def _busy(folder: pathlib.Path, rec: dict, path: pathlib.Path) -> str:
     return (f"another roughstick run is writing to {str(folder)!r} (`roughstick {rec.get('command', '?')}`, "
             f"{where}, started {rec.get('started', '?')}); wait for it to finish or write elsewhere "
             "with --out OTHER_FOLDER.")
+
+
+# ----------------------------------------------------------------------------- Ctrl-C
+def _end_children(wait: float = 0.5) -> None:
+    """Terminate the processes this one started (and theirs), killing those still there after
+    ``wait`` seconds."""
+    try:
+        children = psutil.Process().children(recursive=True)
+    except psutil.Error:
+        return
+    for c in children:
+        with contextlib.suppress(psutil.Error):
+            c.terminate()
+    _, alive = psutil.wait_procs(children, timeout=wait)
+    for c in alive:
+        with contextlib.suppress(psutil.Error):
+            c.kill()
+
+
+def interrupted_message(command: str) -> str:
+    """The line an interrupted command prints."""
+    return (f"roughstick {command}: interrupted; completed results are kept: re-run the same "
+            "command to resume.")
+
+
+def run_stoppable(func, args, *, command: str):
+    """Run ``func(args)`` so that one Ctrl-C (SIGINT) ends the process within moments, whatever
+    the work is doing; return what ``func`` returns, or raise what it raised.
+
+    The work runs in a thread of its own (marked as the caller's for
+    :func:`roughstick._core.progress.foreground`) while the main thread only waits for it, so the
+    signal is handled at once and never inside the work: a ``KeyboardInterrupt`` raised in the
+    work could land in a library between taking and releasing a lock (netCDF's file lock), which
+    its clean-up, or a thread the interpreter waits for on exit, then waited for forever. The
+    handler ends the processes this one started (the workers of ``--scheduler processes``, which
+    would outlive it), deletes the temporary files this process was writing, removes its folder
+    locks, prints :func:`interrupted_message` and ends the process with status 130 without
+    waiting for the work's threads. What was written is complete under its final name (files are
+    renamed into place once written), so re-running the same command resumes, as after a kill.
+    Outside the main thread (where signals cannot be handled), ``func(args)`` is called directly.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return func(args)
+    outcome = {}
+
+    def work():
+        try:
+            outcome["value"] = func(args)
+        except BaseException as exc:  # noqa: BLE001 - raised again in the main thread
+            outcome["error"] = exc
+
+    def stop(signum, frame):
+        _end_children()
+        remove_own_partial_files()
+        release_folders()
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        lead = "\n" if sys.stderr is not None and sys.stderr.isatty() else ""  # after a progress bar
+        with contextlib.suppress(OSError):
+            os.write(2, (lead + interrupted_message(command) + "\n").encode())
+        os._exit(130)
+
+    worker = threading.Thread(target=work, name=f"roughstick {command}", daemon=True)
+    worker.roughstick_foreground = True
+    previous = signal.signal(signal.SIGINT, stop)
+    try:
+        worker.start()
+        while worker.is_alive():
+            worker.join(0.5)  # a timed wait: the handler runs within moments on every platform
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if "error" in outcome:
+        raise outcome.pop("error")
+    return outcome.get("value")

@@ -31,6 +31,8 @@ _LOCK = threading.Lock()
 #: folders) written into it: one name per line, appended by :func:`publish` from any process
 WRITTEN_LOG = ".roughstick-written"
 _LOG_DEPTH = 4  # a result up to three folders below the run folder (subset-*/rh-0.5000/level.nc)
+#: the temporary files this process has named and not yet renamed into place or deleted
+_PARTIAL: set[pathlib.Path] = set()
 
 
 # ----------------------------------------------------------------------------- CF checks
@@ -115,7 +117,30 @@ def _prepare(ds: xr.Dataset) -> tuple[xr.Dataset, dict]:
 
 
 def _tmp_name(path: pathlib.Path) -> pathlib.Path:
-    return path.with_name(f".{path.name}{_TMP_TAG}{os.getpid()}-{threading.get_ident()}")
+    return partial_file(path.with_name(f".{path.name}{_TMP_TAG}{os.getpid()}-{threading.get_ident()}"))
+
+
+def partial_file(tmp) -> pathlib.Path:
+    """Note ``tmp`` as a temporary file this process is writing (until :func:`publish` renames it
+    or it is deleted), so that :func:`remove_own_partial_files` can delete it; return it."""
+    tmp = pathlib.Path(tmp).absolute()
+    _PARTIAL.add(tmp)
+    return tmp
+
+
+def discard_partial_file(tmp) -> None:
+    """Delete the temporary file ``tmp`` of a failed or interrupted write (if it exists)."""
+    tmp = pathlib.Path(tmp).absolute()
+    with contextlib.suppress(OSError):
+        tmp.unlink()
+    _PARTIAL.discard(tmp)
+
+
+def remove_own_partial_files() -> None:
+    """Delete every temporary file this process is still writing (:func:`partial_file`): what an
+    interrupted command does before it ends, so it leaves no partial file behind."""
+    for tmp in list(_PARTIAL):
+        discard_partial_file(tmp)
 
 
 def _fsync(path: pathlib.Path) -> None:
@@ -139,6 +164,7 @@ def publish(tmp, path) -> None:
     tmp, path = pathlib.Path(tmp), pathlib.Path(path)
     _fsync(tmp)
     os.replace(tmp, path)
+    _PARTIAL.discard(tmp.absolute())
     path = path.absolute()
     folder = path.parent
     for _ in range(_LOG_DEPTH):
@@ -215,8 +241,7 @@ def write(ds: xr.Dataset, path, *, compute: bool = False):
             ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
             _finish(None, tmp, path)
         except BaseException:  # a failed or interrupted write leaves nothing behind
-            with contextlib.suppress(OSError):
-                tmp.unlink()
+            discard_partial_file(tmp)
             raise
         return path
     delayed_write = ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding, compute=False)

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import contextlib
 import os
 import pathlib
 
-from ..io.netcdf import publish
+from ..io.netcdf import discard_partial_file, partial_file, publish
 
 __all__ = ["save_figure"]
 
@@ -24,13 +23,12 @@ def save_figure(fig, path, *, dpi: int = 110, close: bool = True, **savefig_kwar
         ``path``.
     """
     path = pathlib.Path(path)
-    tmp = path.with_name(f".{path.stem}.tmp-{os.getpid()}{path.suffix}")
+    tmp = partial_file(path.with_name(f".{path.stem}.tmp-{os.getpid()}{path.suffix}"))
     try:
         fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".") or "png", **savefig_kwargs)
         publish(tmp, path)
     except BaseException:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
+        discard_partial_file(tmp)
         raise
     finally:
         if close:
