@@ -232,10 +232,12 @@ def run_stoppable(func, args, *, command: str):
     work could land in a library between taking and releasing a lock (netCDF's file lock), which
     its clean-up, or a thread the interpreter waits for on exit, then waited for forever. The
     handler ends the processes this one started (the workers of ``--scheduler processes``, which
-    would outlive it), deletes the temporary files this process was writing, removes its folder
-    locks, prints :func:`interrupted_message` and ends the process with status 130 without
-    waiting for the work's threads. What was written is complete under its final name (files are
-    renamed into place once written), so re-running the same command resumes, as after a kill.
+    would outlive it), lets a file being written finish (up to a second; no new one is started)
+    and deletes the temporary files left (:func:`roughstick.io.netcdf.remove_own_partial_files`),
+    removes its folder locks, prints :func:`interrupted_message` and ends the process with status
+    130 without waiting for the work's threads. What was written is complete under its final name
+    (files are renamed into place once written), so re-running the same command resumes, as after
+    a kill.
     Outside the main thread (where signals cannot be handled), ``func(args)`` is called directly.
     """
     if threading.current_thread() is not threading.main_thread():
