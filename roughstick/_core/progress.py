@@ -158,6 +158,13 @@ def tqdm_class():
     return tqdm
 
 
+def foreground() -> bool:
+    """True in the thread that runs the caller's work: the main thread, or the thread a
+    ``roughstick`` command runs in (marked ``roughstick_foreground``), not a pool's worker."""
+    t = threading.current_thread()
+    return t is threading.main_thread() or getattr(t, "roughstick_foreground", False)
+
+
 class WorkProgress:
     """Announce a long computation with its estimated cost, then report its progress.
 
@@ -173,8 +180,9 @@ class WorkProgress:
         Estimated seconds (:func:`estimate_seconds`).
     progress : bool or None
         ``True``: always show progress; ``False``: only the start line (INFO); ``None``: show it
-        when the estimate is at least 5 s and this is the main thread (not a task of an ensemble,
-        whose own progress is shown). Shown as a tqdm bar when :func:`interactive` (a
+        when the estimate is at least 5 s and this is the caller's own thread (the main thread, or
+        the thread a ``roughstick`` command runs in; not a task of an ensemble, whose own progress
+        is shown). Shown as a tqdm bar when :func:`interactive` (a
         widget in Jupyter with ipywidgets), else as INFO log lines.
     every : float
         Seconds between log lines (non-interactive).
@@ -195,7 +203,7 @@ class WorkProgress:
         self._lock = threading.Lock()
         self.estimate, self.unit, self.progress, self.rechecked = estimate, unit, progress, False
         long = estimate is None or estimate >= PROGRESS_THRESHOLD
-        self.task = progress is None and threading.current_thread() is not threading.main_thread()
+        self.task = progress is None and not foreground()
         if self.task:
             long = False  # a task of a larger computation (an ensemble block): it has its own
         show = progress if progress is not None else long

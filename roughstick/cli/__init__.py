@@ -18,6 +18,7 @@ from .._core.remedy import spelled
 from .._core.version import __version__
 from . import beam, curves, demo, examples, psd, reproduce, risk, run
 from ._common import add_common_options, setup_logging, teardown_logging, user_message
+from ._process import interrupted_message, release_folders, run_stoppable
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
@@ -46,6 +47,11 @@ def main(argv: list[str] | None = None) -> int:
     Exit status: 0 done, 1 an error the user can fix (one line naming the fix), 2 bad command-line
     usage, 130 interrupted (Ctrl-C; re-running the same command resumes). Other exceptions are
     bugs and keep their traceback.
+
+    Called without ``argv`` (the console script, ``python -m roughstick``), the process is the
+    command's: one Ctrl-C ends it within moments, whatever it is computing or writing
+    (:func:`._process.run_stoppable`). Called with ``argv`` (from Python), a Ctrl-C raises
+    ``KeyboardInterrupt`` in the command as usual, which is then reported the same way.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -56,10 +62,11 @@ def main(argv: list[str] | None = None) -> int:
         remedies = getattr(args, "remedies", None)  # the command's spelling of the fixes it names
         with warnings.catch_warnings(), spelled(**(remedies(args) if remedies else {})):
             setup_logging(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))
+            if argv is None:  # this process runs the command: Ctrl-C ends it at once
+                return int(run_stoppable(args.func, args, command=args.command) or 0)
             return int(args.func(args) or 0)
     except KeyboardInterrupt:
-        print(f"roughstick {args.command}: interrupted; completed results are kept: re-run the same "
-              "command to resume.", file=sys.stderr)
+        print(interrupted_message(args.command), file=sys.stderr)
         return 130
     except Exception as exc:
         msg = user_message(exc)
@@ -68,4 +75,5 @@ def main(argv: list[str] | None = None) -> int:
         print(f"roughstick {args.command}: error: {msg}", file=sys.stderr)
         return 1
     finally:
+        release_folders()  # however the command ended, its output folders are free for the next
         teardown_logging()

@@ -9,6 +9,8 @@
   before any work. Re-running the same command resumes or rewrites it; another command's (or
   other parameters') complete results are replaced only with ``--overwrite``, and their files
   are removed first; an unfinished (failed or killed) run never blocks the next.
+* :func:`claim_folder` also locks the folder until the command ends (:mod:`._process`): a second
+  run into a folder another live run is writing to is refused before it touches anything.
 * :func:`check_scheduler` refuses a dask scheduler name before any work, naming the flag or key.
 * :func:`add_figure_options` gives every command that draws figures the same ``--format`` and
   ``--dpi`` (:func:`figure_options` reads them back for :func:`roughstick.plotting.save_figure`).
@@ -37,6 +39,7 @@ from .._core.units import parse_quantity
 from .._core.validate import figure_dpi, figure_format
 from ..io.netcdf import WRITTEN_LOG, remove_partial_files, write_text_atomic, written_names
 from ..plotting.save import DEFAULT_DPI, DEFAULT_FORMAT
+from ._process import lock_folder, release_folders
 
 __all__ = ["LOG", "positive_int", "add_common_options", "add_figure_options", "figure_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
            "user_message", "MARKER", "small_p_problems", "canonical_params", "check_scheduler",
@@ -261,12 +264,15 @@ def claim_folder(folder, *, command: str, params: dict, overwrite: bool, keep=()
     ``keep`` (the config file). ``legacy_params``: what a marker
     written by an earlier roughstick recorded for these parameters (the raw config text).
 
+    First of all the folder is locked for this process (:func:`lock_folder`, released by
+    :func:`finish_folder` or when the command ends, however it ends).
+
     Raises
     ------
     FileExistsError
         ``folder`` holds the complete results of a different command or parameters and
         ``overwrite`` is False (the message names ``--overwrite`` and ``--out``), or is a file,
-        or names a file (``--out result.nc``).
+        or names a file (``--out result.nc``), or another live run is writing to it.
     """
     folder = pathlib.Path(folder)
     if folder.exists() and not folder.is_dir():
@@ -279,6 +285,7 @@ def claim_folder(folder, *, command: str, params: dict, overwrite: bool, keep=()
     except OSError as exc:
         raise FileExistsError(f"cannot create the output folder {str(folder)!r} ({exc.strerror or exc}); "
                               "choose a writable folder with --out.") from None
+    lock_folder(folder, command=command)  # before anything in it is read or removed
     marker = folder / MARKER
     old = _read_marker(marker)
     record = {"command": command, "params": canonical_params(params)}
@@ -410,6 +417,7 @@ def finish_folder(folder) -> None:
     write_text_atomic(marker, json.dumps(rec, indent=1, default=str))
     with contextlib.suppress(FileNotFoundError):  # complete: the list above says what is the run's
         (folder / WRITTEN_LOG).unlink()
+    release_folders(folder)
 
 
 def _flat(params, prefix="") -> dict:

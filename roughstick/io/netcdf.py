@@ -31,6 +31,11 @@ _LOCK = threading.Lock()
 #: folders) written into it: one name per line, appended by :func:`publish` from any process
 WRITTEN_LOG = ".roughstick-written"
 _LOG_DEPTH = 4  # a result up to three folders below the run folder (subset-*/rh-0.5000/level.nc)
+#: the temporary files this process has named and not yet renamed into place or deleted; no new
+#: one once the process is ending (:func:`remove_own_partial_files`)
+_PARTIAL: set[pathlib.Path] = set()
+_PARTIAL_CHANGED = threading.Condition()
+_ENDING = False
 
 
 # ----------------------------------------------------------------------------- CF checks
@@ -115,7 +120,52 @@ def _prepare(ds: xr.Dataset) -> tuple[xr.Dataset, dict]:
 
 
 def _tmp_name(path: pathlib.Path) -> pathlib.Path:
-    return path.with_name(f".{path.name}{_TMP_TAG}{os.getpid()}-{threading.get_ident()}")
+    return partial_file(path.with_name(f".{path.name}{_TMP_TAG}{os.getpid()}-{threading.get_ident()}"))
+
+
+def partial_file(tmp) -> pathlib.Path:
+    """Note ``tmp`` as a temporary file this process is writing (until :func:`publish` renames it
+    or it is deleted), so that :func:`remove_own_partial_files` can delete it; return it. Once the
+    process is ending, no new one is started: the calling thread waits for the end."""
+    tmp = pathlib.Path(tmp).absolute()
+    with _PARTIAL_CHANGED:
+        while _ENDING:
+            _PARTIAL_CHANGED.wait()
+        _PARTIAL.add(tmp)
+    return tmp
+
+
+def _forget(tmp: pathlib.Path) -> None:
+    with _PARTIAL_CHANGED:
+        _PARTIAL.discard(tmp)
+        _PARTIAL_CHANGED.notify_all()
+
+
+def discard_partial_file(tmp) -> None:
+    """Delete the temporary file ``tmp`` of a failed or interrupted write (if it exists)."""
+    tmp = pathlib.Path(tmp).absolute()
+    with contextlib.suppress(OSError):
+        tmp.unlink()
+    _forget(tmp)
+
+
+def remove_own_partial_files(wait: float = 1.0) -> None:
+    """What a process about to end (an interrupted command) does to leave no partial file behind:
+    start no new temporary file (:func:`partial_file`), give the writes under way up to ``wait``
+    seconds to finish (their files are then complete under their final names), and delete the
+    temporary files still there."""
+    global _ENDING
+    if not _PARTIAL_CHANGED.acquire(timeout=wait):
+        return
+    try:
+        _ENDING = True
+        _PARTIAL_CHANGED.wait_for(lambda: not _PARTIAL, timeout=wait)
+        left = list(_PARTIAL)
+    finally:
+        _PARTIAL_CHANGED.release()
+    for tmp in left:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
 
 
 def _fsync(path: pathlib.Path) -> None:
@@ -139,6 +189,7 @@ def publish(tmp, path) -> None:
     tmp, path = pathlib.Path(tmp), pathlib.Path(path)
     _fsync(tmp)
     os.replace(tmp, path)
+    _forget(tmp.absolute())
     path = path.absolute()
     folder = path.parent
     for _ in range(_LOG_DEPTH):
@@ -225,8 +276,7 @@ def write(ds: xr.Dataset, path, *, compute: bool = True, overwrite: bool = False
             ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
             _finish(None, tmp, path)
         except BaseException:  # a failed or interrupted write leaves nothing behind
-            with contextlib.suppress(OSError):
-                tmp.unlink()
+            discard_partial_file(tmp)
             raise
         return path
     delayed_write = ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding, compute=False)
@@ -283,8 +333,12 @@ def write_text_atomic(path, text: str) -> None:
     path = pathlib.Path(path)
     tmp = _tmp_name(path)
     with _LOCK:
-        tmp.write_text(text)
-        _finish(None, tmp, path)
+        try:
+            tmp.write_text(text)
+            _finish(None, tmp, path)
+        except BaseException:
+            discard_partial_file(tmp)
+            raise
 
 
 def remove_partial_files(folder) -> list[pathlib.Path]:

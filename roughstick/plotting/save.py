@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import contextlib
 import os
 import pathlib
 
 from .._core.validate import FIGURE_FORMATS, figure_dpi, figure_format
-from ..io.netcdf import publish
+from ..io.netcdf import discard_partial_file, partial_file, publish
 
 __all__ = ["save_figure", "FIGURE_FORMATS", "DEFAULT_DPI", "DEFAULT_FORMAT"]
 
@@ -66,13 +65,12 @@ def save_figure(fig, path, *, format: str | None = None, dpi: int = DEFAULT_DPI,
     dpi = figure_dpi(dpi)
     if fmt in _NO_DATE and "metadata" not in savefig_kwargs:
         savefig_kwargs["metadata"] = _NO_DATE[fmt]
-    tmp = path.with_name(f".{path.stem}.tmp-{os.getpid()}{path.suffix}")
+    tmp = partial_file(path.with_name(f".{path.stem}.tmp-{os.getpid()}{path.suffix}"))
     try:
         fig.savefig(tmp, dpi=dpi, format=fmt, **savefig_kwargs)
         publish(tmp, path)
     except BaseException:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
+        discard_partial_file(tmp)
         raise
     finally:
         if close:

@@ -18,6 +18,7 @@ import roughstick as rs
 from roughstick.cli import main
 from roughstick.cli import run as run_cmd
 from roughstick.cli._common import MARKER
+from roughstick.cli._process import LOCK
 from roughstick.cli.risk import _confirmed
 from roughstick.io.netcdf import WRITTEN_LOG, write_text_atomic
 
@@ -317,8 +318,8 @@ def test_nested_result_folders_are_the_run_s_and_replaced_with_it(tmp_path):
     assert _marker(out)["outputs"] == ["risk.nc", "subset-paper-400um"]
     (out / "mine").mkdir()  # made after the run, not listed: stays
     (out / "mine" / "plot.png").write_text("x")
-    claim_folder(out, command="risk", params={"seed": 2}, overwrite=True)
-    assert sorted(p.name for p in out.iterdir()) == [MARKER, WRITTEN_LOG, "mine"]
+    claim_folder(out, command="risk", params={"seed": 2}, overwrite=True)  # locked while it runs
+    assert sorted(p.name for p in out.iterdir()) == [LOCK, MARKER, WRITTEN_LOG, "mine"]
 
 
 def test_a_figure_saved_into_an_unfinished_run_s_folder_is_not_its_result(tmp_path):
@@ -335,7 +336,7 @@ def test_a_figure_saved_into_an_unfinished_run_s_folder_is_not_its_result(tmp_pa
     write_text_atomic(out / "levels" / "run000.nc", "x")  # one folder down: noted as "levels"
     # killed here: the next run with other parameters replaces the unfinished one
     claim_folder(out, command="risk", params={"seed": 2}, overwrite=False)
-    assert sorted(p.name for p in out.iterdir()) == [MARKER, WRITTEN_LOG, "my_plot.png"]
+    assert sorted(p.name for p in out.iterdir()) == [LOCK, MARKER, WRITTEN_LOG, "my_plot.png"]
     rs.io.netcdf.write(xr.Dataset(), out / "risk.nc", compute=True)
     finish_folder(out)
     assert _marker(out)["outputs"] == ["risk.nc"]  # the figure is not listed as a result either
@@ -355,7 +356,7 @@ def test_a_run_resumed_with_the_same_parameters_keeps_its_earlier_results(tmp_pa
     finish_folder(out)
     assert _marker(out)["outputs"] == ["a.csv", "b.csv"]
     claim_folder(out, command="run", params={"n": 2}, overwrite=True)
-    assert sorted(p.name for p in out.iterdir()) == [MARKER, WRITTEN_LOG]
+    assert sorted(p.name for p in out.iterdir()) == [LOCK, MARKER, WRITTEN_LOG]
 
 
 def test_reproduce_scheduler_is_checked_before_any_work(tmp_path, capsys):
