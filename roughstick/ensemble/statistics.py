@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 from scipy import special, stats
 
+from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, append_history, coord_attrs
 from .._core.dask import as_seed_sequence
@@ -99,7 +100,8 @@ def _bootstrap_kernel(a, probs, alpha, n_boot, entropy):
     return lo, hi
 
 
-@check_numbers(confidence="fraction", n_bootstrap="count", rng="seed")
+@renamed_keywords(rng="seed")
+@check_numbers(confidence="fraction", n_bootstrap="count", seed="seed")
 def quantile_interval(
     da: xr.DataArray,
     quantiles,
@@ -108,7 +110,7 @@ def quantile_interval(
     confidence: float = 0.95,
     method: str = "order_statistic",
     n_bootstrap: int = 500,
-    rng=0,
+    seed=0,
 ) -> tuple[xr.DataArray, xr.DataArray]:
     r"""Confidence interval of sample quantiles: how well ``n`` realizations pin a band down.
 
@@ -117,7 +119,7 @@ def quantile_interval(
     :math:`F_B` the Binomial(n, p) CDF (Conover, *Practical Nonparametric Statistics*, §3.2);
     NaN on a side that n samples cannot bound (below :func:`min_samples_to_bound`; the
     attribute ``comment`` says so). ``"bootstrap"`` gives the
-    percentile bootstrap interval from ``n_bootstrap`` resamples drawn with ``rng`` (the same
+    percentile bootstrap interval from ``n_bootstrap`` resamples drawn with ``seed`` (the same
     resamples for every element, so chunking does not change it).
 
     Parameters
@@ -132,7 +134,7 @@ def quantile_interval(
         Coverage of the interval.
     method : {"order_statistic", "bootstrap"}
     n_bootstrap : int
-    rng : int or numpy.random.SeedSequence
+    seed : int or numpy.random.SeedSequence
         Seed of the bootstrap resamples.
 
     Returns
@@ -162,7 +164,7 @@ def quantile_interval(
     elif method == "bootstrap":
         func = _bootstrap_kernel
         kw = {"probs": probs, "alpha": alpha, "n_boot": int(n_bootstrap),
-              "entropy": as_seed_sequence(rng).entropy}
+              "entropy": as_seed_sequence(seed).entropy}
     else:
         raise ValueError(f"method must be 'order_statistic' or 'bootstrap', got {method!r}.")
     lo, hi = xr.apply_ufunc(
@@ -195,7 +197,7 @@ def quantile_interval(
 def _old_band_keywords(func):
     """``confidence_band``'s keywords before the glossary: ``level`` (the band's) is now
     ``confidence`` and, given with it, the old ``confidence`` (the quantiles' intervals) is
-    ``ci_confidence``; a DeprecationWarning says so."""
+    ``ci_confidence``; ``rng`` is ``seed``. A DeprecationWarning says so."""
 
     @functools.wraps(func)
     def wrapper(*args, **kwargs):
@@ -209,14 +211,20 @@ def _old_band_keywords(func):
             warnings.warn("confidence_band(level=...) is now confidence_band(confidence=...) (and its "
                           "old confidence= is ci_confidence=); the old keywords will be removed",
                           DeprecationWarning, stacklevel=2)
+        if "rng" in kwargs:
+            if "seed" in kwargs:
+                raise TypeError("confidence_band() got both rng= (the old name) and seed=; pass seed= only")
+            kwargs["seed"] = kwargs.pop("rng")
+            warnings.warn("confidence_band(rng=...) is now confidence_band(seed=...); the old keyword "
+                          "will be removed", DeprecationWarning, stacklevel=2)
         return func(*args, **kwargs)
 
-    wrapper.__renamed_keywords__ = {"level": "confidence"}
+    wrapper.__renamed_keywords__ = {"level": "confidence", "rng": "seed"}
     return wrapper
 
 
 @_old_band_keywords
-@check_numbers(confidence="fraction", ci_confidence="fraction", n_bootstrap="count", rng="seed")
+@check_numbers(confidence="fraction", ci_confidence="fraction", n_bootstrap="count", seed="seed")
 def confidence_band(
     ds,
     dim: str = "realization",
@@ -225,7 +233,7 @@ def confidence_band(
     uncertainty: str | None = "order_statistic",
     ci_confidence: float = 0.95,
     n_bootstrap: int = 500,
-    rng=0,
+    seed=0,
 ):
     r"""Mean and ``confidence`` band over realizations, with the band's sampling uncertainty
     (Figs. 14-16).
@@ -253,7 +261,7 @@ def confidence_band(
         How to compute the quantiles' sampling intervals.
     ci_confidence : float, default 0.95
         Coverage of those intervals.
-    n_bootstrap, rng
+    n_bootstrap, seed
         For ``uncertainty="bootstrap"``.
 
     Returns
@@ -316,7 +324,7 @@ def confidence_band(
         lazy = lazy or da.chunks is not None
         if uncertainty is not None:
             lo, hi = quantile_interval(da.rename(v), probs, dim=dim, confidence=ci_confidence,
-                                       method=uncertainty, n_bootstrap=n_bootstrap, rng=rng)
+                                       method=uncertainty, n_bootstrap=n_bootstrap, seed=seed)
             out[f"{v}_ci_lower"], out[f"{v}_ci_upper"] = lo, hi
     res = xr.Dataset(out)
     res["quantile"] = ("quantile", probs, dict(ATTRS["quantile"]))

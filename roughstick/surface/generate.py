@@ -269,7 +269,7 @@ def extrapolation_said_once():
 
 
 def _warn_if_extrapolated(needed_length: float, measured_length: float, how: str) -> None:
-    """Issue 16 item 5: say when the surfaces outgrow the scan behind the PSD (Python API too)."""
+    """Say when the surfaces outgrow the scan behind the PSD (ExtrapolatedPSDWarning), once."""
     if needed_length > measured_length * (1 + 1e-6) and not _EXTRAPOLATION_SAID.get():
         warnings.warn(
             f"the generated surfaces ({needed_length * 1e6:.3g} µm) are larger than the scan the "

@@ -72,8 +72,8 @@ def test_interval_unbounded_when_n_too_small():
 
 def test_bootstrap_seeded_and_comparable():
     x = _sample(300)
-    a = rs.ensemble.quantile_interval(x, [0.5], method="bootstrap", rng=4, n_bootstrap=200)
-    b = rs.ensemble.quantile_interval(x.chunk({"rh": 1}), [0.5], method="bootstrap", rng=4, n_bootstrap=200)
+    a = rs.ensemble.quantile_interval(x, [0.5], method="bootstrap", seed=4, n_bootstrap=200)
+    b = rs.ensemble.quantile_interval(x.chunk({"rh": 1}), [0.5], method="bootstrap", seed=4, n_bootstrap=200)
     xr.testing.assert_identical(a[0], b[0].compute())
     o = rs.ensemble.quantile_interval(x, [0.5])
     w_boot = (a[1] - a[0]).values
