@@ -104,8 +104,10 @@ def test_the_old_curves_kwargs_model_still_works_and_says_model(psd):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", rs.ValidityWarning)
         new = rs.ensemble.run(psd, model="gw", accuracy=0.3, **kw)
-        with pytest.warns(DeprecationWarning, match=r"run\(model=...\)"):
+        with pytest.warns(DeprecationWarning) as said:
             old = rs.ensemble.run(psd, curves_kwargs={"model": "gw", "tolerance": 0.3}, **kw)
+    assert {str(w.message).split(" is now ")[1].split(";")[0] for w in said
+            if w.category is DeprecationWarning} == {"run(model=...)", "run(accuracy=...)"}
     assert old.attrs["params_hash"] == new.attrs["params_hash"]
     assert old.attrs["contact_model"] == new.attrs["contact_model"] == "gw"
     with pytest.raises(TypeError, match="model="):
