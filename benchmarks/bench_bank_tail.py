@@ -49,7 +49,7 @@ def main():
     for family in args.family:
         if len(args.family) > 1:
             print(f"=== family {family}")
-        psd = _psd({}) if family == "beam" else rs.self_affine_psd(
+        psd = _psd({}) if family == "beam" else rs.surface.self_affine_psd(
             np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters(family))
         args.label = "the beam command's Table-4 PSD" if family == "beam" else f"family {family}"
         one_family(psd, args)
@@ -70,7 +70,7 @@ def one_family(psd, args):
         g = bank.values[:, j]
         order = np.argsort(g, kind="stable")[::-1]
         laws = order[np.asarray(ranks) - 1]
-        surf = rs.generate_surfaces(psd, realizations=laws, shape=shape, spacing=args.spacing,
+        surf = rs.surface.generate_surfaces(psd, realizations=laws, shape=shape, spacing=args.spacing,
                                     seed=args.seed).compute(scheduler="sync")
         print(f"RH {rh:g}:  rank  P(law above)  Eq.16 Gamma  FFT-BEM Gamma [mJ/m2]  BEM/Eq.16")
         ratios = []

@@ -39,7 +39,7 @@ def main():
     ap.add_argument("--cache", default=None, help="cache folder (default: a fresh temporary one)")
     args = ap.parse_args()
     c = rs.cantilever_psd()
-    psd = rs.self_affine_psd(np.geomspace(1e5, 4e9, 400), s0=float(c.s0), s1=float(c.s1),
+    psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 400), s0=float(c.s0), s1=float(c.s1),
                              q0=float(c.q0), qmax=float(c.qmax))
     cache = args.cache or tempfile.mkdtemp(prefix="beam-bank-")
     y0 = ifft_seconds(5)

@@ -62,7 +62,7 @@ class PeakRSS:
 
 def speed(ns, shape, chunks, scheduler):
     psd = sample_psd("S2")
-    dist = rs.ensemble_distance_grid(psd, shape=(shape, shape), n=3000, relative_humidity=RH)
+    dist = rs.ensemble.distance_grid(psd, shape=(shape, shape), n=3000, relative_humidity=RH)
     print(f"## speed: S2 PSD (bundled maps, scheme 3), {shape}² at 5 nm, six RH, "
           f"{dist.size}-point distance grid, scheduler={scheduler or 'threads'}, {os.cpu_count()} cores")
     fft = ifft_seconds()
@@ -76,7 +76,7 @@ def speed(ns, shape, chunks, scheduler):
         with tempfile.TemporaryDirectory() as tmp, PeakRSS() as mem:
             t0 = time.perf_counter()
             c0 = time.process_time()
-            ds = rs.run_ensemble(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
+            ds = rs.ensemble.run(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
                                  chunks=chunks, distance=dist, output=os.path.join(tmp, "e"),
                                  scheduler=scheduler, progress=False)
             g = ds.adhesive_energy.values  # noqa: F841  (read back from the files)
@@ -94,7 +94,7 @@ def speed(ns, shape, chunks, scheduler):
 def convergence(ns, shape, chunks, scheduler):
     psd = sample_psd("S2")
     nmax = max(ns)
-    dist = rs.ensemble_distance_grid(psd, shape=(shape, shape), n=nmax, relative_humidity=RH)
+    dist = rs.ensemble.distance_grid(psd, shape=(shape, shape), n=nmax, relative_humidity=RH)
     print(f"\n## convergence of the 95 % band of Γ: S2 PSD, {shape}² at 5 nm "
           f"({shape * 5e-3:.2f} µm surfaces, smaller than the paper's 5.12 µm), nested runs")
     print("Γ in mJ/m²; [a, b] = 95 % order-statistic confidence interval of the band edge; "
@@ -105,11 +105,11 @@ def convergence(ns, shape, chunks, scheduler):
         rows = []
         for n in sorted(ns):
             t0 = time.perf_counter()
-            ds = rs.run_ensemble(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
+            ds = rs.ensemble.run(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
                                  chunks=chunks, distance=dist, output=folder, scheduler=scheduler,
                                  progress=False)
             total += time.perf_counter() - t0
-            b = rs.confidence_band(ds[["adhesive_energy"]].load())
+            b = rs.ensemble.confidence_band(ds[["adhesive_energy"]].load())
             rows.append((n, total, b))
         print("| RH | n | 2.5 % [CI] | median | 97.5 % [CI] | mean ± s.e. | time [s] |")
         print("|---:|---:|---|---:|---|---|---:|")

@@ -1,4 +1,4 @@
-"""Benchmark of roughstick.generate_surfaces (not run by pytest).
+"""Benchmark of roughstick.surface.generate_surfaces (not run by pytest).
 
     python benchmarks/bench_generate.py            # all three parts (about 1-2 minutes)
     python benchmarks/bench_generate.py --quick    # n = 20 / 100 for the memory part
@@ -32,12 +32,12 @@ SPACING = 5e-9
 def s1_psd():
     import roughstick as rs
 
-    fit = rs.fit_self_affine(m0=15.7e-18, m2=0.040, m4=5.08e-4 * 1e18, qmax=289e6)
+    fit = rs.surface.fit_self_affine(m0=15.7e-18, m2=0.040, m4=5.08e-4 * 1e18, qmax=289e6)
     p = {k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}
 
     def psd(q):
         q = np.asarray(q, dtype=float)
-        return rs.self_affine_psd(q.ravel(), **p).values.reshape(q.shape)
+        return rs.surface.self_affine_psd(q.ravel(), **p).values.reshape(q.shape)
 
     return psd
 
@@ -69,9 +69,9 @@ def part_speed(rounds: int = 8):
     full = rng.standard_normal((SHAPE, SHAPE)) + 1j * rng.standard_normal((SHAPE, SHAPE))
     batch = 16
     psds = {"S1 (band-limited, Table 3)": s1_psd(), "full-band PSD": full_band_psd}
-    graphs = {k: rs.generate_surfaces(p, n=batch, shape=SHAPE, spacing=SPACING, seed=1, chunks=batch)
+    graphs = {k: rs.surface.generate_surfaces(p, n=batch, shape=SHAPE, spacing=SPACING, seed=1, chunks=batch)
               for k, p in psds.items()}
-    single = rs.generate_surfaces(psds["S1 (band-limited, Table 3)"], n=1, shape=SHAPE,
+    single = rs.surface.generate_surfaces(psds["S1 (band-limited, Table 3)"], n=1, shape=SHAPE,
                                   spacing=SPACING, seed=1)
     best = {}
 
@@ -90,7 +90,7 @@ def part_speed(rounds: int = 8):
             clock("ifft2", lambda: [np.fft.ifft2(full) for _ in range(batch)], per=batch)
             for k, h in graphs.items():
                 clock(k, lambda h=h: h.data.compute(), per=batch)
-            clock("one call", lambda: rs.generate_surfaces(
+            clock("one call", lambda: rs.surface.generate_surfaces(
                 psds["S1 (band-limited, Table 3)"], n=1, shape=SHAPE, spacing=SPACING, seed=1).values)
             clock("one surface graph", lambda: single.data.compute())
     t_irfft, t_ifft = best["irfft2"], best["ifft2"]
@@ -134,7 +134,7 @@ def memory_child(n: int) -> dict:
         f.write("5")
     base = _vm("VmRSS")
     t0 = time.perf_counter()
-    h = rs.generate_surfaces(psd, n=n, shape=SHAPE, spacing=SPACING, seed=3, chunks=8)
+    h = rs.surface.generate_surfaces(psd, n=n, shape=SHAPE, spacing=SPACING, seed=3, chunks=8)
     with dask.config.set(scheduler="threads", num_workers=2):
         m0 = (h**2).mean(("y", "x")).compute()
     dt = time.perf_counter() - t0
@@ -158,8 +158,8 @@ def part_precision():
 
     psd = s1_psd()
     n = 8
-    h64 = rs.generate_surfaces(psd, n=n, shape=SHAPE, spacing=SPACING, seed=5).values
-    h32 = rs.generate_surfaces(psd, n=n, shape=SHAPE, spacing=SPACING, seed=5, dtype="float32").values
+    h64 = rs.surface.generate_surfaces(psd, n=n, shape=SHAPE, spacing=SPACING, seed=5).values
+    h32 = rs.surface.generate_surfaces(psd, n=n, shape=SHAPE, spacing=SPACING, seed=5, dtype="float32").values
     qx = 2 * np.pi * np.fft.fftfreq(SHAPE, SPACING)[None, :]
 
     def moments(z):
@@ -172,8 +172,8 @@ def part_precision():
     print(f"float32 vs float64 ({n} surfaces 1024^2, same random draws): max |dz| = "
           f"{np.abs(h32 - h64).max() / h64.std():.2e} x std(z); relative error of m0, m2, m4 = "
           f"{rel[0]:.1e}, {rel[1]:.1e}, {rel[2]:.1e}; memory per surface 4 MiB vs 8 MiB")
-    g64 = rs.generate_surfaces(psd, n=4, shape=SHAPE, spacing=SPACING, seed=5, chunks=4)
-    g32 = rs.generate_surfaces(psd, n=4, shape=SHAPE, spacing=SPACING, seed=5, chunks=4,
+    g64 = rs.surface.generate_surfaces(psd, n=4, shape=SHAPE, spacing=SPACING, seed=5, chunks=4)
+    g32 = rs.surface.generate_surfaces(psd, n=4, shape=SHAPE, spacing=SPACING, seed=5, chunks=4,
                                dtype="float32")
     t64 = t32 = np.inf
     for _ in range(4):  # interleaved, minimum

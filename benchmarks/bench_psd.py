@@ -38,19 +38,19 @@ def literal_ring_average(psd):
 def main(n=1024):
     rng = np.random.default_rng(0)
     h = rs.testing.make_topography(rng.normal(size=(n, n)) * 1e-9)
-    s = rs.power_spectrum(h)
-    t_fast, fast = timed(lambda: rs.psd_isotropic(s).values)
+    s = rs.surface.power_spectrum(h)
+    t_fast, fast = timed(lambda: rs.surface.psd_isotropic(s).values)
     t_lit, lit = timed(lambda: literal_ring_average(s), repeat=1)
     print(f"psd_isotropic {n}x{n}: sparse {t_fast * 1e3:.1f} ms, literal loop {t_lit * 1e3:.1f} ms, "
           f"ratio {t_lit / t_fast:.1f}x, max rel diff {np.max(np.abs(fast / lit - 1)):.1e}")
-    t_spl, spl = timed(lambda: rs.roughness_moments(h), repeat=1)
-    t_spe, spe = timed(lambda: rs.roughness_moments(h, method="spectral"), repeat=1)
+    t_spl, spl = timed(lambda: rs.surface.roughness_moments(h), repeat=1)
+    t_spe, spe = timed(lambda: rs.surface.roughness_moments(h, method="spectral"), repeat=1)
     print(f"roughness_moments {n}x{n}: spline {t_spl:.2f} s, spectral {t_spe:.2f} s "
           f"(ratio {t_spl / t_spe:.1f}x); m4 spline/spectral = {float(spl.m4 / spe.m4):.3f} "
           "(white noise: power up to Nyquist, where they differ by construction)")
     stack = rs.testing.make_topography(rng.normal(size=(8, n // 2, n // 2)) * 1e-9)
-    t_np, a = timed(lambda: rs.power_spectrum(stack).values, repeat=1)
-    t_da, b = timed(lambda: rs.power_spectrum(stack.chunk({"dim_0": 1})).values, repeat=1)
+    t_np, a = timed(lambda: rs.surface.power_spectrum(stack).values, repeat=1)
+    t_da, b = timed(lambda: rs.surface.power_spectrum(stack.chunk({"dim_0": 1})).values, repeat=1)
     print(f"power_spectrum stack 8x{n // 2}^2: numpy {t_np:.2f} s, dask {t_da:.2f} s "
           f"(ratio {t_np / t_da:.2f}x), max abs diff {np.max(np.abs(a - b)):.1e}")
 

@@ -140,7 +140,7 @@ def main():
           f"runs = {ds.sizes['run']}  converged = {int(ds.converged)}  (Au-Beck cv "
           f"{float(ds.au_beck_cv):.3f})")
     if args.save:
-        rs.write(ds, args.save, compute=True, overwrite=True)
+        rs.io.write(ds, args.save, compute=True, overwrite=True)
     for r in range(ds.sizes["run"]):
         print(f"  run {r}: levels {int(ds.run_levels[r])}, thresholds "
               f"{np.round(ds.next_threshold.values[r] * 1e3, 3)} mJ/m2, p_j "

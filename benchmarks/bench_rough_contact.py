@@ -53,9 +53,9 @@ def family_surface(name, *, shape, seed):
     else:
         rms, hurst, q0, qmax = (2e-9, 0.8, 2e7, 289e6) if name == "smooth" else (8e-9, 0.5, 5e7, 289e6)
         ratio = (qmax / q0) ** (-2.0 * (1.0 + hurst))
-        s0 = rms**2 / float(rs.self_affine_moments(s0=1.0, s1=ratio, q0=q0, qmax=qmax).m0)
+        s0 = rms**2 / float(rs.surface.self_affine_moments(s0=1.0, s1=ratio, q0=q0, qmax=qmax).m0)
         p = dict(s0=s0, s1=s0 * ratio, q0=q0, qmax=qmax)
-    ens = rs.generate_surfaces(lambda q: rs.self_affine_psd(q, **p), n=1, shape=shape,
+    ens = rs.surface.generate_surfaces(lambda q: rs.surface.self_affine_psd(q, **p), n=1, shape=shape,
                                spacing=5e-9, seed=seed)
     return ens.isel(realization=0).compute()
 
@@ -85,7 +85,7 @@ def ratio(fn, reps=5):
 
 def surface(name, shape=(1024, 1024), seed=1):
     if name in ("S1A", "S2A"):
-        h = rs.read_afm(DATA / f"{name}.nc")
+        h = rs.io.read_afm(DATA / f"{name}.nc")
         return h.isel(y=slice(0, shape[0]), x=slice(0, shape[1])).load()
     if name == "Table 4":
         name = "table4"

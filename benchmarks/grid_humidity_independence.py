@@ -54,7 +54,7 @@ def cost():
     rng = np.random.default_rng(0)
     spec = rng.normal(size=(1024, 1024)) + 1j * rng.normal(size=(1024, 1024))
     for name in ("S1A", "S2A"):
-        h = rs.read_afm(f"data_samples/{name}.nc").load()
+        h = rs.io.read_afm(f"data_samples/{name}.nc").load()
         rs.rough_contact_curves(h.isel(x=slice(0, 64), y=slice(0, 64)), relative_humidity=rh,
                                 check_validity=False)  # compile
         times, points, ffts = {0: [], rough._MAX_ROUNDS: []}, {}, []

@@ -23,8 +23,8 @@ QMAX = 289e6
 
 def moments(h, window, detrend):
     if detrend:
-        h = rs.level(h, method="plane") if hasattr(rs, "level") else h
-    m = rs.psd_moments(rs.power_spectrum(h, window=window), qmax=QMAX)
+        h = rs.surface.level(h, method="plane") if hasattr(rs, "level") else h
+    m = rs.surface.psd_moments(rs.surface.power_spectrum(h, window=window), qmax=QMAX)
     return np.array([float(m.m0), float(m.m2), float(m.m4)])
 
 

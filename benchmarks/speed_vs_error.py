@@ -9,7 +9,7 @@ benchmarks/validity_results/speed_vs_error_sweep.csv (the shipped validity map i
     python benchmarks/speed_vs_error.py --validity      # + modulus sweep -> validity_results/
     python benchmarks/speed_vs_error.py --reuse-bem     # reuse cached BEM curves (timings too)
 
-Surfaces: one periodic Gaussian surface per sample, drawn with ``roughstick.generate_surfaces``
+Surfaces: one periodic Gaussian surface per sample, drawn with ``roughstick.surface.generate_surfaces``
 from the Eq. 37 PSD stored in data_samples/S1A.nc and S2A.nc (the Table 3 moments), 5 nm pixels,
 so that GW, modified DMT and BEM see exactly the same periodic geometry. All three use the same
 distance grid per humidity; summaries (Eq. 13 energy, pull-off, equilibrium distance) come from
@@ -43,13 +43,13 @@ def sample_psd(name):
     p = rs.datasets.family_parameters(name)  # the Eq. 37 PSD the bundled samples were drawn from
 
     def psd(q):
-        return rs.self_affine_psd(q.ravel(), **p).values.reshape(q.shape)
+        return rs.surface.self_affine_psd(q.ravel(), **p).values.reshape(q.shape)
 
     return psd
 
 
 def make_surface(name, n, spacing=SPACING):
-    h = rs.generate_surfaces(sample_psd(name), n=1, shape=n, spacing=spacing, seed=SEED)
+    h = rs.surface.generate_surfaces(sample_psd(name), n=1, shape=n, spacing=spacing, seed=SEED)
     return h.isel(realization=0).compute()
 
 
@@ -213,7 +213,7 @@ _MOMENTS = {}
 def hh_moments(h):
     k = id(h)
     if k not in _MOMENTS:
-        _MOMENTS[k] = rs.psd_moments(rs.power_spectrum(h))
+        _MOMENTS[k] = rs.surface.psd_moments(rs.surface.power_spectrum(h))
     return _MOMENTS[k]
 
 

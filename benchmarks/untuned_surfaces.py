@@ -54,9 +54,9 @@ def case(rng, k):
     E = float(rng.choice([10e9, 50e9, 164e9]))
 
     def psd(q):
-        return rs.self_affine_psd(q, s0=s0, s1=s1, q0=q0, qmax=qmax)
+        return rs.surface.self_affine_psd(q, s0=s0, s1=s1, q0=q0, qmax=qmax)
 
-    h = rs.generate_surfaces(psd, n=1, shape=shape, spacing=spacing, seed=k).isel(realization=0).compute()
+    h = rs.surface.generate_surfaces(psd, n=1, shape=shape, spacing=spacing, seed=k).isel(realization=0).compute()
     h = ((h - h.mean()) * (sigma / float(h.std()))).assign_attrs(units="m")
     desc = (f"{k:3d} H {H:.2f} dx {spacing * 1e9:5.1f} nm 2pi/q0 {2 * np.pi / q0 / spacing:5.1f} px "
             f"{shape} rms {sigma * 1e9:6.2f} nm RH {rh} E {E / 1e9:.0f} GPa")

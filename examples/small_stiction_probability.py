@@ -55,7 +55,7 @@ def main():
           f"[{float(ch.crossing_humidity_lower):.3f}, {float(ch.crossing_humidity_upper):.3f}]")
     keep = ds[["stiction_probability", "stiction_probability_lower", "stiction_probability_upper",
                "coefficient_of_variation", "n_evaluations", "converged"]]
-    rs.write(keep, args.output, compute=True, overwrite=True)  # this script's own output file
+    rs.io.write(keep, args.output, compute=True, overwrite=True)  # this script's own output file
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@ from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 cells = [
     new_markdown_cell(
         "# 03 · Random surfaces from a PSD (paper §4.2, Eqs. 33-35, Fig. 13)\n\n"
-        "`roughstick.generate_surfaces` draws periodic Gaussian surfaces whose power spectral "
+        "`roughstick.surface.generate_surfaces` draws periodic Gaussian surfaces whose power spectral "
         "density is a given PSD: Hermitian-symmetric complex Gaussian amplitudes "
         "$\\sqrt{s(\\mathbf q)\\,\\Delta q_x\\Delta q_y}\\,\\xi$ (the Rayleigh modulus $\\zeta$ and "
         "uniform phase of Eq. 33) and one inverse real FFT per surface (Eq. 34). With the project "
@@ -33,15 +33,15 @@ cells = [
         "}\n"
         "psds, fits = {}, {}\n"
         "for name, m in TABLE3.items():\n"
-        "    fit = rs.fit_self_affine(**m, qmax=289e6)\n"
+        "    fit = rs.surface.fit_self_affine(**m, qmax=289e6)\n"
         "    p = {k: float(fit[k]) for k in ('s0', 's1', 'q0', 'qmax')}\n"
         "    fits[name] = p\n"
-        "    psds[name] = lambda q, p=p: rs.self_affine_psd(np.ravel(q), **p).values.reshape(np.shape(q))\n"
+        "    psds[name] = lambda q, p=p: rs.surface.self_affine_psd(np.ravel(q), **p).values.reshape(np.shape(q))\n"
         "    print(f\"{name}: q0 = {p['q0']/1e6:.2f} rad/um, s0 = {p['s0']*1e36:.1f} nm4, s1 = {p['s1']*1e36:.3f} nm4\")"
     ),
     new_markdown_cell("## Three surfaces from each sample (Fig. 13)\n\nBuilding the ensemble computes nothing; plotting computes only the three surfaces shown."),
     new_code_cell(
-        "ens = {name: rs.generate_surfaces(psd, n=64, shape=256, spacing=5e-9, seed=2026, chunks=16)\n"
+        "ens = {name: rs.surface.generate_surfaces(psd, n=64, shape=256, spacing=5e-9, seed=2026, chunks=16)\n"
         "       for name, psd in psds.items()}\n"
         "ens['S1']"
     ),
@@ -64,19 +64,19 @@ cells = [
     new_markdown_cell(
         "## Moment check\n\n"
         "Target: the moments of the PSD summed over the 256² grid (what the generator imposes) and "
-        "the Table 3 values. Measured: `rs.psd_moments` of the ensemble-mean `rs.power_spectrum` "
+        "the Table 3 values. Measured: `rs.surface.psd_moments` of the ensemble-mean `rs.surface.power_spectrum` "
         "(direction x, Nayak). The sampling standard error of an ensemble mean is "
         "$\\sqrt{2\\sum_k w_k^2P_k^2/n}$ with $P_k$ the mode powers and $w_k = 1, q_x^2, q_x^4$."
     ),
     new_code_cell(
         "rows = []\n"
         "for name, h in ens.items():\n"
-        "    f = rs.surface_filter(psds[name], shape=256, spacing=5e-9)\n"
+        "    f = rs.surface.surface_filter(psds[name], shape=256, spacing=5e-9)\n"
         "    dq2 = (2 * np.pi / (256 * 5e-9)) ** 2\n"
         "    P = f.values * dq2\n"
         "    qx = f.qx.values[None, :]\n"
         "    n = h.sizes['realization']\n"
-        "    measured = rs.psd_moments(rs.power_spectrum(h).mean('realization'), direction='x')\n"
+        "    measured = rs.surface.psd_moments(rs.surface.power_spectrum(h).mean('realization'), direction='x')\n"
         "    for key, w, unit in (('m0', 1.0, 1e18), ('m2', qx**2, 1.0), ('m4', qx**4, 1e-18)):\n"
         "        grid = (w * P).sum()\n"
         "        se = np.sqrt(2 * ((w * P) ** 2).sum() / n)\n"
@@ -101,8 +101,8 @@ cells = [
         "Realization 5 regenerated alone, with another chunking, is bit-identical."
     ),
     new_code_cell(
-        "alone = rs.generate_surfaces(psds['S1'], realizations=[5], shape=256, spacing=5e-9, seed=2026)\n"
-        "other = rs.generate_surfaces(psds['S1'], n=64, shape=256, spacing=5e-9, seed=2026, chunks=5)\n"
+        "alone = rs.surface.generate_surfaces(psds['S1'], realizations=[5], shape=256, spacing=5e-9, seed=2026)\n"
+        "other = rs.surface.generate_surfaces(psds['S1'], n=64, shape=256, spacing=5e-9, seed=2026, chunks=5)\n"
         "print(bool((alone.isel(realization=0) == ens['S1'].sel(realization=5)).all()),\n"
         "      bool((other.sel(realization=5) == ens['S1'].sel(realization=5)).all()))\n"
         "print(ens['S1'].attrs['seed'], ens['S1'].attrs['periodic'])"

@@ -50,7 +50,7 @@ cells = [
     ),
     nbf.v4.new_code_cell(
         "from roughstick.plotting.gw import plot_gw_cutoff_study\n"
-        "mom = xr.concat([rs.roughness_moments(h) for h in maps.values()], 'map').mean('map')\n"
+        "mom = xr.concat([rs.surface.roughness_moments(h) for h in maps.values()], 'map').mean('map')\n"
         "dist = np.linspace(0, 40e-9, 161)\n"
         "study = rs.gw_cutoff_study(mom, relative_humidity=[0.3, 0.9], distance=dist)\n"
         "plot_gw_cutoff_study(study);"

@@ -10,7 +10,7 @@ from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 cells = [
     new_markdown_cell(
         "# 05 · Monte Carlo ensembles: from a PSD to confidence bands (paper §4.3, Figs. 14-17)\n\n"
-        "`roughstick.run_ensemble` chains surface generation (Eqs. 33-34), the rough-surface "
+        "`roughstick.ensemble.run` chains surface generation (Eqs. 33-34), the rough-surface "
         "modified DMT curves (Eqs. 16-23) and their summaries (Γ of Eq. 13, pull-off pressure, "
         "equilibrium distance) into one lazy Dataset over `(realization, rh, distance)`, chunked "
         "over realization. `confidence_band` reduces it to a mean and a 95 % band, with a "
@@ -34,7 +34,7 @@ cells = [
     new_markdown_cell(
         "## Where it runs\n\nBy default dask's local threads. A `dask.distributed` client (here an "
         "in-process one, so it starts instantly) gives a dashboard to watch the blocks; on a real "
-        "cluster pass its address: `run_ensemble(..., scheduler='tcp://host:8786')` or "
+        "cluster pass its address: `rs.ensemble.run(..., scheduler='tcp://host:8786')` or "
         "`roughstick run CONFIG.toml --scheduler tcp://host:8786`."
     ),
     new_code_cell(
@@ -45,10 +45,10 @@ cells = [
     new_markdown_cell(
         "## The lazy ensemble\n\nBuilding it computes nothing; the distance grid is common to all "
         "realizations (from first water contact of the highest surface expected in the ensemble down "
-        "to 1.5 √m0, `ensemble_distance_grid`)."
+        "to 1.5 √m0, `rs.ensemble.distance_grid`)."
     ),
     new_code_cell(
-        "ens = {s: rs.run_ensemble(psd[s], n=N, shape=SMALL, spacing=5e-9, relative_humidity=RH,\n"
+        "ens = {s: rs.ensemble.run(psd[s], n=N, shape=SMALL, spacing=5e-9, relative_humidity=RH,\n"
         "                          seed=14 + k, chunks=2)\n"
         "       for k, s in enumerate(('S1', 'S2'))}\n"
         "ens['S1']"
@@ -69,8 +69,8 @@ cells = [
         "the band stops moving)."
     ),
     new_code_cell(
-        "band = rs.confidence_band(ens['S1'][['adhesive_energy']])\n"
-        "print('\\n'.join(rs.band_summary(band)))\n"
+        "band = rs.ensemble.confidence_band(ens['S1'][['adhesive_energy']])\n"
+        "print('\\n'.join(rs.ensemble.band_summary(band)))\n"
         "(band[['adhesive_energy', 'adhesive_energy_ci_lower', 'adhesive_energy_ci_upper']] * 1e3)"
         ".to_dataframe().unstack('quantile').round(4)"
     ),
@@ -79,7 +79,7 @@ cells = [
         "larger surfaces reach higher asperities, so Γ drops; at high RH the band narrows."
     ),
     new_code_cell(
-        "sizes = rs.surface_size_study(psd['S1'], shapes=[SMALL, LARGE], spacing=5e-9, n=N,\n"
+        "sizes = rs.ensemble.surface_size_study(psd['S1'], shapes=[SMALL, LARGE], spacing=5e-9, n=N,\n"
         "                              relative_humidity=RH, seed=16, chunks=2).compute()\n"
         "_, fig = figures.fig16_energy_bands({'S1, two surface sizes': sizes}, title='Fig. 16')"
     ),
@@ -95,13 +95,13 @@ cells = [
     ),
     new_code_cell(
         "folder = pathlib.Path(tempfile.mkdtemp()) / 'S1'\n"
-        "ds = rs.run_ensemble(psd['S1'], n=4, shape=64, spacing=5e-9, relative_humidity=RH, seed=0,\n"
+        "ds = rs.ensemble.run(psd['S1'], n=4, shape=64, spacing=5e-9, relative_humidity=RH, seed=0,\n"
         "                     chunks=2, output=folder, scheduler=client).load()\n"
         "print(sorted(p.name for p in folder.iterdir()))\n"
         "m = json.loads((folder / 'manifest.json').read_text())\n"
         "print(m['params_hash'], m['completed'], m['complete'])\n"
         "(folder / 'block-r00001-h000.nc').unlink()          # lose a block ...\n"
-        "again = rs.run_ensemble(psd['S1'], n=4, shape=64, spacing=5e-9, relative_humidity=RH,\n"
+        "again = rs.ensemble.run(psd['S1'], n=4, shape=64, spacing=5e-9, relative_humidity=RH,\n"
         "                        seed=0, chunks=2, output=folder)  # ... and resume\n"
         "bool((again.adhesive_energy == ds.adhesive_energy).all())"
     ),

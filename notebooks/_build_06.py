@@ -66,7 +66,7 @@ cells = [
     code(
         "fit = rs.cantilever_psd()\n"
         "shape = rs.interaction_zone_shape(beam)\n"
-        "h = rs.generate_surfaces(rs.interaction_zone_psd(fit, shape=shape), n=1, shape=shape, spacing=5e-9, seed=1).isel(realization=0).compute()\n"
+        "h = rs.surface.generate_surfaces(rs.interaction_zone_psd(fit, shape=shape), n=1, shape=shape, spacing=5e-9, seed=1).isel(realization=0).compute()\n"
         "z = h.values - h.values.mean()\n"
         "qx = 2*np.pi*np.fft.fftfreq(shape[1], 5e-9); qy = 2*np.pi*np.fft.fftfreq(shape[0], 5e-9)\n"
         "P = np.abs(np.fft.fft2(z))**2 / z.size**2\n"
@@ -137,8 +137,8 @@ cells = [
     ),
     code(
         "for n in (10, 30, 100, 300, 1000):\n"
-        "    lo, hi = rs.binomial_interval(0, n)\n"
-        "    lo5, hi5 = rs.binomial_interval(n // 2, n)\n"
+        "    lo, hi = rs.ensemble.binomial_interval(0, n)\n"
+        "    lo5, hi5 = rs.ensemble.binomial_interval(n // 2, n)\n"
         "    print(f'n={n:5d}: 0 stuck -> P < {float(hi):.3f};  half stuck -> [{float(lo5):.3f}, {float(hi5):.3f}]')"
     ),
 ]

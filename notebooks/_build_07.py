@@ -32,7 +32,7 @@ cells = [
     md("## A bank of patch laws (Table 4 PSD, modified DMT), cached on disk"),
     code(
         "c = rs.cantilever_psd()\n"
-        "psd = rs.self_affine_psd(np.geomspace(1e5, 4e9, 300), s0=float(c.s0), s1=float(c.s1),\n"
+        "psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 300), s0=float(c.s0), s1=float(c.s1),\n"
         "                         q0=float(c.q0), qmax=float(c.qmax))\n"
         "bank = rs.build_patch_bank(psd, relative_humidity=[0.3, 0.6, 0.9], n_law=20, shape=(32, 32),\n"
         "                           spacing=20e-9, cache_dir=tempfile.mkdtemp())\n"

@@ -9,6 +9,41 @@ RENAMED: dict[str, str] = {}
 
 # ---------------------------------------------------------------------------- _core, io, surface
 RENAMED.update({
+    "read_afm": "io.read_afm",
+    "write": "io.write",
+    "open_dataset": "io.open_dataset",
+    "check_cf": "io.check_cf",
+    "validate_height": "surface.validate_height",
+    "level": "surface.level",
+    "power_spectrum": "surface.power_spectrum",
+    "psd_isotropic": "surface.psd_isotropic",
+    "average_psd": "surface.average_psd",
+    "submap_psd": "surface.submap_psd",
+    "submap_variance_check": "surface.submap_variance_check",
+    "interpolate_psd": "surface.interpolate_psd",
+    "isotropic_to_2d": "surface.isotropic_to_2d",
+    "average_psd_common": "surface.average_psd_common",
+    "summit_density": "surface.summit_density",
+    "roughness_moments": "surface.roughness_moments",
+    "psd_moments": "surface.psd_moments",
+    "self_affine_moments": "surface.self_affine_moments",
+    "moments_from_asperities": "surface.moments_from_asperities",
+    "choose_cutoff": "surface.choose_cutoff",
+    "asperity_statistics": "surface.asperity_statistics",
+    "plasticity_index": "surface.plasticity_index",
+    "validate_profile": "surface.validate_profile",
+    "level_profile": "surface.level_profile",
+    "profile_psd": "surface.profile_psd",
+    "project_psd": "surface.project_psd",
+    "profile_moments": "surface.profile_moments",
+    "self_affine_psd": "surface.self_affine_psd",
+    "fit_self_affine": "surface.fit_self_affine",
+    "generate_surfaces": "surface.generate_surfaces",
+    "surface_filter": "surface.surface_filter",
+    "ExtrapolatedPSDWarning": "surface.ExtrapolatedPSDWarning",
+    "roughness_statistics": "surface.roughness_statistics",
+    "psd_summary": "surface.psd_summary",
+    "moments_si": "_core.validate.moments_si",  # plumbing: checks a moments Dataset
 })
 
 
@@ -19,6 +54,23 @@ RENAMED.update({
 
 # ------------------------------------------------------------------------ ensemble, paper, misc
 RENAMED.update({
+    "run_ensemble": "ensemble.run",
+    "ensemble_distance_grid": "ensemble.distance_grid",
+    "ensemble_histogram": "ensemble.histogram",
+    "ensemble_ecdf": "ensemble.ecdf",
+    "surface_size_study": "ensemble.surface_size_study",
+    "open_ensemble": "ensemble.open_ensemble",
+    "confidence_band": "ensemble.confidence_band",
+    "quantile_interval": "ensemble.quantile_interval",
+    "band_summary": "ensemble.band_summary",
+    "min_samples_to_bound": "ensemble.min_samples_to_bound",
+    "binomial_interval": "ensemble.binomial_interval",
+    # plumbing shared by the stages, no longer public
+    "progress_bar": "_core.progress.progress_bar",
+    "surface_shape": "_core.validate.surface_shape",
+    "order_statistic_ranks": "_core.intervals.order_statistic_ranks",
+    "interval_method": "_core.intervals.interval_method",
+    "median_interval": "_core.intervals.median_interval",
 })
 
 

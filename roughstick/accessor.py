@@ -1,24 +1,107 @@
-"""The ``.rough`` accessor on DataArray and Dataset: explicit one-line forwarding methods.
+"""The ``.rough`` accessor on DataArray and Dataset: one-line forwarding methods.
 
-``height.rough.power_spectrum(window="hann")`` is ``roughstick.power_spectrum(height,
-window="hann")``: each method passes the object as the first argument and nothing else happens
-(no logic, no caching; cf. xskillscore's ``core/accessor.py``). Only the functions whose first
-argument is that kind of object are offered: on a DataArray those of a height map, of a PSD, of a
-relative humidity and of a Monte-Carlo sample; on a Dataset those of curves, summaries, moments and
-ensembles. Importing :mod:`roughstick` registers it.
+``height.rough.power_spectrum(window="hann")`` is ``roughstick.surface.power_spectrum(height,
+window="hann")``: each method passes the object as the first argument and nothing else happens (no
+logic, no caching; cf. xskillscore's ``core/accessor.py``). The methods come from one table per
+kind of data, ``{method name: function}``: a DataArray offers those of a height map, a PSD, a
+relative humidity and a Monte-Carlo sample; a Dataset those of curves, moments and ensembles.
+Importing :mod:`roughstick` registers it.
 """
 
 from __future__ import annotations
 
 import xarray as xr
 
+from . import ensemble, surface
 from .contact import adhesion, bem, curves, gw, meniscus, rough
-from .ensemble import distributions, statistics
-from .ensemble import run as ensemble_run
 from .stiction import beam, risk
-from .surface import generate, moments, spectrum, summary, topography
 
-__all__: list[str] = []
+__all__ = ["HEIGHT_MAP", "PSD", "RELATIVE_HUMIDITY", "SAMPLE", "CURVES", "MOMENTS", "ENSEMBLE"]
+
+# ------------------------------------------------------------------ DataArray: one table per kind
+#: A height map ``(y, x)``.
+HEIGHT_MAP = {
+    "validate_height": surface.validate_height,
+    "level": surface.level,
+    "power_spectrum": surface.power_spectrum,
+    "submap_psd": surface.submap_psd,
+    "submap_variance_check": surface.submap_variance_check,
+    "roughness_moments": surface.roughness_moments,
+    "roughness_statistics": surface.roughness_statistics,
+    "psd_summary": surface.psd_summary,
+    "rough_contact_curves": curves.rough_contact_curves,
+    "modified_dmt_curves": rough.modified_dmt_curves,
+    "contact_distance_grid": rough.contact_distance_grid,
+    "gw_contact_curves": gw.gw_contact_curves,
+    "bem_contact_curves": bem.bem_contact_curves,
+}
+#: A PSD ``(qy, qx)`` or ``(q)``.
+PSD = {
+    "psd_isotropic": surface.psd_isotropic,
+    "psd_moments": surface.psd_moments,
+    "interpolate_psd": surface.interpolate_psd,
+    "choose_cutoff": surface.choose_cutoff,
+    "generate_surfaces": surface.generate_surfaces,
+    "run_ensemble": ensemble.run,
+}
+#: A relative humidity.
+RELATIVE_HUMIDITY = {
+    "kelvin_radius": meniscus.kelvin_radius,
+    "laplace_pressure": meniscus.laplace_pressure,
+    "meniscus_height": meniscus.meniscus_height,
+    "adsorbed_layer": meniscus.adsorbed_layer,
+    "water_height": meniscus.water_height,
+}
+#: A Monte-Carlo sample, e.g. ``adhesive_energy`` over ``realization``.
+SAMPLE = {
+    "confidence_band": ensemble.confidence_band,
+    "quantile_interval": ensemble.quantile_interval,
+    "ensemble_histogram": ensemble.histogram,
+    "ensemble_ecdf": ensemble.ecdf,
+    "stiction_probability": risk.stiction_probability,
+    "crossing_length": risk.crossing_length,
+    "stiction_risk": risk.stiction_risk,
+    "crack_length_from_adhesive_energy": beam.crack_length_from_adhesive_energy,
+}
+
+# -------------------------------------------------------------------- Dataset: one table per kind
+#: Force-distance curves ``(..., rh, distance)``.
+CURVES = {
+    "adhesion_summary": adhesion.adhesion_summary,
+}
+#: Spectral moments ``m0``, ``m2``, ``m4``.
+MOMENTS = {
+    "asperity_statistics": surface.asperity_statistics,
+    "plasticity_index": surface.plasticity_index,
+    "summit_density": surface.summit_density,
+    "gw_contact_curves": gw.gw_contact_curves,
+    "gw_cutoff_study": gw.gw_cutoff_study,
+}
+#: Ensembles and summaries over ``realization``.
+ENSEMBLE = {
+    "confidence_band": ensemble.confidence_band,
+    "stiction_probability": risk.stiction_probability,
+    "stiction_risk": risk.stiction_risk,
+    "crossing_humidity": risk.crossing_humidity,
+}
+
+
+# ------------------------------------------------------------------------------- the mechanism
+def _public_path(func) -> str:
+    """``roughstick.<namespace>.<name>`` of a public function."""
+    return ".".join(func.__module__.split(".")[:2] + [func.__name__])
+
+
+def _forward(name: str, func):
+    """The method ``obj.rough.<name>(...)``: ``func(obj, ...)``, nothing else."""
+
+    def method(self, *args, **kwargs):
+        return func(self._obj, *args, **kwargs)
+
+    method.__name__ = method.__qualname__ = name
+    method.__doc__ = f"``obj.rough.{name}(...)`` is :func:`{_public_path(func)}` ``(obj, ...)``."
+    method.__forwards_to__ = func
+    return method
 
 
 class _Accessor:
@@ -31,163 +114,26 @@ class _Accessor:
         methods = sorted(n for n in dir(type(self)) if not n.startswith("_"))
         raise AttributeError(
             f"roughstick has no public function {name!r} that .rough forwards for a "
-            f"{type(self._obj).__name__}; its methods are {methods}. Call roughstick.<function> directly."
+            f"{type(self._obj).__name__}; its methods are {methods}. Call the function of its "
+            "namespace directly (roughstick.surface, roughstick.contact, ...)."
         )
 
 
-def _doc(func):
-    return f"``obj.rough.{func.__name__}(...)`` is :func:`roughstick.{func.__name__}` ``(obj, ...)``."
+def _accessor(cls_name: str, doc: str, *tables: dict) -> type:
+    methods = {}
+    for table in tables:
+        for name, func in table.items():
+            if name in methods:
+                raise ValueError(f".rough.{name} is in two tables of one accessor")
+            methods[name] = _forward(name, func)
+    return type(cls_name, (_Accessor,), {"__doc__": doc, "__module__": __name__, **methods})
 
 
-@xr.register_dataarray_accessor("rough")
-class RoughDataArrayAccessor(_Accessor):
-    """Forwarding methods for a height map, a PSD, a relative humidity or a Monte-Carlo sample."""
-
-    # ---- height map (y, x)
-    def validate_height(self):
-        return topography.validate_height(self._obj)
-
-    def level(self, **kwargs):
-        return topography.level(self._obj, **kwargs)
-
-    def power_spectrum(self, **kwargs):
-        return spectrum.power_spectrum(self._obj, **kwargs)
-
-    def submap_psd(self, **kwargs):
-        return spectrum.submap_psd(self._obj, **kwargs)
-
-    def submap_variance_check(self, **kwargs):
-        return spectrum.submap_variance_check(self._obj, **kwargs)
-
-    def roughness_moments(self, **kwargs):
-        return moments.roughness_moments(self._obj, **kwargs)
-
-    def roughness_statistics(self, **kwargs):
-        return summary.roughness_statistics(self._obj, **kwargs)
-
-    def psd_summary(self, **kwargs):
-        return summary.psd_summary(self._obj, **kwargs)
-
-    def rough_contact_curves(self, **kwargs):
-        return curves.rough_contact_curves(self._obj, **kwargs)
-
-    def modified_dmt_curves(self, **kwargs):
-        return rough.modified_dmt_curves(self._obj, **kwargs)
-
-    def contact_distance_grid(self, **kwargs):
-        return rough.contact_distance_grid(self._obj, **kwargs)
-
-    def gw_contact_curves(self, **kwargs):
-        return gw.gw_contact_curves(self._obj, **kwargs)
-
-    def bem_contact_curves(self, **kwargs):
-        return bem.bem_contact_curves(self._obj, **kwargs)
-
-    # ---- PSD (qy, qx) or (q)
-    def psd_isotropic(self, **kwargs):
-        return spectrum.psd_isotropic(self._obj, **kwargs)
-
-    def psd_moments(self, **kwargs):
-        return moments.psd_moments(self._obj, **kwargs)
-
-    def interpolate_psd(self, **kwargs):
-        return spectrum.interpolate_psd(self._obj, **kwargs)
-
-    def choose_cutoff(self, target, **kwargs):
-        return moments.choose_cutoff(self._obj, target, **kwargs)
-
-    def generate_surfaces(self, **kwargs):
-        return generate.generate_surfaces(self._obj, **kwargs)
-
-    def run_ensemble(self, **kwargs):
-        return ensemble_run.run_ensemble(self._obj, **kwargs)
-
-    # ---- relative humidity
-    def kelvin_radius(self, **kwargs):
-        return meniscus.kelvin_radius(self._obj, **kwargs)
-
-    def laplace_pressure(self, **kwargs):
-        return meniscus.laplace_pressure(self._obj, **kwargs)
-
-    def meniscus_height(self, **kwargs):
-        return meniscus.meniscus_height(self._obj, **kwargs)
-
-    def adsorbed_layer(self, **kwargs):
-        return meniscus.adsorbed_layer(self._obj, **kwargs)
-
-    def water_height(self, **kwargs):
-        return meniscus.water_height(self._obj, **kwargs)
-
-    # ---- Monte-Carlo sample (e.g. adhesive_energy over realization)
-    def confidence_band(self, **kwargs):
-        return statistics.confidence_band(self._obj, **kwargs)
-
-    def quantile_interval(self, quantiles, **kwargs):
-        return statistics.quantile_interval(self._obj, quantiles, **kwargs)
-
-    def ensemble_histogram(self, **kwargs):
-        return distributions.ensemble_histogram(self._obj, **kwargs)
-
-    def ensemble_ecdf(self, **kwargs):
-        return distributions.ensemble_ecdf(self._obj, **kwargs)
-
-    def stiction_probability(self, **kwargs):
-        return risk.stiction_probability(self._obj, **kwargs)
-
-    def crossing_length(self, **kwargs):
-        return risk.crossing_length(self._obj, **kwargs)
-
-    def stiction_risk(self, **kwargs):
-        return risk.stiction_risk(self._obj, **kwargs)
-
-    def crack_length_from_adhesive_energy(self, **kwargs):
-        return beam.crack_length_from_adhesive_energy(self._obj, **kwargs)
-
-
-@xr.register_dataset_accessor("rough")
-class RoughDatasetAccessor(_Accessor):
-    """Forwarding methods for curves, summaries, moments and ensembles."""
-
-    # ---- force-distance curves (..., rh, distance)
-    def adhesion_summary(self, **kwargs):
-        return adhesion.adhesion_summary(self._obj, **kwargs)
-
-    # ---- moments m0, m2, m4
-    def asperity_statistics(self):
-        return moments.asperity_statistics(self._obj)
-
-    def plasticity_index(self, **kwargs):
-        return moments.plasticity_index(self._obj, **kwargs)
-
-    def summit_density(self):
-        return moments.summit_density(self._obj)
-
-    def gw_contact_curves(self, **kwargs):
-        return gw.gw_contact_curves(self._obj, **kwargs)
-
-    def gw_cutoff_study(self, **kwargs):
-        return gw.gw_cutoff_study(self._obj, **kwargs)
-
-    # ---- ensembles and summaries over realization
-    def confidence_band(self, **kwargs):
-        return statistics.confidence_band(self._obj, **kwargs)
-
-    def stiction_probability(self, **kwargs):
-        return risk.stiction_probability(self._obj, **kwargs)
-
-    def stiction_risk(self, **kwargs):
-        return risk.stiction_risk(self._obj, **kwargs)
-
-    def crossing_humidity(self, **kwargs):
-        return risk.crossing_humidity(self._obj, **kwargs)
-
-
-def _document(cls):
-    """Each method's docstring names the function it forwards to (one line, as xskillscore)."""
-    for name, meth in list(vars(cls).items()):
-        if callable(meth) and not name.startswith("_"):
-            meth.__doc__ = _doc(meth)
-
-
-_document(RoughDataArrayAccessor)
-_document(RoughDatasetAccessor)
+RoughDataArrayAccessor = xr.register_dataarray_accessor("rough")(_accessor(
+    "RoughDataArrayAccessor",
+    "Forwarding methods for a height map, a PSD, a relative humidity or a Monte-Carlo sample.",
+    HEIGHT_MAP, PSD, RELATIVE_HUMIDITY, SAMPLE))
+RoughDatasetAccessor = xr.register_dataset_accessor("rough")(_accessor(
+    "RoughDatasetAccessor",
+    "Forwarding methods for curves, moments and ensembles.",
+    CURVES, MOMENTS, ENSEMBLE))

@@ -10,13 +10,14 @@ a wheel install runs the demo on the same data as a checkout.
 - :func:`paper_table`: Tables 1, 3 and 4 of the paper as Datasets (the values tests and
   benchmarks compare with);
 - :func:`family_parameters`, :func:`family_psd`, :func:`surface_family`: the five surface
-  families every speed and accuracy claim of round 2 is measured on (DESIGN.md §8, below);
+  families the accuracy and speed of the contact models are measured on (below;
+  docs/accuracy.md);
 - :func:`validity_map_path`: the measured model-error table read by
   :func:`roughstick.validity_map`;
 - :func:`example_configs`: the example TOML configurations of ``roughstick run``, ``risk`` and
   ``beam`` (``examples/*.toml`` of the repository; ``roughstick examples --out DIR`` copies them).
 
-Wherever a height map path is accepted (:func:`roughstick.read_afm`, ``roughstick psd``,
+Wherever a height map path is accepted (:func:`roughstick.io.read_afm`, ``roughstick psd``,
 ``roughstick curves``, ``[psd] files`` of a config) the sample maps are named ``bundled:S1A`` ...
 ``bundled:S2C`` (a real file of that name wins).
 
@@ -76,7 +77,7 @@ __all__ = [
 
 #: Names of the bundled sample maps (synthetic stand-ins of the paper's S1 and S2 measurements).
 SAMPLES = BUNDLED_MAPS
-#: Names of the round-2 surface families (DESIGN.md §8).
+#: Names of the surface families (:func:`family_parameters`).
 FAMILIES = ("S1", "S2", "table4", "smooth", "rough")
 #: The paper's PSD cutoff :math:`\xi_{max}` of Table 3 [rad m-1].
 QMAX_PAPER = 289e6
@@ -146,7 +147,7 @@ def sample_maps(sample: str = "S1", *, method: str = "plane") -> xr.DataArray:
 def sample_psd(sample: str = "S1", *, qmax: float = QMAX_PAPER, submaps: int = 16) -> xr.DataArray:
     """PSD of the three bundled maps of ``sample`` (scheme 3 of §4.1: ``submaps`` sub-maps per map,
     averaged, Eq. 31, no window as in the paper), zero beyond ``qmax`` [rad m-1]; the PSD the
-    demos and ensembles start from."""
+    demo and the ensembles start from."""
     psd = submap_psd(sample_maps(sample), n=submaps, window=None)
     out = psd.where(abs(psd.qx + 1j * psd.qy) <= qmax, 0.0)
     out.attrs = {**psd.attrs, "qmax_cutoff": qmax, "sample": sample}
@@ -164,7 +165,7 @@ def paper_table(number: int) -> xr.Dataset:
       ``"spatial"`` (cubic-spline variances) or ``"psd"`` (PSD moments at ``qmax``);
     - 4: ``roughness`` over ``surface``, ``asperity_radius``, ``asperity_density``, ``qmax``, and
       the Eq. 37 solution as printed (``printed_q0``, ``printed_s0``, ``printed_s1``; the paper
-      prints it for N = 88.1 µm⁻², not Table 4's 80.1: DESIGN.md §3).
+      prints it for N = 88.1 µm⁻², not Table 4's 80.1: tests/surface/test_self_affine.py).
 
     Examples
     --------
@@ -249,7 +250,7 @@ def family_parameters(name: str) -> dict:
     Examples
     --------
     >>> p = rs.datasets.family_parameters("smooth")
-    >>> round(float(rs.self_affine_moments(**p).m0) ** 0.5 * 1e9, 6)  # rms height, nm
+    >>> round(float(rs.surface.self_affine_moments(**p).m0) ** 0.5 * 1e9, 6)  # rms height, nm
     2.0
     """
     return dict(_family_parameters(name))
@@ -257,7 +258,7 @@ def family_parameters(name: str) -> dict:
 
 def family_psd(name: str):
     """The PSD of family ``name`` as a callable ``q -> s(q)`` (Eq. 37 evaluated exactly on any
-    grid, :func:`roughstick.self_affine_psd`), accepted by :func:`roughstick.generate_surfaces`."""
+    grid, :func:`roughstick.surface.self_affine_psd`), accepted by :func:`roughstick.surface.generate_surfaces`."""
     p = family_parameters(name)
 
     def psd(q):
@@ -279,7 +280,7 @@ def surface_family(name: str, *, shape=(256, 256), spacing: float = 5e-9, seed=0
     spacing : float
         Pixel size [m] (5 nm, as the samples).
     seed : int or numpy.random.SeedSequence
-        Root seed (realization k uses its child k, :func:`roughstick.generate_surfaces`).
+        Root seed (realization k uses its child k, :func:`roughstick.surface.generate_surfaces`).
     n : int, optional
         Number of realizations; None returns realization 0 computed, over ``(y, x)``.
     """
@@ -292,7 +293,7 @@ def surface_family(name: str, *, shape=(256, 256), spacing: float = 5e-9, seed=0
 
 
 def validity_map_path() -> pathlib.Path:
-    """Path of the measured validity map (``benchmarks/bench_accuracy.py report`` writes it)."""
+    """Path of the measured validity map (docs/accuracy.md says how it was measured)."""
     return _data("validity_map.csv")
 
 

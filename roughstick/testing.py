@@ -109,7 +109,7 @@ class _CountingScheduler:
 def raise_if_dask_computes(max_computes: int = 0):
     """Context manager raising ``RuntimeError`` if dask computes more than ``max_computes`` times.
 
-    Laziness is part of the contract (STYLE.md §6): build a pipeline inside it to check that
+    Laziness is part of the contract (docs/architecture.md): build a pipeline inside it to check that
     nothing is computed.
 
     Examples

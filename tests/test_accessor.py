@@ -1,5 +1,7 @@
-"""The .rough accessor: explicit one-line forwarding methods, each to the public function of its name."""
+"""The .rough accessor: one-line forwarding methods from one table per kind of data, each to a
+public function of a namespace."""
 
+import importlib
 import inspect
 
 import numpy as np
@@ -7,27 +9,38 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
+from roughstick import accessor
 from roughstick.accessor import RoughDataArrayAccessor, RoughDatasetAccessor
+
+TABLES = {RoughDataArrayAccessor: (accessor.HEIGHT_MAP, accessor.PSD, accessor.RELATIVE_HUMIDITY,
+                                   accessor.SAMPLE),
+          RoughDatasetAccessor: (accessor.CURVES, accessor.MOMENTS, accessor.ENSEMBLE)}
 
 
 @pytest.mark.parametrize("cls", [RoughDataArrayAccessor, RoughDatasetAccessor])
-def test_every_method_forwards_to_the_public_function_of_its_name(cls):
+def test_every_method_forwards_to_the_public_function_of_its_table(cls):
     methods = [n for n in vars(cls) if not n.startswith("_")]
-    assert len(methods) >= 10
+    table = {k: v for t in TABLES[cls] for k, v in t.items()}
+    assert len(methods) >= 10 and sorted(methods) == sorted(table)
+    forward = inspect.getsource(accessor._forward)
+    assert "return func(self._obj, *args, **kwargs)" in forward  # the one line, shared by all
     for name in methods:
-        assert name in rs.__all__, f".rough.{name} forwards to no public rs.{name}"
-        body = inspect.getsource(getattr(cls, name)).strip().splitlines()[1:]
-        assert len(body) == 1 and body[0].strip().startswith("return ") and f".{name}(self._obj" in body[0], (
-            f".rough.{name} is not a one-line forward")
+        method = getattr(cls, name)
+        func = method.__forwards_to__
+        assert func is table[name] and method.__code__ is accessor._forward(name, func).__code__
+        namespace = importlib.import_module(".".join(func.__module__.split(".")[:2]))
+        assert getattr(namespace, func.__name__) is func and func.__name__ in namespace.__all__, (
+            f".rough.{name} forwards to {func.__module__}.{func.__name__}, no public name")
+        assert f"{namespace.__name__}.{func.__name__}" in method.__doc__
 
 
 def test_forwarding_gives_the_same_objects():
     rh = xr.DataArray([0.3, 0.5], dims="rh", coords={"rh": [0.3, 0.5]}, attrs={"units": "1"})
     rs.testing.assert_same_result(rh.rough.water_height(), rs.water_height(rh))
     h = rs.testing.make_topography(np.random.default_rng(0).normal(size=(16, 12)) * 1e-9)
-    rs.testing.assert_same_result(h.rough.power_spectrum(window="hann"), rs.power_spectrum(h, window="hann"))
+    rs.testing.assert_same_result(h.rough.power_spectrum(window="hann"), rs.surface.power_spectrum(h, window="hann"))
     m = h.rough.roughness_moments()
-    rs.testing.assert_same_result(m.rough.asperity_statistics(), rs.asperity_statistics(m))
+    rs.testing.assert_same_result(m.rough.asperity_statistics(), rs.surface.asperity_statistics(m))
 
 
 def test_unknown_names_say_what_is_offered():

@@ -44,14 +44,13 @@ RANK = {
     "reliability": 7,  # small probabilities: subset simulation, limit states, weakest link
     "plotting": 8,
     "accessor": 8,     # forwarding methods over every stage
-    "paper": 9,        # the figures of the paper, once: (Dataset, Figure) per figure group
-    "demos": 10,       # call paper/
-    "cli": 11,         # calls demos/ and paper/
-    "__main__": 12,    # python -m roughstick: runs cli
-    "roughstick": 12,  # the package's __init__: the front door
+    "paper": 9,        # the figures of the paper, once, and the steps of `roughstick demo`
+    "cli": 10,         # calls paper/
+    "__main__": 11,    # python -m roughstick: runs cli
+    "roughstick": 11,  # the package's __init__: the front door
 }
 #: Layers allowed to import the facade ``import roughstick as rs`` (applications of the package).
-FACADE_USERS = {"demos", "paper", "cli"}
+FACADE_USERS = {"paper", "cli"}
 
 
 def _module_name(path: pathlib.Path) -> str:

@@ -18,13 +18,13 @@ def h():
 # -- dtypes a height map cannot have -------------------------------------------------------------
 @pytest.mark.parametrize("dtype, what", [(bool, "boolean"), (complex, "complex"), (object, "object")])
 def test_height_dtype_refused(h, dtype, what):
-    for f in (rs.power_spectrum, rs.roughness_moments, rs.level):
+    for f in (rs.surface.power_spectrum, rs.surface.roughness_moments, rs.surface.level):
         with pytest.raises(TypeError, match=f"dtype .*{what}.*real numbers"):
             f(h.astype(dtype))
 
 
 def test_plain_numpy_array_is_a_type_error_naming_the_wrapper():
-    for f in (rs.power_spectrum, rs.roughness_moments, rs.level):
+    for f in (rs.surface.power_spectrum, rs.surface.roughness_moments, rs.surface.level):
         with pytest.raises(TypeError, match="make_topography"):
             f(np.zeros((16, 16)))
 
@@ -32,38 +32,38 @@ def test_plain_numpy_array_is_a_type_error_naming_the_wrapper():
 # -- values implausible in SI ---------------------------------------------------------------------
 def test_heights_in_nm_labelled_m_are_refused_with_the_fix(h):
     with pytest.raises(ValueError, match=r"rms height is .* m: implausible.*attrs\['units'\] = 'nm'"):
-        rs.power_spectrum(h * 1e9)  # nm values, units still "m"
-    rs.power_spectrum((h * 1e9).assign_attrs(units="nm"))  # labelled right: accepted
+        rs.surface.power_spectrum(h * 1e9)  # nm values, units still "m"
+    rs.surface.power_spectrum((h * 1e9).assign_attrs(units="nm"))  # labelled right: accepted
 
 
 def test_coordinates_without_units_in_pixels_are_not_taken_as_metres(h):
     """Item 11: coordinates without a units attribute were taken as metres, silently."""
     bare = h.assign_coords(x=np.arange(32.0), y=np.arange(32.0))  # pixel indices, no units
     with pytest.raises(ValueError, match="no 'units', so it was taken as m.*implausible"):
-        rs.power_spectrum(bare)
+        rs.surface.power_spectrum(bare)
     with pytest.raises(ValueError, match="implausible"):
-        rs.roughness_moments(bare.assign_coords(x=("x", np.arange(32.0) * 5, {"units": "m"})))
+        rs.surface.roughness_moments(bare.assign_coords(x=("x", np.arange(32.0) * 5, {"units": "m"})))
 
 
 # -- empty, constant or all-zero -------------------------------------------------------------------
 def test_empty_constant_and_zero_maps(h):
     with pytest.raises(ValueError, match="0 pixel"):
-        rs.power_spectrum(h.isel(x=slice(0, 0)))
+        rs.surface.power_spectrum(h.isel(x=slice(0, 0)))
     for z in (h * 0, h * 0 + 3e-9):
         with pytest.raises(ValueError, match="constant"):
-            rs.power_spectrum(z)
+            rs.surface.power_spectrum(z)
         with pytest.raises(ValueError, match="constant"):
-            rs.roughness_moments(z)
+            rs.surface.roughness_moments(z)
 
 
 def test_isotropic_psd_on_a_descending_grid_is_refused(h):
     """Item 10: a descending q grid gave a negative m0 without complaint."""
-    iso = rs.psd_isotropic(rs.power_spectrum(h))
-    assert float(rs.psd_moments(iso).m0) > 0
+    iso = rs.surface.psd_isotropic(rs.surface.power_spectrum(h))
+    assert float(rs.surface.psd_moments(iso).m0) > 0
     with pytest.raises(ValueError, match="ascending.*sortby"):
-        rs.psd_moments(iso.isel(q=slice(None, None, -1)))
+        rs.surface.psd_moments(iso.isel(q=slice(None, None, -1)))
     with pytest.raises(ValueError, match="negative"):
-        rs.psd_moments(-iso)
+        rs.surface.psd_moments(-iso)
 
 
 # -- files that are not what their extension says ------------------------------------------------
@@ -71,31 +71,31 @@ def test_files_not_what_their_extension_says(tmp_path):
     kw = dict(spacing="5 nm", units="nm")
     (tmp_path / "a.npy").write_bytes(b"\x00" * 64)
     with pytest.raises(ValueError, match="not a NumPy .npy file despite its extension"):
-        rs.read_afm(tmp_path / "a.npy", **kw)
+        rs.io.read_afm(tmp_path / "a.npy", **kw)
     np.save(tmp_path / "b.npy", np.ones((8, 8)))
     (tmp_path / "b.txt").write_bytes((tmp_path / "b.npy").read_bytes())
     with pytest.raises(ValueError, match="is a NumPy .npy file, not text.*rename it to .npy"):
-        rs.read_afm(tmp_path / "b.txt", **kw)
+        rs.io.read_afm(tmp_path / "b.txt", **kw)
     (tmp_path / "c.csv").write_text("1, 2, x\n3, 4, 5\n")
     with pytest.raises(ValueError, match="not a table of numbers"):
-        rs.read_afm(tmp_path / "c.csv", **kw)
+        rs.io.read_afm(tmp_path / "c.csv", **kw)
     np.save(tmp_path / "d.npy", np.array([{"a": 1}], dtype=object))
     with pytest.raises(ValueError, match="never loads pickled objects"):
-        rs.read_afm(tmp_path / "d.npy", **kw)
+        rs.io.read_afm(tmp_path / "d.npy", **kw)
     (tmp_path / "e.nc").write_text("not netcdf")
     with pytest.raises(ValueError, match="damaged, truncated or not NetCDF"):
-        rs.read_afm(tmp_path / "e.nc")
+        rs.io.read_afm(tmp_path / "e.nc")
     with pytest.raises(ValueError, match="is a folder, not an AFM file"):
-        rs.read_afm(tmp_path)
+        rs.io.read_afm(tmp_path)
 
 
 # -- sizes that cannot fit in memory: refused before allocating, naming the size ----------------
 def test_surfaces_too_large_for_memory_are_refused_before_allocating(h):
-    psd = rs.power_spectrum(h)
+    psd = rs.surface.power_spectrum(h)
     with pytest.raises(MemoryError, match=r"1000000 x 1000000 surface needs about .* GiB"):
-        rs.generate_surfaces(psd, n=1, shape=(10**6, 10**6), spacing=5e-9, seed=1)
+        rs.surface.generate_surfaces(psd, n=1, shape=(10**6, 10**6), spacing=5e-9, seed=1)
     with pytest.raises(MemoryError, match="GiB"):
-        rs.surface_filter(lambda q: 1e-36 + 0 * q, shape=(10**6, 10**6), spacing=5e-9)
+        rs.surface.surface_filter(lambda q: 1e-36 + 0 * q, shape=(10**6, 10**6), spacing=5e-9)
 
 
 @pytest.mark.parametrize("call", [
@@ -158,9 +158,9 @@ def test_unknown_window_names_the_choices(h, tmp_path, capsys):
     from roughstick.cli import main
 
     with pytest.raises(ValueError, match="unknown FFT window 'bogus'.*'auto'.*'none'.*'hann'"):
-        rs.power_spectrum(h, window="bogus")
+        rs.surface.power_spectrum(h, window="bogus")
     with pytest.raises(ValueError, match="unknown FFT window"):
-        rs.profile_psd(h, window="bogus")
+        rs.surface.profile_psd(h, window="bogus")
     np.save(tmp_path / "m.npy", h.values * 1e9)
     assert main(["psd", str(tmp_path / "m.npy"), "--spacing", "5 nm", "--units", "nm",
                  "--window", "bogus", "--out", str(tmp_path / "p.nc")]) == 1
@@ -171,8 +171,8 @@ def test_unknown_window_names_the_choices(h, tmp_path, capsys):
 
 def test_generation_spacing_typed_in_nm_is_refused(h):
     with pytest.raises(ValueError, match=r"spacing\[y\] = 5 m: implausible.*spacing=5e-9"):
-        rs.generate_surfaces(lambda q: 1e-36 + 0 * q, n=1, shape=16, spacing=5, seed=1)
-    rs.generate_surfaces(lambda q: 1e-36 + 0 * q, n=1, shape=16, spacing=5e-9, seed=1)
+        rs.surface.generate_surfaces(lambda q: 1e-36 + 0 * q, n=1, shape=16, spacing=5, seed=1)
+    rs.surface.generate_surfaces(lambda q: 1e-36 + 0 * q, n=1, shape=16, spacing=5e-9, seed=1)
 
 
 def test_npy_larger_than_memory_refused_from_its_header(tmp_path):
@@ -182,14 +182,14 @@ def test_npy_larger_than_memory_refused_from_its_header(tmp_path):
         np.lib.format.write_array_header_1_0(
             fh, {"descr": "<f8", "fortran_order": False, "shape": (10**6, 10**6)})
     with pytest.raises(MemoryError, match=r"1000000 x 1000000 float64 array \(about .* GiB"):
-        rs.read_afm(path, spacing="5 nm", units="nm")
+        rs.io.read_afm(path, spacing="5 nm", units="nm")
 
 
 def test_heights_in_m_labelled_nm_are_refused_with_the_fix(h):
     """The converse slip: metres labelled nm (or converted twice) made a 1e-18 m surface that
     every model took silently."""
     with pytest.raises(ValueError, match=r"rms height is .* m: below anything an AFM can measure.*attrs\['units'\]"):
-        rs.power_spectrum(h.assign_attrs(units="nm"))  # values in m, labelled nm
+        rs.surface.power_spectrum(h.assign_attrs(units="nm"))  # values in m, labelled nm
     with pytest.raises(ValueError, match="below anything an AFM can measure"):
         rs.rough_contact_curves(h.assign_attrs(units="nm"), relative_humidity=0.5)
 
@@ -201,7 +201,7 @@ def test_every_map_entry_point_refuses_a_dtype_a_height_cannot_have(h, dtype, wh
     """The contact models took a complex map's real part (or a boolean map as 0/1 m, refused as
     'flat'; a date-time map as 'rms 9.9e8 m, probably in nm')."""
     bad = h.copy(data=np.zeros(h.shape, dtype)) if dtype == "datetime64[ns]" else h.astype(dtype)
-    calls = [rs.power_spectrum, rs.roughness_moments, rs.validate_height,
+    calls = [rs.surface.power_spectrum, rs.surface.roughness_moments, rs.surface.validate_height,
              lambda m: rs.rough_contact_curves(m, relative_humidity=0.5),
              lambda m: rs.rough_contact_curves(m, relative_humidity=0.5, model="gw"),
              lambda m: rs.fft_bem_contact_curves(m, relative_humidity=0.5),
@@ -215,23 +215,23 @@ def test_every_map_entry_point_refuses_a_dtype_a_height_cannot_have(h, dtype, wh
 def test_spectra_whose_moments_are_zero_or_not_finite_are_refused_naming_that(h):
     """A zero PSD gave m0 = m2 = m4 = 0 and flat surfaces, a PSD with one NaN NaN moments, and a
     cutoff below the PSD's wave numbers zero moments, all without a word."""
-    iso = rs.psd_isotropic(rs.power_spectrum(h))
+    iso = rs.surface.psd_isotropic(rs.surface.power_spectrum(h))
     zero = iso.copy(data=np.zeros(iso.shape))
     for call, said in [
-        (lambda: rs.psd_moments(zero), r"m0 = 0\.0: m0 must be positive; the spectrum has no power"),
-        (lambda: rs.psd_moments(iso.where(iso.q != iso.q[3])), r"m0 is not finite \(nan\): m0 must be "
+        (lambda: rs.surface.psd_moments(zero), r"m0 = 0\.0: m0 must be positive; the spectrum has no power"),
+        (lambda: rs.surface.psd_moments(iso.where(iso.q != iso.q[3])), r"m0 is not finite \(nan\): m0 must be "
                                                                 r"positive and finite; the spectrum has NaN"),
-        (lambda: rs.psd_moments(iso, qmax=1.0), r"no power.*qmax=1 rad m-1.*the PSD's q start at"),
-        (lambda: rs.generate_surfaces(zero, n=1, shape=16, spacing=2e-8, seed=0),
+        (lambda: rs.surface.psd_moments(iso, qmax=1.0), r"no power.*qmax=1 rad m-1.*the PSD's q start at"),
+        (lambda: rs.surface.generate_surfaces(zero, n=1, shape=16, spacing=2e-8, seed=0),
          r"zero everywhere: the surfaces would be flat"),
-        (lambda: rs.ensemble_distance_grid(psd=zero, shape=(16, 16), n=2, relative_humidity=[0.5]),
+        (lambda: rs.ensemble.distance_grid(psd=zero, shape=(16, 16), n=2, relative_humidity=[0.5]),
          r"m0 = 0\.0: m0 must be positive; the spectrum has no power"),
     ]:
         with pytest.raises(ValueError, match=said) as err:
             call()
         assert "probably" not in str(err.value)
-    moments = rs.roughness_moments(h)
+    moments = rs.surface.roughness_moments(h)
     for bad, said in [(0.0, r"moments: m2 = 0\.0: m2 must be positive; the spectrum has no power"),
                       (np.inf, r"moments: m2 is not finite \(inf\)")]:
         with pytest.raises(ValueError, match=said):
-            rs.summit_density(moments.assign(m2=moments.m2.copy(data=bad)))
+            rs.surface.summit_density(moments.assign(m2=moments.m2.copy(data=bad)))

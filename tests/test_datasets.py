@@ -35,7 +35,7 @@ def test_data_samples_links_point_at_the_packaged_files():
 def test_load_sample_and_maps():
     h = datasets.load_sample("S2C")
     assert h.dims == ("y", "x") and h.shape == (1024, 1024) and h.attrs["units"] == "m"
-    xr.testing.assert_equal(h, rs.read_afm(ROOT / "data_samples" / "S2C.nc"))
+    xr.testing.assert_equal(h, rs.io.read_afm(ROOT / "data_samples" / "S2C.nc"))
     maps = datasets.sample_maps("S1")
     assert maps.dims == ("map", "y", "x") and list(maps.map.values) == ["S1A", "S1B", "S1C"]
     with pytest.raises(ValueError, match="bundled samples"):
@@ -48,7 +48,7 @@ def test_sample_psd_reproduces_table3_moments():
     # m4 +14 % for S1, +1.7 % and +4 % for S2), so the test bounds are those, not Table 3's 2 %
     t3 = datasets.paper_table(3)
     for s in ("S1", "S2"):
-        m = rs.psd_moments(datasets.sample_psd(s))
+        m = rs.surface.psd_moments(datasets.sample_psd(s))
         for k, rtol in (("m0", 0.02), ("m2", 0.06), ("m4", 0.16)):
             assert float(m[k]) == pytest.approx(float(t3[k].sel(sample=s, estimate="psd")), rel=rtol), (s, k)
 
@@ -67,14 +67,14 @@ def test_paper_tables():
 @pytest.mark.parametrize(("name", "rms_nm"), [("S1", 3.96), ("S2", 2.08), ("table4", 3.54),
                                               ("smooth", 2.0), ("rough", 8.0)])
 def test_family_rms_as_documented(name, rms_nm):
-    m = rs.self_affine_moments(**datasets.family_parameters(name))
+    m = rs.surface.self_affine_moments(**datasets.family_parameters(name))
     assert float(m.m0) ** 0.5 * 1e9 == pytest.approx(rms_nm, abs=0.006)
 
 
 def test_surface_family_is_the_generated_family_psd():
     h = datasets.surface_family("smooth", shape=(64, 48), seed=3)
     assert h.dims == ("y", "x") and h.shape == (64, 48) and h.attrs["periodic"] == 1
-    ens = rs.generate_surfaces(datasets.family_psd("smooth"), n=2, shape=(64, 48), spacing=5e-9, seed=3)
+    ens = rs.surface.generate_surfaces(datasets.family_psd("smooth"), n=2, shape=(64, 48), spacing=5e-9, seed=3)
     np.testing.assert_array_equal(h.values, ens.isel(realization=0).values)
     lazy = datasets.surface_family("rough", shape=(32, 32), n=3)
     assert lazy.sizes["realization"] == 3 and lazy.chunks is not None

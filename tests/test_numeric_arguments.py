@@ -26,7 +26,7 @@ LEGAL = {
     ("Material", "poisson_ratio"): {"negative", "zero"},
     # a distance grid may start at or below the mean plane (in units of the rms height)
     ("cantilever_distance_grid", "lower"): {"negative", "zero"},
-    ("ensemble_distance_grid", "lower"): {"negative", "zero"},
+    ("distance_grid", "lower"): {"negative", "zero"},
     ("failure_probability", "lower"): {"negative", "zero"},
     # 0 switches a step off: no BEM re-check of the tail / of the failures, no retry, no
     # bisection round, no wait for a distributed scheduler
@@ -34,14 +34,14 @@ LEGAL = {
     ("failure_probability", "check_failures"): {"zero"},
     ("bem_contact_curves", "retries"): {"zero"},
     ("fft_bem_contact_curves", "refine"): {"zero"},
-    ("run_ensemble", "connect_timeout"): {"zero"},
+    ("run", "connect_timeout"): {"zero"},
     # no adsorbed layer; a layer at every humidity
     ("step_adsorbed_layer", "thickness"): {"zero"},
     ("step_adsorbed_layer", "onset"): {"zero"},
     # no NaN pixel tolerated
     ("level", "max_nan_fraction"): {"zero"},
     # inf accepts the closest Eq. 37 PSD whatever its residual
-    ("fit_self_affine", "tolerance"): {"inf"},
+    ("fit_self_affine", "solver_tolerance"): {"inf"},
 }
 #: Public classes that are results, not inputs (their fields are set by the solver).
 RESULTS = {"CohesiveRelease"}
@@ -92,7 +92,7 @@ def test_the_sweep_covers_the_public_api():
     # the numeric arguments of the solvers, samplers and statistics are all in the sweep
     names = {c.values[0] for c in CASES}
     assert {"fft_bem_contact_curves", "bem_contact_curves", "simulate_beams", "subset_simulation",
-            "build_patch_bank", "run_ensemble", "confidence_band", "kelvin_radius"} <= names
+            "build_patch_bank", "run", "confidence_band", "kelvin_radius"} <= names
     assert len(CASES) > 200
 
 
@@ -106,10 +106,10 @@ def test_legal_values_of_the_allow_list_are_accepted():
     """The allow-list is not a blanket: those values pass the argument checks."""
     rs.Material(poisson_ratio=-0.2)
     rs.Material(poisson_ratio=0.0)
-    assert "residual_m2" in rs.fit_self_affine(m0=1e-17, m2=0.5, m4=1e12, qmax=2.89e8, tolerance=math.inf)
+    assert "residual_m2" in rs.surface.fit_self_affine(m0=1e-17, m2=0.5, m4=1e12, qmax=2.89e8, solver_tolerance=math.inf)
     model = rs.step_adsorbed_layer(thickness=0.0, onset=0.0)
     assert float(rs.adsorbed_layer(0.5, model=model)) == 0.0
-    d = rs.ensemble_distance_grid(m0=16e-18, shape=(64, 64), n=10, relative_humidity=[0.5], lower=0.0)
+    d = rs.ensemble.distance_grid(m0=16e-18, shape=(64, 64), n=10, relative_humidity=[0.5], lower=0.0)
     assert float(d[0]) == 0.0
 
 

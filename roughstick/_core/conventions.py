@@ -1,6 +1,6 @@
 """Canonical dimension names, variable names and their CF attributes.
 
-This module is the single source of truth for metadata (STYLE.md §3). Functions never
+This module is the single source of truth for metadata. Functions never
 hand-write attributes: they call :func:`set_attrs` with a key of :data:`ATTRS`.
 All stored values are SI.
 """
@@ -170,7 +170,7 @@ def append_history(obj, line: str):
 
 
 def dataset_attrs(title: str, *, references: str = "", **params) -> dict:
-    """Global attributes of a Dataset written by roughstick (STYLE.md §3)."""
+    """Global attributes of a Dataset written by roughstick."""
     attrs = {
         "Conventions": CONVENTIONS,
         "title": title,

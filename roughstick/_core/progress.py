@@ -1,24 +1,16 @@
-"""Cost estimate and progress of long computations (the boundary-element models, issue 16 item 2).
+"""Cost estimate and progress of long computations (the boundary-element models, ensembles).
 
 Before a boundary-element run starts, :class:`WorkProgress` logs (logger ``roughstick``, INFO) what
 it is about to compute and an estimate of the time it will take; while it runs it shows a tqdm bar
 when interactive (a terminal, or a Jupyter widget when ``ipywidgets`` is installed) and otherwise
 INFO lines at most every 30 s and at each tenth of the work (what the ``roughstick`` command prints
-line by line, for batch jobs without a terminal).
+line by line, for batch jobs without a terminal). :func:`progress_bar` is the dask callback of the
+same bar.
 
 The estimate is ``constant x (one numpy rfft2 + irfft2 pair of the map, timed now) x solves``: the
-FFT pair measures this machine's speed on this map size, the constants below the cost of one solve
-in FFT pairs. They come from ``nice -n 19 python benchmarks/bench_bem_cost.py`` (three surface
-families, 64^2-256^2, RH 0.5; ratios within one run): one Tamaas solve took 884-1173 FFT pairs at
-64^2, 2301-2995 at 128^2 and 3111-4300 at 256^2; on a loaded machine, in one run, 8342 at 256^2
-and 10916 at 512^2 (S1, 4 distances: the ratio grows 1.3x per 4x pixels there). The model
-``1500 (N_pixels / 64^2)^0.3`` is within a factor 1.5 of all of them (4600 at 512^2 for the quiet
-machine's FFT); one
-fft_bem state 9-12 FFT pairs at 64^2, 6-10 at 128^2, 4-9 at 256^2 (after the first call, whose
-numba compilation costs ~1 s) and 2.3 at 1024^2 (``roughstick curves data_samples/S1A.nc --rh 0.3
-0.7 --model auto``: 92 states in 5 s), i.e. about ``12 (N_pixels / 64^2)^-0.25``. Expect the
-estimate within a factor of ~3 (the solver's iterations depend on the surface and humidity, and
-maps above 512^2 are extrapolated); the S1 256^2 BEM run at RH 0.5 (23 solves) took 18.6 s.
+FFT pair measures this machine's speed on this map size, :data:`BEM_SOLVE_FFT_PAIRS` and
+:data:`FFT_BEM_STATE_FFT_PAIRS` the cost of one solve in FFT pairs, within a factor of about 3
+(docs/performance.md, "Cost estimates").
 """
 
 from __future__ import annotations
@@ -43,6 +35,7 @@ __all__ = [
     "duration",
     "interactive",
     "tqdm_class",
+    "progress_bar",
     "WorkProgress",
     "StagedProgress",
     "staged_progress",
@@ -51,11 +44,10 @@ __all__ = [
 
 _LOG = logging.getLogger("roughstick")
 
-#: One Tamaas solve in FFT pairs of the same map at 64 x 64 pixels; scales as (pixels / 64^2)^0.3
-#: (benchmarks/bench_bem_cost.py, see the module docstring).
+#: One Tamaas solve in FFT pairs of the same map at 64 x 64 pixels; scales as (pixels / 64^2)^0.3.
 BEM_SOLVE_FFT_PAIRS = 1500.0
 #: One fft_bem state (one distance) in FFT pairs of the same map at 64 x 64 pixels; scales as
-#: (pixels / 64^2)^-0.25 (benchmarks/bench_bem_cost.py; ~2.3 at 1024^2, S1A map, see docstring).
+#: (pixels / 64^2)^-0.25.
 FFT_BEM_STATE_FFT_PAIRS = 12.0
 #: Runs estimated at least this long [s] show a progress bar / lines by default.
 PROGRESS_THRESHOLD = 5.0
@@ -163,6 +155,27 @@ def foreground() -> bool:
     ``roughstick`` command runs in (marked ``roughstick_foreground``), not a pool's worker."""
     t = threading.current_thread()
     return t is threading.main_thread() or getattr(t, "roughstick_foreground", False)
+
+
+def progress_bar(progress: bool | None = None, **kwargs):
+    """A dask callback showing a tqdm progress bar (terminal or Jupyter), or a no-op.
+
+    ``progress=None`` shows it only when interactive: stderr is a terminal or the code runs in a
+    Jupyter kernel, and the ``CI`` environment variable is not set.
+
+    Examples
+    --------
+    >>> from roughstick._core.progress import progress_bar
+    >>> with progress_bar(False):
+    ...     pass
+    """
+    if progress is None:
+        progress = interactive()
+    if not progress:
+        return contextlib.nullcontext()
+    from tqdm.dask import TqdmCallback
+
+    return TqdmCallback(tqdm_class=tqdm_class(), **kwargs)
 
 
 class WorkProgress:

@@ -4,8 +4,8 @@ configuration key.
 A warning that names a fix names a *setting* (the contact model, the pixel size, the check of the
 pixel's cost) and asks :func:`spell` how to write it. The code the user called decides the
 spelling for the duration of the call with :func:`spelled`: ``roughstick curves`` spells the
-contact model ``--model fft_bem``, ``roughstick run`` ``contact_model = "fft_bem"`` in its
-[ensemble] table, :func:`roughstick.run_ensemble` ``curves_kwargs={'model': 'fft_bem'}``. The
+contact model ``--model fft_bem``, ``roughstick run`` ``model = "fft_bem"`` in its
+[ensemble] table, :func:`roughstick.ensemble.run` ``model='fft_bem'``. The
 outermost caller wins: a command's spelling is kept inside every function it calls, and the
 function the user called from Python is kept inside the functions it calls in turn. Without any,
 the setting's Python argument is named (``rough_contact_curves(..., model='fft_bem')``).

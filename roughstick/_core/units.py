@@ -5,7 +5,7 @@ Every unit roughstick reads goes through this module: the ``units`` attribute of
 a config file or a reader argument (:func:`parse_quantity`), or a bare spelling (:func:`factor`).
 Powers of a length (``m2`` for a height variance, ``m4`` for a PSD, ``m-2`` for a curvature
 variance) are derived from the length table, so a spelling accepted for a length is accepted for
-its powers too (``nm2``, ``um^4``, ``1/um2``). Stored values are SI (STYLE.md §3).
+its powers too (``nm2``, ``um^4``, ``1/um2``). Stored values are SI.
 """
 
 from __future__ import annotations
@@ -146,7 +146,7 @@ def require(da: xr.DataArray, kind: str, *, name: str | None = None) -> xr.DataA
         raise TypeError(
             f"{name or 'input'} must be an xarray.DataArray with a 'units' attribute, got "
             f"{type(da).__name__}; wrap a height map with roughstick.testing.make_topography("
-            "values, spacing=...) or read it with roughstick.read_afm, other arrays with "
+            "values, spacing=...) or read it with roughstick.io.read_afm, other arrays with "
             "xr.DataArray(values, dims=..., attrs={'units': ...})."
         )
     label = name or (da.name if da.name is not None else "input")

@@ -25,11 +25,12 @@
 - :class:`ValidityWarning`, the warning of a model used outside its validity (declared here so
   that the models and :mod:`roughstick.contact.validity` share it).
 
-Every error names the problem and the fix (DESIGN.md §6).
+Every error names the problem and the fix.
 """
 
 from __future__ import annotations
 
+import math
 import numbers
 import sys
 
@@ -59,6 +60,8 @@ __all__ = [
     "check_height_dtype",
     "height_in_si",
     "check_moments",
+    "moments_si",
+    "surface_shape",
     "MIN_MAP_PIXELS",
     "distance_array",
     "check_core_not_chunked",
@@ -435,7 +438,7 @@ def grid_spacing(da: xr.DataArray, dim: str, *, min_pixels: int = 8,
         raise ValueError(
             f"this is a line scan (1-D profile, dims {da.dims}), not a height map: contact, "
             "ensembles and surface generation need a 2-D map (..., 'y', 'x'). For a profile's PSD "
-            "and moments use roughstick.profile_psd / profile_moments (CLI: roughstick psd)."
+            "and moments use roughstick.surface.profile_psd / profile_moments (CLI: roughstick psd)."
         )
     if dim not in da.dims:
         raise ValueError(
@@ -641,6 +644,78 @@ def check_moments(m0, m2, m4, *, what: str, fix: str) -> None:
         else:
             continue
         raise ValueError(f"{what}: {key} {problem}. {fix}")
+
+
+#: Kind of quantity (:mod:`roughstick._core.units`) of each spectral moment.
+_MOMENT_KIND = {"m0": "area", "m2": "dimensionless", "m4": "inverse_area"}
+
+
+def moments_si(moments: xr.Dataset) -> tuple[xr.DataArray, xr.DataArray, xr.DataArray]:
+    """``m0``, ``m2``, ``m4`` of a moments Dataset, checked and converted to SI (m2, 1, m-2).
+
+    Raises
+    ------
+    TypeError
+        ``moments`` is not a Dataset.
+    ValueError
+        A moment is missing, or its ``units`` are missing or not a power of a length
+        (:class:`roughstick.UnitsError`); an eager moment is zero, negative or not finite.
+    """
+    if not isinstance(moments, xr.Dataset):
+        raise TypeError(
+            "moments must be an xarray.Dataset with m0, m2, m4 (e.g. from roughstick.surface.fit_self_affine, "
+            f"roughness_moments or psd_moments); got {type(moments).__name__}."
+        )
+    out = []
+    for key in ("m0", "m2", "m4"):
+        if key not in moments:
+            raise ValueError(
+                f"moments must be a Dataset with variables 'm0', 'm2' and 'm4' (Nayak's one-direction "
+                f"spectral moments, docs/architecture.md); {key!r} is missing. "
+                "roughstick.surface.fit_self_affine / moments_from_asperities return such a Dataset."
+            )
+        da = require(moments[key], _MOMENT_KIND[key], name=f"moments[{key!r}]").copy(deep=False)
+        da.attrs = {"units": da.attrs["units"]}
+        out.append(da)
+    check_moments(*out, what="moments", fix="Moments of a rough surface are finite and > 0: check the "
+                  "map or PSD they came from (a flat map, a zero PSD, a cutoff below its wave numbers).")
+    return out[0], out[1], out[2]
+
+
+def surface_shape(*, shape=None, size=None, spacing: float) -> tuple[int, int]:
+    """Pixels ``(ny, nx)`` of the surfaces from ``shape`` (pixels) or ``size`` (m) and ``spacing``.
+
+    Exactly one of ``shape`` and ``size`` (each a number or a ``(y, x)`` pair; a size and the
+    spacing in m or with their unit, ``"1.28 um"``); a size must be a whole number of pixels; both
+    sides at least 4 pixels.
+
+    Examples
+    --------
+    >>> from roughstick._core.validate import surface_shape
+    >>> surface_shape(size=(1.28e-6, 2.56e-6), spacing=5e-9)
+    (256, 512)
+    """
+    if (shape is None) == (size is None):
+        raise ValueError("give exactly one of shape=(ny, nx) (pixels) or size=(Ly, Lx) (m).")
+    spacing = as_length(spacing, name="spacing")
+    if shape is not None:
+        shp = (int(shape), int(shape)) if np.ndim(shape) == 0 else tuple(int(s) for s in shape)
+        if np.ndim(shape) == 0 and int(shape) != shape or any(
+            s != o for s, o in zip(shp, np.atleast_1d(shape), strict=False)
+        ):
+            raise ValueError(f"shape must be integers, got {shape!r}.")
+    else:
+        sz = tuple(as_length(s, name="size") for s in ((size, size) if np.ndim(size) == 0 else size))
+        shp = tuple(int(round(s / spacing)) for s in sz)
+        for s, n in zip(sz, shp, strict=True):
+            if n < 1 or not math.isclose(n * spacing, s, rel_tol=1e-6):
+                raise ValueError(
+                    f"size {s!r} m is not a whole number of pixels of spacing {spacing!r} m; "
+                    f"use size={n * spacing!r} or give shape= instead."
+                )
+    if len(shp) != 2 or min(shp) < 4:
+        raise ValueError(f"surface shape must be two integers >= 4, got {shp}.")
+    return shp
 
 
 def distance_array(distance, *, min_size: int = 1) -> np.ndarray:

@@ -4,7 +4,7 @@ One module per sub-command, each defining ``register(subparsers)`` that adds the
 a handler calling the public API only (no physics here), and optionally ``remedies(args)``, how
 the warnings raised during the command spell their fixes (flags or configuration keys,
 :mod:`roughstick._core.remedy`): ``curves``, ``demo`` (every step of
-:mod:`roughstick.demos` on the bundled samples), ``examples`` (the shipped example configs), ``psd``, ``reproduce``, ``risk`` and ``run``
+:mod:`roughstick.paper.demo` on the bundled samples), ``examples`` (the shipped example configs), ``psd``, ``reproduce``, ``risk`` and ``run``
 (TOML configs read by :mod:`._config`). See docs/cli.md.
 """
 

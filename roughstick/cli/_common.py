@@ -40,6 +40,7 @@ from .._core.validate import figure_dpi, figure_format
 from ..io.netcdf import WRITTEN_LOG, remove_partial_files, write_text_atomic, written_names
 from ..plotting.save import DEFAULT_DPI, DEFAULT_FORMAT
 from ._process import lock_folder, release_folders
+from ._schema import SCHEMAS
 
 __all__ = ["LOG", "positive_int", "add_common_options", "add_figure_options", "figure_options", "setup_logging", "teardown_logging", "claim_folder", "finish_folder", "run_status",
            "user_message", "MARKER", "small_p_problems", "canonical_params", "check_scheduler",
@@ -450,7 +451,7 @@ def _diff(a, b, *, most: int = 3) -> str:
 
 #: Python argument names that a message may mention, and the CLI flag to name instead.
 _FLAGS = {"overwrite=True": "--overwrite", "output=": "--out ",
-          "a smaller lower= to ensemble_distance_grid": "a smaller [ensemble] distance_lower (roughstick run)"}
+          "a smaller lower= to distance_grid": "a smaller [ensemble] distance_lower (roughstick run)"}
 
 
 def user_message(exc: BaseException) -> str | None:
@@ -497,12 +498,19 @@ def small_p_problems(section: str, settings: dict) -> list[str]:
     return problems
 
 
+def _model_key(table: str) -> str:
+    """The key of the contact model in ``[table]``: ``model`` (``contact_model`` in a table whose
+    schema still spells it so)."""
+    old = any("contact_model" in tables.get(table, {}) for tables in SCHEMAS.values())
+    return "contact_model" if old else "model"
+
+
 def config_spellings(*, contact_model: str, surface: str = "surface") -> dict:
     """How the warnings of a command read from a configuration file spell their remedies
     (:mod:`roughstick._core.remedy`): keys of its tables, the contact model in
     ``[contact_model]``, the pixel in ``[surface]``."""
     return {
-        "contact_model": config_key(contact_model, "contact_model"),
+        "contact_model": config_key(contact_model, _model_key(contact_model)),
         "spacing": config_key(surface, "spacing", fmt=lambda v: f'"{v * 1e9:.2g} nm"'),
         "resolution": lambda v=None, **kw: (f"the same run with [{surface}] spacing doubled (its size "
                                             "kept), compared with this one"),
@@ -515,6 +523,6 @@ def fixed_spellings(command: str) -> dict:
     can change it."""
     own = (f"in a `roughstick run` configuration (the settings of `roughstick {command}` are fixed: "
            "`roughstick examples --out examples` writes configurations to start from)")
-    return {"contact_model": lambda v, **kw: f'[ensemble] contact_model = "{v}" {own}',
+    return {"contact_model": lambda v, **kw: f'[ensemble] model = "{v}" {own}',
             "spacing": lambda v, **kw: f'[surface] spacing = "{v * 1e9:.2g} nm" {own}',
             "resolution": lambda v=None, **kw: "`roughstick curves MAP --rh ... --resolution`"}

@@ -62,7 +62,6 @@ _RENAMED = {
     "asperity_density_per_um2": 'asperity_density = "80.1 um-2"',
     "qmax_rad_per_um": 'qmax = "289 rad/um"',
     "youngs_modulus_GPa": 'youngs_modulus = "164 GPa"',
-    "model": 'contact_model = "fft_bem" (the contact model has this one name in every command)',
 }
 _UNIT_SUFFIX = re.compile(r"^(?P<key>.+?)_(?P<unit>nm|um|mm|m|GPa|MPa|Pa|percent|pct|nm2|nm4)$")
 
@@ -96,7 +95,11 @@ def read_toml(path) -> dict:
 
 def _unknown(key: str, known, where: str) -> str:
     hint = ""
-    if key in _RENAMED:
+    new = [k for k, f in known.items() if key in getattr(f, "replaces", ())]
+    if new:
+        hint = (f" It is now {new[0]!r}: write {new[0]} = ... instead (the same value; the key "
+                "has one name in every command).")
+    elif key in _RENAMED:
         hint = f" Write {_RENAMED[key]} instead."
     elif m := _UNIT_SUFFIX.match(key):
         stem = m["key"] if m["key"] in known else (difflib.get_close_matches(m["key"], list(known), n=1)
@@ -346,7 +349,7 @@ class RunConfig:
     scheduler: str | None
     connect_timeout: float
     progress: bool | None
-    contact_model: str = "modified_dmt"
+    model: str = "modified_dmt"
     material: Material = POLYSILICON
 
     def build_psd(self):
@@ -354,21 +357,21 @@ class RunConfig:
         p = self.psd
         src = p["source"]
         if src == "samples":
-            maps = [rs.level(rs.read_afm(f), method="plane") for f in p["files"]]
+            maps = [rs.surface.level(rs.io.read_afm(f), method="plane") for f in p["files"]]
             shapes = {m.shape for m in maps}
             if len(shapes) != 1:
                 raise ValueError(f"the sample maps differ in shape {sorted(shapes)}; give maps of one size.")
             h = xr.concat(maps, dim="map", coords="minimal", compat="override", join="override",
                           combine_attrs="drop_conflicts")
-            psd = rs.submap_psd(h, n=int(p.get("submaps", 16)), window=p.get("window", "auto"))
+            psd = rs.surface.submap_psd(h, n=int(p.get("submaps", 16)), window=p.get("window", "auto"))
         elif src == "moments":
-            fit = rs.fit_self_affine(m0=p["m0"], m2=p["m2"], m4=p["m4"], qmax=p["qmax"])
+            fit = rs.surface.fit_self_affine(m0=p["m0"], m2=p["m2"], m4=p["m4"], qmax=p["qmax"])
             qn = np.pi / self.spacing
             q = np.linspace(0, max(qn * np.sqrt(2), p["qmax"]) * 1.0001, int(p.get("num_q", 4096)))
-            psd = rs.self_affine_psd(q, s0=float(fit["s0"]), s1=float(fit["s1"]), q0=float(fit["q0"]),
+            psd = rs.surface.self_affine_psd(q, s0=float(fit["s0"]), s1=float(fit["s1"]), q0=float(fit["q0"]),
                                      qmax=float(fit["qmax"]))
         else:
-            with rs.open_dataset(p["path"]) as ds:
+            with rs.io.open_dataset(p["path"]) as ds:
                 var = p.get("variable", "psd")
                 if var not in ds:
                     raise ValueError(f"{p['path']!r} has no variable {var!r} (it has "
@@ -488,6 +491,6 @@ def load_config(path, *, overrides: dict | None = None) -> RunConfig:
         scheduler=c["run"].get("scheduler"),
         connect_timeout=c["run"]["connect_timeout"],
         progress=c["run"].get("progress"),
-        contact_model=ens["contact_model"],
+        model=ens["model"],
         material=config_material(c["material"], path.name),
     )

@@ -23,7 +23,8 @@ class Field:
     ``n`` (an integer >= 1 or "auto"), ``shape`` (an integer or [ny, nx]),
     ``relative_humidity``; ``many`` makes it a list of those. For a ``fraction``, ``percent``
     says whether a number from 1 to 100 may be a percentage typed for it (a probability, a
-    confidence); False for a ratio (a coefficient of variation, a tolerance).
+    confidence); False for a ratio (a coefficient of variation, a tolerance). ``replaces`` names
+    the old keys of this one: a file that still writes one is refused, naming this key.
     """
 
     kind: str
@@ -35,6 +36,7 @@ class Field:
     choices: tuple = ()
     power: int = 1
     percent: bool = True
+    replaces: tuple = ()
 
 
 F = Field
@@ -44,7 +46,7 @@ _SMALL_P = {  # the small-probability methods' stopping rule: [risk] of risk, [e
     "max_evaluations": F("int", "method 'subset'/'monte_carlo': evaluations allowed per length, RH (and layer)", default=20000, minimum=10),
     "samples_per_level": F("int", "method 'subset': samples per level (a multiple of 5: p0 = 0.2)", default=1000, minimum=10)}
 #: The contact model, ONE key name in every command (its table differs: [ensemble] of run,
-#: [risk] of risk, [bank] of beam).
+#: [risk] of risk, [bank] of beam): ``model``.
 _CONTACT_MODEL = ("contact model of rough_contact_curves: 'modified_dmt' (Eq. 16), 'gw', 'fft_bem', "
                   "'bem' or 'auto' (the cheapest model measured within 10 % on these surfaces)")
 _COMMON = {
@@ -110,8 +112,9 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "distance_points": F("int", "points of the distance grid", default=200, minimum=8),
             "distance_lower": F("number", "bottom of the distance grid in units of the rms height",
                                 default=1.5, minimum=0.0),
-            "contact_model": F("choice", _CONTACT_MODEL, default="modified_dmt",
-                               choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
+            "model": F("choice", _CONTACT_MODEL, default="modified_dmt",
+                       choices=("modified_dmt", "gw", "fft_bem", "bem", "auto"),
+                       replaces=("contact_model",)),
         },
         "material": _COMMON["material"],
         "output": _COMMON["output"],

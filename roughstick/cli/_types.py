@@ -129,14 +129,14 @@ def check_map_flags(path, *, spacing=None, units=None) -> None:
 
 
 def read_map(path, *, spacing=None, units=None, **kwargs):
-    """:func:`roughstick.read_afm` for a command: the flags checked first, and heights spanning
+    """:func:`roughstick.io.read_afm` for a command: the flags checked first, and heights spanning
     more than 1 mm in the ``--units`` given refused naming ``--units`` (read_afm only warns, in
     its Python words)."""
     check_map_flags(path, spacing=spacing, units=units)
     with warnings.catch_warnings():
         if units is not None:  # said below, in flags
             warnings.filterwarnings("ignore", message=".*heights span .* more than 1 mm", category=UserWarning)
-        h = rs.read_afm(path, spacing=spacing, units=units, **kwargs)
+        h = rs.io.read_afm(path, spacing=spacing, units=units, **kwargs)
     if units is not None and h.chunks is None and h.size:
         finite = np.asarray(h.values, dtype=float)
         finite = finite[np.isfinite(finite)]

@@ -45,10 +45,10 @@ def register(sub):
 
 def _psd(surface: dict):
     if surface.get("psd") is not None:
-        return rs.open_dataset(surface["psd"])["psd"]
+        return rs.io.open_dataset(surface["psd"])["psd"]
     c = rs.cantilever_psd()
     q = np.geomspace(1e5, 4e9, 400)
-    return rs.self_affine_psd(q, s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
+    return rs.surface.self_affine_psd(q, s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
 
 
 def _beside(config: pathlib.Path, folder) -> pathlib.Path:

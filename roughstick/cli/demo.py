@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 
-from ..demos import steps
+from ..paper.demo import steps
 from ._common import (
     LOG,
     add_figure_options,

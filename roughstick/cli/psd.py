@@ -83,17 +83,17 @@ def _run(args):
         raise ValueError("the files mix line scans (" + ", ".join(n for n, s in zip(names, scans) if s)
                          + ") and 2-D maps; run roughstick psd on each kind separately.")
     if all(scans):
-        ds = _line_scans([rs.level_profile(m, method=args.level, nan=args.nan) for m in maps], names, args, qmax)
+        ds = _line_scans([rs.surface.level_profile(m, method=args.level, nan=args.nan) for m in maps], names, args, qmax)
     else:
-        maps = [rs.level(m, method=args.level, nan=args.nan) for m in maps]
+        maps = [rs.surface.level(m, method=args.level, nan=args.nan) for m in maps]
         same = len({m.shape for m in maps}) == 1 and len({round(float(m.x[1] - m.x[0]), 15) for m in maps}) == 1 \
             and len({round(float(m.y[1] - m.y[0]), 15) for m in maps}) == 1
         if same:
             stack = xr.concat(maps, dim="map", coords="minimal", compat="override", combine_attrs="drop")
             stack = stack.assign_coords(map=names)
             stack.attrs = dict(maps[0].attrs)
-            ds = rs.psd_summary(stack, n=args.submaps, qmax=qmax, window=args.window)
-            _keep_per_map(ds, rs.roughness_moments(stack), "map")
+            ds = rs.surface.psd_summary(stack, n=args.submaps, qmax=qmax, window=args.window)
+            _keep_per_map(ds, rs.surface.roughness_moments(stack), "map")
         else:
             ds = _different_grids(maps, names, args, qmax)
     ds.attrs["input_files"] = " ".join(str(p) for p in args.maps)
@@ -167,8 +167,8 @@ def _moment_lines(ds, what: str, *, scans: bool) -> list[str]:
 def _different_grids(maps, names, args, qmax):
     """Maps of different sizes/spacings: each map's own §4.1 chain (stacked over ``map``) and
     their radial PSDs averaged on a common log-spaced q grid over the bands' overlap."""
-    per_map = [rs.psd_summary(m, n=args.submaps, qmax=qmax, window=args.window) for m in maps]
-    common = rs.average_psd_common([s.psd_isotropic.drop_vars("n_ring") for s in per_map], names=names)
+    per_map = [rs.surface.psd_summary(m, n=args.submaps, qmax=qmax, window=args.window) for m in maps]
+    common = rs.surface.average_psd_common([s.psd_isotropic.drop_vars("n_ring") for s in per_map], names=names)
     keys = [k for k in per_map[0].data_vars if not set(per_map[0][k].dims) & {"q", "qx", "qy"}]
     ds = xr.concat([s[keys] for s in per_map], dim="map", combine_attrs="override").assign_coords(map=names)
     ds["psd_isotropic"] = common.psd
@@ -186,20 +186,20 @@ def _different_grids(maps, names, args, qmax):
 
 def _line_scans(scans, names, args, qmax):
     """Line scans: the profile PSD (1-D Eqs. 26-31) averaged over scans, profile moments."""
-    psds = [rs.profile_psd(s, window=args.window) for s in scans]
-    spatial = xr.concat([rs.profile_moments(s) for s in scans], dim="map").assign_coords(map=names)
+    psds = [rs.surface.profile_psd(s, window=args.window) for s in scans]
+    spatial = xr.concat([rs.surface.profile_moments(s) for s in scans], dim="map").assign_coords(map=names)
     dq = [float(c.qx[1] - c.qx[0]) for c in psds]
     same = len({c.sizes["qx"] for c in psds}) == 1 and all(abs(d / dq[0] - 1) < 1e-9 for d in dq)
     if same:
-        avg = rs.average_psd([c.assign_coords(qx=psds[0].qx) for c in psds], "map")
+        avg = rs.surface.average_psd([c.assign_coords(qx=psds[0].qx) for c in psds], "map")
         ds = xr.Dataset({"psd_1d": avg})
     else:
-        common = rs.average_psd_common(psds, names=names)
+        common = rs.surface.average_psd_common(psds, names=names)
         ds = common.rename({"psd": "psd_1d"})
         LOG.info(f"line scans of different lengths/spacings: averaged on {common.sizes['qx']} log-spaced "
                  f"qx (one-sided) over {float(common.qx[0]) * 1e-6:.4g}-{float(common.qx[-1]) * 1e-6:.4g} rad/um")
     _keep_per_map(ds, spatial, "line scan")
-    spectral = rs.profile_moments(ds.psd_1d, qmax=qmax)
+    spectral = rs.surface.profile_moments(ds.psd_1d, qmax=qmax)
     for k in ("m0", "m2", "m4"):
         ds[f"spatial_{k}"] = spatial[k].mean("map").assign_attrs(
             units=spatial[k].attrs["units"],
@@ -209,7 +209,7 @@ def _line_scans(scans, names, args, qmax):
         ds["qmax"] = xr.DataArray(qmax, attrs={"units": "rad m-1", "long_name": "cutoff wave number"})
     ds.attrs = rs.conventions.dataset_attrs(
         "Profile PSD and moments of AFM line scans (1-D counterpart of paper §4.1, Eqs. 26-31)",
-        references="roughstick.profile_psd, profile_moments", n_maps=len(scans), kind="line scans",
+        references="roughstick.surface.profile_psd, profile_moments", n_maps=len(scans), kind="line scans",
         window=str(psds[0].attrs.get("window", args.window)))
     if args.window == "none":
         LOG.info("line scans are rarely periodic: without a window their edge step leaks "

@@ -62,7 +62,7 @@ def reproduce(out, *, quick: bool, n: int | None = None, scheduler=None, overwri
     # the paper (§4.2.1) generates surfaces up to 10.24 µm from the PSD of 1.28 µm sub-maps,
     # interpolated below its lowest wave number: said once in the log, not warned per size
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", rs.ExtrapolatedPSDWarning)
+        warnings.simplefilter("ignore", rs.surface.ExtrapolatedPSDWarning)
         return _reproduce(out, quick=quick, n=n, scheduler=scheduler, overwrite=overwrite, log=log,
                           save={"format": figure_format, "dpi": dpi})
 
@@ -89,13 +89,13 @@ def _reproduce(out, *, quick, n, scheduler, overwrite, log, save):
         # Fig. 13: three generated surfaces
         _, fig = figures.fig13_surfaces(psd, shape=shapes[0], seed=13 + k, title=sample)
         files.append(save_figure(fig, out / f"fig13_surfaces_{sample}.png", **save))
-        dist = rs.ensemble_distance_grid(psd, shape=(shapes[1], shapes[1]), n=n,
+        dist = rs.ensemble.distance_grid(psd, shape=(shapes[1], shapes[1]), n=n,
                                          relative_humidity=RH[sample])
         per_size = []
         for j, s in enumerate(shapes):
             t0 = time.perf_counter()
             folder = out / f"ensemble_{sample}_{s}"
-            ds = rs.run_ensemble(psd, n=n, shape=s, spacing=5e-9, relative_humidity=RH[sample],
+            ds = rs.ensemble.run(psd, n=n, shape=s, spacing=5e-9, relative_humidity=RH[sample],
                                  seed=np.random.SeedSequence(2015, spawn_key=(k, j)), chunks=2 if s <= 512 else 1, distance=dist,
                                  output=folder, overwrite=overwrite, scheduler=scheduler)
             files.append(folder)
@@ -110,11 +110,11 @@ def _reproduce(out, *, quick, n, scheduler, overwrite, log, save):
         _, fig = figures.fig14_ensemble_curves(
             per_size[0], title=f"Fig. {14 + k}: {sample}, surfaces of {shapes[0] * 5e-3:.2f} µm ({scale} scale)")
         files.append(save_figure(fig, out / f"fig{14 + k}_curves_{sample}.png", **save))
-        band = rs.confidence_band(both)
+        band = rs.ensemble.confidence_band(both)
         files.append(rs.io.netcdf.write(band, out / f"band_{sample}.nc", compute=True, overwrite=True))
         for size in band.surface_size.values:
             log(f"[{sample}, {size * 1e6:.2f} µm] apparent adhesive energy Γ:")
-            for line in rs.band_summary(band.sel(surface_size=size)):
+            for line in rs.ensemble.band_summary(band.sel(surface_size=size)):
                 log("  " + line)
     # Fig. 16: Γ bands vs RH for both sizes, S1 (a) and S2 (b)
     _, fig = figures.fig16_energy_bands(results, title=f"Fig. 16 ({scale} scale)")

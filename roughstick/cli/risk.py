@@ -175,7 +175,7 @@ def _measured(c, beam):
 
 def _psd(s):
     if "psd" in s:
-        return rs.open_dataset(s["psd"])["psd"]
+        return rs.io.open_dataset(s["psd"])["psd"]
     d = TABLE4
     return rs.cantilever_psd(
         roughness=s.get("roughness", d["roughness"]),
@@ -197,7 +197,7 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
     ens, s, r = c["ensemble"], c["surface"], c["risk"]
     psd = _psd(s)
     if isinstance(psd, xr.Dataset):  # the Eq. 37 parameters: the PSD exactly on any grid
-        psd = functools.partial(rs.self_affine_psd, **{k: float(psd[k]) for k in ("s0", "s1", "q0", "qmax")})
+        psd = functools.partial(rs.surface.self_affine_psd, **{k: float(psd[k]) for k in ("s0", "s1", "q0", "qmax")})
     rh = list(ens["relative_humidity"])
     kw = {"scheduler": c["run"]["scheduler"]} if "scheduler" in c["run"] else {}
     kw["contact_model"] = r["contact_model"]
@@ -257,7 +257,7 @@ def _gamma_samples(c, beam, out, *, overwrite):
     layers = list(ens["adsorbed_layer"])
     if "adhesive_energy" in ens:
         path = ens["adhesive_energy"]
-        ds = rs.open_ensemble(path) if path.is_dir() else rs.open_dataset(path)
+        ds = rs.ensemble.open_ensemble(path) if path.is_dir() else rs.io.open_dataset(path)
         if "adhesive_energy" not in ds:
             raise ValueError(f"{path}: no 'adhesive_energy' variable (has {sorted(ds.data_vars)}).")
         g = ds["adhesive_energy"]
@@ -274,7 +274,7 @@ def _gamma_samples(c, beam, out, *, overwrite):
     for layer in layers:
         kw = {"material": material}
         if model != "modified_dmt":  # the default is not named: earlier ensembles keep resuming
-            kw["curves_kwargs"] = {"model": model}
+            kw["model"] = model
         if ens["stream"]:
             kw["output"] = out / f"ensemble-{layer}"
             kw["overwrite"] = overwrite
@@ -379,7 +379,7 @@ def _confirmed(d) -> str:
     n = int(d["failures_checked_by_bem"]) if "failures_checked_by_bem" in d else 0
     if n > 0:
         k = int(round(f * n))
-        lo, hi = (float(v) for v in rs.binomial_interval(k, n, confidence=0.95))
+        lo, hi = (float(v) for v in rs.ensemble.binomial_interval(k, n, confidence=0.95))
         head = f", BEM: {k} of {n} failure states confirmed (95 % Wilson [{lo:.0%}, {hi:.0%}])"
     else:
         head = f", BEM: {f:.0%} of its failure states confirmed (number checked unknown: no interval)"

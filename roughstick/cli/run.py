@@ -21,6 +21,7 @@ import numpy as np
 import roughstick as rs
 
 from .._core.materials import POLYSILICON, material_attrs
+from .._core.validate import surface_shape
 from ..plotting.ensemble import (
     plot_energy_band,
     plot_energy_distribution,
@@ -59,16 +60,23 @@ def register(sub):
     p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="ensemble"))
 
 
+def _auto_keywords(auto: dict) -> dict:
+    """The [ensemble] keys of n = 'auto' as keywords of :func:`roughstick.ensemble.run`."""
+    return {{"tolerance": "target_precision"}.get(k, k): v for k, v in auto.items()}
+
+
 #: RunConfig fields that do not change the results (where and how they are computed).
 _NOT_PARAMS = ("path", "folder", "overwrite", "scheduler", "connect_timeout", "progress", "figures")
 
 
 def run_params(cfg) -> dict:
     """The parameters of a run that decide its results, as the output folder's marker records them
-    (the contact model and material only when not the defaults, so earlier folders resume)."""
+    (the contact model and material only when not the defaults, and under the marker's names, so
+    earlier folders resume)."""
     out = {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg) if f.name not in _NOT_PARAMS}
-    if out.get("contact_model") == "modified_dmt":
-        del out["contact_model"]
+    model = out.pop("model")
+    if model != "modified_dmt":
+        out["contact_model"] = model
     material = out.pop("material", POLYSILICON)
     if material != POLYSILICON:
         out["material"] = material_attrs(material)
@@ -90,34 +98,34 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
     check_scheduler(cfg.scheduler, where=scheduler_from)
     claim_folder(cfg.folder, command="run", params=run_params(cfg), overwrite=cfg.overwrite, keep=[cfg.path])
     psd = cfg.psd_da if hasattr(cfg, "psd_da") else cfg.build_psd()
-    shape = rs.surface_shape(shape=cfg.shape, size=cfg.size, spacing=cfg.spacing)
+    shape = surface_shape(shape=cfg.shape, size=cfg.size, spacing=cfg.spacing)
     said = _warn_if_extrapolated(psd, shape, cfg.spacing, source=cfg.psd["source"])
     n_grid = cfg.auto.get("n_max", 3000) if cfg.n == "auto" else cfg.n
-    dist = rs.ensemble_distance_grid(psd, shape=shape, n=n_grid, relative_humidity=cfg.relative_humidity,
-                                     adsorbed_layer=cfg.adsorbed_layer, num=cfg.distance_points,
-                                     lower=cfg.distance_lower)
+    dist = rs.ensemble.distance_grid(psd, shape=shape, n=n_grid, relative_humidity=cfg.relative_humidity,
+                                     adsorbed_layer=cfg.adsorbed_layer,
+                                     n_distance=cfg.distance_points, lower=cfg.distance_lower)
     ens_dir = cfg.folder / "ensemble"
     log(f"{cfg.title}: n={cfg.n}, shape={shape}, spacing={cfg.spacing * 1e9:g} nm, "
-        f"RH={cfg.relative_humidity}, contact model {cfg.contact_model}, material {cfg.material.name} "
+        f"RH={cfg.relative_humidity}, contact model {cfg.model}, material {cfg.material.name} "
         f"(E = {cfg.material.youngs_modulus / 1e9:.4g} GPa, ν = {cfg.material.poisson_ratio:g}), output {ens_dir}")
     with warnings.catch_warnings():
         if said:  # already said above in the config's words, not once more from the generator
-            warnings.simplefilter("ignore", rs.ExtrapolatedPSDWarning)
-        ds = rs.run_ensemble(
+            warnings.simplefilter("ignore", rs.surface.ExtrapolatedPSDWarning)
+        ds = rs.ensemble.run(
             psd, n=cfg.n, shape=shape, spacing=cfg.spacing, relative_humidity=cfg.relative_humidity,
             seed=cfg.seed, chunks=cfg.chunks, distance=dist, adsorbed_layer=cfg.adsorbed_layer,
             output=ens_dir, overwrite=cfg.overwrite, scheduler=cfg.scheduler,
             connect_timeout=cfg.connect_timeout, progress=cfg.progress, material=cfg.material,
             # the default model is not named: an ensemble stored before it could be keeps resuming
-            curves_kwargs={} if cfg.contact_model == "modified_dmt" else {"model": cfg.contact_model},
-            **cfg.auto,
+            model=None if cfg.model == "modified_dmt" else cfg.model,
+            **_auto_keywords(cfg.auto),
         )
     ds = ds.load()
     written = [ens_dir]
-    band = rs.confidence_band(ds)
+    band = rs.ensemble.confidence_band(ds)
     band.attrs["title"] = f"{cfg.title}: ensemble band"
     band.attrs["configuration"] = cfg.path.read_text()
-    band.attrs.update(material_attrs(cfg.material), contact_model=ds.attrs.get("contact_model", cfg.contact_model))
+    band.attrs.update(material_attrs(cfg.material), contact_model=ds.attrs.get("contact_model", cfg.model))
     path = cfg.folder / "band.nc"
     rs.io.netcdf.write(band, path, compute=True, overwrite=True)
     written.append(path)
@@ -137,7 +145,7 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
         ax.set_title(cfg.title)
         written.append(save_figure(ax.figure, cfg.folder / "energy_ecdf.png", **save))
     log("apparent adhesive energy Γ:")
-    for line in rs.band_summary(band, median_interval=True):
+    for line in rs.ensemble.band_summary(band, median_interval=True):
         log("  " + line)
     if cfg.n == "auto":
         state = "converged" if band.attrs.get("auto_converged") else (
@@ -150,7 +158,7 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
 
 def _warn_if_extrapolated(psd, shape, spacing: float, *, source: str) -> bool:
     """A measured PSD is known down to q = 2π/L of the scan it came from: generated surfaces larger
-    than that scan rest on an extrapolated low-q PSD (issue 16 item 5). Say so."""
+    than that scan rest on an extrapolated low-q PSD. Say so."""
     if source == "moments" or "qx" not in psd.dims:
         return False
     measured = [2 * np.pi / float(abs(psd[d][1] - psd[d][0])) for d in ("qy", "qx")]

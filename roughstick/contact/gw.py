@@ -47,8 +47,8 @@ from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material, hertz_modulus
 from .._core.memory import check_map_fits_in_memory
 from .._core.references import PAPER, cite
-from .._core.validate import distance_array, height_in_si
-from ..surface.moments import moments_si, roughness_moments, summit_density
+from .._core.validate import distance_array, height_in_si, moments_si
+from ..surface.moments import roughness_moments, summit_density
 from ._gw_kernels import (
     _VARS,
     _XI_BOTTOM,

@@ -1,19 +1,37 @@
 """Ensembles: Monte Carlo over generated surfaces, reduced to bands and distributions (§4.3).
 
-The third stage of the data flow: :mod:`.pipeline` (one block: surfaces → curves → summaries, and
-the lazy layout of all blocks), :mod:`.store` (streaming to a folder, resume), :mod:`.execute`
-(threads or a cluster, progress, auto-n), :mod:`.run` (:func:`run_ensemble`, the entry point) and
-:mod:`.statistics` (bands, intervals, proportions) and :mod:`.distributions` (histograms, ECDF).
+The third stage of the data flow. :func:`run` is the entry point (surfaces → curves → summaries
+for every realization, lazy or streamed to a folder that :func:`open_ensemble` reads back);
+:func:`confidence_band`, :func:`quantile_interval`, :func:`binomial_interval`, :func:`histogram`
+and :func:`ecdf` reduce a sample with its own uncertainty.
+
+Modules: :mod:`.pipeline` (one block, the lazy layout, :func:`distance_grid`), :mod:`.store`
+(the ensemble folder), :mod:`.execute` (threads or a cluster, auto-n), :mod:`.runner`
+(:func:`run`, :func:`surface_size_study`), :mod:`.statistics` and :mod:`.distributions`.
 """
 
-from . import distributions, execute, pipeline, run, statistics, store
-from .distributions import *  # noqa: F403
-from .execute import *  # noqa: F403
-from .pipeline import *  # noqa: F403
-from .run import *  # noqa: F403
-from .statistics import *  # noqa: F403
-from .store import *  # noqa: F403
+from .distributions import ecdf, histogram
+from .pipeline import distance_grid
+from .runner import run, surface_size_study
+from .statistics import (
+    band_summary,
+    binomial_interval,
+    confidence_band,
+    min_samples_to_bound,
+    quantile_interval,
+)
+from .store import open_ensemble
 
 __all__ = [
-    name for mod in (pipeline, store, execute, run, statistics, distributions) for name in mod.__all__
+    "run",
+    "surface_size_study",
+    "open_ensemble",
+    "distance_grid",
+    "confidence_band",
+    "quantile_interval",
+    "band_summary",
+    "min_samples_to_bound",
+    "binomial_interval",
+    "histogram",
+    "ecdf",
 ]

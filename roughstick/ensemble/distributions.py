@@ -1,5 +1,5 @@
-r"""Distributions of a Monte Carlo sample (Fig. 17): :func:`ensemble_histogram` (density over
-``bin``, common edges) and :func:`ensemble_ecdf` (sorted values over ``cumulative_probability``).
+r"""Distributions of a Monte Carlo sample (Fig. 17): :func:`histogram` (density over ``bin``,
+common edges) and :func:`ecdf` (sorted values over ``cumulative_probability``).
 Their uncertainty is that of :mod:`.statistics` (quantile intervals, bands)."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import xarray as xr
 from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, coord_attrs
 
-__all__ = ["ensemble_histogram", "ensemble_ecdf"]
+__all__ = ["histogram", "ecdf"]
 
 
 def _inverse_units(units: str) -> str:
@@ -35,7 +35,7 @@ def _hist_kernel(a, edges, density):
 
 
 @check_numbers(bins="count")
-def ensemble_histogram(da: xr.DataArray, *, dim: str = "realization", bins=30, range=None,
+def histogram(da: xr.DataArray, *, dim: str = "realization", bins=30, range=None,
                        density: bool = True) -> xr.DataArray:
     """Histogram along ``dim`` as a labelled DataArray (Fig. 17), one per remaining element.
 
@@ -63,7 +63,7 @@ def ensemble_histogram(da: xr.DataArray, *, dim: str = "realization", bins=30, r
     --------
     >>> x = xr.DataArray(np.array([0.1, 0.2, 0.2, 0.9]), dims="realization", name="g",
     ...                  attrs={"units": "J m-2", "long_name": "energy"})
-    >>> h = rs.ensemble_histogram(x, bins=2, range=(0, 1), density=False)
+    >>> h = rs.ensemble.histogram(x, bins=2, range=(0, 1), density=False)
     >>> h.values, h.attrs["units"]
     (array([3., 1.]), '1')
     """
@@ -109,7 +109,7 @@ def ensemble_histogram(da: xr.DataArray, *, dim: str = "realization", bins=30, r
     return out
 
 
-def ensemble_ecdf(da: xr.DataArray, *, dim: str = "realization") -> xr.DataArray:
+def ecdf(da: xr.DataArray, *, dim: str = "realization") -> xr.DataArray:
     r"""Empirical CDF along ``dim`` (Fig. 17): sorted values over ``cumulative_probability``.
 
     Value ``k`` (0-based) of the result is the :math:`(k+1)`-th smallest sample, where the ECDF
@@ -119,7 +119,7 @@ def ensemble_ecdf(da: xr.DataArray, *, dim: str = "realization") -> xr.DataArray
     --------
     >>> x = xr.DataArray([3.0, 1.0, 2.0], dims="realization", name="g",
     ...                  attrs={"units": "J m-2", "long_name": "energy"})
-    >>> e = rs.ensemble_ecdf(x)
+    >>> e = rs.ensemble.ecdf(x)
     >>> e.values, e.cumulative_probability.values
     (array([1., 2., 3.]), array([0.33333333, 0.66666667, 1.        ]))
     """

@@ -7,7 +7,6 @@ depend on the scheduler or the number of workers.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import logging
 import time
@@ -30,29 +29,9 @@ from .store import (
     write_block,
 )
 
-__all__ = ["progress_bar"]
+__all__: list[str] = []
 
 _LOG = logging.getLogger("roughstick")
-
-
-def progress_bar(progress: bool | None = None, **kwargs):
-    """A dask callback showing a tqdm progress bar (terminal or Jupyter), or a no-op.
-
-    ``progress=None`` shows it only when interactive: stderr is a terminal or the code runs in a
-    Jupyter kernel, and the ``CI`` environment variable is not set.
-
-    Examples
-    --------
-    >>> with rs.progress_bar(False):
-    ...     pass
-    """
-    if progress is None:
-        progress = interactive()
-    if not progress:
-        return contextlib.nullcontext()
-    from tqdm.dask import TqdmCallback
-
-    return TqdmCallback(tqdm_class=tqdm_class(), **kwargs)
 
 
 class LogProgress:
@@ -159,8 +138,10 @@ def _band_change(old: xr.Dataset, new: xr.Dataset, variables) -> dict:
     return out
 
 
-def auto_ensemble(spec, *, batch, tolerance, n_max, patience, level, folder, stream_kw, scheduler,
-          connect_timeout, progress, attrs):
+def auto_ensemble(spec, *, batch, target_precision, n_max, patience, confidence, folder, stream_kw,
+                  scheduler, connect_timeout, progress, attrs):
+    """``n="auto"``: add batches of ``batch`` realizations until the ``confidence`` band of Γ and of
+    the pressure curve moves by less than ``target_precision`` for ``patience`` batches."""
     variables = ("adhesive_energy", "pressure")
     parts = []
     n = 0
@@ -193,12 +174,13 @@ def auto_ensemble(spec, *, batch, tolerance, n_max, patience, level, folder, str
                 ds = xr.concat(parts, "realization", data_vars="minimal", coords="minimal",
                                compat="override")
             n = n_next
-            band = confidence_band(ds[[v for v in variables if v in ds]], level=level, uncertainty=None)
+            band = confidence_band(ds[[v for v in variables if v in ds]], confidence=confidence,
+                                   uncertainty=None)
             if prev is not None:
                 ch = _band_change(prev, band, [v for v in variables if v in band])
                 worst = max(ch.values()) if ch else 0.0
                 history.append((n, worst))
-                stable = stable + 1 if worst < tolerance else 0
+                stable = stable + 1 if worst < target_precision else 0
                 if stable >= patience:
                     break
             prev = band
@@ -213,9 +195,9 @@ def auto_ensemble(spec, *, batch, tolerance, n_max, patience, level, folder, str
         n_final=int(n),
         auto_converged=int(converged),
         auto_stopping_rule=(
-            f"add batches of {batch} realizations until the {level:.0%} band (quantiles "
-            f"{(1 - level) / 2:g}, {(1 + level) / 2:g}) of {', '.join(variables)} moves by less than "
-            f"{tolerance:g} (relative; pressure relative to its largest magnitude per rh) for "
+            f"add batches of {batch} realizations until the {confidence:.0%} band (quantiles "
+            f"{(1 - confidence) / 2:g}, {(1 + confidence) / 2:g}) of {', '.join(variables)} moves by "
+            f"less than {target_precision:g} (relative; pressure relative to its largest magnitude per rh) for "
             f"{patience} consecutive batch(es), at most {n_max} realizations"
         ),
         auto_band_changes=json.dumps([[int(k), float(c)] for k, c in history]),

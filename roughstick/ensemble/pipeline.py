@@ -7,7 +7,7 @@ distance grid, the root seed, the chunking and the three stage functions). One b
 same numbers whatever the chunking, the scheduler or the number of workers, and a recomputed
 block is bit-identical. :func:`lazy_ensemble` lays the blocks out as one dask-backed Dataset with
 ``xarray.map_blocks``. Executing blocks (threads, a cluster, streaming, auto-n) is
-:mod:`.execute`; the entry point is :func:`roughstick.run_ensemble` (:mod:`.run`).
+:mod:`.execute`; the entry point is :func:`roughstick.ensemble.run` (:mod:`.run`).
 """
 
 from __future__ import annotations
@@ -25,10 +25,11 @@ import numpy as np
 import xarray as xr
 from scipy.stats import norm
 
+from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, dataset_attrs
 from .._core.references import PAPER, cite
-from .._core.validate import as_length, relative_humidity_array
+from .._core.validate import relative_humidity_array
 from .._core.version import __version__
 from ..contact.adhesion import adhesion_summary, equilibrium_crossings
 from ..contact.curves import rough_contact_curves
@@ -37,7 +38,7 @@ from ..surface.generate import extrapolation_said_once
 from ..surface.moments import psd_moments
 from ..testing import make_topography
 
-__all__ = ["ensemble_distance_grid", "surface_shape"]
+__all__ = ["distance_grid"]
 
 REFERENCES = cite((PAPER, "sections 4.2-4.3, Eqs. 13, 16-23, 33-34"))
 _CURVE_DIMS = ("realization", "rh", "distance")
@@ -46,12 +47,12 @@ _CURVE_DIMS = ("realization", "rh", "distance")
 # ============================================================================ helpers
 def _psd_m0(psd: xr.DataArray) -> float:
     """Height variance m0 [m2] of a 2-D ``(qy, qx)`` or isotropic ``(q)`` PSD, averaged over any
-    leading dims, by :func:`roughstick.psd_moments` (the PSD is small: read eagerly on purpose)."""
+    leading dims, by :func:`roughstick.surface.psd_moments` (the PSD is small: read eagerly on purpose)."""
     if ("qx" in psd.dims and "qy" in psd.dims) or "q" in psd.dims:
         return float(psd_moments(psd).m0.mean())
     raise ValueError(
         f"psd must have dims ('qy', 'qx') or ('q',); got {psd.dims}. Build one with "
-        "roughstick.power_spectrum / average_psd or roughstick.fit_self_affine."
+        "roughstick.surface.power_spectrum / average_psd or roughstick.surface.fit_self_affine."
     )
 
 
@@ -59,44 +60,10 @@ def _water_heights(rh: np.ndarray, adsorbed_layer) -> np.ndarray:
     return np.asarray(water_height(rh, adsorbed_layer=adsorbed_layer).values, float)
 
 
-def surface_shape(*, shape=None, size=None, spacing: float) -> tuple[int, int]:
-    """Pixels ``(ny, nx)`` of the surfaces from ``shape`` (pixels) or ``size`` (m) and ``spacing``.
-
-    Exactly one of ``shape`` and ``size`` (each a number or a ``(y, x)`` pair; a size and the
-    spacing in m or with their unit, ``"1.28 um"``); a size must be a whole number of pixels; both
-    sides at least 4 pixels.
-
-    Examples
-    --------
-    >>> rs.surface_shape(size=(1.28e-6, 2.56e-6), spacing=5e-9)
-    (256, 512)
-    """
-    if (shape is None) == (size is None):
-        raise ValueError("give exactly one of shape=(ny, nx) (pixels) or size=(Ly, Lx) (m).")
-    spacing = as_length(spacing, name="spacing")
-    if shape is not None:
-        shp = (int(shape), int(shape)) if np.ndim(shape) == 0 else tuple(int(s) for s in shape)
-        if np.ndim(shape) == 0 and int(shape) != shape or any(
-            s != o for s, o in zip(shp, np.atleast_1d(shape), strict=False)
-        ):
-            raise ValueError(f"shape must be integers, got {shape!r}.")
-    else:
-        sz = tuple(as_length(s, name="size") for s in ((size, size) if np.ndim(size) == 0 else size))
-        shp = tuple(int(round(s / spacing)) for s in sz)
-        for s, n in zip(sz, shp, strict=True):
-            if n < 1 or not math.isclose(n * spacing, s, rel_tol=1e-6):
-                raise ValueError(
-                    f"size {s!r} m is not a whole number of pixels of spacing {spacing!r} m; "
-                    f"use size={n * spacing!r} or give shape= instead."
-                )
-    if len(shp) != 2 or min(shp) < 4:
-        raise ValueError(f"surface shape must be two integers >= 4, got {shp}.")
-    return shp
-
-
-@check_numbers(n="count", m0="positive?", num="count?", lower="finite", exceedance="fraction",
+@renamed_keywords(num="n_distance")
+@check_numbers(n="count", m0="positive?", n_distance="count?", lower="finite", exceedance="fraction",
                points_per_water_height="positive")
-def ensemble_distance_grid(
+def distance_grid(
     psd=None,
     *,
     shape,
@@ -104,7 +71,7 @@ def ensemble_distance_grid(
     relative_humidity,
     adsorbed_layer="paper",
     m0: float | None = None,
-    num: int | None = None,
+    n_distance: int | None = None,
     lower: float = 1.5,
     exceedance: float = 1e-6,
     points_per_water_height: float = 10.0,
@@ -119,9 +86,8 @@ def ensemble_distance_grid(
     (2.6 to 6.2 :math:`\sqrt{m_0}`, §4.3.2). The grid is uniform; by default its step is the
     smallest water height divided by ``points_per_water_height`` (the attractive part of a curve at
     low RH is about one water height wide), with 100 to 2000 points. Γ (Eq. 13) converges as the
-    step shrinks (tested against a 4x finer grid). :func:`run_ensemble` checks both ends for every
-    realization and raises if a surface pokes above the top or a curve is still attractive at the
-    bottom.
+    step shrinks. :func:`run` extends the grid of a realization whose highest point pokes above
+    the top, or whose curve is still attractive at the bottom.
 
     Parameters
     ----------
@@ -137,14 +103,15 @@ def ensemble_distance_grid(
         Adsorbed-layer model (:func:`roughstick.water_height`).
     m0 : float, optional
         Height variance [m2], instead of ``psd``.
-    num : int, optional
+    n_distance : int, optional
         Number of grid points (overrides ``points_per_water_height``).
     lower : float, default 1.5
         Bottom of the grid in units of :math:`\sqrt{m_0}`.
     exceedance : float, default 1e-6
         Probability that some pixel of the ensemble exceeds the grid's top.
     points_per_water_height : float, default 10
-        Grid points per smallest water height :math:`h_{water}` of the run (when ``num`` is None).
+        Grid points per smallest water height :math:`h_{water}` of the run (when ``n_distance``
+        is None).
 
     Returns
     -------
@@ -153,18 +120,18 @@ def ensemble_distance_grid(
 
     Examples
     --------
-    >>> d = rs.ensemble_distance_grid(m0=16e-18, shape=(64, 64), n=10, relative_humidity=[0.5])
+    >>> d = rs.ensemble.distance_grid(m0=16e-18, shape=(64, 64), n=10, relative_humidity=[0.5])
     >>> d.sizes["distance"], round(float(d[0]) * 1e9, 2), round(float(d[-1]) * 1e9, 2)
     (144, 6.0, 27.83)
     """
     if m0 is None:
         if psd is None:
-            raise ValueError("give psd= or m0= to ensemble_distance_grid.")
+            raise ValueError("give psd= or m0= to distance_grid.")
         m0 = _psd_m0(psd)
     if not (m0 > 0 and np.isfinite(m0)):
         raise ValueError(f"height variance m0 must be positive and finite, got {m0!r}.")
-    if num is not None and int(num) < 2:
-        raise ValueError(f"num must be >= 2, got {num!r}.")
+    if n_distance is not None and int(n_distance) < 2:
+        raise ValueError(f"n_distance must be >= 2, got {n_distance!r}.")
     rh = relative_humidity_array(relative_humidity)
     sigma = math.sqrt(m0)
     npix = int(np.prod(shape)) * max(int(n), 1)
@@ -174,10 +141,10 @@ def ensemble_distance_grid(
     d_min = lower * sigma
     if d_min >= d_max:
         raise ValueError(f"lower={lower} sqrt(m0) is above the grid's top; use a smaller lower.")
-    if num is None:
+    if n_distance is None:
         step = float(np.min(hw)) / float(points_per_water_height)
-        num = int(np.clip(math.ceil((d_max - d_min) / step) + 1, 100, 2000))
-    d = np.linspace(d_min, d_max, int(num))
+        n_distance = int(np.clip(math.ceil((d_max - d_min) / step) + 1, 100, 2000))
+    d = np.linspace(d_min, d_max, int(n_distance))
     return xr.DataArray(
         d, dims="distance", coords={"distance": d}, name="distance", attrs=dict(ATTRS["distance"])
     ).pipe(lambda a: a.assign_coords(distance=a.distance.assign_attrs(ATTRS["distance"])))
@@ -271,7 +238,7 @@ def _surfaces(spec: Spec, start: int, stop: int) -> xr.DataArray:
     except (TypeError, ValueError):  # pragma: no cover
         params = {}
     kw = dict(spec.generate_kwargs)
-    with extrapolation_said_once():  # said by run_ensemble before the graph, not once per block
+    with extrapolation_said_once():  # said by run() before the graph, not once per block
         h = _generate(gen, params, spec, start, stop, kw)
     if h.chunks is not None:
         h = h.compute(scheduler="sync")

@@ -1,80 +1,35 @@
 r"""Reductions of a Monte Carlo sample with their own uncertainty (Figs. 14-17, §5).
 
 :func:`confidence_band` (mean and a quantile band over realizations, with each quantile's
-sampling interval from :func:`quantile_interval`), :func:`median_interval`, and
-:func:`binomial_interval` (the uncertainty of a probability
-estimated as a fraction of the sample, e.g. the stiction probability). The distribution-free
-interval of a quantile has ONE implementation, :func:`order_statistic_ranks` (the binomial
-quantiles of scipy.stats), used here and by :func:`roughstick.crossing_length`.
+sampling interval from :func:`quantile_interval`) and :func:`binomial_interval` (the uncertainty
+of a probability estimated as a fraction of the sample, e.g. the stiction probability). The
+distribution-free interval of a quantile has one implementation,
+:func:`roughstick._core.intervals.order_statistic_ranks`.
 """
 
 from __future__ import annotations
 
+import functools
 import warnings
 
 import numpy as np
 import xarray as xr
 from scipy import special, stats
 
+from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, append_history, coord_attrs
 from .._core.dask import as_seed_sequence
+from .._core.intervals import interval_method, order_statistic_ranks
 from .._core.validate import as_fraction
 
 __all__ = [
     "confidence_band",
     "quantile_interval",
-    "order_statistic_ranks",
     "min_samples_to_bound",
     "band_summary",
     "binomial_interval",
-    "interval_method",
-    "median_interval",
 ]
-
-
-def order_statistic_ranks(n: int, p: float, *, confidence: float) -> tuple[int, int]:
-    r"""1-based ranks :math:`(r, s)` of the order statistics that bracket the ``p``-quantile.
-
-    :math:`P(X_{(r)} \le \xi_p \le X_{(s)}) = F_B(s-1) - F_B(r-1) \ge` ``confidence`` with
-    :math:`F_B` the Binomial(n, p) CDF (Conover, *Practical Nonparametric Statistics*, §3.2),
-    the two tails split equally. ``r < 1`` or ``s > n`` means that ``n`` samples cannot bound
-    that side of the quantile.
-
-    Examples
-    --------
-    >>> rs.order_statistic_ranks(100, 0.5, confidence=0.95)
-    (40, 61)
-    """
-    a = (1.0 - confidence) / 2.0
-    r = int(stats.binom.ppf(a, n, p))  # P(B <= r - 1) <= a  -> rank r
-    s = int(stats.binom.ppf(1.0 - a, n, p)) + 1
-    return r, s
-
-
-@check_numbers(confidence="fraction")
-def median_interval(values, *, confidence: float = 0.95) -> tuple[float, float, float]:
-    r"""Median of a few numbers and its distribution-free confidence interval.
-
-    :math:`[X_{(r)}, X_{(s)}]` of :func:`order_statistic_ranks` at :math:`p = 1/2`; a side that
-    ``n`` finite values cannot bound at ``confidence`` is NaN (n <= 5 at 95 %: both sides).
-    Used where a result carries the median of a small check (the BEM re-checks of rare-event
-    failure states and of a patch bank's tail).
-
-    Examples
-    --------
-    >>> rs.median_interval([0.8, 0.9, 1.0, 1.1, 0.95, 0.85, 1.05, 0.99])
-    (0.97, 0.8, 1.1)
-    >>> rs.median_interval([1.0, 2.0, 3.0])[1:]
-    (nan, nan)
-    """
-    x = np.sort(np.asarray(values, dtype=float).ravel())
-    x = x[np.isfinite(x)]
-    if x.size == 0:
-        return np.nan, np.nan, np.nan
-    r, s = order_statistic_ranks(x.size, 0.5, confidence=confidence)
-    return (float(np.median(x)), float(x[r - 1]) if r >= 1 else np.nan,
-            float(x[s - 1]) if s <= x.size else np.nan)
 
 
 def _labelled(obj, func: str, *, dataset: bool = True) -> None:
@@ -96,7 +51,7 @@ def min_samples_to_bound(p: float, *, confidence: float) -> int:
 
     Examples
     --------
-    >>> rs.min_samples_to_bound(0.025, confidence=0.95), rs.min_samples_to_bound(0.5, confidence=0.95)
+    >>> rs.ensemble.min_samples_to_bound(0.025, confidence=0.95), rs.ensemble.min_samples_to_bound(0.5, confidence=0.95)
     (146, 6)
     """
     as_fraction(p, name="p", label="p", spell_percent=False)
@@ -145,7 +100,8 @@ def _bootstrap_kernel(a, probs, alpha, n_boot, entropy):
     return lo, hi
 
 
-@check_numbers(confidence="fraction", n_bootstrap="count", rng="seed")
+@renamed_keywords(rng="seed")
+@check_numbers(confidence="fraction", n_bootstrap="count", seed="seed")
 def quantile_interval(
     da: xr.DataArray,
     quantiles,
@@ -154,7 +110,7 @@ def quantile_interval(
     confidence: float = 0.95,
     method: str = "order_statistic",
     n_bootstrap: int = 500,
-    rng=0,
+    seed=0,
 ) -> tuple[xr.DataArray, xr.DataArray]:
     r"""Confidence interval of sample quantiles: how well ``n`` realizations pin a band down.
 
@@ -163,7 +119,7 @@ def quantile_interval(
     :math:`F_B` the Binomial(n, p) CDF (Conover, *Practical Nonparametric Statistics*, §3.2);
     NaN on a side that n samples cannot bound (below :func:`min_samples_to_bound`; the
     attribute ``comment`` says so). ``"bootstrap"`` gives the
-    percentile bootstrap interval from ``n_bootstrap`` resamples drawn with ``rng`` (the same
+    percentile bootstrap interval from ``n_bootstrap`` resamples drawn with ``seed`` (the same
     resamples for every element, so chunking does not change it).
 
     Parameters
@@ -178,7 +134,7 @@ def quantile_interval(
         Coverage of the interval.
     method : {"order_statistic", "bootstrap"}
     n_bootstrap : int
-    rng : int or numpy.random.SeedSequence
+    seed : int or numpy.random.SeedSequence
         Seed of the bootstrap resamples.
 
     Returns
@@ -189,7 +145,7 @@ def quantile_interval(
     Examples
     --------
     >>> x = xr.DataArray(np.arange(100.0), dims="realization")
-    >>> lo, hi = rs.quantile_interval(x, [0.5])
+    >>> lo, hi = rs.ensemble.quantile_interval(x, [0.5])
     >>> float(lo[0]), float(hi[0])
     (39.0, 60.0)
     """
@@ -208,7 +164,7 @@ def quantile_interval(
     elif method == "bootstrap":
         func = _bootstrap_kernel
         kw = {"probs": probs, "alpha": alpha, "n_boot": int(n_bootstrap),
-              "entropy": as_seed_sequence(rng).entropy}
+              "entropy": as_seed_sequence(seed).entropy}
     else:
         raise ValueError(f"method must be 'order_statistic' or 'bootstrap', got {method!r}.")
     lo, hi = xr.apply_ufunc(
@@ -238,24 +194,55 @@ def quantile_interval(
     return out[0], out[1]
 
 
-@check_numbers(level="fraction", confidence="fraction", n_bootstrap="count", rng="seed")
+def _old_band_keywords(func):
+    """``confidence_band``'s keywords before the glossary: ``level`` (the band's) is now
+    ``confidence`` and, given with it, the old ``confidence`` (the quantiles' intervals) is
+    ``ci_confidence``; ``rng`` is ``seed``. A DeprecationWarning says so."""
+
+    @functools.wraps(func)
+    def wrapper(*args, **kwargs):
+        if "level" in kwargs:
+            if "confidence" in kwargs:
+                if "ci_confidence" in kwargs:
+                    raise TypeError("confidence_band() got level=, confidence= and ci_confidence=; "
+                                    "pass confidence= (the band) and ci_confidence= only")
+                kwargs["ci_confidence"] = kwargs.pop("confidence")
+            kwargs["confidence"] = kwargs.pop("level")
+            warnings.warn("confidence_band(level=...) is now confidence_band(confidence=...) (and its "
+                          "old confidence= is ci_confidence=); the old keywords will be removed",
+                          DeprecationWarning, stacklevel=2)
+        if "rng" in kwargs:
+            if "seed" in kwargs:
+                raise TypeError("confidence_band() got both rng= (the old name) and seed=; pass seed= only")
+            kwargs["seed"] = kwargs.pop("rng")
+            warnings.warn("confidence_band(rng=...) is now confidence_band(seed=...); the old keyword "
+                          "will be removed", DeprecationWarning, stacklevel=2)
+        return func(*args, **kwargs)
+
+    wrapper.__renamed_keywords__ = {"level": "confidence", "rng": "seed"}
+    return wrapper
+
+
+@_old_band_keywords
+@check_numbers(confidence="fraction", ci_confidence="fraction", n_bootstrap="count", seed="seed")
 def confidence_band(
     ds,
     dim: str = "realization",
-    level: float = 0.95,
+    confidence: float = 0.95,
     *,
     uncertainty: str | None = "order_statistic",
-    confidence: float = 0.95,
+    ci_confidence: float = 0.95,
     n_bootstrap: int = 500,
-    rng=0,
+    seed=0,
 ):
-    r"""Mean and ``level`` band over realizations, with the band's sampling uncertainty (Figs. 14-16).
+    r"""Mean and ``confidence`` band over realizations, with the band's sampling uncertainty
+    (Figs. 14-16).
 
-    For every data variable with ``dim``: the quantiles :math:`(1-\ell)/2`, 0.5 and
-    :math:`(1+\ell)/2` along ``dim`` (variable ``v``, new leading dim ``quantile``), the mean
-    (``v_mean``) and its standard error (``v_mean_stderr``), and unless ``uncertainty=None`` a
-    ``confidence`` interval of each quantile (``v_ci_lower``, ``v_ci_upper``, see
-    :func:`quantile_interval`): if that interval is narrow compared with the band, n was enough.
+    For every data variable with ``dim``: the quantiles :math:`(1-c)/2`, 0.5 and :math:`(1+c)/2`
+    along ``dim`` (variable ``v``, new leading dim ``quantile``), the mean (``v_mean``) and its
+    standard error (``v_mean_stderr``), and unless ``uncertainty=None`` a ``ci_confidence``
+    interval of each quantile (``v_ci_lower``, ``v_ci_upper``, see :func:`quantile_interval`): if
+    that interval is narrow compared with the band, n was enough.
     ``dim`` is rechunked to a single chunk first, so the result does not depend on the chunking;
     lazy inputs stay lazy.
 
@@ -266,23 +253,23 @@ def confidence_band(
     Parameters
     ----------
     ds : xarray.Dataset or xarray.DataArray
-        Ensemble, e.g. from :func:`run_ensemble`.
+        Ensemble, e.g. from :func:`run`.
     dim : str, default "realization"
-    level : float, default 0.95
+    confidence : float, default 0.95
         Central probability of the band.
     uncertainty : {"order_statistic", "bootstrap", None}
         How to compute the quantiles' sampling intervals.
-    confidence : float, default 0.95
+    ci_confidence : float, default 0.95
         Coverage of those intervals.
-    n_bootstrap, rng
+    n_bootstrap, seed
         For ``uncertainty="bootstrap"``.
 
     Returns
     -------
     xarray.Dataset
         Per variable ``v``: ``v``, ``v_mean``, ``v_mean_stderr``, ``v_n_samples`` (valid members
-        used at each point) and ``v_ci_lower``/``v_ci_upper``. Attrs ``level``, ``confidence``,
-        ``n_members`` (the size of ``dim``) and, for an in-memory input, ``n_samples``: the
+        used at each point) and ``v_ci_lower``/``v_ci_upper``. Attrs ``level`` (the band's
+        ``confidence``), ``confidence`` (``ci_confidence``), ``n_members`` (the size of ``dim``) and, for an in-memory input, ``n_samples``: the
         fewest valid (non-NaN) members used at any point of any variable, which is ``n_members``
         when no member is NaN. A lazy input would have to be computed to know it, so its band has
         no ``n_samples`` attr (read ``v_n_samples``). ``band_edges_bounded`` compares
@@ -293,11 +280,11 @@ def confidence_band(
     --------
     >>> x = xr.DataArray(np.arange(1000.0), dims="realization", name="g",
     ...                  attrs={"units": "J m-2", "long_name": "energy"})
-    >>> b = rs.confidence_band(x)
+    >>> b = rs.ensemble.confidence_band(x)
     >>> b["g"].values, float(b["g_mean"])
     (array([ 24.975, 499.5  , 974.025]), 499.5)
     """
-    as_fraction(level, name="level", label="level", spell_percent=False)
+    as_fraction(confidence, name="confidence", label="confidence", spell_percent=False)
     _labelled(ds, "confidence_band")
     if isinstance(ds, xr.DataArray):
         name = ds.name or "data"
@@ -307,7 +294,7 @@ def confidence_band(
     n = ds.sizes[dim]
     if n < 1:
         raise ValueError(f"dimension {dim!r} is empty: no realizations to reduce.")
-    probs = np.round([(1 - level) / 2, 0.5, (1 + level) / 2], 12)  # exact labels for .sel
+    probs = np.round([(1 - confidence) / 2, 0.5, (1 + confidence) / 2], 12)  # exact labels for .sel
     out = {}
     lazy = False
     for v, da in ds.data_vars.items():
@@ -336,8 +323,8 @@ def confidence_band(
         out[f"{v}_n_samples"] = count.drop_vars(dim, errors="ignore")
         lazy = lazy or da.chunks is not None
         if uncertainty is not None:
-            lo, hi = quantile_interval(da.rename(v), probs, dim=dim, confidence=confidence,
-                                       method=uncertainty, n_bootstrap=n_bootstrap, rng=rng)
+            lo, hi = quantile_interval(da.rename(v), probs, dim=dim, confidence=ci_confidence,
+                                       method=uncertainty, n_bootstrap=n_bootstrap, seed=seed)
             out[f"{v}_ci_lower"], out[f"{v}_ci_upper"] = lo, hi
     res = xr.Dataset(out)
     res["quantile"] = ("quantile", probs, dict(ATTRS["quantile"]))
@@ -348,7 +335,8 @@ def confidence_band(
     res.attrs = {k: v for k, v in ds.attrs.items()
                  if isinstance(v, (str, int, float, np.integer, np.floating)) and k != "incomplete"}
     res.attrs.pop("n_samples", None)  # a count of the input is not a count of this band
-    res.attrs.update(level=level, confidence=confidence, n_members=int(n),
+    # the file's attribute names: level (the band) and confidence (its quantiles' intervals)
+    res.attrs.update(level=confidence, confidence=ci_confidence, n_members=int(n),
                      uncertainty_method=str(uncertainty))
     used = n
     if not lazy:
@@ -359,10 +347,10 @@ def confidence_band(
     if "incomplete" in ds.attrs:
         res.attrs["incomplete"] = str(ds.attrs["incomplete"])
     if uncertainty == "order_statistic":
-        need = min_samples_to_bound(float(probs[0]), confidence=confidence)
+        need = min_samples_to_bound(float(probs[0]), confidence=ci_confidence)
         res.attrs["n_samples_to_bound_band_edges"] = int(need)
         res.attrs["band_edges_bounded"] = int(used >= need)
-    return append_history(res, f"confidence_band(level={level}, dim={dim!r}, n={n})")
+    return append_history(res, f"confidence_band(confidence={confidence}, dim={dim!r}, n={n})")
 
 
 def _fmt(v: float, fmt: str) -> str:
@@ -391,7 +379,7 @@ def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: 
     --------
     >>> x = xr.DataArray(np.arange(20.0)[:, None] * [1.0, 2.0], dims=("realization", "rh"),
     ...                  coords={"rh": [0.5, 0.9]}, name="g", attrs={"units": "J m-2", "long_name": "g"})
-    >>> for line in rs.band_summary(rs.confidence_band(x), "g", scale=1, units="J/m²"):
+    >>> for line in rs.ensemble.band_summary(rs.ensemble.confidence_band(x), "g", scale=1, units="J/m²"):
     ...     print(line)
     RH 50%: median 9.5 J/m², 95% band [0.475, 18.52] from n = 20; 95% CI of the edges: not bounded [1]
     RH 90%: median 19 J/m², 95% band [0.95, 37.05] from n = 20; 95% CI of the edges: not bounded [1]
@@ -470,19 +458,6 @@ def _interval_kernel(k, n, confidence, method):
     hi = np.where(bad, np.nan, hi)
     return np.stack([lo, hi], axis=-1)
 
-_METHODS = {"wilson": "wilson", "clopper-pearson": "clopper-pearson", "exact": "clopper-pearson"}
-
-
-def interval_method(method: str, *, confidence: float) -> str:
-    """Check a binomial interval request: ``confidence`` in (0, 1) and ``method`` known; return the
-    canonical method name (``"exact"`` is ``"clopper-pearson"``)."""
-    if not (isinstance(confidence, float | int) and 0 < confidence < 1):
-        raise ValueError(f"confidence must lie strictly between 0 and 1 (e.g. 0.95), got {confidence!r}.")
-    if method not in _METHODS:
-        raise ValueError(f"interval must be 'wilson' or 'clopper-pearson' (alias 'exact'), got {method!r}.")
-    return _METHODS[method]
-
-
 @check_numbers(confidence="fraction")
 def binomial_interval(successes, trials, *, confidence: float = 0.95, method: str = "wilson"):
     r"""Confidence interval of a proportion estimated from ``successes`` out of ``trials``.
@@ -520,7 +495,7 @@ def binomial_interval(successes, trials, *, confidence: float = 0.95, method: st
 
     Examples
     --------
-    >>> lo, hi = rs.binomial_interval(3, 20)
+    >>> lo, hi = rs.ensemble.binomial_interval(3, 20)
     >>> round(float(lo), 4), round(float(hi), 4)
     (0.0524, 0.3604)
     """

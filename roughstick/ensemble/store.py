@@ -1,6 +1,6 @@
 """Streamed ensembles: one CF NetCDF file per block, a manifest, resume after an interruption.
 
-An ensemble folder (written by :func:`roughstick.run_ensemble` with ``output=``) holds
+An ensemble folder (written by :func:`roughstick.ensemble.run` with ``output=``) holds
 
 ``manifest.json``
     the run's parameters, their hash, the block layout and the blocks completed so far;
@@ -104,7 +104,7 @@ def open_ensemble(folder, *, chunks=None, allow_incomplete: bool = False) -> xr.
     Parameters
     ----------
     folder : str or pathlib.Path
-        Folder written by :func:`roughstick.run_ensemble` with ``output=folder``.
+        Folder written by :func:`roughstick.ensemble.run` with ``output=folder``.
     chunks : dict, optional
         Passed to :func:`xarray.open_dataset` for each block (``{}`` gives one dask chunk per block).
     allow_incomplete : bool, default False
@@ -128,7 +128,7 @@ def open_ensemble(folder, *, chunks=None, allow_incomplete: bool = False) -> xr.
     if m is None:
         raise FileNotFoundError(
             f"{str(folder)!r} holds no {MANIFEST}: it is not an ensemble folder written by "
-            "roughstick.run_ensemble(output=...) or `roughstick run`."
+            "roughstick.ensemble.run(output=...) or `roughstick run`."
         )
     n_r = len(m["realization_chunks"])
     n_h = len(m["rh_chunks"])
@@ -151,7 +151,7 @@ def open_ensemble(folder, *, chunks=None, allow_incomplete: bool = False) -> xr.
         raise ValueError(
             f"ensemble in {str(folder)!r} is incomplete: {len(missing)} block(s) missing "
             f"(e.g. {missing[0]}). Resume it by running the same command or call again "
-            "(run_ensemble(..., output=folder) / `roughstick run CONFIG`), or pass allow_incomplete=True."
+            "(roughstick.ensemble.run(..., output=folder) / `roughstick run CONFIG`), or pass allow_incomplete=True."
         )
     if not rows:
         raise ValueError(f"ensemble in {str(folder)!r} has no completed realization chunk yet.")
@@ -243,7 +243,7 @@ def write_block(folder: pathlib.Path, spec: Spec, manifest: dict, attrs: dict, i
     ds = ds.copy()
     ds.attrs = {**attrs, "roughstick_params_hash": spec.token, "roughstick_block_realization": i,
                 "roughstick_block_rh": j, "roughstick_block_complete": 1}
-    append_history(ds, f"run_ensemble block {i} (realizations), {j} (humidities) of run "
+    append_history(ds, f"ensemble.run block {i} (realizations), {j} (humidities) of run "
                        f"{spec.token}")
     name = block_name(i, j)
     write(ds, folder / name, compute=True, overwrite=True)

@@ -95,7 +95,7 @@ def _length(value, name: str) -> float:
 
 _LINE_SCAN = ("roughstick's contact, ensemble and generation analyses need a 2-D height map; "
               "for a line scan's PSD and moments read it with read_afm(path, line_scan=True) and "
-              "use roughstick.profile_psd / profile_moments (CLI: roughstick psd reads line scans).")
+              "use roughstick.surface.profile_psd / profile_moments (CLI: roughstick psd reads line scans).")
 
 
 def _line_scan_shape(shape) -> bool:
@@ -125,7 +125,7 @@ def _grid(values, dx, dy, *, units, source, periodic=0, line_scan=False):
         raise ValueError(f"{source} has fewer than 2 points (shape {z.shape}).")
     if np.isinf(z).any():
         raise ValueError(f"{source} has {int(np.isinf(z).sum())} infinite pixel(s); mark missing "
-                         "pixels as NaN (roughstick.level(..., nan='fill') handles them).")
+                         "pixels as NaN (roughstick.surface.level(..., nan='fill') handles them).")
     finite = z[np.isfinite(z)]
     if finite.size == 0:
         raise ValueError(f"{source} has no finite pixel (all NaN).")
@@ -387,8 +387,8 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
     line_scan : bool
         Accept a line scan (a 1-D profile: a 1-D array, one row or one column of numbers, a
         1-D NetCDF variable, a vendor line-scan channel) and return it as ``height`` over
-        ``("x",)`` with attr ``line_scan = 1``, for :func:`roughstick.profile_psd` and
-        :func:`roughstick.profile_moments`. Default ``False``: a line scan is refused, since
+        ``("x",)`` with attr ``line_scan = 1``, for :func:`roughstick.surface.profile_psd` and
+        :func:`roughstick.surface.profile_moments`. Default ``False``: a line scan is refused, since
         contact, ensembles and generation need a 2-D map. 2-D maps are read either way.
 
     Returns
@@ -396,7 +396,7 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
     xarray.DataArray
         ``height`` [m] over ``(y, x)``, pixel-centre coords in m, attrs ``periodic`` (0: measured),
         ``source`` (the file), ``channel``, the instrument metadata SurfaceTopography reports
-        (``instrument_name``, ``instrument_vendor``, ``acquisition_time`` ...) and ``history``. Not levelled: use :func:`roughstick.level`.
+        (``instrument_name``, ``instrument_vendor``, ``acquisition_time`` ...) and ``history``. Not levelled: use :func:`roughstick.surface.level`.
 
     Raises
     ------
@@ -412,7 +412,7 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
     >>> import tempfile, pathlib
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "map.npy"
     >>> np.save(p, np.arange(80.0).reshape(8, 10))
-    >>> h = rs.read_afm(p, spacing="5 nm", units="nm")
+    >>> h = rs.io.read_afm(p, spacing="5 nm", units="nm")
     >>> h.dims, h.sizes["x"], float(h.x[1] - h.x[0])
     (('y', 'x'), 10, 5e-09)
     """

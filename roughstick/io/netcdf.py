@@ -257,7 +257,7 @@ def write(ds: xr.Dataset, path, *, compute: bool = True, overwrite: bool = False
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "a.nc"
     >>> rs.io.netcdf.write(ds, p, compute=True).name
     'a.nc'
-    >>> float(rs.open_dataset(p)["a"].sum())
+    >>> float(rs.io.open_dataset(p)["a"].sum())
     3.0
     """
 
@@ -289,8 +289,8 @@ def open_dataset(path, *, chunks=None) -> xr.Dataset:
     Parameters
     ----------
     path : str or pathlib.Path
-        A ``.nc`` file. An ensemble folder (``run_ensemble(output=...)``) is opened with
-        :func:`roughstick.open_ensemble`.
+        A ``.nc`` file. An ensemble folder (``roughstick.ensemble.run(output=...)``) is opened with
+        :func:`roughstick.ensemble.open_ensemble`.
     chunks : dict, optional
         Passed to :func:`xarray.open_dataset` to get lazy dask arrays.
 
@@ -308,8 +308,8 @@ def open_dataset(path, *, chunks=None) -> xr.Dataset:
     path = pathlib.Path(path)
     if path.is_dir():
         raise ValueError(
-            f"{str(path)!r} is a folder; an ensemble folder written by run_ensemble(output=...) "
-            "opens with roughstick.open_ensemble(path)."
+            f"{str(path)!r} is a folder; an ensemble folder written by roughstick.ensemble.run(output=...) "
+            "opens with roughstick.ensemble.open_ensemble(path)."
         )
     if not path.exists():
         raise FileNotFoundError(f"no such file: {str(path)!r}")

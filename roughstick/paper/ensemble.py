@@ -1,7 +1,7 @@
 """Monte Carlo ensembles, paper §4.3: Figs. 13 (generated surfaces), 14-15 (curve sets), 16 (Γ
 bands versus RH, per surface size) and 17 (distributions of Γ).
 
-Every function returns ``(Dataset, Figure)``. The bands are :func:`roughstick.confidence_band`
+Every function returns ``(Dataset, Figure)``. The bands are :func:`roughstick.ensemble.confidence_band`
 results, so each edge carries its own order-statistic interval (NaN where n is too small to
 bound it) and the figure says how many surfaces it rests on.
 """
@@ -34,7 +34,7 @@ def fig13_surfaces(psd, *, shape: int, spacing: float = 5e-9, n: int = 3, seed=1
     (xarray.Dataset, matplotlib.figure.Figure)
         ``height`` over ``(realization, y, x)`` and its images.
     """
-    h = rs.generate_surfaces(psd, n=n, shape=shape, spacing=spacing, seed=seed).compute()
+    h = rs.surface.generate_surfaces(psd, n=n, shape=shape, spacing=spacing, seed=seed).compute()
     axes = plot_surfaces(h, title=title)
     return h.to_dataset(name="height"), np.atleast_1d(axes)[0].figure
 
@@ -45,14 +45,14 @@ def fig14_ensemble_curves(ens: xr.Dataset, *, title: str | None = None):
     Returns
     -------
     (xarray.Dataset, matplotlib.figure.Figure)
-        The 95 % band of the curves (:func:`roughstick.confidence_band` of ``pressure``) and the
+        The 95 % band of the curves (:func:`roughstick.ensemble.confidence_band` of ``pressure``) and the
         figure.
     """
     fig = plot_ensemble_curves(ens)
     n = ens.sizes["realization"]
     if title:
         fig.suptitle(f"{title} (n = {n})")
-    band = rs.confidence_band(ens[["pressure"]]).compute()
+    band = rs.ensemble.confidence_band(ens[["pressure"]]).compute()
     return band, fig
 
 
@@ -81,7 +81,7 @@ def fig16_energy_bands(ensembles: dict, *, title: str = "Fig. 16", labels: dict 
     for ax, (name, ens) in zip(axes[0], ensembles.items(), strict=True):
         plot_energy_band(ens, ax=ax, label=(labels or {}).get(name))
         n = ens.sizes["realization"]
-        band = rs.confidence_band(ens[["adhesive_energy"]]).compute()
+        band = rs.ensemble.confidence_band(ens[["adhesive_energy"]]).compute()
         edges = "" if band.attrs.get("band_edges_bounded") else \
             f"\n(band edges unbounded below n = {band.attrs['n_samples_to_bound_band_edges']})"
         ax.set_title(f"{title}: {name}, n = {n}{edges}", fontsize="medium")
@@ -101,7 +101,7 @@ def fig17_energy_distributions(ens: xr.Dataset, *, rh_panels=((0.3, 0.7, 0.9),),
     Returns
     -------
     (xarray.Dataset, matplotlib.figure.Figure)
-        ``cumulative_probability`` of Γ per humidity (:func:`roughstick.ensemble_ecdf`) and the figure.
+        ``cumulative_probability`` of Γ per humidity (:func:`roughstick.ensemble.ecdf`) and the figure.
     """
     plt = _plt()
     fig, axes = plt.subplots(1, len(rh_panels), figsize=(6.8 * len(rh_panels), 4),
@@ -110,5 +110,5 @@ def fig17_energy_distributions(ens: xr.Dataset, *, rh_panels=((0.3, 0.7, 0.9),),
         plot_energy_distribution(ens, rh=list(rhs), ax=ax)
     fig.suptitle(f"{title} (n = {ens.sizes['realization']})")
     g = ens["adhesive_energy"].compute()
-    ecdf = rs.ensemble_ecdf(g).rename("adhesive_energy").to_dataset()
+    ecdf = rs.ensemble.ecdf(g).rename("adhesive_energy").to_dataset()
     return ecdf, fig

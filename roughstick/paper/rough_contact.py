@@ -77,7 +77,7 @@ def fig10_mdmt_vs_gw(maps: dict, curves: dict, *, relative_humidity, rh_shown=(0
     (xarray.Dataset, matplotlib.figure.Figure)
         The GW curves (Eq. 14) on a grid spanning the maps' grids, and the figure.
     """
-    mom = [rs.roughness_moments(rs.level(h, method="mean", nan="fill")) for h in maps.values()]
+    mom = [rs.surface.roughness_moments(rs.surface.level(h, method="mean", nan="fill")) for h in maps.values()]
     moments = xr.concat(mom, "map").mean("map", keep_attrs=True)
     lo = min(float(c.distance.min()) for c in curves.values())
     hi = max(float(c.distance.max()) for c in curves.values())

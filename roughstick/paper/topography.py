@@ -30,7 +30,7 @@ def fig12_psd_schemes(schemes: dict):
     Parameters
     ----------
     schemes : dict
-        ``{"S1": {1: psd, 4: psd, 16: psd}, "S2": {..., 16: psd}}`` from :func:`roughstick.submap_psd`.
+        ``{"S1": {1: psd, 4: psd, 16: psd}, "S2": {..., 16: psd}}`` from :func:`roughstick.surface.submap_psd`.
 
     Returns
     -------
@@ -53,12 +53,12 @@ def table4_self_affine(densities=(80.1e12, 88.1e12)):
     Returns
     -------
     dict of str to xarray.Dataset
-        :func:`roughstick.fit_self_affine` per asperity density, keyed by a legend label.
+        :func:`roughstick.surface.fit_self_affine` per asperity density, keyed by a legend label.
     """
     fits = {}
     for dens in densities:
-        m = rs.moments_from_asperities(roughness=[2.6e-9, 2.4e-9], radius=220e-9, density=dens)
-        fit = rs.fit_self_affine(m0=m.m0, m2=m.m2, m4=m.m4, qmax=QMAX_PAPER)
+        m = rs.surface.moments_from_asperities(roughness=[2.6e-9, 2.4e-9], radius=220e-9, density=dens)
+        fit = rs.surface.fit_self_affine(m0=m.m0, m2=m.m2, m4=m.m4, qmax=QMAX_PAPER)
         fit.attrs["asperity_moments"] = (float(m.m0), float(m.m2), float(m.m4))
         fits[f"Eq. 37, Table 4, N = {dens * 1e-12:.1f} µm⁻²"] = fit
     return fits

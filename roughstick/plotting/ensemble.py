@@ -1,7 +1,7 @@
 """Ensemble figures (paper Figs. 14-17): curve sets with bands, Γ bands versus RH, distributions.
 
 Axes show nm, MPa and mJ m-2; data stay SI. Inputs are the Datasets of
-:func:`roughstick.run_ensemble` / :func:`roughstick.surface_size_study` (computed or lazy: only
+:func:`roughstick.ensemble.run` / :func:`roughstick.ensemble.surface_size_study` (computed or lazy: only
 what is plotted is computed).
 """
 
@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..ensemble.distributions import ensemble_ecdf, ensemble_histogram
+from .._core.api import renamed_keywords
+from ..ensemble.distributions import ecdf, histogram
 from ..ensemble.statistics import confidence_band
 from ._legend import legend_beside
 
@@ -22,7 +23,8 @@ def _plt():
     return plt
 
 
-def plot_ensemble_curves(ds, *, rh=None, max_curves: int = 200, level: float = 0.95, axes=None,
+@renamed_keywords(level="confidence")
+def plot_ensemble_curves(ds, *, rh=None, max_curves: int = 200, confidence: float = 0.95, axes=None,
                          ncols: int = 3):
     """Pressure–distance curves of every realization with their band, one panel per RH (Figs. 14-15).
 
@@ -34,7 +36,7 @@ def plot_ensemble_curves(ds, *, rh=None, max_curves: int = 200, level: float = 0
         Humidities to show (default all).
     max_curves : int
         Draw at most this many individual curves (grey); the band uses all realizations.
-    level : float
+    confidence : float
         Central probability of the band (shaded) around the median (black).
     axes : sequence of matplotlib Axes, optional
     ncols : int
@@ -46,7 +48,8 @@ def plot_ensemble_curves(ds, *, rh=None, max_curves: int = 200, level: float = 0
     plt = _plt()
     rhs = list(ds.rh.values) if rh is None else list(np.atleast_1d(rh))
     p = ds["pressure"].sel(rh=rhs)
-    band = confidence_band(p.to_dataset(name="pressure"), level=level, uncertainty=None).compute()
+    band = confidence_band(p.to_dataset(name="pressure"), confidence=confidence,
+                           uncertainty=None).compute()
     if axes is None:
         nrows = int(np.ceil(len(rhs) / ncols))
         fig, axes = plt.subplots(nrows, min(ncols, len(rhs)), figsize=(4 * min(ncols, len(rhs)), 3.2 * nrows),
@@ -60,7 +63,7 @@ def plot_ensemble_curves(ds, *, rh=None, max_curves: int = 200, level: float = 0
         for curve in show[k]:
             ax.plot(d_nm, curve / 1e6, color="0.6", lw=0.4, alpha=0.5)
         q = band["pressure"].sel(rh=r).values / 1e6
-        ax.fill_between(d_nm, q[0], q[2], color="C0", alpha=0.35, label=f"{level:.0%} band")
+        ax.fill_between(d_nm, q[0], q[2], color="C0", alpha=0.35, label=f"{confidence:.0%} band")
         ax.plot(d_nm, q[1], color="k", lw=1.2, label="median")
         ax.axhline(0, color="0.3", lw=0.5)
         ax.set_title(f"RH = {r:.0%}, n = {n}")
@@ -81,12 +84,13 @@ def plot_ensemble_curves(ds, *, rh=None, max_curves: int = 200, level: float = 0
     return fig
 
 
-def plot_energy_band(ds, *, level: float = 0.95, ax=None, label: str | None = None):
-    """Apparent adhesive energy Γ (Eq. 13) versus RH: median, ``level`` band and the band's uncertainty (Fig. 16).
+@renamed_keywords(level="confidence")
+def plot_energy_band(ds, *, confidence: float = 0.95, ax=None, label: str | None = None):
+    """Apparent adhesive energy Γ (Eq. 13) versus RH: median, ``confidence`` band and the band's uncertainty (Fig. 16).
 
     The line is the median over realizations (the band's middle quantile, what
-    :func:`roughstick.band_summary` prints and ``band.nc`` holds), the shaded band its central
-    ``level`` quantiles, the hatched bands the confidence interval of each band edge where the
+    :func:`roughstick.ensemble.band_summary` prints and ``band.nc`` holds), the shaded band its central
+    ``confidence`` quantiles, the hatched bands the confidence interval of each band edge where the
     sample bounds it. With a ``surface_size`` dimension one band per size is drawn; the legend
     sits beside the axes.
 
@@ -101,12 +105,12 @@ def plot_energy_band(ds, *, level: float = 0.95, ax=None, label: str | None = No
     sizes = list(g["surface_size"].values) if "surface_size" in g.dims else [None]
     for k, s in enumerate(sizes):
         gs = g if s is None else g.sel(surface_size=s)
-        b = confidence_band(gs.to_dataset(name="g"), level=level).compute()
+        b = confidence_band(gs.to_dataset(name="g"), confidence=confidence).compute()
         rh = b["rh"].values * 100
         q = b["g"].values * 1e3
         name = label or ("" if s is None else f"{s * 1e6:.2f} µm")
         c = f"C{k}"
-        ax.fill_between(rh, q[0], q[2], color=c, alpha=0.25, label=f"{name} {level:.0%} band".strip())
+        ax.fill_between(rh, q[0], q[2], color=c, alpha=0.25, label=f"{name} {confidence:.0%} band".strip())
         for j in (0, 2):
             lo = b["g_ci_lower"].values[j] * 1e3
             hi = b["g_ci_upper"].values[j] * 1e3
@@ -153,12 +157,12 @@ def plot_energy_distribution(ds, *, rh=None, kind: str = "ecdf", ax=None, bins: 
             gs = g.sel(rh=r) if s is None else g.sel(rh=r, surface_size=s)
             lab = f"RH {r:.0%}" + ("" if s is None else f", {s * 1e6:.2f} µm")
             if kind == "ecdf":
-                e = ensemble_ecdf(gs)
+                e = ecdf(gs)
                 ax.step(e.values * 1e3, e.cumulative_probability, where="post", color=f"C{j}",
                         ls=styles[k % 4], label=lab)
                 ax.set_ylabel("cumulative probability")
             elif kind == "histogram":
-                h = ensemble_histogram(gs, bins=bins)
+                h = histogram(gs, bins=bins)
                 ax.plot(h["bin"] * 1e3, h.values / 1e3, color=f"C{j}", ls=styles[k % 4], label=lab,
                         drawstyle="steps-mid")
                 ax.set_ylabel("probability density [m$^2$ mJ$^{-1}$]")

@@ -23,7 +23,7 @@ def plot_surfaces(height: xr.DataArray, *, realizations=None, ncols: int = 3, ax
     Parameters
     ----------
     height : xarray.DataArray
-        ``height`` [m] over ``(realization, y, x)`` (e.g. :func:`roughstick.generate_surfaces`)
+        ``height`` [m] over ``(realization, y, x)`` (e.g. :func:`roughstick.surface.generate_surfaces`)
         or a single map ``(y, x)``.
     realizations : sequence of int, optional
         Realization labels to show (default: the first ``ncols``).
@@ -112,7 +112,7 @@ def plot_generated_psd(height: xr.DataArray, psd, *, ax=None, label: str = "gene
                        band: bool = True, color=None):
     """Ensemble-mean radial PSD of generated surfaces against the target PSD (log-log).
 
-    The target is mapped onto the same grid with :func:`roughstick.surface_filter` and averaged
+    The target is mapped onto the same grid with :func:`roughstick.surface.surface_filter` and averaged
     over the same rings, so the two curves agree in expectation at every ring; the shaded band is
     the ±2 standard-error Monte Carlo band of the mean (each mode's periodogram has standard
     deviation equal to its mean for Gaussian amplitudes).
@@ -122,7 +122,7 @@ def plot_generated_psd(height: xr.DataArray, psd, *, ax=None, label: str = "gene
     height : xarray.DataArray
         Generated ``height`` over ``(realization, y, x)``.
     psd : DataArray or callable
-        The PSD passed to :func:`roughstick.generate_surfaces`.
+        The PSD passed to :func:`roughstick.surface.generate_surfaces`.
     ax : matplotlib Axes, optional
     label : str
         Legend label of the generated curve.

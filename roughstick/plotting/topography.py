@@ -71,7 +71,7 @@ def plot_psd_schemes(psds: dict, *, ax=None, qmax=None, title=None):
 
 
 def plot_self_affine_psd(fits: dict, *, measured: dict | None = None, ax=None, q=None):
-    """Eq. 37 PSDs (from :func:`roughstick.fit_self_affine`) against measured PSDs (Fig. 19).
+    """Eq. 37 PSDs (from :func:`roughstick.surface.fit_self_affine`) against measured PSDs (Fig. 19).
 
     Parameters
     ----------

@@ -17,6 +17,7 @@ import scipy.fft
 import xarray as xr
 
 from roughstick._core.conventions import CURVE_VARIABLES
+from roughstick._core.intervals import median_interval
 from roughstick._core.materials import POLYSILICON, hertz_modulus
 from roughstick._core.remedy import argument, spell, spelled
 from roughstick._core.validate import external_stacklevel
@@ -28,7 +29,6 @@ from roughstick.contact import (
     laplace_pressure,
     modified_dmt_kernel,
 )
-from roughstick.ensemble.statistics import median_interval
 from roughstick.surface import surface_filter
 
 from ._rare_moves import shell_labels

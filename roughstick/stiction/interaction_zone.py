@@ -15,8 +15,8 @@ import xarray as xr
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from ..datasets import TABLE4_VALUES
-from ..ensemble.pipeline import ensemble_distance_grid
-from ..ensemble.run import run_ensemble
+from ..ensemble.pipeline import distance_grid
+from ..ensemble.runner import run as run_ensemble
 from ..surface.moments import moments_from_asperities
 from ..surface.self_affine import fit_self_affine, self_affine_psd
 from .beam import PAPER_CANTILEVER, REFERENCES, Cantilever
@@ -235,8 +235,8 @@ def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer
     reports a curve attractive again deep in contact in ``attractive_at_floor`` (Γ and the
     equilibrium come from the outermost stable crossing, the separation path).
     """
-    grids = [ensemble_distance_grid(psd, shape=shape, n=n, relative_humidity=relative_humidity,
-                                    adsorbed_layer=layer, lower=lower, num=num)
+    grids = [distance_grid(psd, shape=shape, n=n, relative_humidity=relative_humidity,
+                           adsorbed_layer=layer, lower=lower, n_distance=num)
              for layer in (adsorbed_layer, "paper")]
     return grids[int(np.argmax([float(g[-1]) for g in grids]))]
 

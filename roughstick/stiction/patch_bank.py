@@ -21,6 +21,7 @@ import xarray as xr
 
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs
+from .._core.intervals import median_interval
 from .._core.materials import POLYSILICON
 from .._core.remedy import argument, spell, spelled
 from .._core.validate import as_length, external_stacklevel, relative_humidity_array
@@ -31,7 +32,6 @@ from ..contact import (
     rough_contact_curves,
     warn_if_outside_validity,
 )
-from ..ensemble.statistics import median_interval
 from ..io.netcdf import publish
 from ..surface import generate_surfaces
 

@@ -21,9 +21,10 @@ import xarray as xr
 
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
+from .._core.intervals import interval_method, order_statistic_ranks
 from .._core.units import as_si, require
 from .._core.validate import as_relative_humidity, check_core_not_chunked, check_positive_block
-from ..ensemble.statistics import binomial_interval, interval_method, order_statistic_ranks
+from ..ensemble.statistics import binomial_interval
 from .beam import (
     _MAGNITUDES,
     PAPER_CANTILEVER,

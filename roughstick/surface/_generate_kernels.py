@@ -1,4 +1,4 @@
-r"""The per-block numpy kernel of :func:`roughstick.generate_surfaces` (Eqs. 33-35).
+r"""The per-block numpy kernel of :func:`roughstick.surface.generate_surfaces` (Eqs. 33-35).
 
 Hermitian complex amplitudes on the support box of the amplitude filter, one inverse real FFT per
 surface; realization k draws from its own ``SeedSequence`` child, so a block gives the same

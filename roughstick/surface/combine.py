@@ -1,6 +1,6 @@
 r"""PSDs of maps of different sizes or spacings averaged on a common q grid (Eq. 31).
 
-:func:`roughstick.average_psd` averages spectra on one grid; maps of different scan sizes or
+:func:`roughstick.surface.average_psd` averages spectra on one grid; maps of different scan sizes or
 pixel sizes (e.g. a 1 µm and a 10 µm scan of one sample) have different q grids and bands
 :math:`[2\pi/L, \pi/\Delta]`. :func:`average_psd_common` interpolates each onto one
 log-spaced grid over the bands' overlap (or union) and records which maps each q averages.
@@ -51,7 +51,7 @@ def average_psd_common(psds, *, band: str = "overlap", n_q: int | None = None, n
     psds : sequence of xarray.DataArray
         Isotropic PSDs ``psd`` [m4] over ``(..., q)`` (:func:`psd_isotropic`; a 2D PSD over
         ``(qy, qx)`` is radially averaged first), or profile PSDs [m3] over ``(..., qx)``
-        (:func:`roughstick.profile_psd`: the positive ``qx``, so the result is one-sided). Leading
+        (:func:`roughstick.surface.profile_psd`: the positive ``qx``, so the result is one-sided). Leading
         dims must agree.
     band : {"overlap", "union"}
         The common grid spans the wave numbers every map covers (default), or any map covers
@@ -78,7 +78,7 @@ def average_psd_common(psds, *, band: str = "overlap", n_q: int | None = None, n
     >>> q1, q2 = np.linspace(0, 1e9, 65), np.linspace(0, 4e8, 129)
     >>> s = [xr.DataArray(1e-40 * np.maximum(q, 1e6) ** -3.0, dims="q", coords={"q": q},
     ...                   attrs={"units": "m4"}, name="psd") for q in (q1, q2)]
-    >>> ds = rs.average_psd_common(s)
+    >>> ds = rs.surface.average_psd_common(s)
     >>> float(ds.q[0]), float(ds.q[-1]), int(ds.n_maps.min())
     (15625000.0, 400000000.0, 2)
     """
@@ -106,7 +106,7 @@ def average_psd_common(psds, *, band: str = "overlap", n_q: int | None = None, n
     if len(kinds) > 1:
         raise ValueError("cannot average isotropic (surface) PSDs with profile (line-scan) PSDs: "
                          "their units differ (m4 vs m3); project the surfaces' PSDs first with "
-                         "roughstick.project_psd.")
+                         "roughstick.surface.project_psd.")
     dim = kinds.pop()
     bands = [_band(s, dim) for _, s in prepared]
     lo = [q[0] for q, _ in bands]

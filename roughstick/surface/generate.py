@@ -269,7 +269,7 @@ def extrapolation_said_once():
 
 
 def _warn_if_extrapolated(needed_length: float, measured_length: float, how: str) -> None:
-    """Issue 16 item 5: say when the surfaces outgrow the scan behind the PSD (Python API too)."""
+    """Say when the surfaces outgrow the scan behind the PSD (ExtrapolatedPSDWarning), once."""
     if needed_length > measured_length * (1 + 1e-6) and not _EXTRAPOLATION_SAID.get():
         warnings.warn(
             f"the generated surfaces ({needed_length * 1e6:.3g} µm) are larger than the scan the "
@@ -338,7 +338,7 @@ def _half_plane_power(psd, ny, nx, dy, dx):
     dq2 = (2 * np.pi / (ny * dy)) * (2 * np.pi / (nx * dx))
     if callable(psd) and not isinstance(psd, xr.DataArray):
         q = np.hypot(qy[:, None], qx[None, :])
-        s = psd(q.ravel())  # 1-D, so e.g. lambda q: rs.self_affine_psd(q, ...) works as is
+        s = psd(q.ravel())  # 1-D, so e.g. lambda q: rs.surface.self_affine_psd(q, ...) works as is
         s = np.asarray(s.values if isinstance(s, xr.DataArray) else s, dtype=float)
         if s.size != q.size:
             raise ValueError(
@@ -357,7 +357,7 @@ def _half_plane_power(psd, ny, nx, dy, dx):
             "this is a profile PSD (1-D, over qx, from line scans): generating a 2-D surface needs "
             "a 2D PSD ('qy', 'qx') or an isotropic one ('q',). Recovering an isotropic PSD from "
             "profiles assumes isotropy (an inverse Abel transform) and roughstick does not do it: "
-            "measure a 2-D map, or fit a self-affine PSD (roughstick.self_affine_psd) to the "
+            "measure a 2-D map, or fit a self-affine PSD (roughstick.surface.self_affine_psd) to the "
             "profile's moments."
         )
     factor = _psd_factor(psd)
@@ -440,7 +440,7 @@ def surface_filter(psd, *, shape=None, size=None, spacing=None) -> xr.DataArray:
 
     Examples
     --------
-    >>> s = rs.surface_filter(lambda q: np.where(q < 2e8, 1e-34, 0.0), shape=8, spacing=5e-9)
+    >>> s = rs.surface.surface_filter(lambda q: np.where(q < 2e8, 1e-34, 0.0), shape=8, spacing=5e-9)
     >>> s.dims, s.shape
     (('qy', 'qx'), (8, 8))
     """
@@ -510,13 +510,13 @@ def generate_surfaces(
     ----------
     psd : xarray.DataArray or callable
         2D PSD over ``(qy, qx)`` (ascending centred coords in rad m-1, e.g. from
-        ``roughstick.power_spectrum``; bilinearly interpolated by ``roughstick.interpolate_psd``
+        ``roughstick.surface.power_spectrum``; bilinearly interpolated by ``roughstick.surface.interpolate_psd``
         when the target grid differs), an isotropic PSD over ``(q,)`` (evaluated at
-        :math:`|\mathbf q|` by ``roughstick.isotropic_to_2d``: log-linear, zero beyond its
+        :math:`|\mathbf q|` by ``roughstick.surface.isotropic_to_2d``: log-linear, zero beyond its
         largest ``q``, so the grid corners beyond it are zero), or a callable mapping a 1-D
         array of :math:`|\mathbf q|` [rad m-1] to :math:`s(|\mathbf q|)` [m4] (array or
         DataArray, e.g.
-        ``lambda q: rs.self_affine_psd(q, s0=..., s1=..., q0=..., qmax=...)``).
+        ``lambda q: rs.surface.self_affine_psd(q, s0=..., s1=..., q0=..., qmax=...)``).
         DataArrays need ``units`` ``m4`` (or ``nm4``, ``um4``). A dask-backed PSD stays lazy.
     n : int, optional
         Number of surfaces (realizations ``0 .. n-1``), >= 1.
@@ -565,10 +565,10 @@ def generate_surfaces(
     Examples
     --------
     >>> s = lambda q: np.where(q < 3e8, 1e-34, 0.0)
-    >>> h = rs.generate_surfaces(s, n=4, shape=(16, 24), spacing=5e-9, seed=1, chunks=2)
+    >>> h = rs.surface.generate_surfaces(s, n=4, shape=(16, 24), spacing=5e-9, seed=1, chunks=2)
     >>> h.dims, h.shape, h.chunks[0], h.attrs["periodic"], h.attrs["seed"]
     (('realization', 'y', 'x'), (4, 16, 24), (2, 2), 1, 1)
-    >>> bool((h.isel(realization=[3]) == rs.generate_surfaces(
+    >>> bool((h.isel(realization=[3]) == rs.surface.generate_surfaces(
     ...     s, realizations=[3], shape=(16, 24), spacing=5e-9, seed=1)).all())
     True
     """

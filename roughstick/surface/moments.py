@@ -10,7 +10,7 @@ One estimator of each kind, by name:
 - from roughness, summit radius and summit density (Table 4), :func:`moments_from_asperities`;
 - the cutoff at which a PSD's moments match a map's, :func:`choose_cutoff` (Table 3).
 
-Conventions (DESIGN.md §3): :math:`m_0` is the height variance, :math:`m_2` and :math:`m_4` the
+Conventions (docs/architecture.md): :math:`m_0` is the height variance, :math:`m_2` and :math:`m_4` the
 variances of the first and second derivatives along one direction; for a 2D density
 :math:`m_2 = \iint q_x^2 s`, :math:`m_4 = \iint q_x^4 s`; for an isotropic :math:`s(q)`:
 :math:`m_0 = 2\pi\int s q\,dq`, :math:`m_2 = \pi\int s q^3 dq`,
@@ -33,12 +33,11 @@ from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
 from .._core.materials import POLYSILICON, Material, as_material
 from .._core.references import cite
-from .._core.validate import check_core_not_chunked, check_moments, check_positive_block
+from .._core.validate import check_core_not_chunked, check_moments, check_positive_block, moments_si
 from .spectrum import _check_psd2d, _dq, _units_psd, _wavevector, power_spectrum
 from .topography import _refuse_constant_or_nan, validate_height
 
 __all__ = [
-    "moments_si",
     "summit_density",
     "roughness_moments",
     "psd_moments",
@@ -66,44 +65,8 @@ def _moments_dataset(m0, m2, m4, *, title: str, **extra_vars) -> xr.Dataset:
     return ds
 
 
-#: Kind of quantity (roughstick._core.units) of each moment.
-_MOMENT_KIND = {"m0": "area", "m2": "dimensionless", "m4": "inverse_area"}
-
-
 def _show_q(qmax) -> str:
     return f"{float(qmax):.4g}" if np.ndim(qmax) == 0 and not is_lazy(qmax) else "(given)"
-
-
-def moments_si(moments: xr.Dataset) -> tuple[xr.DataArray, xr.DataArray, xr.DataArray]:
-    """``m0``, ``m2``, ``m4`` of a moments Dataset, checked and converted to SI (m2, 1, m-2).
-
-    Raises
-    ------
-    TypeError
-        ``moments`` is not a Dataset.
-    ValueError
-        A moment is missing, or its ``units`` are missing or not a power of a length
-        (:class:`roughstick.UnitsError`); an eager moment is zero, negative or not finite.
-    """
-    if not isinstance(moments, xr.Dataset):
-        raise TypeError(
-            "moments must be an xarray.Dataset with m0, m2, m4 (e.g. from roughstick.fit_self_affine, "
-            f"roughness_moments or psd_moments); got {type(moments).__name__}."
-        )
-    out = []
-    for key in ("m0", "m2", "m4"):
-        if key not in moments:
-            raise ValueError(
-                f"moments must be a Dataset with variables 'm0', 'm2' and 'm4' (Nayak's one-direction "
-                f"spectral moments, docs/architecture.md); {key!r} is missing. "
-                "roughstick.fit_self_affine / moments_from_asperities return such a Dataset."
-            )
-        da = _units.require(moments[key], _MOMENT_KIND[key], name=f"moments[{key!r}]").copy(deep=False)
-        da.attrs = {"units": da.attrs["units"]}
-        out.append(da)
-    check_moments(*out, what="moments", fix="Moments of a rough surface are finite and > 0: check the "
-                  "map or PSD they came from (a flat map, a zero PSD, a cutoff below its wave numbers).")
-    return out[0], out[1], out[2]
 
 
 def summit_density(moments: xr.Dataset) -> xr.DataArray:
@@ -127,7 +90,7 @@ def summit_density(moments: xr.Dataset) -> xr.DataArray:
     --------
     >>> ds = xr.Dataset({"m0": ((), 15.7e-18, {"units": "m2"}), "m2": ((), 0.040, {"units": "1"}),
     ...                  "m4": ((), 5.08e-4, {"units": "nm-2"})})
-    >>> round(float(rs.summit_density(ds)) * 1e-12, 2)  # per square micrometre
+    >>> round(float(rs.surface.summit_density(ds)) * 1e-12, 2)  # per square micrometre
     388.99
     """
     _, m2, m4 = moments_si(moments)
@@ -178,13 +141,13 @@ def roughness_moments(
         (not-a-knot) along each scan line, :math:`m_2 = \mathrm{var}(\partial z/\partial x)`,
         :math:`m_4 = \mathrm{var}(\partial^2 z/\partial x^2)`. ``"spectral"``:
         :math:`m_2 = \iint q_x^2 s`, :math:`m_4 = \iint q_x^4 s` over the 2D PSD
-        (:func:`roughstick.psd_moments`), optionally cut at ``qmax``.
+        (:func:`roughstick.surface.psd_moments`), optionally cut at ``qmax``.
     direction : {"mean", "x", "y"}
         One-direction moments along ``x``, ``y``, or their mean (isotropic estimate).
     qmax : float, optional
         Spectral only: cutoff wave number [rad m-1].
     window : str or None, default "auto"
-        Spectral only: window of :func:`roughstick.power_spectrum` (``"auto"``: Hann unless the
+        Spectral only: window of :func:`roughstick.surface.power_spectrum` (``"auto"``: Hann unless the
         map is periodic).
 
     Returns
@@ -196,7 +159,7 @@ def roughness_moments(
     -----
     The two methods agree on smooth maps (tests). On rough maps sampled near their smallest
     features the spline derivatives and the periodic spectral derivatives differ, which is
-    why the paper introduces the cutoff :math:`\xi_{max}` (Table 3, :func:`roughstick.choose_cutoff`).
+    why the paper introduces the cutoff :math:`\xi_{max}` (Table 3, :func:`roughstick.surface.choose_cutoff`).
     """
     if direction not in ("mean", "x", "y"):
         raise ValueError(f"direction must be 'mean', 'x' or 'y', got {direction!r}.")
@@ -265,7 +228,7 @@ def psd_moments(psd: xr.DataArray, *, qmax=None, direction: str = "mean") -> xr.
         qmax = _wavevector(qmax, name="qmax")
     if "qx" in psd.dims and "qy" not in psd.dims:
         raise ValueError("this is a profile (1-D) PSD over qx; its moments are "
-                         "roughstick.profile_moments(psd) (m_n = sum qx^n C dqx).")
+                         "roughstick.surface.profile_moments(psd) (m_n = sum qx^n C dqx).")
     if "q" in psd.dims:
         s = _units_psd(psd)
         check_core_not_chunked(s, ["q"])
@@ -355,7 +318,7 @@ def self_affine_moments(*, s0, s1, q0, qmax) -> xr.Dataset:
 
     Examples
     --------
-    >>> m = rs.self_affine_moments(s0=6.46e-33, s1=6.29e-39, q0=19.4e6, qmax=289e6)
+    >>> m = rs.surface.self_affine_moments(s0=6.46e-33, s1=6.29e-39, q0=19.4e6, qmax=289e6)
     >>> round(float(m.m0) * 1e18, 1), round(float(m.m2), 4), round(float(m.m4) * 1e-12, 2)
     (12.5, 0.0032, 9.07)
     """
@@ -380,7 +343,7 @@ def moments_from_asperities(*, roughness, radius, density) -> xr.Dataset:
     The summit relations are Nayak's for a Gaussian surface (mean summit curvature
     :math:`8\sqrt{m_4}/(3\sqrt\pi)` at high bandwidth; summit density
     :math:`N = m_4/(6\pi\sqrt{3} m_2)`). Table 4 prints :math:`\mu_4 = 3\sqrt\pi/(8R)` without
-    the square; the square is what gives its 9.1 µm⁻² (DESIGN.md §3).
+    the square; the square is what gives its 9.1 µm⁻².
 
     Parameters
     ----------
@@ -403,7 +366,7 @@ def moments_from_asperities(*, roughness, radius, density) -> xr.Dataset:
 
     Examples
     --------
-    >>> m = rs.moments_from_asperities(roughness=[2.6e-9, 2.4e-9], radius=220e-9, density=80.1e12)
+    >>> m = rs.surface.moments_from_asperities(roughness=[2.6e-9, 2.4e-9], radius=220e-9, density=80.1e12)
     >>> round(float(m.m0) ** 0.5 * 1e9, 2), round(float(m.m2), 5), round(float(m.m4) * 1e-12, 2)
     (3.54, 0.00349, 9.13)
     """
@@ -472,7 +435,7 @@ def choose_cutoff(
     psd : xarray.DataArray
         2D ``psd`` [m4] over ``(..., qy, qx)`` (e.g. :func:`submap_psd`).
     target : xarray.Dataset
-        Spatial ``m0``, ``m2``, ``m4`` (:func:`roughstick.roughness_moments`), broadcasting
+        Spatial ``m0``, ``m2``, ``m4`` (:func:`roughstick.surface.roughness_moments`), broadcasting
         against the leading dims of ``psd``.
     match : sequence of {"m0", "m2", "m4"}
         Moments that drive the choice (default m2 and m4; m0 hardly depends on the cutoff).
@@ -525,7 +488,7 @@ def asperity_statistics(moments: xr.Dataset) -> xr.Dataset:
     Parameters
     ----------
     moments : xarray.Dataset
-        ``m0``, ``m2``, ``m4`` (e.g. :func:`roughness_moments`, :func:`roughstick.psd_moments`).
+        ``m0``, ``m2``, ``m4`` (e.g. :func:`roughness_moments`, :func:`roughstick.surface.psd_moments`).
 
     Returns
     -------
@@ -535,8 +498,8 @@ def asperity_statistics(moments: xr.Dataset) -> xr.Dataset:
 
     Examples
     --------
-    >>> m = rs.moments_from_asperities(roughness=3.54e-9, radius=220e-9, density=80.1e12)
-    >>> s = rs.asperity_statistics(m)
+    >>> m = rs.surface.moments_from_asperities(roughness=3.54e-9, radius=220e-9, density=80.1e12)
+    >>> s = rs.surface.asperity_statistics(m)
     >>> round(float(s.summit_density) * 1e-12, 1), round(float(s.summit_radius) * 1e9)
     (80.1, 220)
     """

@@ -167,7 +167,7 @@ def profile_psd(profile: xr.DataArray, *, window: str | None = "auto") -> xr.Dat
     >>> x = (np.arange(64) + 0.5) * 5e-9
     >>> z = xr.DataArray(np.sin(2 * np.pi * 3 * x / x.size / 5e-9) * 1e-9, dims="x",
     ...                  coords={"x": ("x", x, {"units": "m"})}, attrs={"units": "m"})
-    >>> c = rs.profile_psd(z)
+    >>> c = rs.surface.profile_psd(z)
     >>> bool(np.isclose(float(c.sum()) * 2 * np.pi / (64 * 5e-9), float(z.var())))
     True
     """
@@ -223,7 +223,7 @@ def project_psd(psd: xr.DataArray, *, qx=None, direction: str = "x") -> xr.DataA
         2D ``psd`` [m4] over ``(..., qy, qx)`` (summed over the other axis:
         :math:`C = \sum s\,\Delta q`), or isotropic over ``(..., q)`` (integrated numerically,
         :math:`C(q_x) = 2\int_0^{u_{max}} s(\sqrt{q_x^2+u^2})\,du` with ``s`` interpolated
-        log-linearly by :func:`roughstick.isotropic_to_2d` and zero beyond its last ``q``).
+        log-linearly by :func:`roughstick.surface.isotropic_to_2d` and zero beyond its last ``q``).
     qx : array_like, optional
         Isotropic input only: wave numbers [rad m-1] to evaluate at (default ``±q``).
     direction : {"x", "y"}
@@ -278,7 +278,7 @@ def profile_moments(data: xr.DataArray, *, method: str = "spline", qmax=None) ->
     data : xarray.DataArray
         A profile ``height`` over ``(..., x)`` or its PSD ``psd`` [m3] over ``(..., qx)``:
         two-sided on a uniform grid (:func:`profile_psd`, :func:`project_psd`; summed) or
-        one-sided, ``qx > 0`` only (:func:`roughstick.average_psd_common`; :math:`m_n =
+        one-sided, ``qx > 0`` only (:func:`roughstick.surface.average_psd_common`; :math:`m_n =
         2\int q_x^n C\,dq_x` by the trapezoid rule over its band).
     method : {"spline", "spectral"}
         Profile input: variances of the cubic-spline (not-a-knot) derivatives, as the paper's

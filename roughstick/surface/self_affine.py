@@ -10,6 +10,7 @@ import xarray as xr
 from scipy.optimize import least_squares
 
 from .._core import units as _units
+from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.dask import is_lazy
@@ -66,7 +67,7 @@ def self_affine_psd(q, *, s0, s1, q0, qmax) -> xr.DataArray:
 
     Examples
     --------
-    >>> s = rs.self_affine_psd([0.0, 1e7, 2e7, 3e8], s0=1e-32, s1=1e-38, q0=2e7, qmax=2e8)
+    >>> s = rs.surface.self_affine_psd([0.0, 1e7, 2e7, 3e8], s0=1e-32, s1=1e-38, q0=2e7, qmax=2e8)
     >>> s.values
     array([1.e-32, 1.e-32, 1.e-32, 0.e+00])
     """
@@ -131,8 +132,9 @@ def _fit_kernel(m0, m2, m4, qmax):
     return q0, s0, s1, f0 / m0 - 1, f2 / m2 - 1, f4 / m4 - 1
 
 
-@check_numbers(tolerance="limit")
-def fit_self_affine(*, m0, m2, m4, qmax, tolerance: float = 1e-6) -> xr.Dataset:
+@renamed_keywords(tolerance="solver_tolerance")
+@check_numbers(solver_tolerance="limit")
+def fit_self_affine(*, m0, m2, m4, qmax, solver_tolerance: float = 1e-6) -> xr.Dataset:
     r"""Solve Eq. 37 for :math:`(q_0, s_0, s_1)` from the moments and the cutoff (paper §5.2).
 
     The moments of Eq. 37 are known in closed form (:func:`self_affine_moments`). ``s0`` scales
@@ -150,8 +152,8 @@ def fit_self_affine(*, m0, m2, m4, qmax, tolerance: float = 1e-6) -> xr.Dataset:
         One-direction curvature variance [m-2] (DataArray units ``m-2``/``um-2``/``nm-2``).
     qmax : float or xarray.DataArray
         Cutoff wave number [rad m-1] (the paper takes 289 rad/µm).
-    tolerance : float
-        Largest accepted relative moment residual; above it a ``ValueError`` says that Eq. 37
+    solver_tolerance : float
+        Largest accepted relative moment residual of the fit; above it a ``ValueError`` says that Eq. 37
         cannot reach these moments with this ``qmax`` (only for eager inputs; NaN rows are kept
         for DataArray sweeps). Pass ``numpy.inf`` to always return.
 
@@ -165,19 +167,19 @@ def fit_self_affine(*, m0, m2, m4, qmax, tolerance: float = 1e-6) -> xr.Dataset:
     Raises
     ------
     ValueError
-        Non-positive inputs, or no Eq. 37 PSD matches within ``tolerance``.
+        Non-positive inputs, or no Eq. 37 PSD matches within ``solver_tolerance``.
 
     Notes
     -----
     Table 4 of the paper (√m0 = 3.54 nm, R = 220 nm, N = 80.1 µm⁻², ξmax = 289 rad/µm; see
     :func:`moments_from_asperities`) gives q0 ≈ 21.2 rad/µm, s0 ≈ 5.5e3 nm⁴, s1 ≈ 5.5e-3 nm⁴.
     The printed 19.4 rad/µm, 6.46e3 nm⁴, 6.29e-3 nm⁴ are reproduced with N = 88.1 µm⁻²
-    (DESIGN.md §3; tests/surface/test_self_affine.py holds both).
+    (tests/surface/test_self_affine.py holds both).
 
     Examples
     --------
-    >>> m = rs.moments_from_asperities(roughness=[2.6e-9, 2.4e-9], radius=220e-9, density=88.1e12)
-    >>> fit = rs.fit_self_affine(m0=m.m0, m2=m.m2, m4=m.m4, qmax=289e6)
+    >>> m = rs.surface.moments_from_asperities(roughness=[2.6e-9, 2.4e-9], radius=220e-9, density=88.1e12)
+    >>> fit = rs.surface.fit_self_affine(m0=m.m0, m2=m.m2, m4=m.m4, qmax=289e6)
     >>> round(float(fit.q0) / 1e6, 1), round(float(fit.s0) * 1e36), round(float(fit.s1) * 1e39, 2)
     (19.5, 6400, 6.31)
     """
@@ -218,11 +220,11 @@ def fit_self_affine(*, m0, m2, m4, qmax, tolerance: float = 1e-6) -> xr.Dataset:
     append_history(ds, "fit_self_affine: Eq. 37 solved for (q0, s0, s1) from (m0, m2, m4, qmax)")
     if not labelled and not is_lazy(ds):
         worst = max(abs(float(ds[f"residual_{k}"])) for k in ("m0", "m2", "m4"))
-        if not worst <= tolerance:
+        if not worst <= solver_tolerance:
             raise ValueError(
                 f"no Eq. 37 PSD with qmax={float(qm):.4g} rad m-1 reaches m0={vals['m0']:.4g}, "
                 f"m2={vals['m2']:.4g}, m4={vals['m4']:.4g} (worst relative residual {worst:.3g}). "
                 "The bandwidth m0*m4/m2**2 may be out of reach for this cutoff: raise qmax, or "
-                "pass tolerance=numpy.inf to get the closest PSD."
+                "pass solver_tolerance=numpy.inf to get the closest PSD."
             )
     return ds

@@ -1,6 +1,6 @@
 r"""Power spectral densities of height maps (paper §4.1, Eqs. 26-32).
 
-Normalisation (DESIGN.md §3, docs/architecture.md): the 2D density :math:`s(q_x, q_y)` [m4]
+Normalisation (docs/architecture.md): the 2D density :math:`s(q_x, q_y)` [m4]
 integrates to the height variance,
 
 .. math:: \iint s \, dq_x \, dq_y = m_0 ,
@@ -101,7 +101,7 @@ def power_spectrum(height: xr.DataArray, *, window: str | None = "auto") -> xr.D
         \sum s \, \Delta q_x \Delta q_y = \overline{(z - \bar z)^2} = m_0
 
     (Parseval, exact without a window). The paper's Eq. 26 omits the :math:`(2\pi)^2`; this
-    normalisation makes :math:`\iint s = m_0` as in its Tables 3 and 4 (DESIGN.md §3).
+    normalisation makes :math:`\iint s = m_0` as in its Tables 3 and 4.
 
     Parameters
     ----------
@@ -128,14 +128,14 @@ def power_spectrum(height: xr.DataArray, *, window: str | None = "auto") -> xr.D
     Raises
     ------
     ValueError
-        Bad coordinates or sizes (see :func:`roughstick.validate_height`), chunked x/y, and, for
+        Bad coordinates or sizes (see :func:`roughstick.surface.validate_height`), chunked x/y, and, for
         eager input, NaN pixels or a constant map.
 
     Examples
     --------
     >>> rng = np.random.default_rng(0)
     >>> h = rs.testing.make_topography(rng.normal(size=(12, 10)) * 1e-9, spacing=5e-9)
-    >>> s = rs.power_spectrum(h)
+    >>> s = rs.surface.power_spectrum(h)
     >>> dqx, dqy = 2 * np.pi / (10 * 5e-9), 2 * np.pi / (12 * 5e-9)
     >>> s.dims, bool(np.isclose(float(s.sum()) * dqx * dqy, float(h.var())))
     (('qy', 'qx'), True)
@@ -247,7 +247,7 @@ def average_psd(psd: xr.DataArray, dim) -> xr.DataArray:
             psd = xr.concat(list(psd), dim=name, join="exact", combine_attrs="drop_conflicts")
         except ValueError as exc:
             raise ValueError(f"the PSDs have different q grids ({exc}); maps of different sizes "
-                             "or spacings are averaged by roughstick.average_psd_common(psds) on a "
+                             "or spacings are averaged by roughstick.surface.average_psd_common(psds) on a "
                              "common log-spaced q grid.") from exc
     dims = [dim] if isinstance(dim, str) else list(dim)
     missing = [d for d in dims if d not in psd.dims]

@@ -170,7 +170,7 @@ def level(
     --------
     >>> x = (np.arange(16) + 0.5) * 1e-9
     >>> tilt = rs.testing.make_topography(2e-3 * x[None, :] + 1e-3 * x[:, None], spacing=1e-9)
-    >>> float(abs(rs.level(tilt)).max()) < 1e-20
+    >>> float(abs(rs.surface.level(tilt)).max()) < 1e-20
     True
     """
     if method not in ("plane", "mean", "line", "none"):
@@ -209,5 +209,5 @@ def _refuse_constant_or_nan(h: xr.DataArray) -> None:
     if not np.all(np.isfinite(z)):
         raise ValueError(
             "the height map has NaN/inf pixels; level it first with "
-            "roughstick.level(height, nan='fill') (or crop the dropouts)."
+            "roughstick.surface.level(height, nan='fill') (or crop the dropouts)."
         )

@@ -153,4 +153,4 @@ def test_fraction_advice_is_the_same_from_python_flags_and_configs():
     assert fraction_advice(95.0, label="confidence", spell_percent=False).endswith("did you mean 0.95?")
     assert "not a percentage" in fraction_advice(30.0, quantity="ratio", label="tolerance")
     with pytest.raises(ValueError, match=r"confidence = 95: confidence must lie .* did you mean 0.95\?"):
-        rs.min_samples_to_bound(0.5, confidence=95)
+        rs.ensemble.min_samples_to_bound(0.5, confidence=95)

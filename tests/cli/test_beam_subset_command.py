@@ -35,9 +35,9 @@ def test_cli_beam_subset_matches_the_python_call(tmp_path, capsys):
         assert main(["beam", str(cfg), "--out", str(out)]) == 0
     text = capsys.readouterr().out
     assert "P(stuck)" in text and "cv" in text and "bank" in text and "not resolved" in text
-    ds = rs.open_dataset(out / "beam.nc").load()
+    ds = rs.io.open_dataset(out / "beam.nc").load()
     assert ds.stiction_probability.dims == ("rh", "beam_length") and ds.sizes == {"rh": 2, "beam_length": 2}
-    bank = rs.open_dataset(next((tmp_path / "beam-bank-cache").glob("patch_bank_*.nc")))["adhesive_energy"]
+    bank = rs.io.open_dataset(next((tmp_path / "beam-bank-cache").glob("patch_bank_*.nc")))["adhesive_energy"]
     ref = rs.beam_stiction_probability_subset(bank.load(), beam_length=[110e-6, 160e-6], samples_per_level=500,
                                               target_cv=0.3, max_evaluations=6000, seed=0)
     for v in ("stiction_probability", "coefficient_of_variation", "n_evaluations", "bank_stiction_probability"):

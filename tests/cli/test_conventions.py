@@ -128,7 +128,7 @@ def test_damaged_netcdf_is_a_clear_error(tmp_path, capsys):
     bad = tmp_path / "gamma.nc"
     bad.write_bytes(b"\x89HDF\r\n\x1a\n" + b"\x00" * 100)  # an HDF5 signature, then nothing
     with pytest.raises(ValueError, match="damaged, truncated or not a NetCDF file"):
-        rs.open_dataset(bad)
+        rs.io.open_dataset(bad)
     cfg = tmp_path / "risk.toml"
     cfg.write_text('[ensemble]\nadhesive_energy = "gamma.nc"\n[output]\nfolder = "o"\n')
     assert main(["risk", str(cfg)]) == 1
@@ -185,7 +185,7 @@ def test_warns_when_generated_surfaces_exceed_the_measured_scan(caplog):
 
     from roughstick.cli.run import _warn_if_extrapolated
 
-    psd = rs.submap_psd(rs.datasets.load_sample("S1A").isel(x=slice(0, 256), y=slice(0, 256)), n=4)
+    psd = rs.surface.submap_psd(rs.datasets.load_sample("S1A").isel(x=slice(0, 256), y=slice(0, 256)), n=4)
     # 4 sub-maps of a 256² map at 5 nm: the PSD is measured on 0.64 µm scans
     with caplog.at_level(logging.WARNING, logger="roughstick"):
         _warn_if_extrapolated(psd, (128, 128), 5e-9, source="samples")
@@ -247,7 +247,7 @@ def test_curves_refuses_to_replace_a_file_without_overwrite(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--overwrite" in err and out.read_text() == "precious"
     assert main(args + ["--overwrite"]) == 0
-    assert rs.open_dataset(out).attrs["contact_model"] == "modified_dmt"
+    assert rs.io.open_dataset(out).attrs["contact_model"] == "modified_dmt"
     assert main([*args[:-1], str(tmp_path)]) == 1  # a folder as --out: name a file
     assert "is a folder" in capsys.readouterr().err
 

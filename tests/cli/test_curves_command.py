@@ -32,7 +32,7 @@ def test_model_auto_and_tolerance_reach_the_dispatcher(tmp_path, capsys):
         chosen = ds.attrs["contact_model"]
         assert ds.attrs["model_selection"].startswith(f"auto -> {chosen}:")
         assert "--model auto --tolerance 0.1" in ds.attrs["history"]
-        api = rs.rough_contact_curves(rs.read_afm(path, spacing=5e-9, units="nm"),
+        api = rs.rough_contact_curves(rs.io.read_afm(path, spacing=5e-9, units="nm"),
                                       relative_humidity=[0.7], model="auto", tolerance=0.1)
         assert api.attrs["contact_model"] == chosen
         np.testing.assert_allclose(ds.adhesive_energy.values,

@@ -97,7 +97,7 @@ def test_run_killed_after_overwrite_leaves_no_old_result(tmp_path, monkeypatch, 
     def killed(*a, **kw):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(run_cmd.rs, "run_ensemble", killed)
+    monkeypatch.setattr(run_cmd.rs.ensemble, "run", killed)
     assert main(["run", str(other), "--overwrite", "-q"]) == 130
     left = sorted(p.name for p in out.iterdir())
     assert left == [MARKER, WRITTEN_LOG, "notes.txt"], left  # no band.nc, PNG or ensemble of the old run
@@ -106,7 +106,7 @@ def test_run_killed_after_overwrite_leaves_no_old_result(tmp_path, monkeypatch, 
     capsys.readouterr()
     assert main(["run", str(other), "-q"]) == 0  # the retry needs no --overwrite: nothing complete to lose
     assert _marker(out)["status"] == "complete"
-    assert rs.open_dataset(out / "band.nc").rh.values.tolist() == [0.3, 0.8]
+    assert rs.io.open_dataset(out / "band.nc").rh.values.tolist() == [0.3, 0.8]
     assert (out / "notes.txt").read_text() == "mine"
 
 
@@ -174,7 +174,7 @@ def test_the_scheduler_is_checked_before_any_work(tmp_path, monkeypatch, capsys,
     def no_work(*a, **kw):
         raise AssertionError("work started")
 
-    monkeypatch.setattr(run_cmd.rs, "ensemble_distance_grid", no_work)
+    monkeypatch.setattr(run_cmd.rs.ensemble, "distance_grid", no_work)
     assert main(["run", str(_cfg(tmp_path, extra=extra)), *args]) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and where in err and "'threads'" in err and "tcp://host:port" in err
@@ -198,7 +198,7 @@ def test_a_bad_output_folder_is_refused_before_any_work(tmp_path, monkeypatch, c
     def no_work(*a, **kw):
         raise AssertionError("work started")
 
-    monkeypatch.setattr(run_cmd.rs, "ensemble_distance_grid", no_work)
+    monkeypatch.setattr(run_cmd.rs.ensemble, "distance_grid", no_work)
     target = out if out.startswith("/") else str(tmp_path / out)
     assert main(["run", str(_cfg(tmp_path)), "--out", target]) == 1
     err = capsys.readouterr().err
@@ -210,7 +210,7 @@ def test_run_prints_the_median_with_its_interval(tmp_path, capsys):
     """Audit item 7: the median of Γ was printed bare."""
     assert main(["run", str(_cfg(tmp_path, n=8, rh="[0.9]"))]) == 0
     line = next(ln for ln in capsys.readouterr().out.splitlines() if "RH 90%: median" in ln)
-    band = rs.open_dataset(tmp_path / "out" / "band.nc")
+    band = rs.io.open_dataset(tmp_path / "out" / "band.nc")
     lo, hi = (float(band[f"adhesive_energy_ci_{s}"].sel(quantile=0.5).squeeze()) * 1e3 for s in ("lower", "upper"))
     assert f"95% CI of the median [{lo:.4g}, {hi:.4g}]" in line
     assert lo < float(band.adhesive_energy.sel(quantile=0.5).squeeze()) * 1e3 < hi
@@ -223,7 +223,7 @@ def test_run_prints_the_median_with_its_interval(tmp_path, capsys):
 def test_risk_bem_check_line_says_its_interval():
     d = xr.Dataset({"failure_bem_ratio": 0.9, "failures_confirmed_by_bem": 0.75, "failures_checked_by_bem": 8})
     text = _confirmed(d)
-    lo, hi = rs.binomial_interval(6, 8, confidence=0.95)
+    lo, hi = rs.ensemble.binomial_interval(6, 8, confidence=0.95)
     assert f"6 of 8 failure states confirmed (95 % Wilson [{float(lo):.0%}, {float(hi):.0%}])" in text
     assert "median BEM/Eq. 16 0.90 (no interval: only the median is kept)" in text  # an older risk.nc
     text = _confirmed(d.assign(failure_bem_ratio_low=0.85, failure_bem_ratio_high=0.97))
@@ -242,7 +242,7 @@ def test_beam_nc_carries_conventions_history_and_bank_provenance(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         assert main(["beam", str(cfg), "--out", str(tmp_path / "o"), "-q"]) == 0
-    a = rs.open_dataset(tmp_path / "o" / "beam.nc").attrs
+    a = rs.io.open_dataset(tmp_path / "o" / "beam.nc").attrs
     assert a["Conventions"].startswith("CF-") and a["source"] == f"roughstick {rs.__version__}"
     assert "roughstick beam beam.toml" in a["history"]
     assert a["bank_seed"] == 5 and a["beam_seed"] == 3 and a["bank_laws"] == 3

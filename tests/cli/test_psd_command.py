@@ -24,8 +24,8 @@ def test_cli_psd(tmp_path, capsys):
     ds = xr.open_dataset(out)
     assert ds.psd.dims == ("qy", "qx") and ds.attrs["n_maps"] == 2
     assert "roughstick psd" in ds.attrs["history"]
-    ref = rs.psd_summary(
-        xr.concat([rs.level(rs.read_afm(tmp_path / f"m{i}.npy", spacing=5e-9, units="nm"))
+    ref = rs.surface.psd_summary(
+        xr.concat([rs.surface.level(rs.io.read_afm(tmp_path / f"m{i}.npy", spacing=5e-9, units="nm"))
                    for i in range(2)], dim="map"), n=4)
     np.testing.assert_allclose(ds.psd.values, ref.psd.values, rtol=1e-10)
     ds.close()
@@ -59,9 +59,9 @@ def test_cli_psd_line_scans(tmp_path, capsys):
     assert "3 line scans" in capsys.readouterr().out
     with xr.open_dataset(tmp_path / "p.nc") as ds:
         assert ds.psd_1d.dims == ("qx",) and ds.psd_1d.attrs["units"] == "m3"
-        ref = rs.profile_moments(rs.level_profile(
-            rs.read_afm(tmp_path / "s0.txt", spacing="2 nm", units="nm", line_scan=True)))
-        rows = [rs.profile_moments(rs.level_profile(rs.read_afm(
+        ref = rs.surface.profile_moments(rs.surface.level_profile(
+            rs.io.read_afm(tmp_path / "s0.txt", spacing="2 nm", units="nm", line_scan=True)))
+        rows = [rs.surface.profile_moments(rs.surface.level_profile(rs.io.read_afm(
             tmp_path / f"s{i}.txt", spacing="2 nm", units="nm", line_scan=True))).m2 for i in range(3)]
         np.testing.assert_allclose(float(ds.spatial_m2), np.mean([float(r) for r in rows]), rtol=1e-10)
         assert float(ref.m2) > 0
@@ -92,7 +92,7 @@ def test_cli_psd_reads_bundled_maps_by_name(tmp_path, capsys):
                  "--out", str(out)]) == 0
     with xr.open_dataset(out) as ds:
         assert ds.attrs["input_files"] == "bundled:S2A bundled:S2B" and ds.attrs["n_maps"] == 2
-        ref = rs.psd_summary(rs.datasets.sample_maps("S2").isel(map=[0, 1]), n=4, window=None)
+        ref = rs.surface.psd_summary(rs.datasets.sample_maps("S2").isel(map=[0, 1]), n=4, window=None)
         np.testing.assert_allclose(ds.psd.values, ref.psd.values, rtol=1e-10)
     capsys.readouterr()
     assert main(["psd", "bundled:S2A", "bundled:S4A", "--out", str(tmp_path / "x.nc")]) == 1
@@ -119,7 +119,7 @@ def test_cli_psd_prints_moments_with_their_interval_over_maps(tmp_path, capsys):
                  "--out", str(out)]) == 0
     text = capsys.readouterr().out
     assert "mean over the 3 maps [range across them; 95% interval of the mean, Student t with 2 dof]" in text
-    per = rs.roughness_moments(xr.concat([rs.level(rs.read_afm(p, spacing="5 nm", units="nm"))
+    per = rs.surface.roughness_moments(xr.concat([rs.surface.level(rs.io.read_afm(p, spacing="5 nm", units="nm"))
                                           for p in paths], dim="map"))
     t = scipy.stats.t.ppf(0.975, df=2)
     with xr.open_dataset(out) as ds:

@@ -37,30 +37,30 @@ def _run_cfg(tmp_path, name, ensemble="", extra=""):
 
 def test_run_takes_the_contact_model_its_warnings_name_and_says_it_in_config_keys(tmp_path, capsys):
     """`roughstick run` warned "use model='auto'" and refused a model key: the warning now names
-    [ensemble] contact_model, which the run takes ("auto" then says its choice before the work)."""
+    [ensemble] model, which the run takes ("auto" then says its choice before the work)."""
     assert main(["run", str(_run_cfg(tmp_path, "plain"))]) == 0
     err = capsys.readouterr().err
-    assert 'Remedy: [ensemble] contact_model = "auto" picks the cheapest model' in err
+    assert 'Remedy: [ensemble] model = "auto" picks the cheapest model' in err
     assert '[surface] spacing = "' in err  # the pixel warning: a finer spacing, as a key
     assert "model='" not in err and "curves_kwargs" not in err and "spacing=" not in err
-    assert main(["run", str(_run_cfg(tmp_path, "auto", 'contact_model = "auto"'))]) == 0
+    assert main(["run", str(_run_cfg(tmp_path, "auto", 'model = "auto"'))]) == 0
     text = capsys.readouterr()
     assert "ValidityWarning" not in text.err
     said = text.out.index("auto -> ")
     assert "per surface" in text.out[said:] and said < text.out.index("apparent adhesive energy")
-    band = rs.open_dataset(tmp_path / "auto" / "band.nc")
+    band = rs.io.open_dataset(tmp_path / "auto" / "band.nc")
     assert band.attrs["contact_model"] in ("gw", "modified_dmt", "fft_bem", "bem")
-    # the model key has one name in every command: `model` is refused with it
-    assert main(["run", str(_run_cfg(tmp_path, "old", 'model = "fft_bem"'))]) == 1
-    assert 'contact_model = "fft_bem"' in capsys.readouterr().err
+    # the model key has one name in every command: the old `contact_model` is refused with it
+    assert main(["run", str(_run_cfg(tmp_path, "old", 'contact_model = "fft_bem"'))]) == 1
+    assert "It is now 'model': write model = ... instead" in capsys.readouterr().err
 
 
 def test_python_callers_get_their_own_arguments_named():
     """The same warnings from Python name the argument of the function called."""
-    psd = rs.self_affine_psd(np.geomspace(1e5, 3e9, 300), s0=1e-36, s1=1e-37, q0=1e7, qmax=2.9e8)
+    psd = rs.surface.self_affine_psd(np.geomspace(1e5, 3e9, 300), s0=1e-36, s1=1e-37, q0=1e7, qmax=2.9e8)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        rs.run_ensemble(psd, n=1, shape=(16, 16), spacing=5e-9, relative_humidity=[0.05])
+        rs.ensemble.run(psd, n=1, shape=(16, 16), spacing=5e-9, relative_humidity=[0.05])
     text = " ".join(str(w.message) for w in caught if issubclass(w.category, rs.ValidityWarning))
     assert "spacing=" in text and "[surface]" not in text and "--" not in text
 
@@ -70,9 +70,9 @@ def test_material_is_set_from_every_command_and_recorded(tmp_path, capsys):
     (curves) now set both bodies' constants, the beam's modulus follows, and outputs record it."""
     soft = '[material]\nname = "soft film"\nyoungs_modulus = "10 GPa"\npoisson_ratio = 0.3\n'
     assert main(["run", str(_run_cfg(tmp_path, "soft", extra=soft)), "-q"]) == 0
-    band = rs.open_dataset(tmp_path / "soft" / "band.nc")
+    band = rs.io.open_dataset(tmp_path / "soft" / "band.nc")
     assert (band.attrs["material"], band.attrs["material_youngs_modulus"]) == ("soft film", 10e9)
-    ens = rs.open_ensemble(tmp_path / "soft" / "ensemble")
+    ens = rs.ensemble.open_ensemble(tmp_path / "soft" / "ensemble")
     assert "youngs_modulus=10000000000.0" in ens.attrs["material"]  # what the curves ran on
     # curves: the same map on a soft material has another Γ
     h = rs.datasets.surface_family("S1", shape=(32, 32), seed=0, n=1).isel(realization=0).compute()
@@ -94,7 +94,7 @@ def test_material_is_set_from_every_command_and_recorded(tmp_path, capsys):
                    '[ensemble]\nadhesive_energy = "gamma.nc"\n[material]\nyoungs_modulus = "100 GPa"\n'
                    "poisson_ratio = 0.2\n")
     assert main(["risk", str(cfg), "-q"]) == 0
-    risk = rs.open_dataset(tmp_path / "risk" / "risk.nc")
+    risk = rs.io.open_dataset(tmp_path / "risk" / "risk.nc")
     assert risk.attrs["material_youngs_modulus"] == 100e9 and risk.attrs["beam_youngs_modulus"] == 100e9
     # beam: the patch laws and the beam
     cfg = tmp_path / "beam.toml"
@@ -102,7 +102,7 @@ def test_material_is_set_from_every_command_and_recorded(tmp_path, capsys):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # 16 x 16 patches are not independent: said, not the point here
         assert main(["beam", str(cfg), "-q"]) == 0
-    beam = rs.open_dataset(tmp_path / "beam" / "beam.nc")
+    beam = rs.io.open_dataset(tmp_path / "beam" / "beam.nc")
     assert beam.attrs["material"] == "soft film" and beam.attrs["youngs_modulus"] == 10e9  # the beam's
     # an unknown name is refused before any work, naming the known ones and the constants
     cfg.write_text(SMALL_BEAM + '[material]\nname = "silicon"\n[output]\nfolder = "beam2"\n')
@@ -155,5 +155,5 @@ def test_fixed_commands_name_the_key_of_the_users_own_run(command):
     args = build_parser().parse_args([command])
     with spelled(**args.remedies(args)):
         text = spell("contact_model", "auto")
-    assert text.startswith('[ensemble] contact_model = "auto" in a `roughstick run` configuration')
+    assert text.startswith('[ensemble] model = "auto" in a `roughstick run` configuration')
     assert f"`roughstick {command}` are fixed" in text

@@ -38,7 +38,7 @@ def test_cli_risk_from_given_sample(tmp_path, capsys):
     for f in ("risk.nc", "stiction_probability.png", "stiction_vs_length.png",
               "adhesive_energy_bands.png", "crack_length.png"):
         assert (out / f).stat().st_size > 1000, f
-    got = rs.open_dataset(out / "risk.nc").load()
+    got = rs.io.open_dataset(out / "risk.nc").load()
     # issue 16 item 6: the string coordinate is the layer model, not a thickness in metres
     assert got["adsorbed_layer"].attrs == {"long_name": "adsorbed water layer model"}
     ref = rs.stiction_risk(sample, length=[250e-6, 350e-6, 500e-6], levels=[0.1, 0.5])
@@ -142,7 +142,7 @@ def test_cli_risk_subset_run(tmp_path, capsys):
         '[risk]\nmethod = "subset"\nsamples_per_level = 50\ntarget_cv = 0.5\nmax_evaluations = 400\n'
         "levels = [0.01]\n")
     assert main(["risk", str(cfg), "-q"]) == 0
-    got = rs.open_dataset(tmp_path / "out" / "risk.nc").load()
+    got = rs.io.open_dataset(tmp_path / "out" / "risk.nc").load()
     assert got.stiction_probability.dims == ("adsorbed_layer", "beam_length", "rh")
     p = got.stiction_probability.values
     assert np.all((got.stiction_probability_lower.values <= p) & (p <= got.stiction_probability_upper.values))
@@ -151,7 +151,7 @@ def test_cli_risk_subset_run(tmp_path, capsys):
     fit = rs.cantilever_psd(**{k: rs.stiction.interaction_zone.TABLE4[k]
                                for k in ("roughness", "asperity_radius", "asperity_density", "qmax")})
     ref = rs.stiction_probability_subset(
-        lambda q: rs.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}),
+        lambda q: rs.surface.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}),
         relative_humidity=[0.5, 0.7], shape=(16, 16), spacing=5e-9, length=400e-6, target_cv=0.5,
         max_evaluations=400, seed=3, samples_per_level=50, scheduler="sync")
     np.testing.assert_array_equal(p[0, 0], ref.stiction_probability.values)
@@ -175,14 +175,14 @@ def test_cli_risk_subset_on_the_boundary_element_model(tmp_path, capsys):
             '[risk]\nmethod = "subset"\nsamples_per_level = 50\ntarget_cv = 0.9\nmax_evaluations = 200\n'
             f'levels = [0.01]\ncontact_model = "{model}"\n')
         assert main(["risk", str(cfg), "-q"]) == 0
-        return rs.open_dataset(tmp_path / folder / "risk.nc").load()
+        return rs.io.open_dataset(tmp_path / folder / "risk.nc").load()
 
     bem = run("fft_bem", "bem")
     assert bem.attrs["contact_model"] == "fft_bem" and "failures_confirmed_by_bem" not in bem
     fit = rs.cantilever_psd(**{k: rs.stiction.interaction_zone.TABLE4[k]
                                for k in ("roughness", "asperity_radius", "asperity_density", "qmax")})
     ref = rs.stiction_probability_subset(
-        lambda q: rs.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}),
+        lambda q: rs.surface.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}),
         relative_humidity=[0.5], shape=(16, 16), spacing=5e-9, length=120e-6, target_cv=0.9,
         max_evaluations=200, seed=5, samples_per_level=50, scheduler="sync", contact_model="fft_bem")
     np.testing.assert_array_equal(bem.stiction_probability.values[0, 0], ref.stiction_probability.values)

@@ -93,10 +93,10 @@ def test_run_end_to_end_resume_and_refuse(tmp_path, capsys):
     assert json.loads((out / MARKER).read_text())["status"] == "complete"
     m = json.loads((out / "ensemble" / "manifest.json").read_text())
     assert m["complete"] and m["n"] == 4 and len(m["completed"]) == 2
-    band = rs.open_dataset(out / "band.nc")
+    band = rs.io.open_dataset(out / "band.nc")
     assert band.adhesive_energy.dims == ("quantile", "rh")
     assert band.adhesive_energy.attrs["units"] == "J m-2"
-    ens = rs.open_ensemble(out / "ensemble")
+    ens = rs.ensemble.open_ensemble(out / "ensemble")
     assert ens.sizes["realization"] == 4 and ens.attrs["seed"] == "7"
     stdout = capsys.readouterr().out
     assert "RH 30%: median" in stdout
@@ -107,7 +107,7 @@ def test_run_end_to_end_resume_and_refuse(tmp_path, capsys):
     # the same command again: nothing to compute, same numbers
     before = ens.adhesive_energy.values
     assert main(["run", str(cfg), "--no-figures"]) == 0
-    np.testing.assert_array_equal(rs.open_ensemble(out / "ensemble").adhesive_energy.values, before)
+    np.testing.assert_array_equal(rs.ensemble.open_ensemble(out / "ensemble").adhesive_energy.values, before)
     # other parameters into the same folder: refused with the fix; --overwrite replaces
     capsys.readouterr()
     assert main(["run", str(cfg), "--n", "4", "--no-figures", "--scheduler", "sync"]) == 0
@@ -116,7 +116,7 @@ def test_run_end_to_end_resume_and_refuse(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "different parameters" in err and "--overwrite" in err
     assert main(["run", str(other), "--overwrite"]) == 0
-    assert rs.open_ensemble(out / "ensemble").rh.values.tolist() == [0.3, 0.8]
+    assert rs.ensemble.open_ensemble(out / "ensemble").rh.values.tolist() == [0.3, 0.8]
 
 
 def test_run_unreachable_scheduler(tmp_path, capsys):
@@ -133,5 +133,5 @@ def test_reproduce_quick_small(tmp_path):
     for f in ("fig13_surfaces_S1.png", "fig14_curves_S1.png", "fig15_curves_S2.png",
               "fig16_energy_bands.png", "fig17_energy_distributions_S1.png", "band_S1.nc"):
         assert f in names
-    band = rs.open_dataset(tmp_path / "band_S1.nc")
+    band = rs.io.open_dataset(tmp_path / "band_S1.nc")
     assert band.adhesive_energy.dims == ("quantile", "surface_size", "rh")

@@ -337,7 +337,7 @@ def test_lazy_bad_radius_raises_at_compute():
 
 
 def test_demo_step_writes_figures_curves_and_table1(tmp_path):
-    from roughstick.demos import s10_sphere
+    from roughstick.paper.demo import s10_sphere
 
     files = s10_sphere.run(tmp_path, quick=True)
     names = {p.name for p in files}

@@ -77,7 +77,7 @@ RH = [0.3, 0.5, 0.7, 0.9]
 
 def toy_run(n=6, shape=(16, 16), chunks=2, **kw):
     kw = {**TOY, **kw}
-    return rs.run_ensemble(toy_psd(), n=n, shape=shape, spacing=5e-9, relative_humidity=kw.pop("rh", RH),
+    return rs.ensemble.run(toy_psd(), n=n, shape=shape, spacing=5e-9, relative_humidity=kw.pop("rh", RH),
                            seed=kw.pop("seed", 3), chunks=chunks, **kw)
 
 

@@ -1,4 +1,4 @@
-"""Tests of run_ensemble with every contact model of rough_contact_curves (curves_kwargs["model"]):
+"""Tests of roughstick.ensemble.run with every contact model (its model= keyword):
 the lazy template matches what the model returns, "auto" is chosen once for the ensemble, and the
 one-time validity check describes the model actually run."""
 
@@ -20,15 +20,15 @@ MODELS = ["modified_dmt", "gw", "fft_bem",
 
 @pytest.fixture(scope="module")
 def psd():
-    return rs.power_spectrum(rs.datasets.surface_family("S1", shape=(64, 64), seed=1))
+    return rs.surface.power_spectrum(rs.datasets.surface_family("S1", shape=(64, 64), seed=1))
 
 
 def _run(psd, model, n=2):
     """The lazy run and the warnings it emitted (all recorded: which ones is what is tested)."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        ds = rs.run_ensemble(psd, n=n, shape=SHAPE, spacing=SPACING, relative_humidity=RH,
-                             curves_kwargs={"model": model})
+        ds = rs.ensemble.run(psd, n=n, shape=SHAPE, spacing=SPACING, relative_humidity=RH,
+                             model=model)
     return ds, [w for w in caught if issubclass(w.category, rs.ValidityWarning)
                 and not issubclass(w.category, rs.PixelResolutionWarning)]
 
@@ -49,7 +49,7 @@ def test_every_model_runs_with_the_variables_it_returns(psd, model):
     assert out.attrs["contact_model"] == model
     assert np.isfinite(out.pressure).all() and np.isfinite(out.max_height).all()
     # the same variables as the model returns for one of the run's surfaces on its own
-    h = rs.generate_surfaces(psd, n=1, shape=SHAPE, spacing=SPACING, seed=0).isel(realization=0)
+    h = rs.surface.generate_surfaces(psd, n=1, shape=SHAPE, spacing=SPACING, seed=0).isel(realization=0)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", rs.ValidityWarning)
         direct = rs.rough_contact_curves(h.compute(), relative_humidity=RH, model=model)
@@ -58,7 +58,7 @@ def test_every_model_runs_with_the_variables_it_returns(psd, model):
 
 @pytest.mark.parametrize("model", MODELS)
 def test_validity_warning_describes_the_model_run(psd, model):
-    """The one-time check looks up the model of curves_kwargs, not always the modified DMT: it
+    """The one-time check looks up the model run (model=), not always the modified DMT: it
     warns exactly when that model's measured bound at the PSD's expected groups exceeds the
     tolerance, and only about that model (never for the reference BEM)."""
     _, said = _run(psd, model)
@@ -93,26 +93,42 @@ def test_auto_is_chosen_once_meets_the_tolerance_and_is_recorded(psd):
 
 
 def test_unknown_model_is_refused_before_anything_runs(psd):
-    with pytest.raises(ValueError, match="curves_kwargs\\['model'\\] must be one of"):
-        rs.run_ensemble(psd, n=2, shape=SHAPE, spacing=SPACING, relative_humidity=RH,
-                        curves_kwargs={"model": "dmt"})
+    with pytest.raises(ValueError, match="model must be one of"):
+        rs.ensemble.run(psd, n=2, shape=SHAPE, spacing=SPACING, relative_humidity=RH, model="dmt")
+
+
+def test_the_old_curves_kwargs_model_still_works_and_says_model(psd):
+    """curves_kwargs={"model": ..., "tolerance": ...} is model=..., accuracy=... (with a
+    DeprecationWarning naming them); the run, its parameters' hash included, is the same."""
+    kw = dict(n=2, shape=SHAPE, spacing=SPACING, relative_humidity=RH)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        new = rs.ensemble.run(psd, model="gw", accuracy=0.3, **kw)
+        with pytest.warns(DeprecationWarning) as said:
+            old = rs.ensemble.run(psd, curves_kwargs={"model": "gw", "tolerance": 0.3}, **kw)
+    assert {str(w.message).split(" is now ")[1].split(";")[0] for w in said
+            if w.category is DeprecationWarning} == {"run(model=...)", "run(accuracy=...)"}
+    assert old.attrs["params_hash"] == new.attrs["params_hash"]
+    assert old.attrs["contact_model"] == new.attrs["contact_model"] == "gw"
+    with pytest.raises(TypeError, match="model="):
+        rs.ensemble.run(psd, model="gw", curves_kwargs={"model": "gw"}, **kw)
 
 
 def test_size_study_runs_one_auto_model_for_every_size():
     # S2 at 20 % RH with a 30 % tolerance: select_model takes the modified DMT for 32 px zones
     # and the FFT-BEM for 64 px zones (their expected groups differ); a size study must not
     # compare two models under the name of two sizes
-    psd = rs.self_affine_psd(np.geomspace(1e5, 1e10, 2000), **rs.datasets.family_parameters("S2"))
-    ck = {"model": "auto", "tolerance": 0.3}
-    alone = [rs.run_ensemble(psd, n=2, shape=s, spacing=5e-9, relative_humidity=[0.2],
-                             curves_kwargs=ck).attrs["contact_model"] for s in (32, 64)]
+    psd = rs.surface.self_affine_psd(np.geomspace(1e5, 1e10, 2000), **rs.datasets.family_parameters("S2"))
+    ck = {"model": "auto", "accuracy": 0.3}
+    alone = [rs.ensemble.run(psd, n=2, shape=s, spacing=5e-9, relative_humidity=[0.2],
+                             **ck).attrs["contact_model"] for s in (32, 64)]
     assert alone == ["modified_dmt", "fft_bem"]
-    ds = rs.surface_size_study(psd, shapes=[32, 64], spacing=5e-9, n=2, relative_humidity=[0.2],
-                               curves_kwargs=ck)
+    ds = rs.ensemble.surface_size_study(psd, shapes=[32, 64], spacing=5e-9, n=2,
+                                        relative_humidity=[0.2], **ck)
     assert ds.attrs["contact_model"] == "fft_bem"
     assert "every size" in ds.attrs["model_selection"]
 
 
 def test_a_callable_psd_is_refused_with_the_way_to_evaluate_it():
     with pytest.raises(TypeError, match=r"self_affine_psd\(numpy.geomspace"):
-        rs.run_ensemble(rs.datasets.family_psd("S1"), n=2, shape=16, spacing=5e-9, relative_humidity=[0.5])
+        rs.ensemble.run(rs.datasets.family_psd("S1"), n=2, shape=16, spacing=5e-9, relative_humidity=[0.5])

@@ -37,7 +37,7 @@ def test_progress_quiet_when_not_interactive(monkeypatch, capsys):
 
 
 def test_auto_n_stops_and_matches_fixed_n():
-    ds = toy_run(n="auto", batch=4, tolerance=0.05, n_max=24, chunks=4)
+    ds = toy_run(n="auto", batch=4, target_precision=0.05, n_max=24, chunks=4)
     n = ds.attrs["n_final"]
     assert ds.sizes["realization"] == n and 12 <= n <= 24
     assert "moves by less than 0.05" in ds.attrs["auto_stopping_rule"]
@@ -54,12 +54,12 @@ def test_local_cluster_processes_bit_identical(tmp_path):
 
     run = dict(n=6, shape=64, spacing=5e-9, relative_humidity=RH, seed=11)
     psd = rs.datasets.sample_psd("S2")
-    threaded = rs.run_ensemble(psd, chunks=2, **run).compute(scheduler="threads")
-    other_chunks = rs.run_ensemble(psd, chunks=5, **run).compute(scheduler="sync")
+    threaded = rs.ensemble.run(psd, chunks=2, **run).compute(scheduler="threads")
+    other_chunks = rs.ensemble.run(psd, chunks=5, **run).compute(scheduler="sync")
     with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
-        on_cluster = rs.run_ensemble(psd, chunks=3, **run).compute(scheduler=client)
-        streamed = rs.run_ensemble(psd, chunks=2, output=tmp_path / "c",
+        on_cluster = rs.ensemble.run(psd, chunks=3, **run).compute(scheduler=client)
+        streamed = rs.ensemble.run(psd, chunks=2, output=tmp_path / "c",
                                    scheduler=cluster.scheduler_address, **run)
         streamed = streamed.compute(scheduler="sync")
     assert_same_values(threaded, on_cluster)
@@ -69,11 +69,11 @@ def test_local_cluster_processes_bit_identical(tmp_path):
 
 def test_auto_converged_saved_in_the_run_folder(tmp_path):
     """An auto run stopped at n_max unconverged must not look like a converged one on disk."""
-    ds = toy_run(n="auto", batch=2, tolerance=1e-9, n_max=4, chunks=2, output=tmp_path / "run")
+    ds = toy_run(n="auto", batch=2, target_precision=1e-9, n_max=4, chunks=2, output=tmp_path / "run")
     assert ds.attrs["auto_converged"] == 0
-    reopened = rs.open_ensemble(tmp_path / "run")
+    reopened = rs.ensemble.open_ensemble(tmp_path / "run")
     assert reopened.attrs["auto_converged"] == 0 and reopened.attrs["n_final"] == 4
-    band = rs.confidence_band(reopened[["adhesive_energy"]])
+    band = rs.ensemble.confidence_band(reopened[["adhesive_energy"]])
     assert band.attrs["auto_converged"] == 0
 
 

@@ -26,15 +26,15 @@ CASES = list(itertools.product((1e-9, 2e-9, 4e-9), (5e6, 1e7, 2e7, 5e7, 1e8), (0
 def self_affine(rms, q0, hurst):
     """Eq. 37 with roll-off ``q0``, cut at QMAX, scaled to the rms height ``rms``."""
     ratio = (QMAX / q0) ** (-2.0 * (1.0 + hurst))
-    s0 = rms**2 / float(rs.self_affine_moments(s0=1.0, s1=ratio, q0=q0, qmax=QMAX).m0)
-    return rs.self_affine_psd(Q, s0=s0, s1=s0 * ratio, q0=q0, qmax=QMAX)
+    s0 = rms**2 / float(rs.surface.self_affine_moments(s0=1.0, s1=ratio, q0=q0, qmax=QMAX).m0)
+    return rs.surface.self_affine_psd(Q, s0=s0, s1=s0 * ratio, q0=q0, qmax=QMAX)
 
 
 def _run(psd, *, n, shape, rh=(0.3, 0.9)):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", rs.ValidityWarning)  # their accuracy is issue 13's table
-        warnings.simplefilter("ignore", rs.ExtrapolatedPSDWarning)
-        return rs.run_ensemble(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=list(rh),
+        warnings.simplefilter("ignore", rs.surface.ExtrapolatedPSDWarning)
+        return rs.ensemble.run(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=list(rh),
                                seed=1, progress=False).compute()
 
 
@@ -49,7 +49,7 @@ def test_all_45_realistic_self_affine_psds_finish():
         # alone, independently of the ensemble's common grid)
         deq = ds.equilibrium_distance.values
         for k, j in zip(*np.nonzero(~np.isfinite(deq)), strict=True):
-            h = rs.generate_surfaces(self_affine(rms, q0, hurst), n=4, shape=96, spacing=5e-9, seed=1)
+            h = rs.surface.generate_surfaces(self_affine(rms, q0, hurst), n=4, shape=96, spacing=5e-9, seed=1)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", rs.ValidityWarning)
                 c = rs.rough_contact_curves(h.isel(realization=k, drop=True).compute(),
@@ -58,7 +58,7 @@ def test_all_45_realistic_self_affine_psds_finish():
             assert (p <= 0).all() and p[0] < 0, (rms, q0, hurst, k)
             assert float(c.distance[0]) <= float(h.isel(realization=k).min() - h.isel(realization=k).mean())
             no_equilibrium.add((rms, q0, hurst))
-        band = rs.confidence_band(ds[["adhesive_energy", "equilibrium_distance"]])
+        band = rs.ensemble.confidence_band(ds[["adhesive_energy", "equilibrium_distance"]])
         assert np.isfinite(band.adhesive_energy.values).all()
     assert len(no_equilibrium) < len(CASES) / 4, no_equilibrium
 

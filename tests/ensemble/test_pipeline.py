@@ -30,7 +30,7 @@ def sample_psds():
 
 
 def _findings(psd, n, seed):
-    ds = rs.surface_size_study(psd, shapes=[128, 256], spacing=5e-9, n=n, relative_humidity=[0.3, 0.9],
+    ds = rs.ensemble.surface_size_study(psd, shapes=[128, 256], spacing=5e-9, n=n, relative_humidity=[0.3, 0.9],
                                seed=seed, chunks=8).compute()
     g = ds.adhesive_energy
     mean, sd = g.mean("realization"), g.std("realization", ddof=1)
@@ -109,7 +109,7 @@ def test_material_by_name_or_refused_naming_the_names():
     'poisson_ratio') from deep inside the validity check."""
     with pytest.raises(ValueError, match=r"material='silicon' is not a material roughstick knows; known "
                                          r"names: 'poly-silicon'.*roughstick.Material\(youngs_modulus="):
-        rs.run_ensemble(rs.datasets.sample_psd("S2"), n=2, shape=32, spacing=5e-9, relative_humidity=[0.5],
+        rs.ensemble.run(rs.datasets.sample_psd("S2"), n=2, shape=32, spacing=5e-9, relative_humidity=[0.5],
                         material="silicon")
     with pytest.raises(TypeError, match="must be a roughstick.Material or a known name"):
         toy_run(n=2, material=164e9)
@@ -124,12 +124,12 @@ def test_lengths_with_their_unit_everywhere():
     psd = rs.datasets.sample_psd("S2")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the validity and pixel warnings of this small run
-        with_units = rs.run_ensemble(psd, n=2, size="0.32 um", spacing="5 nm", relative_humidity=[0.5], seed=1)
-        in_m = rs.run_ensemble(psd, n=2, size=0.32e-6, spacing=5e-9, relative_humidity=[0.5], seed=1)
+        with_units = rs.ensemble.run(psd, n=2, size="0.32 um", spacing="5 nm", relative_humidity=[0.5], seed=1)
+        in_m = rs.ensemble.run(psd, n=2, size=0.32e-6, spacing=5e-9, relative_humidity=[0.5], seed=1)
     assert with_units.attrs["params_hash"] == in_m.attrs["params_hash"]
     assert with_units.sizes == in_m.sizes and with_units.attrs["surface_shape"] == in_m.attrs["surface_shape"]
-    a = rs.generate_surfaces(psd, n=1, shape=32, spacing="5 nm", seed=3)
-    b = rs.generate_surfaces(psd, n=1, size="160 nm", spacing=5e-9, seed=3)
+    a = rs.surface.generate_surfaces(psd, n=1, shape=32, spacing="5 nm", seed=3)
+    b = rs.surface.generate_surfaces(psd, n=1, size="160 nm", spacing=5e-9, seed=3)
     np.testing.assert_array_equal(a.values, b.values)
     xr.testing.assert_identical(rs.expected_surface_groups(psd, shape=32, spacing="5 nm", relative_humidity=0.5),
                                 rs.expected_surface_groups(psd, shape=32, spacing=5e-9, relative_humidity=0.5))
@@ -139,20 +139,20 @@ def test_lengths_with_their_unit_everywhere():
     xr.testing.assert_allclose(f, rs.sphere_force([1e-9], model="dmt", radius=200e-9, relative_humidity=0.5),
                                rtol=1e-14)
     with pytest.raises(ValueError, match=r"spacing = '2 parsecs': unknown length unit"):
-        rs.run_ensemble(psd, n=2, shape=32, spacing="2 parsecs", relative_humidity=[0.5])
+        rs.ensemble.run(psd, n=2, shape=32, spacing="2 parsecs", relative_humidity=[0.5])
     with pytest.raises(ValueError, match=r"spacing\[y\] must be positive and finite, got -2e-09"):
-        rs.generate_surfaces(psd, n=1, shape=32, spacing="-2 nm")
+        rs.surface.generate_surfaces(psd, n=1, shape=32, spacing="-2 nm")
 
 
 def test_bad_shapes():
     with pytest.raises(ValueError, match="exactly one of shape"):
-        rs.run_ensemble(toy_psd(), n=2, shape=16, size=1e-6, spacing=5e-9, relative_humidity=RH, **TOY)
+        rs.ensemble.run(toy_psd(), n=2, shape=16, size=1e-6, spacing=5e-9, relative_humidity=RH, **TOY)
     with pytest.raises(ValueError, match="whole number of pixels"):
-        rs.run_ensemble(toy_psd(), n=2, size=1.003e-7, spacing=5e-9, relative_humidity=RH, **TOY)
+        rs.ensemble.run(toy_psd(), n=2, size=1.003e-7, spacing=5e-9, relative_humidity=RH, **TOY)
     with pytest.raises(ValueError, match="shape"):
-        rs.run_ensemble(toy_psd(), n=2, shape=(2, 16), spacing=5e-9, relative_humidity=RH, **TOY)
+        rs.ensemble.run(toy_psd(), n=2, shape=(2, 16), spacing=5e-9, relative_humidity=RH, **TOY)
     with pytest.raises(TypeError, match="DataArray"):
-        rs.run_ensemble(np.ones((4, 4)), n=2, shape=16, spacing=5e-9, relative_humidity=RH, **TOY)
+        rs.ensemble.run(np.ones((4, 4)), n=2, shape=16, spacing=5e-9, relative_humidity=RH, **TOY)
 
 
 def test_distance_grid_covers_highest_point_and_bottom_check():
@@ -177,13 +177,13 @@ def test_distance_grid_covers_highest_point_and_bottom_check():
 
 
 def test_gamma_converges_with_distance_grid_toy():
-    """Γ (Eq. 13) on ensemble_distance_grid: the error against a 3200-point grid shrinks with num.
+    """Γ (Eq. 13) on distance_grid: the error against a 3200-point grid shrinks with n_distance.
 
     The toy's wetted area is a step function of d (16 x 16 pixels), so convergence is O(step).
     """
     g = {}
     for num in (100, 400, 1600, 3200):
-        d = rs.ensemble_distance_grid(toy_psd(), shape=(16, 16), n=4, relative_humidity=RH, num=num)
+        d = rs.ensemble.distance_grid(toy_psd(), shape=(16, 16), n=4, relative_humidity=RH, n_distance=num)
         g[num] = toy_run(n=4, distance=d).adhesive_energy.values
     err = {k: np.mean(np.abs(g[k] / g[3200] - 1)) for k in (100, 400, 1600)}
     assert err[1600] < err[400] < err[100]
@@ -191,7 +191,7 @@ def test_gamma_converges_with_distance_grid_toy():
 
 
 def test_surface_size_study_shares_grid():
-    ds = rs.surface_size_study(toy_psd(), shapes=[(16, 16), (32, 32)], spacing=5e-9, n=3,
+    ds = rs.ensemble.surface_size_study(toy_psd(), shapes=[(16, 16), (32, 32)], spacing=5e-9, n=3,
                                relative_humidity=RH, chunks=3, **TOY)
     assert ds.adhesive_energy.dims == ("surface_size", "realization", "rh")
     np.testing.assert_allclose(ds.surface_size.values, [80e-9, 160e-9])
@@ -203,14 +203,14 @@ def test_surface_size_study_shares_grid():
 def test_real_pipeline_layout_and_single_realization(sample_psds):
     psd = sample_psds["S2"]
     with raise_if_dask_computes():
-        ds = rs.run_ensemble(psd, n=3, shape=64, spacing=5e-9, relative_humidity=RH6, seed=9, chunks=2)
+        ds = rs.ensemble.run(psd, n=3, shape=64, spacing=5e-9, relative_humidity=RH6, seed=9, chunks=2)
     for v in ("pressure", "wet_fraction", "contact_fraction", "n_contacts", "fit_error"):
         assert ds[v].dims == ("realization", "rh", "distance"), v
     for v in ("adhesive_energy", "pull_off_pressure", "equilibrium_distance"):
         assert ds[v].dims == ("realization", "rh"), v
     ds = ds.compute()
     # realization 2 regenerated alone and run through the public functions directly
-    h = rs.generate_surfaces(psd, realizations=[2], shape=64, spacing=5e-9, seed=9).compute()
+    h = rs.surface.generate_surfaces(psd, realizations=[2], shape=64, spacing=5e-9, seed=9).compute()
     c = rs.rough_contact_curves(h, relative_humidity=RH6, distance=ds.distance)
     s = rs.adhesion_summary(c)
     np.testing.assert_array_equal(c.pressure.isel(realization=0).transpose("rh", "distance").values,
@@ -229,12 +229,12 @@ def test_real_gamma_converges_on_default_grid(sample_psds):
     """Γ on the default grid (step = h_water(30 %)/10) against a 4x finer grid."""
     for name, psd in sample_psds.items():
         kw = dict(shape=(128, 128), n=4, relative_humidity=RH6)
-        coarse = rs.ensemble_distance_grid(psd, **kw)
-        fine = rs.ensemble_distance_grid(psd, points_per_water_height=40, **kw)
+        coarse = rs.ensemble.distance_grid(psd, **kw)
+        fine = rs.ensemble.distance_grid(psd, points_per_water_height=40, **kw)
         assert fine.size > 3.5 * coarse.size
         run = dict(n=4, shape=128, spacing=5e-9, relative_humidity=RH6, seed=4, chunks=4)
-        g0 = rs.run_ensemble(psd, distance=coarse, **run).adhesive_energy.values
-        g1 = rs.run_ensemble(psd, distance=fine, **run).adhesive_energy.values
+        g0 = rs.ensemble.run(psd, distance=coarse, **run).adhesive_energy.values
+        g1 = rs.ensemble.run(psd, distance=fine, **run).adhesive_energy.values
         err = np.abs(g0 / g1 - 1)
         assert np.median(err) < 0.01, (name, err)
         assert err.max() < 0.06, (name, err)
@@ -254,18 +254,18 @@ def _smooth_psd():
     """The issue's smooth self-affine PSD (rms 2 nm, Hurst 0.8, roll-off 2e7 rad/m, cut 2.89e8)."""
     q0, qmax, hurst = 2e7, 2.89e8, 0.8
     s1_over_s0 = (qmax / q0) ** (-2.0 * (1.0 + hurst))
-    m0 = float(rs.self_affine_moments(s0=1.0, s1=s1_over_s0, q0=q0, qmax=qmax).m0)
+    m0 = float(rs.surface.self_affine_moments(s0=1.0, s1=s1_over_s0, q0=q0, qmax=qmax).m0)
     s0 = (2e-9) ** 2 / m0
     q = np.geomspace(1e5, 2e9, 300)
     q = xr.DataArray(q, dims="q", coords={"q": q}, attrs={"units": "rad/m"})
-    return rs.self_affine_psd(q, s0=s0, s1=s0 * s1_over_s0, q0=q0, qmax=qmax)
+    return rs.surface.self_affine_psd(q, s0=s0, s1=s0 * s1_over_s0, q0=q0, qmax=qmax)
 
 
 SUMMARIES = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
 
 
 def _summaries(n, rh, chunks=None):
-    ds = rs.run_ensemble(_smooth_psd(), n=n, relative_humidity=rh, spacing=5e-9,
+    ds = rs.ensemble.run(_smooth_psd(), n=n, relative_humidity=rh, spacing=5e-9,
                          shape=(64, 64), seed=11, chunks=chunks, scheduler="sync")
     return ds[list(SUMMARIES)].compute()
 
@@ -288,9 +288,9 @@ def test_summaries_independent_of_other_humidities_n_and_chunks():
 
 @pytest.mark.filterwarnings("ignore::roughstick.ValidityWarning")
 def test_summary_is_the_single_map_automatic_grid_result():
-    ds = rs.run_ensemble(_smooth_psd(), n=2, relative_humidity=[0.5], spacing=5e-9,
+    ds = rs.ensemble.run(_smooth_psd(), n=2, relative_humidity=[0.5], spacing=5e-9,
                          shape=(64, 64), seed=5, scheduler="sync").compute()
-    h = rs.generate_surfaces(_smooth_psd(), n=2, shape=(64, 64), spacing=5e-9,
+    h = rs.surface.generate_surfaces(_smooth_psd(), n=2, shape=(64, 64), spacing=5e-9,
                              seed=5).isel(realization=1, drop=True).compute()
     direct = rs.adhesion_summary(rs.rough_contact_curves(h, relative_humidity=[0.5],
                                                          check_validity=False))
@@ -306,15 +306,15 @@ def test_run_warns_once_before_the_graph(sample_psds):
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        ds = rs.run_ensemble(sample_psds["S2"], n=4, shape=512, spacing=5e-9,
+        ds = rs.ensemble.run(sample_psds["S2"], n=4, shape=512, spacing=5e-9,
                              relative_humidity=[0.7], seed=2, chunks=1)
     kinds = [w.category for w in caught]
-    assert kinds.count(rs.ExtrapolatedPSDWarning) == 1, kinds
+    assert kinds.count(rs.surface.ExtrapolatedPSDWarning) == 1, kinds
     assert kinds.count(rs.ValidityWarning) == 1, kinds
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         ds.adhesive_energy.compute(scheduler="sync")
-    assert not [w for w in caught if issubclass(w.category, (rs.ExtrapolatedPSDWarning,
+    assert not [w for w in caught if issubclass(w.category, (rs.surface.ExtrapolatedPSDWarning,
                                                               rs.ValidityWarning))]
 
 

@@ -40,7 +40,7 @@ SCRIPT = textwrap.dedent(
         return T.toy_curves(height, **kw)
 
     slow_curves.__qualname__ = "slow_curves"
-    rs.run_ensemble(T.toy_psd(), n=16, shape=(16, 16), spacing=5e-9, relative_humidity=T.RH, seed=5,
+    rs.ensemble.run(T.toy_psd(), n=16, shape=(16, 16), spacing=5e-9, relative_humidity=T.RH, seed=5,
                     chunks=2, generate=T.toy_generate, curves=slow_curves, summary=T.toy_summary,
                     output={out!r}, scheduler="threads", progress=False)
     print("done")
@@ -86,8 +86,8 @@ def test_resume_ignores_partial_and_corrupt_blocks(tmp_path):
     (folder / ".block-r00001-h000.nc.tmp-123-456").write_bytes(b"CDF\x01partial")
     (folder / "block-r00002-h000.nc").write_bytes(b"CDF\x01garbage")
     with pytest.raises(ValueError, match="incomplete.*Resume"):
-        rs.open_ensemble(folder)
-    part = rs.open_ensemble(folder, allow_incomplete=True)
+        rs.ensemble.open_ensemble(folder)
+    part = rs.ensemble.open_ensemble(folder, allow_incomplete=True)
     assert part.attrs["incomplete"]
     out = toy_run(n=6, chunks=2, output=folder)
     assert_same_values(full, out.compute())
@@ -113,17 +113,17 @@ def test_killed_subprocess_resumes_bit_identical(tmp_path):
     written = len(list(folder.glob("block-*.nc")))
     assert 2 <= written < 8, "the kill must land midway"
     with pytest.raises(ValueError, match="incomplete"):
-        rs.open_ensemble(folder)
+        rs.ensemble.open_ensemble(folder)
     res = subprocess.run([sys.executable, str(script)], env=env, capture_output=True, text=True,
                          timeout=120)
     assert res.returncode == 0, res.stderr
-    resumed = rs.open_ensemble(folder).compute()
+    resumed = rs.ensemble.open_ensemble(folder).compute()
     uninterrupted = toy_run(n=16, shape=(16, 16), chunks=2, seed=5).compute()
     assert_same_values(uninterrupted, resumed)
 
 
 def test_auto_n_streams_to_folder(tmp_path):
-    ds = toy_run(n="auto", batch=4, tolerance=1e-9, n_max=8, chunks=2, output=tmp_path / "a")
+    ds = toy_run(n="auto", batch=4, target_precision=1e-9, n_max=8, chunks=2, output=tmp_path / "a")
     assert ds.attrs["n_final"] == 8 and not ds.attrs["auto_converged"]
     m = json.loads((tmp_path / "a" / "manifest.json").read_text())
     assert m["complete"] and m["n"] == 8 and len(m["completed"]) == 4

@@ -1,4 +1,4 @@
-"""Tests of roughstick.read_afm: built-in formats, vendor formats via SurfaceTopography."""
+"""Tests of roughstick.io.read_afm: built-in formats, vendor formats via SurfaceTopography."""
 
 from __future__ import annotations
 
@@ -26,30 +26,30 @@ needs_afm = pytest.mark.skipif(
 def test_npy_and_text(tmp_path):
     z = np.random.default_rng(0).normal(size=(9, 13))
     np.save(tmp_path / "m.npy", z)
-    h = rs.read_afm(tmp_path / "m.npy", spacing="5 nm", units="nm")
+    h = rs.io.read_afm(tmp_path / "m.npy", spacing="5 nm", units="nm")
     assert h.dims == ("y", "x") and h.shape == (9, 13) and h.attrs["units"] == "m"
     np.testing.assert_allclose(h.values, z * 1e-9)
     np.testing.assert_allclose(np.diff(h.x.values), 5e-9)
     assert h.attrs["periodic"] == 0 and h.attrs["source"].endswith("m.npy")
     assert "read_afm" in h.attrs["history"]
     np.savetxt(tmp_path / "m.txt", z, header="a plain grid")
-    t = rs.read_afm(tmp_path / "m.txt", spacing=(2e-9, 5e-9), units="um")
+    t = rs.io.read_afm(tmp_path / "m.txt", spacing=(2e-9, 5e-9), units="um")
     np.testing.assert_allclose(t.values, z * 1e-6)
     np.testing.assert_allclose(np.diff(t.y.values), 2e-9)
     np.savetxt(tmp_path / "m.csv", z, delimiter=",")
     with pytest.warns(UserWarning, match="implausible for an AFM map"):  # heights of metres
-        np.testing.assert_allclose(rs.read_afm(tmp_path / "m.csv", spacing=1e-9, units="m").values, z)
+        np.testing.assert_allclose(rs.io.read_afm(tmp_path / "m.csv", spacing=1e-9, units="m").values, z)
     with pytest.raises(ValueError, match="spacing="):
-        rs.read_afm(tmp_path / "m.npy")
+        rs.io.read_afm(tmp_path / "m.npy")
     with pytest.raises(rs.UnitsError, match="not a length"):
-        rs.read_afm(tmp_path / "m.npy", spacing=1e-9, units="s")
+        rs.io.read_afm(tmp_path / "m.npy", spacing=1e-9, units="s")
     with pytest.raises(ValueError, match="positive length"):
-        rs.read_afm(tmp_path / "m.npy", spacing=-1.0, units="m")
+        rs.io.read_afm(tmp_path / "m.npy", spacing=-1.0, units="m")
     np.save(tmp_path / "v.npy", np.zeros(5))
     with pytest.raises(ValueError, match="2-D"):
-        rs.read_afm(tmp_path / "v.npy", spacing=1e-9, units="m")
+        rs.io.read_afm(tmp_path / "v.npy", spacing=1e-9, units="m")
     with pytest.raises(FileNotFoundError):
-        rs.read_afm(tmp_path / "nope.npy")
+        rs.io.read_afm(tmp_path / "nope.npy")
 
 
 def test_netcdf_round_trip_exact(tmp_path):
@@ -57,14 +57,14 @@ def test_netcdf_round_trip_exact(tmp_path):
     h.attrs["source"] = "roughstick 0.1.0"
     rs.conventions.append_history(h, "made for a test")
     h.to_netcdf(tmp_path / "h.nc")
-    back = rs.read_afm(tmp_path / "h.nc")
+    back = rs.io.read_afm(tmp_path / "h.nc")
     xr.testing.assert_identical(back, h)
     ds = xr.Dataset({"height": h, "other": h * 2})
     ds.to_netcdf(tmp_path / "d.nc")
-    xr.testing.assert_identical(rs.read_afm(tmp_path / "d.nc"), h)
-    np.testing.assert_array_equal(rs.read_afm(tmp_path / "d.nc", channel="other").values, 2 * h.values)
+    xr.testing.assert_identical(rs.io.read_afm(tmp_path / "d.nc"), h)
+    np.testing.assert_array_equal(rs.io.read_afm(tmp_path / "d.nc", channel="other").values, 2 * h.values)
     with pytest.raises(ValueError, match="no variable"):
-        rs.read_afm(tmp_path / "d.nc", channel="zz")
+        rs.io.read_afm(tmp_path / "d.nc", channel="zz")
 
 
 def test_vendor_without_surfacetopography(tmp_path, monkeypatch):
@@ -72,7 +72,7 @@ def test_vendor_without_surfacetopography(tmp_path, monkeypatch):
     p.write_bytes(b"\0" * 10)
     monkeypatch.setitem(sys.modules, "SurfaceTopography", None)
     with pytest.raises(ImportError, match=r"pip install roughstick\[afm\]"):
-        rs.read_afm(p)
+        rs.io.read_afm(p)
 
 
 @needs_afm
@@ -89,35 +89,35 @@ def test_vendor_without_surfacetopography(tmp_path, monkeypatch):
 )
 def test_real_files_sq_after_plane_removal(name, channel, sq_nm, shape):
     pytest.importorskip("SurfaceTopography")
-    h = rs.read_afm(SHARED_AFM / name, channel=channel)
+    h = rs.io.read_afm(SHARED_AFM / name, channel=channel)
     assert h.shape == shape and h.attrs["units"] == "m" and name in h.attrs["source"]
-    sq = float(rs.level(h, method="plane").std())
+    sq = float(rs.surface.level(h, method="plane").std())
     np.testing.assert_allclose(sq, sq_nm * 1e-9, rtol=0.01)  # README of shared/afm
 
 
 @needs_afm
 def test_real_file_scan_line_alignment_and_channels():
     pytest.importorskip("SurfaceTopography")
-    h = rs.read_afm(SHARED_AFM / "ST_di-1.di")
+    h = rs.io.read_afm(SHARED_AFM / "ST_di-1.di")
     np.testing.assert_allclose(np.diff(h.x.values), 500e-9 / 512)
-    sq = float(rs.level(h, method="line").std())
+    sq = float(rs.surface.level(h, method="line").std())
     np.testing.assert_allclose(sq, 7.7e-9, rtol=0.01)
     with pytest.raises(ValueError, match="not a height channel"):
-        rs.read_afm(SHARED_AFM / "ST_di-1.di", channel=2)
+        rs.io.read_afm(SHARED_AFM / "ST_di-1.di", channel=2)
     with pytest.raises(ValueError, match="no channel"):
-        rs.read_afm(SHARED_AFM / "ST_example_ps.tiff", channel="Phase")
+        rs.io.read_afm(SHARED_AFM / "ST_example_ps.tiff", channel="Phase")
     # pixel size given by the user overrides the file's scan size
-    h2 = rs.read_afm(SHARED_AFM / "ST_di-3.di", channel=3, spacing="10 nm")
+    h2 = rs.io.read_afm(SHARED_AFM / "ST_di-3.di", channel=3, spacing="10 nm")
     np.testing.assert_allclose(np.diff(h2.x.values), 10e-9)
     # a real map goes through the whole statistics chain
-    st = rs.roughness_statistics(rs.level(h))
+    st = rs.surface.roughness_statistics(rs.surface.level(h))
     assert float(st.summit_density) > 0 and np.isfinite(float(st.bandwidth))
 
 
 @needs_afm
 def test_channel_reported_and_metadata_kept():
     pytest.importorskip("SurfaceTopography")
-    h = rs.read_afm(SHARED_AFM / "ST_di-3.di")
+    h = rs.io.read_afm(SHARED_AFM / "ST_di-3.di")
     assert h.attrs["channel"] == "3: Height"
     assert "0: ZSensor" in h.attrs["channels_in_file"]
     assert h.attrs["instrument_name"] == "Dimension Icon" and h.attrs["instrument_vendor"] == "Bruker"
@@ -130,14 +130,14 @@ def test_surfacetopography_netcdf_accepted(tmp_path):
     st = pytest.importorskip("SurfaceTopography")
     t = st.open_topography(str(SHARED_AFM / "ST_di-3.di")).topography(channel_index=3)
     t.to_netcdf(str(tmp_path / "ce.nc"))
-    h = rs.read_afm(tmp_path / "ce.nc")
-    vendor = rs.read_afm(SHARED_AFM / "ST_di-3.di", channel=3)
+    h = rs.io.read_afm(tmp_path / "ce.nc")
+    vendor = rs.io.read_afm(SHARED_AFM / "ST_di-3.di", channel=3)
     np.testing.assert_allclose(h.values, vendor.values, rtol=1e-12)
     np.testing.assert_allclose(h.x.values, vendor.x.values, rtol=1e-12)
     assert h.attrs["units"] == "m" and h.attrs["instrument_vendor"] == "Bruker"
     # --units overrides the file's unit
     with pytest.warns(UserWarning, match="implausible for an AFM map"):  # 1e3 x: mm heights
-        h_um = rs.read_afm(tmp_path / "ce.nc", units="um")
+        h_um = rs.io.read_afm(tmp_path / "ce.nc", units="um")
     np.testing.assert_allclose(h_um.values, 1e3 * h.values, rtol=1e-12)
 
 
@@ -145,29 +145,29 @@ def test_foreign_netcdf_without_units_is_refused(tmp_path):
     xr.Dataset({"z": (("x", "y"), np.zeros((16, 16)))},
                coords={"x": np.arange(16.0), "y": np.arange(16.0)}).to_netcdf(tmp_path / "z.nc")
     with pytest.raises(ValueError, match="no 'units'.*--units nm"):
-        rs.read_afm(tmp_path / "z.nc")
+        rs.io.read_afm(tmp_path / "z.nc")
     with pytest.raises(ValueError, match="coordinate 'y' has no units"):
-        rs.read_afm(tmp_path / "z.nc", units="nm")
+        rs.io.read_afm(tmp_path / "z.nc", units="nm")
     with pytest.warns(UserWarning, match="a flat map"):
-        h = rs.read_afm(tmp_path / "z.nc", units="nm", spacing="5 nm")
+        h = rs.io.read_afm(tmp_path / "z.nc", units="nm", spacing="5 nm")
     assert h.dims == ("y", "x") and float(h.x[1] - h.x[0]) == pytest.approx(5e-9)
 
 
 def test_files_that_are_not_what_their_extension_says(tmp_path):
     (tmp_path / "a.nc").write_text("this is text, not NetCDF")
     with pytest.raises(ValueError, match="not NetCDF despite its extension"):
-        rs.read_afm(tmp_path / "a.nc")
+        rs.io.read_afm(tmp_path / "a.nc")
     (tmp_path / "b.di").write_bytes(b"\x00" * 64)
     pytest.importorskip("SurfaceTopography")
     with pytest.raises(ValueError, match="Is it what its extension says"):
-        rs.read_afm(tmp_path / "b.di")
+        rs.io.read_afm(tmp_path / "b.di")
 
 
 def test_line_scan_netcdf_refused_clearly(tmp_path):
     xr.Dataset({"heights": (("x",), np.zeros(64), {"unit": "nm"})},
                coords={"x": ("x", np.arange(64.0), {"unit": "nm"})}).to_netcdf(tmp_path / "l.nc")
     with pytest.raises(ValueError, match="line scan.*2-D height map.*line_scan=True"):
-        rs.read_afm(tmp_path / "l.nc")
+        rs.io.read_afm(tmp_path / "l.nc")
 
 
 def test_line_scans_read_with_line_scan_true(tmp_path):
@@ -182,21 +182,21 @@ def test_line_scans_read_with_line_scan_true(tmp_path):
     for name in ("p.npy", "p.txt", "p.csv", "p.nc"):
         kw = {} if name == "p.nc" else {"spacing": "2 nm", "units": "nm"}
         with pytest.raises(ValueError, match="line scan"):
-            rs.read_afm(tmp_path / name, **kw)
-        h = rs.read_afm(tmp_path / name, line_scan=True, **kw)
+            rs.io.read_afm(tmp_path / name, **kw)
+        h = rs.io.read_afm(tmp_path / name, line_scan=True, **kw)
         assert h.dims == ("x",) and h.attrs["line_scan"] == 1 and h.attrs["units"] == "m", name
         np.testing.assert_allclose(h.values, z * 1e-9, rtol=1e-12)
         np.testing.assert_allclose(float(h.x[1] - h.x[0]), 2e-9, rtol=1e-12)
-        c = rs.profile_psd(rs.level_profile(h, method="mean"), window=None)
+        c = rs.surface.profile_psd(rs.surface.level_profile(h, method="mean"), window=None)
         np.testing.assert_allclose(float(c.sum()) * float(c.qx[1] - c.qx[0]), (z * 1e-9).var(), rtol=1e-10)
         with pytest.raises(ValueError, match="line scan.*profile_psd"):
-            rs.level(h)
+            rs.surface.level(h)
     # a line scan written by roughstick reads back the same
-    rs.read_afm(tmp_path / "p.npy", spacing="2 nm", units="nm", line_scan=True).to_netcdf(tmp_path / "own.nc")
-    back = rs.read_afm(tmp_path / "own.nc", line_scan=True)
+    rs.io.read_afm(tmp_path / "p.npy", spacing="2 nm", units="nm", line_scan=True).to_netcdf(tmp_path / "own.nc")
+    back = rs.io.read_afm(tmp_path / "own.nc", line_scan=True)
     np.testing.assert_allclose(back.values, z * 1e-9, rtol=1e-12)
     np.save(tmp_path / "m.npy", np.random.default_rng(0).normal(size=(16, 12)))
-    assert rs.read_afm(tmp_path / "m.npy", spacing="2 nm", units="nm", line_scan=True).dims == ("y", "x")
+    assert rs.io.read_afm(tmp_path / "m.npy", spacing="2 nm", units="nm", line_scan=True).dims == ("y", "x")
 
 
 @needs_afm
@@ -226,17 +226,17 @@ def test_cli_psd_names_the_channel(tmp_path, capsys):
 def test_arrays_a_height_map_cannot_be(tmp_path, array, match):
     np.save(tmp_path / "a.npy", array)
     with pytest.raises(ValueError, match=match):
-        rs.read_afm(tmp_path / "a.npy", spacing="5 nm", units="nm")
+        rs.io.read_afm(tmp_path / "a.npy", spacing="5 nm", units="nm")
 
 
 def test_implausible_or_flat_heights_warn_with_the_fix(tmp_path):
     rng = np.random.default_rng(0)
     np.save(tmp_path / "nm.npy", rng.normal(scale=5.0, size=(16, 16)) * 1e3)  # nm typed as m
     with pytest.warns(UserWarning, match="pass units='nm'"):
-        rs.read_afm(tmp_path / "nm.npy", spacing="5 nm", units="m")
+        rs.io.read_afm(tmp_path / "nm.npy", spacing="5 nm", units="m")
     np.save(tmp_path / "flat.npy", np.zeros((16, 16)))
     with pytest.warns(UserWarning, match="flat map"):
-        rs.read_afm(tmp_path / "flat.npy", spacing="5 nm", units="nm")
+        rs.io.read_afm(tmp_path / "flat.npy", spacing="5 nm", units="nm")
 
 
 def test_surfacetopography_line_scan_netcdf(tmp_path):
@@ -246,8 +246,8 @@ def test_surfacetopography_line_scan_netcdf(tmp_path):
     st.UniformLineScan(z, 200.0, unit="nm", info={"instrument": {"name": "profiler"}}).to_netcdf(
         str(tmp_path / "ls.nc"))
     with pytest.raises(ValueError, match="line scan.*line_scan=True"):
-        rs.read_afm(tmp_path / "ls.nc")
-    h = rs.read_afm(tmp_path / "ls.nc", line_scan=True)
+        rs.io.read_afm(tmp_path / "ls.nc")
+    h = rs.io.read_afm(tmp_path / "ls.nc", line_scan=True)
     assert h.dims == ("x",) and h.attrs["instrument_name"] == "profiler"
     np.testing.assert_allclose(h.values, z * 1e-9, rtol=1e-12)
     np.testing.assert_allclose(float(h.x[1] - h.x[0]), 2e-9, rtol=1e-12)
@@ -259,4 +259,4 @@ def test_a_config_file_given_as_a_map_is_named_as_such(tmp_path):
     cfg = tmp_path / "c.toml"
     cfg.write_text("[run]\n")
     with pytest.raises(ValueError, match=r"c.toml is a configuration file \(roughstick run"):
-        rs.read_afm(cfg)
+        rs.io.read_afm(cfg)

@@ -33,10 +33,10 @@ def test_cf_check_names_missing_attrs(tmp_path):
 
 
 def test_write_writes_now_by_default_as_xarray_does(tmp_path):
-    """rs.write(ds, path) returned a Delayed and wrote nothing unless compute=True."""
-    path = rs.write(_ds(lazy=True), tmp_path / "now.nc")
+    """rs.io.write(ds, path) returned a Delayed and wrote nothing unless compute=True."""
+    path = rs.io.write(_ds(lazy=True), tmp_path / "now.nc")
     assert path == tmp_path / "now.nc" and [p.name for p in tmp_path.iterdir()] == ["now.nc"]
-    xr.testing.assert_equal(rs.open_dataset(path), _ds())
+    xr.testing.assert_equal(rs.io.open_dataset(path), _ds())
 
 
 def test_write_delayed_atomic_and_roundtrip(tmp_path):
@@ -48,7 +48,7 @@ def test_write_delayed_atomic_and_roundtrip(tmp_path):
     assert all(".tmp-" in p.name for p in tmp_path.iterdir())
     task.compute()
     assert path.exists() and [p.name for p in tmp_path.iterdir()] == ["a.nc"]
-    back = rs.open_dataset(path)
+    back = rs.io.open_dataset(path)
     xr.testing.assert_equal(back, _ds())
     assert back.attrs["flag"] == 1  # bools stored as ints
     enc = back["pressure"].encoding
@@ -58,29 +58,29 @@ def test_write_delayed_atomic_and_roundtrip(tmp_path):
 
 def test_open_refuses_partial_and_missing(tmp_path):
     with pytest.raises(FileNotFoundError):
-        rs.open_dataset(tmp_path / "nope.nc")
+        rs.io.open_dataset(tmp_path / "nope.nc")
     partial = tmp_path / ".a.nc.tmp-1-2"
     partial.write_bytes(b"CDF")
     with pytest.raises(ValueError, match="temporary file"):
-        rs.open_dataset(partial)
+        rs.io.open_dataset(partial)
     with pytest.raises(FileNotFoundError, match="manifest"):
-        rs.open_ensemble(tmp_path)
+        rs.ensemble.open_ensemble(tmp_path)
     with pytest.raises(ValueError, match="open_ensemble"):
-        rs.open_dataset(tmp_path)
+        rs.io.open_dataset(tmp_path)
     with pytest.raises(FileNotFoundError, match="does not exist"):
         nc.write(_ds(), tmp_path / "sub" / "a.nc", compute=True)
 
 
 def test_write_refuses_an_existing_file_unless_overwrite(tmp_path):
-    """rs.write replaced an unrelated file without a word (the command line refuses it)."""
+    """rs.io.write replaced an unrelated file without a word (the command line refuses it)."""
     path = tmp_path / "a.nc"
     path.write_text("my notes")
     for compute in (True, False):  # refused when called, before anything is written
         with pytest.raises(FileExistsError, match=r"a\.nc' exists \(a file\); write refuses to replace it: "
                                                   r"pass overwrite=True"):
-            rs.write(_ds(), path, compute=compute)
+            rs.io.write(_ds(), path, compute=compute)
     assert path.read_text() == "my notes" and [p.name for p in tmp_path.iterdir()] == ["a.nc"]
     with pytest.raises(FileExistsError, match=r"exists \(a folder\)"):
-        rs.write(_ds(), tmp_path, compute=True)
-    rs.write(_ds(), path, compute=True, overwrite=True)
-    xr.testing.assert_equal(rs.open_dataset(path), _ds())
+        rs.io.write(_ds(), tmp_path, compute=True)
+    rs.io.write(_ds(), path, compute=True, overwrite=True)
+    xr.testing.assert_equal(rs.io.open_dataset(path), _ds())

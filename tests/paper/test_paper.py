@@ -29,14 +29,14 @@ def readable(fig):
 @pytest.fixture(scope="module")
 def ens():
     psd = rs.datasets.sample_psd("S2")
-    return rs.run_ensemble(psd, n=6, shape=64, spacing=5e-9, relative_humidity=RH, seed=3,
+    return rs.ensemble.run(psd, n=6, shape=64, spacing=5e-9, relative_humidity=RH, seed=3,
                            chunks=3).compute()
 
 
 def test_ensemble_figures(ens):
     band, fig = ensemble.fig14_ensemble_curves(ens, title="t")
     assert isinstance(fig, Figure) and "n = 6" in fig._suptitle.get_text() and readable(fig)
-    xr.testing.assert_allclose(band["pressure"], rs.confidence_band(ens[["pressure"]])["pressure"])
+    xr.testing.assert_allclose(band["pressure"], rs.ensemble.confidence_band(ens[["pressure"]])["pressure"])
     band, fig = ensemble.fig16_energy_bands({"a": ens, "b": ens})
     assert band.sizes["sample"] == 2 and band.attrs["band_edges_bounded"] == 0
     assert all("unbounded below n = 146" in ax.get_title() for ax in fig.axes if ax.get_title())

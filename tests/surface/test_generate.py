@@ -29,12 +29,12 @@ TABLE3 = {
 
 
 def _self_affine(name):
-    fit = rs.fit_self_affine(**TABLE3[name], qmax=289e6)
+    fit = rs.surface.fit_self_affine(**TABLE3[name], qmax=289e6)
     p = {k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}
 
     def psd(q):
         q = np.asarray(q, dtype=float)
-        return rs.self_affine_psd(q.ravel(), **p).values.reshape(q.shape)
+        return rs.surface.self_affine_psd(q.ravel(), **p).values.reshape(q.shape)
 
     return psd
 
@@ -286,12 +286,12 @@ def test_same_grid_2d_psd_is_used_exactly_and_larger_maps_interpolate():
     np.testing.assert_allclose(_periodogram(same)[0], _periodogram(z[None])[0], rtol=1e-8,
                                atol=1e-12 * m0)
     # a surface 4x larger than the map the PSD came from: interpolated PSD, variance conserved
-    with pytest.warns(rs.ExtrapolatedPSDWarning, match=r"1.28 µm\) are larger than the scan.*0.32 µm"):
+    with pytest.warns(rs.surface.ExtrapolatedPSDWarning, match=r"1.28 µm\) are larger than the scan.*0.32 µm"):
         big = surface_filter(psd, shape=(128, 128), spacing=10e-9)
     m0_big = float(big.sum()) * (2 * np.pi / (128 * 10e-9)) ** 2
     np.testing.assert_allclose(m0_big, m0, rtol=0.1)
     np.testing.assert_allclose(big.sel(qx=0.0, qy=0.0).item(), psd.sel(qx=0.0, qy=0.0).item(), rtol=1e-12)
-    with pytest.warns(rs.ExtrapolatedPSDWarning):
+    with pytest.warns(rs.surface.ExtrapolatedPSDWarning):
         hb = generate_surfaces(psd, n=2, shape=(128, 128), spacing=10e-9, seed=1, amplitude="fixed")
     np.testing.assert_allclose((hb.values**2).mean(axis=(1, 2)), m0_big, rtol=1e-10)
 
@@ -302,7 +302,7 @@ def test_interpolated_psd_is_reused_by_content_only():
     z = generate_surfaces(S2, n=1, shape=(32, 32), spacing=10e-9, seed=8).values[0]
     psd = _psd_2d(z, 10e-9)
     kw = dict(shape=(64, 64), spacing=10e-9, amplitude="fixed")
-    with pytest.warns(rs.ExtrapolatedPSDWarning):
+    with pytest.warns(rs.surface.ExtrapolatedPSDWarning):
         a = generate_surfaces(psd, n=2, seed=1, **kw).values
         b = generate_surfaces(psd, realizations=[1], seed=1, **kw).values
         np.testing.assert_array_equal(a[1:], b)
@@ -316,8 +316,8 @@ def test_interpolated_psd_is_reused_by_content_only():
 
 def test_isotropic_dataarray_matches_callable():
     q = np.linspace(0, 1.5 * np.pi / 5e-9, 4000)
-    fit = rs.fit_self_affine(**TABLE3["S1"], qmax=289e6)
-    iso = rs.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")})
+    fit = rs.surface.fit_self_affine(**TABLE3["S1"], qmax=289e6)
+    iso = rs.surface.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")})
     a = surface_filter(iso, shape=(64, 64), spacing=5e-9)
     b = surface_filter(S1, shape=(64, 64), spacing=5e-9)
     np.testing.assert_allclose(a.sum(), b.sum(), rtol=2e-3)
@@ -439,10 +439,10 @@ def test_plotting_ensemble_psd_and_figures():
 
 
 def test_callable_may_return_a_dataarray():
-    """rs.self_affine_psd can be passed directly as a lambda (1-D |q| in, DataArray out)."""
-    fit = rs.fit_self_affine(**TABLE3["S2"], qmax=289e6)
+    """rs.surface.self_affine_psd can be passed directly as a lambda (1-D |q| in, DataArray out)."""
+    fit = rs.surface.fit_self_affine(**TABLE3["S2"], qmax=289e6)
     p = {k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}
-    a = generate_surfaces(lambda q: rs.self_affine_psd(q, **p), n=2, shape=(20, 30),
+    a = generate_surfaces(lambda q: rs.surface.self_affine_psd(q, **p), n=2, shape=(20, 30),
                           spacing=5e-9, seed=4)
     b = generate_surfaces(S2, n=2, shape=(20, 30), spacing=5e-9, seed=4)
     np.testing.assert_array_equal(a.values, b.values)
@@ -468,18 +468,18 @@ def test_surfaces_larger_than_the_measured_scan_warn_on_the_python_path(recwarn)
     z = generate_surfaces(S2, n=1, shape=(32, 32), spacing=10e-9, seed=8).values[0]
     psd = _psd_2d(z, 10e-9)  # measured on a 0.32 µm scan
     with warnings.catch_warnings():
-        warnings.simplefilter("error", rs.ExtrapolatedPSDWarning)
+        warnings.simplefilter("error", rs.surface.ExtrapolatedPSDWarning)
         generate_surfaces(psd, n=1, shape=(32, 32), spacing=10e-9, seed=1)  # same size: silent
         generate_surfaces(psd, n=1, shape=(16, 32), spacing=10e-9, seed=1)  # smaller: silent
-    with pytest.warns(rs.ExtrapolatedPSDWarning, match="0.64 µm.*0.32 µm, its qx step") as rec:
+    with pytest.warns(rs.surface.ExtrapolatedPSDWarning, match="0.64 µm.*0.32 µm, its qx step") as rec:
         generate_surfaces(psd, n=1, shape=(32, 64), spacing=10e-9, seed=1)
     assert rec[0].filename == __file__  # points at the caller, not inside roughstick
-    iso = rs.psd_isotropic(psd)
+    iso = rs.surface.psd_isotropic(psd)
     scan = 2 * np.pi / float(iso.q[iso.q > 0].min())
     with warnings.catch_warnings():
-        warnings.simplefilter("error", rs.ExtrapolatedPSDWarning)
+        warnings.simplefilter("error", rs.surface.ExtrapolatedPSDWarning)
         generate_surfaces(iso, n=1, shape=int(scan / 10e-9), spacing=10e-9, seed=1)
-    with pytest.warns(rs.ExtrapolatedPSDWarning, match="2 pi / its lowest q"):
+    with pytest.warns(rs.surface.ExtrapolatedPSDWarning, match="2 pi / its lowest q"):
         generate_surfaces(iso, n=1, shape=int(scan / 10e-9) + 2, spacing=10e-9, seed=1)
 
 
@@ -488,9 +488,9 @@ def test_an_analytic_psd_flat_below_its_first_q_does_not_warn():
     import warnings
 
     q = np.geomspace(1e6, 1e9, 200)
-    psd = rs.self_affine_psd(q, s0=1e-36, s1=1e-37, q0=2e7, qmax=3e8)
+    psd = rs.surface.self_affine_psd(q, s0=1e-36, s1=1e-37, q0=2e7, qmax=3e8)
     with warnings.catch_warnings():
-        warnings.simplefilter("error", rs.ExtrapolatedPSDWarning)
+        warnings.simplefilter("error", rs.surface.ExtrapolatedPSDWarning)
         generate_surfaces(psd, n=1, shape=(16, 2048), spacing=5e-9, seed=1)  # 10 µm > 2π/1e6 = 6 µm
 
 
@@ -513,7 +513,7 @@ def test_extrapolation_said_once_is_per_thread_and_leaves_the_filters_alone():
             with warnings.catch_warnings(record=True) as caught:  # this thread's view only
                 warnings.simplefilter("always")
                 surface_filter(psd, shape=(128, 128), spacing=10e-9)
-            assert not [w for w in caught if issubclass(w.category, rs.ExtrapolatedPSDWarning)]
+            assert not [w for w in caught if issubclass(w.category, rs.surface.ExtrapolatedPSDWarning)]
             inside.set()
             outside.wait(10)
 
@@ -521,7 +521,7 @@ def test_extrapolation_said_once_is_per_thread_and_leaves_the_filters_alone():
     t.start()
     assert inside.wait(10)
     try:  # while the other thread is still inside its quiet block, this one warns
-        with pytest.warns(rs.ExtrapolatedPSDWarning):
+        with pytest.warns(rs.surface.ExtrapolatedPSDWarning):
             surface_filter(psd, shape=(128, 128), spacing=10e-9)
     finally:
         outside.set()

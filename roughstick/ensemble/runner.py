@@ -1,12 +1,12 @@
-r"""The entry point of the Monte Carlo ensembles: :func:`run_ensemble` (paper §4.3, Figs. 14-17).
+r"""The entry point of the Monte Carlo ensembles: :func:`run` (paper §4.3, Figs. 14-17).
 
-:func:`run_ensemble` builds the pipeline ``generate_surfaces`` → ``rough_contact_curves`` →
-``adhesion_summary`` (:mod:`.pipeline`) as one Dataset over ``(realization, rh, distance)`` and
-``(realization, rh)``, chunked over realization and humidity; nothing is computed until asked.
-With ``output=folder`` it streams one CF NetCDF file per block into ``folder`` as blocks complete
-and resumes from what is there (:mod:`.store`, :mod:`.execute`); with ``n="auto"`` realizations
-are added in batches until the 95 % band of Γ and of the pressure curve stops moving.
-:func:`surface_size_study` repeats it at several surface sizes on one distance grid.
+:func:`run` builds the pipeline ``generate_surfaces`` → contact curves → adhesion summary
+(:mod:`.pipeline`) as one Dataset over ``(realization, rh, distance)`` and ``(realization, rh)``,
+chunked over realization and humidity; nothing is computed until asked. With ``output=folder`` it
+streams one CF NetCDF file per block into ``folder`` as blocks complete and resumes from what is
+there (:mod:`.store`, :mod:`.execute`); with ``n="auto"`` realizations are added in batches until
+the band of Γ and of the pressure curve stops moving. :func:`surface_size_study` repeats it at
+several surface sizes on one distance grid.
 """
 
 from __future__ import annotations
@@ -23,13 +23,20 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import xarray as xr
 
+from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
 from .._core.conventions import ATTRS, append_history
 from .._core.dask import as_seed_sequence
 from .._core.materials import POLYSILICON, as_material
 from .._core.progress import estimate_model_seconds, format_seconds
 from .._core.remedy import argument, spelled
-from .._core.validate import as_length, distance_array, relative_humidity_array
+from .._core.validate import (
+    as_length,
+    distance_array,
+    external_stacklevel,
+    relative_humidity_array,
+    surface_shape,
+)
 from ..contact.adhesion import adhesion_summary
 from ..contact.curves import CONTACT_MODELS, rough_contact_curves
 from ..contact.pixel import warn_if_unresolved
@@ -41,41 +48,53 @@ from ..contact.validity import (
 )
 from ..surface.generate import ExtrapolatedPSDWarning, generate_surfaces
 from .execute import auto_ensemble, stream
-from .pipeline import (
-    Spec,
-    _attrs,
-    _hash_params,
-    _water_heights,
-    ensemble_distance_grid,
-    lazy_ensemble,
-    surface_shape,
-)
+from .pipeline import Spec, _attrs, _hash_params, _water_heights, distance_grid, lazy_ensemble
 from .store import open_ensemble
 
-__all__ = ["run_ensemble", "surface_size_study"]
+__all__ = ["run", "surface_size_study"]
+
+#: The contact model run when ``model`` is not named.
+DEFAULT_MODEL = "modified_dmt"
 
 
-def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs, *, warn=True):
+def _contact_options(model, accuracy, curves_kwargs):
+    """``(model, accuracy, curves_kwargs)`` with the old spellings ``curves_kwargs["model"]`` and
+    ``curves_kwargs["tolerance"]`` moved to ``model=`` and ``accuracy=`` (DeprecationWarning)."""
+    ck = dict(curves_kwargs or {})
+    given = {"model": model, "accuracy": accuracy}
+    for old, new in (("model", "model"), ("tolerance", "accuracy"), ("accuracy", "accuracy")):
+        if old not in ck:
+            continue
+        if given[new] is not None:
+            raise TypeError(f"run() got both curves_kwargs[{old!r}] (the old spelling) and {new}=; "
+                            f"pass {new}= only")
+        warnings.warn(f"run(curves_kwargs={{{old!r}: ...}}) is now run({new}=...); the old spelling "
+                      "will be removed", DeprecationWarning, stacklevel=external_stacklevel())
+        given[new] = ck.pop(old)
+    return given["model"], given["accuracy"], ck
+
+
+def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, model, accuracy, quantity, *,
+                warn=True):
     """Choose and check the contact model once per run, before the graph and without computing a
-    surface. Returns ``(model, model_selection)``: the model every realization runs
-    (``curves_kwargs["model"]``, default ``"modified_dmt"``; ``"auto"`` resolved by
-    :func:`roughstick.select_model` on the groups expected from the PSD) and, for ``"auto"``, why.
+    surface. Returns ``(model, model_selection)``: the model every realization runs (``"auto"``
+    resolved by :func:`roughstick.select_model` on the groups expected from the PSD) and, for
+    ``"auto"``, why.
 
     With ``warn`` (the default surfaces): generated surfaces larger than the PSD's scan
     (ExtrapolatedPSDWarning) and the measured validity of the model actually used at the groups
     expected from the PSD (ValidityWarning, docs/accuracy.md; none for the reference ``"bem"``
-    nor for ``"auto"``, whose choice meets the tolerance), and whether the pixel resolves the
+    nor for ``"auto"``, whose choice meets the accuracy), and whether the pixel resolves the
     water necks (:func:`roughstick.warn_if_unresolved`; not for ``"gw"``). Blocks then compute
     without warnings.
     """
-    model = curves_kwargs.get("model", "modified_dmt")
+    model = DEFAULT_MODEL if model is None else model
     if model not in CONTACT_MODELS:
-        raise ValueError(f"curves_kwargs['model'] must be one of {CONTACT_MODELS}, got {model!r}.")
-    tolerance = curves_kwargs.get("tolerance", VALIDITY_BOUND)
-    quantity = curves_kwargs.get("quantity", "adhesive_energy")
-    if not (isinstance(tolerance, (int, float)) and tolerance > 0):
-        raise ValueError(f"curves_kwargs['tolerance'] must be a positive relative error (e.g. 0.1 "
-                         f"for 10 %), got {tolerance!r}.")
+        raise ValueError(f"model must be one of {CONTACT_MODELS}, got {model!r}.")
+    tolerance = VALIDITY_BOUND if accuracy is None else accuracy
+    if not (isinstance(tolerance, (int, float)) and not isinstance(tolerance, bool) and tolerance > 0):
+        raise ValueError(f"accuracy must be a positive relative error (e.g. 0.1 for 10 %), got "
+                         f"{tolerance!r}.")
     if not warn and model != "auto":
         return model, None
     with warnings.catch_warnings():
@@ -96,7 +115,7 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
             f"{selection.split(': ', 1)[0]}: estimated "
             f"{format_seconds(estimate_model_seconds(model, shape, len(rh)))} per surface "
             f"(within a factor ~3); {reason}")
-    with spelled(**PYTHON_SPELLING):  # the remedies named in run_ensemble's arguments
+    with spelled(**PYTHON_SPELLING):  # the remedies named in run's arguments
         if selection is None and warn and model != "bem":  # "auto"'s choice meets the tolerance
             warn_if_outside_validity(None, relative_humidity=rh, model=model, tolerance=tolerance,
                                      quantity=quantity, material=material,
@@ -106,20 +125,21 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
     return model, selection
 
 
-#: How run_ensemble's warnings spell their remedies (:mod:`roughstick._core.remedy`).
+#: How run's warnings spell their remedies (:mod:`roughstick._core.remedy`).
 PYTHON_SPELLING = {
-    "contact_model": lambda v, tolerance=None, **kw: (
-        "curves_kwargs={" + f"'model': {v!r}" + ("" if tolerance is None else f", 'tolerance': {tolerance!r}")
-        + "}"),
+    "contact_model": lambda v, tolerance=None, accuracy=None, **kw: (
+        f"model={v!r}" + ("" if (accuracy if accuracy is not None else tolerance) is None
+                          else f", accuracy={accuracy if accuracy is not None else tolerance!r}")),
     "spacing": argument("spacing", fmt=lambda v: f"{v:.2g}"),
     "resolution": lambda v=None, **kw: ("roughstick.resolution_study(psd=psd, shape=shape, spacing=spacing, "
                                         "relative_humidity=...) (a generated surface at half and twice the pixel)"),
 }
 
 
-@check_numbers(seed="seed", connect_timeout="nonnegative", batch="count", tolerance="positive",
-               n_max="count", patience="count", level="fraction")
-def run_ensemble(
+@renamed_keywords(level="confidence", tolerance="target_precision")
+@check_numbers(seed="seed", connect_timeout="nonnegative", batch="count", target_precision="positive",
+               n_max="count", patience="count", confidence="fraction")
+def run(
     psd: xr.DataArray,
     *,
     n,
@@ -127,21 +147,23 @@ def run_ensemble(
     spacing: float,
     size=None,
     shape=None,
+    model: str | None = None,
+    accuracy: float | None = None,
     seed=0,
     chunks=None,
     distance=None,
     adsorbed_layer="paper",
-    material=None,
+    material=POLYSILICON,
     output=None,
     overwrite: bool = False,
     scheduler=None,
     connect_timeout: float = 5.0,
     progress: bool | None = None,
     batch: int = 100,
-    tolerance: float = 0.02,
+    target_precision: float = 0.02,
     n_max: int = 3000,
     patience: int = 2,
-    level: float = 0.95,
+    confidence: float = 0.95,
     generate: Callable | None = None,
     curves: Callable | None = None,
     summary: Callable | None = None,
@@ -151,27 +173,37 @@ def run_ensemble(
     r"""Monte Carlo ensemble of rough-surface humid adhesion from a PSD (paper §4.3).
 
     For realization :math:`k = 0 … n-1`: a surface from ``psd`` (Eqs. 33-34,
-    :func:`roughstick.generate_surfaces`), its pressure–distance curves at every humidity (modified
-    DMT, Eqs. 16-23, or the model of ``curves_kwargs["model"]``,
-    :func:`roughstick.rough_contact_curves`) on a distance grid common to all
-    realizations, and their summaries (Γ of Eq. 13, pull-off pressure, equilibrium distance,
-    :func:`roughstick.adhesion_summary`).
+    :func:`roughstick.surface.generate_surfaces`), its pressure–distance curves at every humidity
+    by the contact model ``model`` (the modified DMT of Eqs. 16-23 by default) on a distance grid
+    common to all realizations, and their summaries (Γ of Eq. 13, pull-off pressure, equilibrium
+    distance).
 
     Parameters
     ----------
     psd : xarray.DataArray
         2-D ``(qy, qx)`` or isotropic ``(q)`` PSD [m4] (architecture.md normalisation).
     n : int or "auto"
-        Number of realizations (>= 1), or ``"auto"``: add batches of ``batch`` realizations until the
-        ``level`` band of Γ and of the pressure curve moves by less than ``tolerance`` for
-        ``patience`` consecutive batches (at most ``n_max``). The stopping rule, the final n and the
-        band changes are recorded in ``attrs``. ``"auto"`` computes (it must look at the results).
+        Number of realizations (>= 1), or ``"auto"``: add batches of ``batch`` realizations until
+        the ``confidence`` band of Γ and of the pressure curve moves by less than
+        ``target_precision`` (relative) for ``patience`` consecutive batches (at most ``n_max``).
+        The stopping rule, the final n and the band changes are recorded in ``attrs``. ``"auto"``
+        computes (it must look at the results).
     relative_humidity : sequence of float
         Humidities as fractions in (0, 1); becomes the ``rh`` dimension.
     spacing : float or str
         Pixel size [m], or with its unit (``"5 nm"``).
     size, shape : float, str or (float, float), int or (int, int)
         Surface side(s) in metres (or with a unit, ``"1.28 um"``), or in pixels; give exactly one.
+    model : {"modified_dmt", "gw", "fft_bem", "bem", "auto"}, optional
+        The contact model every realization runs (default ``"modified_dmt"``; ``"bem"`` needs the
+        Tamaas extra). ``"auto"`` is resolved once for the whole ensemble, before the graph is
+        built, as the cheapest model whose measured error bound at the surface groups expected
+        from the PSD (:func:`roughstick.expected_surface_groups`) meets ``accuracy`` at every
+        humidity. The model run is ``attrs["contact_model"]``; for ``"auto"`` the reason is
+        ``attrs["model_selection"]``.
+    accuracy : float, optional
+        Accepted relative error of the model against the boundary-element reference (default
+        0.1): what ``"auto"`` must meet, and above which a ValidityWarning is given.
     seed : int or numpy.random.SeedSequence, default 0
         Root seed; realization ``k`` uses its child ``k`` whatever the chunking.
     chunks : int or dict, optional
@@ -179,11 +211,11 @@ def run_ensemble(
         ``{"realization": c, "rh": r}`` to split humidities too (each humidity block regenerates
         its surfaces, which costs one inverse FFT per surface).
     distance : array-like or xarray.DataArray, optional
-        Common distance grid [m]; default :func:`ensemble_distance_grid`.
+        Common distance grid [m]; default :func:`distance_grid`.
     adsorbed_layer : {"paper", "none"} or callable, default "paper"
         Adsorbed-layer model (§2.1).
-    material : roughstick.Material or str, optional
-        Both bodies' material (default poly-silicon; ``"poly-Si"``/``"polysilicon"`` name it).
+    material : roughstick.Material or str, default POLYSILICON
+        Both bodies' material (or a name roughstick knows: ``"poly-Si"``).
     output : str or pathlib.Path, optional
         Stream results into this folder (one CF NetCDF file per block plus ``manifest.json``) as
         blocks complete, resuming from any blocks already there, and return the Dataset opened from
@@ -199,23 +231,15 @@ def run_ensemble(
     connect_timeout : float, default 5
         Seconds to wait for a scheduler address to answer before raising ``ConnectionError``.
     progress : bool, optional
-        Progress bar when streaming/auto; default: only when interactive (see :func:`progress_bar`).
-    batch, tolerance, n_max, patience, level
-        Parameters of ``n="auto"``.
+        Progress bar when streaming/auto; default: only when interactive.
+    batch, target_precision, n_max, patience, confidence
+        The stopping rule of ``n="auto"``.
     generate, curves, summary : callable, optional
-        Replace :func:`roughstick.generate_surfaces`, :func:`roughstick.rough_contact_curves` and
-        :func:`roughstick.adhesion_summary` (same signatures), e.g. to run another contact model.
+        Replace :func:`roughstick.surface.generate_surfaces`, the contact curves and the adhesion
+        summary (same signatures).
     generate_kwargs, curves_kwargs : dict, optional
-        Extra keyword arguments for ``generate`` and ``curves``. With the default ``curves``,
-        ``curves_kwargs["model"]`` picks the contact model of :func:`roughstick.rough_contact_curves`
-        (``"modified_dmt"`` by default, ``"gw"``, ``"fft_bem"``, ``"bem"`` with the Tamaas extra, or
-        ``"auto"``), with its ``tolerance`` and ``quantity``. Every realization runs the same
-        model, so every realization has the same variables: ``"auto"`` is resolved once for the
-        whole ensemble, before the graph is built, as the cheapest model whose measured error bound
-        at the surface groups expected from the PSD (:func:`roughstick.expected_surface_groups`)
-        meets ``tolerance`` at every humidity -- not map by map as ``rough_contact_curves`` does
-        for one surface. The model run is ``attrs["contact_model"]`` and, for ``"auto"``, the
-        reason is ``attrs["model_selection"]``.
+        Extra keyword arguments for ``generate`` and for the contact model (e.g. ``quantity``,
+        whose measured error ``accuracy`` bounds).
 
     Returns
     -------
@@ -230,9 +254,8 @@ def run_ensemble(
     -----
     ValidityWarning
         Once, before the graph: the measured error bound of the model actually run (not for
-        ``"bem"``, the reference, nor for ``"auto"``, whose choice meets the tolerance) exceeds
-        ``tolerance`` at the groups expected from the PSD. Default ``generate`` and ``curves``
-        only.
+        ``"bem"``, the reference, nor for ``"auto"``, whose choice meets it) exceeds ``accuracy``
+        at the groups expected from the PSD. Default ``generate`` and ``curves`` only.
     ExtrapolatedPSDWarning
         The surfaces are larger than the scan the PSD was measured on.
 
@@ -240,7 +263,7 @@ def run_ensemble(
     ------
     ValueError
         n < 1, empty or invalid humidities, bad shapes, a grid that does not cover a realization,
-        an unknown ``curves_kwargs["model"]``.
+        an unknown ``model``.
     ConnectionError
         A scheduler address that does not answer within ``connect_timeout``.
     FileExistsError
@@ -248,7 +271,7 @@ def run_ensemble(
 
     See Also
     --------
-    confidence_band, ensemble_histogram, ensemble_ecdf, roughstick.open_ensemble
+    confidence_band, histogram, ecdf, open_ensemble
 
     Notes
     -----
@@ -260,61 +283,36 @@ def run_ensemble(
     ----------
     Hoang et al. (2015), doi:10.1016/j.cam.2015.02.022, §4.3.
     """
-    if isinstance(n, str):
-        if n != "auto":
-            raise ValueError(f"n must be a positive integer or 'auto', got {n!r}.")
-        auto = True
-        n_total = int(n_max)
-    else:
-        if isinstance(n, bool) or int(n) != n:
-            raise ValueError(f"n must be a positive integer or 'auto', got {n!r}.")
-        auto = False
-        n_total = int(n)
-    if n_total < 1:
-        raise ValueError(f"n must be at least 1 realization, got {n_total}.")
-    if not isinstance(psd, xr.DataArray):
-        hint = (" A callable PSD (e.g. roughstick.datasets.family_psd) is for generate_surfaces; an "
-                "ensemble records its PSD, so evaluate it on wave vectors first, e.g. "
-                "roughstick.self_affine_psd(numpy.geomspace(1e5, 1e10, 2000), "
-                "**roughstick.datasets.family_parameters(name))." if callable(psd) else "")
-        raise TypeError(f"psd must be an xarray.DataArray, got {type(psd).__name__}.{hint}")
+    n_total, auto = _realizations(n, n_max)
+    _check_psd(psd)
     spacing = as_length(spacing, name="spacing")
     shp = surface_shape(shape=shape, size=size, spacing=spacing)
     rh = relative_humidity_array(relative_humidity)
     material = POLYSILICON if material is None else as_material(material)
-    curves_kwargs = dict(curves_kwargs or {})
-    model = selection = None
+    model, accuracy, curves_kwargs = _contact_options(model, accuracy, curves_kwargs)
+    chosen = selection = None
     if curves is None:
         # the model every realization runs ("auto" resolved once): one template, one variable set
-        model, selection = _check_once(psd, shp, spacing, rh, material, adsorbed_layer,
-                                       curves_kwargs, warn=generate is None)
-        if selection is not None:  # "auto": its choice (the parameters of an unchanged run keep their hash)
-            curves_kwargs["model"] = model
+        chosen, selection = _check_once(psd, shp, spacing, rh, material, adsorbed_layer, model,
+                                        accuracy, curves_kwargs.get("quantity", "adhesive_energy"),
+                                        warn=generate is None)
+    if selection is not None:  # "auto": its choice (the parameters of an unchanged run keep their hash)
+        curves_kwargs["model"] = chosen
+    elif model is not None:  # a named model (the default is not named: earlier runs keep their hash)
+        curves_kwargs["model"] = model
     generate = generate_surfaces if generate is None else generate
     # the per-surface validity check would warn once per realization from inside dask: the run is
-    # checked once above, on its realization 0, before any graph is built
+    # checked once above, before any graph is built
     curves = (functools.partial(rough_contact_curves, check_validity=False) if curves is None
               else curves)
     summary = adhesion_summary if summary is None else summary
     root = as_seed_sequence(seed)
     if distance is None:
-        dist = np.asarray(
-            ensemble_distance_grid(psd, shape=shp, n=n_total, relative_humidity=rh,
-                                   adsorbed_layer=adsorbed_layer).values
-        )
+        dist = np.asarray(distance_grid(psd, shape=shp, n=n_total, relative_humidity=rh,
+                                        adsorbed_layer=adsorbed_layer).values)
     else:
         dist = distance_array(distance, min_size=2)
-    if isinstance(chunks, dict):
-        c_r = chunks.get("realization")
-        c_h = chunks.get("rh", -1)
-    else:
-        c_r, c_h = chunks, -1
-    if c_r is None:
-        c_r = max(1, int(4 * 2**20 // (8 * shp[0] * shp[1])))
-    c_r = int(c_r)
-    c_h = rh.size if c_h in (-1, None) else int(c_h)
-    if c_r < 1 or c_h < 1:
-        raise ValueError(f"chunks must be positive, got realization={c_r}, rh={c_h}.")
+    c_r, c_h = _chunks(chunks, shp, rh.size)
     if auto:
         batch = max(c_r, int(math.ceil(batch / c_r)) * c_r)
     fields = dict(
@@ -326,45 +324,83 @@ def run_ensemble(
         # summaries on each map's own automatic grid unless the user fixed the distances
         own_grid=distance is None,
     )
-    token = _hash_params(fields)
     spec = Spec(
         psd=fields["psd"], shape=shp, spacing=spacing, rh=rh, distance=dist, seed=root, chunk=c_r,
         rh_chunk=fields["rh_chunk"], adsorbed_layer=adsorbed_layer, material=material,
         generate=generate, curves=curves, summary=summary,
         generate_kwargs=fields["generate_kwargs"], curves_kwargs=fields["curves_kwargs"],
-        water_max=float(np.max(_water_heights(rh, adsorbed_layer))), token=token,
+        water_max=float(np.max(_water_heights(rh, adsorbed_layer))), token=_hash_params(fields),
         own_grid=fields["own_grid"],
     )
     attrs = _attrs(spec, n_total)
-    if model is not None:
-        attrs["contact_model"] = model
+    if chosen is not None:
+        attrs["contact_model"] = chosen
     if selection is not None:
         attrs["model_selection"] = selection
     folder = pathlib.Path(output) if output is not None else None
     if auto:
-        ds = auto_ensemble(spec, batch=batch, tolerance=tolerance, n_max=n_total, patience=patience,
-                   level=level, folder=folder, stream_kw={"overwrite": overwrite},
-                   scheduler=scheduler, connect_timeout=connect_timeout, progress=progress,
-                   attrs=attrs)
-        return append_history(ds, f"run_ensemble(n='auto') stopped at n={ds.attrs['n_final']}")
+        ds = auto_ensemble(spec, batch=batch, target_precision=target_precision, n_max=n_total,
+                           patience=patience, confidence=confidence, folder=folder,
+                           stream_kw={"overwrite": overwrite}, scheduler=scheduler,
+                           connect_timeout=connect_timeout, progress=progress, attrs=attrs)
+        return append_history(ds, f"ensemble.run(n='auto') stopped at n={ds.attrs['n_final']}")
     if folder is not None:
         t0 = time.perf_counter()
         stream(spec, n_total, folder, overwrite=overwrite, scheduler=scheduler,
-                connect_timeout=connect_timeout, progress=progress, attrs=attrs)
+               connect_timeout=connect_timeout, progress=progress, attrs=attrs)
         ds = open_ensemble(folder, chunks={})
-        return append_history(ds, f"run_ensemble streamed to {str(folder)!r} "
+        return append_history(ds, f"ensemble.run streamed to {str(folder)!r} "
                                   f"({time.perf_counter() - t0:.1f} s this session)")
     ds = lazy_ensemble(spec, 0, n_total)
     ds.attrs = attrs
-    return append_history(ds, f"run_ensemble(n={n_total}, shape={shp}, rh={rh.tolist()}); "
+    return append_history(ds, f"ensemble.run(n={n_total}, shape={shp}, rh={rh.tolist()}); "
                               f"{ds.attrs.get('summary_grid', '')}")
 
 
-def _select_for_sizes(psd, shapes, spacing, rh, kwargs):
-    """``curves_kwargs`` with ``model="auto"`` resolved once for all ``shapes`` (each size and
-    each humidity must meet the tolerance: :func:`roughstick.select_model` on the stacked groups
-    expected from the PSD), and the reason."""
-    ck = dict(kwargs["curves_kwargs"])
+def _realizations(n, n_max) -> tuple[int, bool]:
+    """``(number of realizations to plan for, whether n is "auto")``."""
+    if isinstance(n, str):
+        if n != "auto":
+            raise ValueError(f"n must be a positive integer or 'auto', got {n!r}.")
+        n_total, auto = int(n_max), True
+    else:
+        if isinstance(n, bool) or int(n) != n:
+            raise ValueError(f"n must be a positive integer or 'auto', got {n!r}.")
+        n_total, auto = int(n), False
+    if n_total < 1:
+        raise ValueError(f"n must be at least 1 realization, got {n_total}.")
+    return n_total, auto
+
+
+def _check_psd(psd) -> None:
+    if not isinstance(psd, xr.DataArray):
+        hint = (" A callable PSD (e.g. roughstick.datasets.family_psd) is for generate_surfaces; an "
+                "ensemble records its PSD, so evaluate it on wave vectors first, e.g. "
+                "roughstick.surface.self_affine_psd(numpy.geomspace(1e5, 1e10, 2000), "
+                "**roughstick.datasets.family_parameters(name))." if callable(psd) else "")
+        raise TypeError(f"psd must be an xarray.DataArray, got {type(psd).__name__}.{hint}")
+
+
+def _chunks(chunks, shape, n_rh) -> tuple[int, int]:
+    """Realizations and humidities per block (default: about 4 MiB of heights, all humidities)."""
+    if isinstance(chunks, dict):
+        c_r = chunks.get("realization")
+        c_h = chunks.get("rh", -1)
+    else:
+        c_r, c_h = chunks, -1
+    if c_r is None:
+        c_r = max(1, int(4 * 2**20 // (8 * shape[0] * shape[1])))
+    c_r = int(c_r)
+    c_h = n_rh if c_h in (-1, None) else int(c_h)
+    if c_r < 1 or c_h < 1:
+        raise ValueError(f"chunks must be positive, got realization={c_r}, rh={c_h}.")
+    return c_r, c_h
+
+
+def _select_for_sizes(psd, shapes, spacing, rh, accuracy, kwargs):
+    """``model="auto"`` resolved once for all ``shapes`` (each size and each humidity must meet
+    ``accuracy``: :func:`roughstick.select_model` on the stacked groups expected from the PSD), and
+    the reason."""
     material = as_material(kwargs.get("material") or POLYSILICON)
     with warnings.catch_warnings():
         if kwargs.get("generate") is not None:  # the PSD filter of generate_surfaces is not used
@@ -373,12 +409,12 @@ def _select_for_sizes(psd, shapes, spacing, rh, kwargs):
                                                     material=material,
                                                     adsorbed_layer=kwargs.get("adsorbed_layer", "paper"))
                             for s in shapes], dim="size")
-    tolerance = ck.get("tolerance", VALIDITY_BOUND)
-    chosen, reason = select_model(None, relative_humidity=rh, tolerance=tolerance,
-                                  quantity=ck.get("quantity", "adhesive_energy"), groups=groups)
-    ck["model"] = chosen
-    return ck, (f"auto -> {chosen} for every size and realization, chosen once from the surface "
-                f"groups expected from the PSD at shapes {[tuple(s) for s in shapes]}: {reason}")
+    quantity = (kwargs.get("curves_kwargs") or {}).get("quantity", "adhesive_energy")
+    chosen, reason = select_model(None, relative_humidity=rh,
+                                  tolerance=VALIDITY_BOUND if accuracy is None else accuracy,
+                                  quantity=quantity, groups=groups)
+    return chosen, (f"auto -> {chosen} for every size and realization, chosen once from the surface "
+                    f"groups expected from the PSD at shapes {[tuple(s) for s in shapes]}: {reason}")
 
 
 @check_numbers(seed="seed")
@@ -395,7 +431,7 @@ def surface_size_study(
 ) -> xr.Dataset:
     """The same PSD at several surface sizes on one distance grid (paper Figs. 16-17).
 
-    Runs :func:`run_ensemble` once per size with a common distance grid (built for the largest
+    Runs :func:`run` once per size with a common distance grid (built for the largest
     surface) and independent seeds (child ``i`` of ``seed`` for size ``i``) and concatenates along a
     new ``surface_size`` dimension (side length along x, m).
 
@@ -416,20 +452,19 @@ def surface_size_study(
     seed : int or numpy.random.SeedSequence
         Root seed.
     **kwargs
-        Passed to :func:`run_ensemble` (``output`` is not supported here). With
-        ``curves_kwargs={"model": "auto", ...}`` the model is chosen once for every size (each
-        size and humidity must meet the tolerance) so that the sizes, not the models, differ;
-        the reason is ``attrs["model_selection"]``.
+        Passed to :func:`run` (``output`` is not supported here). With ``model="auto"`` the
+        model is chosen once for every size (each size and humidity must meet ``accuracy``) so
+        that the sizes, not the models, differ; the reason is ``attrs["model_selection"]``.
 
     Returns
     -------
     xarray.Dataset
-        As :func:`run_ensemble` plus a leading ``surface_size`` dimension; lazy.
+        As :func:`run` plus a leading ``surface_size`` dimension; lazy.
     """
     if (sizes is None) == (shapes is None):
         raise ValueError("give exactly one of sizes= (m) or shapes= (pixels).")
     if "output" in kwargs:
-        raise ValueError("surface_size_study does not stream; call run_ensemble(output=...) per size.")
+        raise ValueError("surface_size_study does not stream; call roughstick.ensemble.run(output=...) per size.")
     spacing = as_length(spacing, name="spacing")
     shp = [surface_shape(size=s, spacing=spacing) for s in sizes] if sizes is not None else [
         surface_shape(shape=s, spacing=spacing) for s in shapes
@@ -438,19 +473,23 @@ def surface_size_study(
         raise ValueError("sizes/shapes is empty; give at least one surface size.")
     rh = relative_humidity_array(relative_humidity)
     selection = None
-    if (kwargs.get("curves_kwargs") or {}).get("model") == "auto" and kwargs.get("curves") is None:
+    model, accuracy, curves_kwargs = _contact_options(kwargs.pop("model", None),
+                                                      kwargs.pop("accuracy", None),
+                                                      kwargs.pop("curves_kwargs", None))
+    kwargs.update(model=model, accuracy=accuracy, curves_kwargs=curves_kwargs)
+    if model == "auto" and kwargs.get("curves") is None:
         # one model for every size: the sizes are compared, not the models
-        kwargs["curves_kwargs"], selection = _select_for_sizes(psd, shp, spacing, rh, kwargs)
+        kwargs["model"], selection = _select_for_sizes(psd, shp, spacing, rh, accuracy, kwargs)
     dist = kwargs.pop("distance", None)
     if dist is None:
         big = max(shp, key=lambda s: s[0] * s[1])
-        dist = ensemble_distance_grid(psd, shape=big, n=n, relative_humidity=rh,
+        dist = distance_grid(psd, shape=big, n=n, relative_humidity=rh,
                                       adsorbed_layer=kwargs.get("adsorbed_layer", "paper"))
     root = as_seed_sequence(seed)
     parts = []
     for i, s in enumerate(shp):
         child = np.random.SeedSequence(root.entropy, spawn_key=tuple(root.spawn_key) + (i,))
-        parts.append(run_ensemble(psd, n=n, shape=s, spacing=spacing, relative_humidity=rh,
+        parts.append(run(psd, n=n, shape=s, spacing=spacing, relative_humidity=rh,
                                   seed=child, distance=dist, **kwargs))
     lengths = [s[1] * spacing for s in shp]
     ds = xr.concat(parts, dim=xr.DataArray(lengths, dims="surface_size", name="surface_size"),

@@ -27,9 +27,9 @@ import xarray as xr
 
 import roughstick as rs
 
-from ..io.netcdf import write_text_atomic
-from ..paper import cantilever as figures
-from ..plotting.save import DEFAULT_DPI, save_figure
+from ...io.netcdf import write_text_atomic
+from ...plotting.save import DEFAULT_DPI, save_figure
+from .. import cantilever as figures
 
 LENGTHS = [250e-6, 300e-6, 350e-6, 400e-6, 500e-6, 1500e-6]
 PRINTED = {"q0": 19.4e6, "s0": 6.46e3 * 1e-36, "s1": 6.29e-3 * 1e-36}

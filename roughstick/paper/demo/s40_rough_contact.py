@@ -21,9 +21,9 @@ import warnings
 
 import roughstick as rs
 
-from ..io import netcdf
-from ..paper import rough_contact as figures
-from ..plotting.save import DEFAULT_DPI, save_figure
+from ...io import netcdf
+from ...plotting.save import DEFAULT_DPI, save_figure
+from .. import rough_contact as figures
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 LOG = logging.getLogger("roughstick")

@@ -1,7 +1,7 @@
 """Demo step: a small Monte Carlo ensemble on the bundled S1 samples (paper §4.3, Figs. 14, 16, 17).
 
 PSD of the three S1 maps by the paper's scheme 3 (16 sub-maps each, cutoff 289 rad/µm), then
-``run_ensemble`` streamed into ``ensemble_S1/`` (resumable), its 95 % band with the band's own
+``roughstick.ensemble.run`` streamed into ``ensemble_S1/`` (resumable), its 95 % band with the band's own
 uncertainty in ``ensemble_S1_band.nc``, and the figures ``fig14_ensemble_curves.png``,
 ``fig16_energy_band.png`` and ``fig17_energy_ecdf.png``. ``quick``: 16 surfaces of 256²;
 otherwise 48 surfaces of 512² (5 nm pixels).
@@ -16,8 +16,8 @@ import warnings
 
 import roughstick as rs
 
-from ..paper import ensemble as figures
-from ..plotting.save import DEFAULT_DPI, save_figure
+from ...plotting.save import DEFAULT_DPI, save_figure
+from .. import ensemble as figures
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
 LOG = logging.getLogger("roughstick")
@@ -35,15 +35,15 @@ def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
         LOG.info(f"    as in the paper (§4.2.1), the {shape * 5e-3:.2f} µm surfaces use the PSD of "
                  f"{scan * 1e6:.2f} µm sub-maps, interpolated below its lowest wave number")
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", rs.ExtrapolatedPSDWarning)
-        ds = rs.run_ensemble(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
+        warnings.simplefilter("ignore", rs.surface.ExtrapolatedPSDWarning)
+        ds = rs.ensemble.run(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
                              chunks=2, output=out / "ensemble_S1", progress=False).load()
-    band = rs.confidence_band(ds)
+    band = rs.ensemble.confidence_band(ds)
     band.attrs["title"] = f"S1 PSD, {n} surfaces of {shape}²: 95 % band of the ensemble"
     files = [out / "ensemble_S1", rs.io.netcdf.write(band, out / "ensemble_S1_band.nc", compute=True,
                                                           overwrite=True)]
     LOG.info("    apparent adhesive energy Γ of the S1 ensemble:")
-    for line in rs.band_summary(band):
+    for line in rs.ensemble.band_summary(band):
         LOG.info("      " + line)
     _, fig = figures.fig14_ensemble_curves(
         ds, title=f"S1 PSD, {n} surfaces of {shape * 5e-3:.2f} µm (Fig. 14 at demo scale)")

@@ -13,10 +13,9 @@ from __future__ import annotations
 
 import pathlib
 
-from ..io.netcdf import write, write_text_atomic
-from ..paper import sphere as figures
-from ..paper.sphere import curves, table1  # noqa: F401  (kept importable from the demo step)
-from ..plotting.save import DEFAULT_DPI, save_figure
+from ...io.netcdf import write, write_text_atomic
+from ...plotting.save import DEFAULT_DPI, save_figure
+from .. import sphere as figures
 
 
 def run(out, *, quick: bool = False, figure_format: str = "png",

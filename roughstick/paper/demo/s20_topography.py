@@ -22,11 +22,11 @@ import xarray as xr
 
 import roughstick as rs
 
-from ..io import netcdf
-from ..io.netcdf import write_text_atomic
-from ..paper import topography as figures
-from ..paper.topography import QMAX_PAPER
-from ..plotting.save import DEFAULT_DPI, save_figure
+from ...io import netcdf
+from ...io.netcdf import write_text_atomic
+from ...plotting.save import DEFAULT_DPI, save_figure
+from .. import topography as figures
+from ..topography import QMAX_PAPER
 
 
 def _maps(sample: str, quick: bool) -> xr.DataArray:
@@ -34,7 +34,7 @@ def _maps(sample: str, quick: bool) -> xr.DataArray:
     maps = [rs.datasets.load_sample(n) for n in labels]
     if quick:
         maps = [m.isel(x=slice(0, 256), y=slice(0, 256)) for m in maps]
-    maps = [rs.level(m, method="plane") for m in maps]
+    maps = [rs.surface.level(m, method="plane") for m in maps]
     out = xr.concat([m.drop_attrs() if hasattr(m, "drop_attrs") else m for m in maps], dim="map",
                     coords="minimal", compat="override")
     out.attrs = dict(maps[0].attrs)
@@ -63,14 +63,14 @@ def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
     rows, schemes, summaries = [], {}, {}
     for sample in ("S1", "S2"):
         h = _maps(sample, quick)
-        spatial = rs.roughness_moments(h).mean("map")
+        spatial = rs.surface.roughness_moments(h).mean("map")
         # the paper's Table 3 / Fig. 12: periodograms without a window (window=None)
-        schemes[sample] = {n: rs.submap_psd(h, n=n, window=None) for n in (1, 4, 16)}
-        eq32 = {n: float(rs.submap_variance_check(h, n=n).relative_std) for n in (4, 16)}
+        schemes[sample] = {n: rs.surface.submap_psd(h, n=n, window=None) for n in (1, 4, 16)}
+        eq32 = {n: float(rs.surface.submap_variance_check(h, n=n).relative_std) for n in (4, 16)}
         s3 = schemes[sample][16]
-        fixed = rs.psd_moments(s3, qmax=QMAX_PAPER)
-        chosen = rs.choose_cutoff(s3, spatial)
-        summaries[sample] = rs.psd_summary(h, n=16, window=None)
+        fixed = rs.surface.psd_moments(s3, qmax=QMAX_PAPER)
+        chosen = rs.surface.choose_cutoff(s3, spatial)
+        summaries[sample] = rs.surface.psd_summary(h, n=16, window=None)
         for label, m, q in (("spatial variances (cubic splines)", spatial, np.nan),
                             ("PSD moments, scheme 3, xi_max = 289 rad/um", fixed, QMAX_PAPER),
                             ("PSD moments, scheme 3, chosen xi_max", chosen, float(chosen.qmax))):
