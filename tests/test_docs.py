@@ -29,10 +29,11 @@ def _pages():
 
 def _public_namespaces():
     """roughstick's sub-modules with a non-empty ``__all__``, less the command line (docs/cli.md
-    documents it) and the steps of ``roughstick demo``."""
+    documents it) and the accessor (its page documents the two accessor classes; its
+    ``__all__`` holds the forwarding tables)."""
     found = []
     for info in pkgutil.iter_modules(rs.__path__):
-        if info.name.startswith("_") or info.name in ("cli", "demos"):
+        if info.name.startswith("_") or info.name in ("cli", "accessor"):
             continue
         if getattr(importlib.import_module(f"roughstick.{info.name}"), "__all__", None):
             found.append(info.name)
