@@ -19,7 +19,7 @@ from ..ensemble.pipeline import ensemble_distance_grid
 from ..ensemble.run import run_ensemble
 from ..surface.moments import moments_from_asperities
 from ..surface.self_affine import fit_self_affine, self_affine_psd
-from .beam import PAPER_CANTILEVER, REFERENCES, Cantilever
+from .cantilever import PAPER_CANTILEVER, REFERENCES, Cantilever
 
 __all__ = [
     "TABLE4",

@@ -24,7 +24,7 @@ from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.units import as_si, require
 from .._core.validate import as_relative_humidity, check_core_not_chunked, check_positive_block
 from ..ensemble.statistics import binomial_interval, interval_method, order_statistic_ranks
-from .beam import (
+from .cantilever import (
     _MAGNITUDES,
     PAPER_CANTILEVER,
     REFERENCES,

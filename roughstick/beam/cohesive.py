@@ -44,7 +44,7 @@ from .._core.validate import adhesive_energy_values
 from ..contact import contact_distance_grid, rough_contact_curves
 from ..surface import generate_surfaces
 from . import _cohesive_kernels as K
-from .beam import PAPER_CANTILEVER, Cantilever
+from ..stiction.cantilever import PAPER_CANTILEVER, Cantilever
 
 __all__ = ["PatchLaws", "CohesiveRelease", "release_cohesive_beam", "step_cohesive_beam",
            "short_range_pressure_law", "pressure_law_bank"]

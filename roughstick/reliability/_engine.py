@@ -22,8 +22,8 @@ from roughstick.io.netcdf import publish, write
 from .._core.arguments import check_numbers
 from .._core.dask import owns_client, resolve_scheduler
 from .._core.progress import StagedProgress, current_staged_progress
-from . import _rare_kernels as _k
-from . import _rare_moves as _m
+from . import _kernels as _k
+from . import _moves as _m
 
 __all__: list[str] = []
 
@@ -501,7 +501,7 @@ def _above(lv):
 
 
 def _genealogical_cv2(levels):
-    """Squared cv of one run from its genealogy (see ``_rare_kernels.genealogical_cv2``)."""
+    """Squared cv of one run from its genealogy (see ``_kernels.genealogical_cv2``)."""
     kept = [np.flatnonzero(_above(lv)) for lv in levels]
     roots = _k.root_ancestors([lv.chain for lv in levels], kept)
     return _k.genealogical_cv2(roots[-1], _above(levels[-1]), levels[0].response.size)

@@ -35,12 +35,12 @@ from roughstick._core.dask import as_seed_sequence
 from roughstick._core.validate import adhesive_energy_values, relative_humidity_array
 from roughstick.contact import water_height
 
-from . import _rare_beam as _b
-from . import _rare_engine as _e
-from . import _rare_surface as _s
-from ._rare_surface import ARTEFACT_RATIO  # noqa: F401  (the BEM re-check's artefact threshold)
-from .beam import PAPER_CANTILEVER, Cantilever, critical_adhesive_energy
-from .beam_model import PROTOCOLS, _beam_axes, _n_patches
+from . import _beam as _b
+from . import _engine as _e
+from . import _surface as _s
+from ._surface import ARTEFACT_RATIO  # noqa: F401  (the BEM re-check's artefact threshold)
+from ..stiction.cantilever import PAPER_CANTILEVER, Cantilever, critical_adhesive_energy
+from ..beam.sharp_front import PROTOCOLS, _beam_axes, _n_patches
 
 __all__ = [
     "subset_simulation",

@@ -31,7 +31,7 @@ from roughstick.contact import (
 from roughstick.ensemble.statistics import median_interval
 from roughstick.surface import surface_filter
 
-from ._rare_moves import shell_labels
+from ._moves import shell_labels
 
 __all__: list[str] = []
 

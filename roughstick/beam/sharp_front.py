@@ -32,9 +32,9 @@ import xarray as xr
 from .._core.arguments import check_numbers
 from .._core.validate import PLAUSIBLE_BEAM_LENGTH, adhesive_energy_values, check_plausible_value
 from ..ensemble.statistics import binomial_interval
-from . import _beam_kernels as K
-from . import cohesive_beam as CB
-from .beam import PAPER_CANTILEVER, Cantilever, adhesive_energy_from_crack_length
+from . import _front_kernels as K
+from . import cohesive as CB
+from ..stiction.cantilever import PAPER_CANTILEVER, Cantilever, adhesive_energy_from_crack_length
 
 __all__ = ["beam_crack_length", "simulate_beams", "stuck_probability"]
 

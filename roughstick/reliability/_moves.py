@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft
 
-from ._rare_kernels import proposal_scales
+from ._kernels import proposal_scales
 
 __all__: list[str] = []
 
