@@ -15,7 +15,8 @@ import xarray as xr
 from .contact import adhesion, bem, curves, gw, meniscus, rough
 from .ensemble import distributions, statistics
 from .ensemble import run as ensemble_run
-from .stiction import beam, risk
+from .reliability import stuck
+from .stiction import cantilever, risk
 from .surface import generate, moments, spectrum, summary, topography
 
 __all__: list[str] = []
@@ -131,17 +132,17 @@ class RoughDataArrayAccessor(_Accessor):
     def ensemble_ecdf(self, **kwargs):
         return distributions.ensemble_ecdf(self._obj, **kwargs)
 
-    def stiction_probability(self, **kwargs):
-        return risk.stiction_probability(self._obj, **kwargs)
+    def stuck_probability(self, **kwargs):
+        return stuck.stuck_probability(self._obj, **kwargs)
 
     def crossing_length(self, **kwargs):
         return risk.crossing_length(self._obj, **kwargs)
 
-    def stiction_risk(self, **kwargs):
-        return risk.stiction_risk(self._obj, **kwargs)
+    def risk_summary(self, **kwargs):
+        return risk.risk_summary(self._obj, **kwargs)
 
     def crack_length_from_adhesive_energy(self, **kwargs):
-        return beam.crack_length_from_adhesive_energy(self._obj, **kwargs)
+        return cantilever.crack_length_from_adhesive_energy(self._obj, **kwargs)
 
 
 @xr.register_dataset_accessor("rough")
@@ -172,11 +173,11 @@ class RoughDatasetAccessor(_Accessor):
     def confidence_band(self, **kwargs):
         return statistics.confidence_band(self._obj, **kwargs)
 
-    def stiction_probability(self, **kwargs):
-        return risk.stiction_probability(self._obj, **kwargs)
+    def stuck_probability(self, **kwargs):
+        return stuck.stuck_probability(self._obj, **kwargs)
 
-    def stiction_risk(self, **kwargs):
-        return risk.stiction_risk(self._obj, **kwargs)
+    def risk_summary(self, **kwargs):
+        return risk.risk_summary(self._obj, **kwargs)
 
     def crossing_humidity(self, **kwargs):
         return risk.crossing_humidity(self._obj, **kwargs)
