@@ -44,4 +44,11 @@ RENAMED.update({
     "release_cohesive_beam": "beam.release_cohesive",
     "step_cohesive_beam": "beam.step_cohesive",
     "short_range_pressure_law": "beam.short_range_pressure_law",
+    # stiction/ keeps its names in its namespace: served from there once the top level drops them
+    **{name: f"stiction.{name}" for name in (
+        "PAPER_CANTILEVER", "PAPER_HUMIDITIES", "TABLE4", "adhesive_energy_from_crack_length",
+        "crack_length_from_adhesive_energy", "critical_adhesive_energy", "crossing_humidity",
+        "crossing_length", "measured_adhesion", "cantilever_moments", "cantilever_psd",
+        "interaction_zone_shape", "interaction_zone_psd", "cantilever_distance_grid",
+        "predict_adhesive_energy")},
 })

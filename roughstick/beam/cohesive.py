@@ -71,6 +71,13 @@ def short_range_pressure_law(adhesive_energy, *, law_range=2e-9, contact_gap=5e-
     -------
     (numpy.ndarray, numpy.ndarray)
         Pressure [Pa] (positive repulsive, 0 at the top of the grid) and the uniform gap grid [m].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p, g = rs.beam.short_range_pressure_law(1e-3)  # Γ = 1 mJ m-2
+    >>> round(float(-np.trapezoid(np.minimum(p, 0.0), g)) * 1e3, 4)  # its work of separation
+    1.0
     """
     gamma = np.asarray(adhesive_energy, dtype=float)
     g = np.arange(0.0, contact_gap + law_range + gap_step / 2, gap_step)
@@ -91,6 +98,12 @@ class PatchLaws:
         ``gap`` coordinate [m]. The last column is set to 0 (the law vanishes above the grid;
         the largest magnitude dropped is kept in ``top_pressure``); below the grid the last
         segment is extrapolated (stiff repulsion).
+
+    Examples
+    --------
+    >>> laws = rs.beam.PatchLaws.from_energy([1e-3, 2e-3])  # two short-range laws [J m-2]
+    >>> (laws.adhesive_energy * 1e3).round(3)  # the depth of each law's potential, mJ m-2
+    array([1., 2.])
     """
 
     def __init__(self, pressure: xr.DataArray):
@@ -199,6 +212,14 @@ def release_cohesive(laws: PatchLaws, patch_law, *, beam: Cantilever = PAPER_CAN
     The continuation starts at the front where the energy release rate of Eq. 36 is
     1/0.8⁴ ≈ 2.4 times the strongest law used, so every front behind it needs a positive
     holding load; a beam shorter than that start comes free.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> laws = rs.beam.PatchLaws.from_energy([1e-3])  # one law under every patch: 1 mJ m-2
+    >>> r = rs.beam.release_cohesive(laws, np.zeros(200, int), beam=rs.stiction.Cantilever(length=500e-6))
+    >>> r.stuck, round(float(r.crack_length) * 1e6, 1)  # µm; Eq. 36 gives 355.5
+    (True, 355.0)
     """
     patch_length = float(beam.interaction_zone_length if patch_length is None else patch_length)
     if not (patch_length > 0 and element_size > 0 and step > 0):
@@ -260,6 +281,15 @@ def step_cohesive(laws: PatchLaws, patch_law, previous: CohesiveRelease, *,
     Returns
     -------
     CohesiveRelease
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> beam, patches = rs.stiction.Cantilever(length=500e-6), np.zeros(200, int)
+    >>> first = rs.beam.release_cohesive(rs.beam.PatchLaws.from_energy([1e-3]), patches, beam=beam)
+    >>> wetter = rs.beam.step_cohesive(rs.beam.PatchLaws.from_energy([2e-3]), patches, first, beam=beam)
+    >>> round(float(wetter.crack_length) * 1e6, 1)  # µm: the front zips towards Eq. 36 (298.9)
+    298.5
     """
     nan = math.nan
     if previous.state is None:

@@ -218,6 +218,16 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
         ``adhesive_energy`` [J m-2] over ``(law, rh)``; ``attrs["cache_file"]`` when cached and
         ``attrs["from_cache"]`` telling whether it was read back; ``tail_bem_ratio`` and
         ``tail_checked`` (see ``check_tail``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> psd = rs.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
+    >>> bank = rs.beam.build_patch_bank(psd, relative_humidity=[0.5, 0.7], n=2, shape=(32, 32),
+    ...                                 spacing=20e-9, check_tail=0)
+    >>> bank.dims, (bank.values * 1e3).round(2)  # mJ m-2 over (law, rh)
+    (('law', 'rh'), array([[ 0.71,  6.43],
+           [ 2.05, 18.49]]))
     """
     rh = relative_humidity_array(relative_humidity)
     if int(n) < 1:
@@ -328,6 +338,15 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
     -------
     xarray.DataArray
         ``pressure`` [Pa] (positive repulsive) over ``(law, rh, gap)``, gap [m] between mean planes.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> psd = rs.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
+    >>> bank = rs.beam.pressure_law_bank(psd, relative_humidity=[0.5], n=2, shape=(32, 32),
+    ...                                  spacing=20e-9, n_gap=50)
+    >>> bank.dims, bank.shape
+    (('law', 'rh', 'gap'), (2, 1, 50))
     """
     rh = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
     if np.any((rh <= 0) | (rh >= 1)):

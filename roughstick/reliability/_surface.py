@@ -91,8 +91,8 @@ class SurfaceResponse:
     ``patches > 1`` cuts the surface into that many strips along ``y`` evaluated alone (not
     periodic) and returns the largest response: a weakest-link structure simulated directly.
     ``model="fft_bem"`` evaluates the periodic zone with
-    :func:`roughstick.fft_bem_contact_curves` on its own automatic grid instead (about 20 x the
-    cost of Eq. 16 on 128 x 128 zones). ``water_height`` is :math:`h_{water}` at this RH with
+    :func:`roughstick.fft_bem_contact_curves` on its own automatic grid instead (docs/rare_events.md
+    for its cost). ``water_height`` is :math:`h_{water}` at this RH with
     this ``adsorbed_layer`` (:func:`roughstick.water_height`): Eq. 16 takes it as given.
     """
 
@@ -193,12 +193,10 @@ def bem_check(ds, model, threshold, n_check):
     select exactly the states where a cheap model may be wrong, so the result carries this
     measured check, and warns (ValidityWarning) in two cases:
 
-    * ratio below one half: the failure states are Eq. 16 artefacts (on Table-4 and smooth zones
-      the Eq. 16 tail is 5-10 x the BEM's, docs/rare_events.md);
+    * ratio below one half: the failure states are Eq. 16 artefacts (docs/rare_events.md);
     * ratio above one half but fewer than half of the states confirmed: Eq. 16's ordinary error
-      (on S1 zones at 1e-4 it is ~10 % above the BEM, ratio 0.91) moves most failures across
-      the threshold, so the probability carries that error (at 1e-4 a 10 % shift of the
-      threshold changes P by about 2 x).
+      moves most failures across the threshold, so the probability carries that error (in the
+      tail a small shift of the threshold changes P by a factor).
 
     Periodic zones of one patch only (the BEM is periodic).
     """

@@ -230,12 +230,18 @@ def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer
     DMT repulsion peaks near :math:`0.8\sqrt{m_0}` and falls again deeper down (asperities merge
     into a few huge, flat fitted spheres), so a grid reaching far below the equilibrium picks up a
     spurious second attractive region. ``lower = 1`` keeps the bottom in the repulsive range for
-    the paper's cantilever zone (checked on 64 x 512 to 524 x 6000 pixel zones, 30-95 % RH,
-    both layer models). Where a zone's curve has no stable zero crossing on this grid,
+    the paper's cantilever zone. Where a zone's curve has no stable zero crossing on this grid,
     :func:`roughstick.run_ensemble` extends that realization's grid down to its lowest pixel
     (and up past its highest point plus the water height), flags it in ``grid_extension``, and
     reports a curve attractive again deep in contact in ``attractive_at_floor`` (Γ and the
     equilibrium come from the outermost stable crossing, the separation path).
+
+    Examples
+    --------
+    >>> psd = rs.stiction.interaction_zone_psd(shape=(64, 512))
+    >>> d = rs.stiction.cantilever_distance_grid(psd, shape=(64, 512), n=4, relative_humidity=[0.5, 0.9])
+    >>> d.size, round(float(d[-1]) * 1e9, 1)  # points, top of the grid in nm
+    (200, 36.4)
     """
     grids = [ensemble_distance_grid(psd, shape=shape, n=n, relative_humidity=relative_humidity,
                                     adsorbed_layer=layer, lower=lower, num=n_distance)
@@ -293,7 +299,15 @@ def predict_adhesive_energy(
     -------
     xarray.Dataset
         The ensemble (lazy unless streamed); ``adhesive_energy`` over ``(realization, rh)`` is
-        what :func:`roughstick.reliability.stuck_probability` and :func:`.risk_summary` take. Attrs record the beam and the interaction zone.
+        what :func:`roughstick.reliability.stuck_probability` and :func:`.risk_summary` take.
+        Attrs record the beam and the interaction zone.
+
+    Examples
+    --------
+    >>> ds = rs.stiction.predict_adhesive_energy(n=2, shape=(32, 128), relative_humidity=[0.5, 0.9],
+    ...                                          seed=1)
+    >>> ds.adhesive_energy.dims
+    ('realization', 'rh')
     """
     shp = interaction_zone_shape(beam, spacing=spacing) if shape is None else tuple(int(v) for v in np.broadcast_to(shape, 2))
     if psd is None:
