@@ -152,33 +152,28 @@ def stuck_probability(
 ) -> xr.Dataset:
     r"""Probability that a cantilever stays stuck, with its confidence interval.
 
-    ``method`` says how it is estimated and ``data`` what it is estimated from:
+    ``method`` says how it is estimated and ``data`` what from; each reads these keywords:
 
-    ============== ===================================== =========================================
-    method         data                                  reads
-    ============== ===================================== =========================================
-    "count"        a sample of Γ [J m-2] along ``dim``   ``beam_length``, ``dim``, ``interval``
-                   (the §5 proxy: P(Γ > Γcrit), Eq. 36)
-    "count"        beams of :func:`roughstick.beam.      ``interval``
-                   simulate` (fraction stuck)
-    "beam"         a bank of patch laws (:func:`rough-   ``beam_length`` (required), ``n``,
-                   stick.beam.build_patch_bank`)         ``seed``, ``protocol``, ``beam_model``,
-                                                         ``patch_length``, ``interval``
-    "subset",      a PSD (the zone model, §5.2 proxy)    ``relative_humidity``, ``shape``,
-    "monte_carlo"                                        ``spacing`` (required), ``beam_length``
-                                                         (one), ``model``, ``seed``, ``target_cv``,
-                                                         ``max_evaluations``, ``n_per_level``
-    "subset",      a bank of patch laws (the sharp-front ``beam_length`` (required), ``protocol``,
-    "monte_carlo"  beam)                                 ``patch_length``, ``seed``, ``target_cv``,
-                                                         ``max_evaluations``, ``n_per_level``
-    ============== ===================================== =========================================
+    - ``"count"`` on a sample of Γ [J m-2] along ``dim`` (the §5 proxy, P(Γ > Γ_crit), Eq. 36):
+      ``beam_length``, ``dim``, ``interval``; on the beams of :func:`roughstick.beam.simulate`
+      (the fraction stuck): ``interval``.
+    - ``"beam"`` on a bank of patch laws (:func:`roughstick.beam.build_patch_bank`): releases
+      ``n`` beams per length on it (:func:`roughstick.beam.simulate`) and counts them:
+      ``beam_length`` (required), ``n``, ``seed``, ``protocol``, ``beam_model``,
+      ``patch_length``, ``interval``.
+    - ``"subset"`` (subset simulation: small probabilities) or ``"monte_carlo"`` (crude Monte
+      Carlo, its reference), to ``target_cv``: on a PSD (the zone model, the §5.2 proxy)
+      ``relative_humidity``, ``shape``, ``spacing`` (required), one ``beam_length``, ``model``,
+      ``seed``, ``target_cv``, ``max_evaluations``, ``n_per_level``; on a bank of patch laws
+      (the sharp-front beam) ``beam_length`` (required), ``protocol``, ``patch_length``,
+      ``seed``, ``target_cv``, ``max_evaluations``, ``n_per_level``.
 
     A keyword the method does not read, or data it cannot use, is refused with the fix.
 
     Parameters
     ----------
     data : xarray.DataArray, xarray.Dataset or callable
-        What P(stuck) is estimated from (table above).
+        What P(stuck) is estimated from (above).
     method : {"count", "beam", "subset", "monte_carlo"}
         ``"count"``: count a given sample; ``"beam"``: release ``n`` beams per length on the bank
         (:func:`roughstick.beam.simulate`) and count them; ``"subset"``: subset simulation to
@@ -250,7 +245,7 @@ def stuck_probability(
                   protocol=protocol, beam_model=beam_model, patch_length=patch_length,
                   relative_humidity=relative_humidity, shape=shape, spacing=spacing, model=model,
                   target_cv=target_cv, max_evaluations=max_evaluations, n_per_level=n_per_level)
-    defaults = inspect.signature(stuck_probability.__wrapped__.__wrapped__).parameters
+    defaults = inspect.signature(stuck_probability).parameters  # follows the decorators
     given = {k for k, v in passed.items() if not _same(v, defaults[k].default)}
     _check_combination(method, kind, given, options, data)
     if method == "count":
