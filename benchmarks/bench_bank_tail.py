@@ -4,7 +4,7 @@
         [--rh 0.3 0.6 0.9] [--top 16] [--family beam S1 S2 table4 smooth rough]
         [--beams 1000 --lengths 150 200 250 300]
 
-A bank of the beam command (``rs.build_patch_bank``, Table-4 PSD of ``roughstick beam``, the
+A bank of the beam command (``rs.beam.build_patch_bank``, Table-4 PSD of ``roughstick beam``, the
 modified DMT of Eq. 16, the tail check switched off; ``--family``: the five surface families of
 ``rs.datasets`` instead) is ranked at each RH, and its ``--top``
 largest laws plus the laws at P = 1e-2, 0.1, 0.25 and 0.5 are re-evaluated with the FFT
@@ -14,7 +14,7 @@ rank's Eq. 16 and BEM energies and their ratio, and the median ratio over the to
 ``build_patch_bank(check_tail=8)`` reports as ``tail_bem_ratio``); and the cost of one law with
 each model, as a multiple of one rfft2 + irfft2 pair of the patch timed in the same process.
 With ``--beams N``: the whole bank is also computed with the FFT-BEM (the same patches) and
-``rs.simulate_beams`` draws the same N beams per length from both banks: P(stuck) of the
+``rs.beam.simulate`` draws the same N beams per length from both banks: P(stuck) of the
 beam-scale model on each, with 95 % Wilson intervals (what the tail error does to the beams).
 """
 
@@ -58,7 +58,7 @@ def main():
 def one_family(psd, args):
     shape = tuple(args.shape)
     t0 = time.perf_counter()
-    bank = rs.build_patch_bank(psd, relative_humidity=list(args.rh), n_law=args.laws, shape=shape,
+    bank = rs.beam.build_patch_bank(psd, relative_humidity=list(args.rh), n=args.laws, shape=shape,
                                spacing=args.spacing, seed=args.seed, check_tail=0)
     t_dmt = (time.perf_counter() - t0) / args.laws
     print(f"bank: {args.laws} laws of {shape[0]}x{shape[1]} px at {args.spacing * 1e9:g} nm, Table-4 PSD, "
@@ -97,11 +97,11 @@ def one_family(psd, args):
 def compare_beams(bank, psd, shape, args):
     """P(stuck) of the same beams on the Eq. 16 bank and on the BEM bank of the same patches."""
     t0 = time.perf_counter()
-    bem = rs.build_patch_bank(psd, relative_humidity=list(bank.rh.values), n_law=bank.sizes["law"], shape=shape,
+    bem = rs.beam.build_patch_bank(psd, relative_humidity=list(bank.rh.values), n=bank.sizes["law"], shape=shape,
                               spacing=args.spacing, seed=args.seed, model="fft_bem")
     print(f"BEM bank of the same {bank.sizes['law']} patches in {time.perf_counter() - t0:.1f} s")
     lengths = np.asarray(args.lengths) * 1e-6
-    got = {m: rs.simulate_beams(b, beam_length=lengths, n_realization=args.beams, seed=1)
+    got = {m: rs.beam.simulate(b, beam_length=lengths, n=args.beams, seed=1)
            for m, b in (("Eq. 16", bank), ("FFT-BEM", bem))}
     print(f"P(stuck) of {args.beams} beams per length (the same patch draws on both banks), 95 % Wilson:")
     for rh in bank.rh.values:

@@ -9,7 +9,7 @@ numpy complex iFFT (min of 5), so the figure can be rescaled to a quiet machine.
     nice -n 10 python benchmarks/bench_beam.py                 # 1000 laws, 1000 beams, RH 0.6
     python benchmarks/bench_beam.py --laws 100 --beams 1000    # quicker
 
-The cohesive model (``simulate_beams(model="cohesive")``: Euler-Bernoulli beam on each patch's
+The cohesive model (``rs.beam.simulate(beam_model="cohesive")``: Euler-Bernoulli beam on each patch's
 law, here main's energy bank with the short-range law shape) is timed beside the sharp front on
 ``--cohesive-beams`` of the same beams (same seed, same patches), with the crack lengths of the
 two models compared.
@@ -38,29 +38,29 @@ def main():
     ap.add_argument("--cohesive-beams", type=int, default=20)
     ap.add_argument("--cache", default=None, help="cache folder (default: a fresh temporary one)")
     args = ap.parse_args()
-    c = rs.cantilever_psd()
+    c = rs.stiction.cantilever_psd()
     psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 400), s0=float(c.s0), s1=float(c.s1),
                              q0=float(c.q0), qmax=float(c.qmax))
     cache = args.cache or tempfile.mkdtemp(prefix="beam-bank-")
     y0 = ifft_seconds(5)
-    kw = dict(relative_humidity=args.rh, n_law=args.laws, shape=(args.shape, args.shape),
+    kw = dict(relative_humidity=args.rh, n=args.laws, shape=(args.shape, args.shape),
               spacing=args.spacing_nm * 1e-9, seed=0, cache_dir=cache)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         t = time.perf_counter()
-        bank = rs.build_patch_bank(psd, **kw)
+        bank = rs.beam.build_patch_bank(psd, **kw)
         t_bank = time.perf_counter() - t
         t = time.perf_counter()
-        ds = rs.simulate_beams(bank, beam_length=1500e-6, n_realization=args.beams, seed=1)
+        ds = rs.beam.simulate(bank, beam_length=1500e-6, n=args.beams, seed=1)
         t_beams = time.perf_counter() - t
         t = time.perf_counter()
-        bank2 = rs.build_patch_bank(psd, **kw)
-        ds2 = rs.simulate_beams(bank2, beam_length=1500e-6, n_realization=args.beams, seed=1)
+        bank2 = rs.beam.build_patch_bank(psd, **kw)
+        ds2 = rs.beam.simulate(bank2, beam_length=1500e-6, n=args.beams, seed=1)
         t_rerun = time.perf_counter() - t
         nc = args.cohesive_beams
         t = time.perf_counter()
-        coh = rs.simulate_beams(bank, beam_length=1500e-6, n_realization=nc, seed=1,
-                                model="cohesive")
+        coh = rs.beam.simulate(bank, beam_length=1500e-6, n=nc, seed=1,
+                               beam_model="cohesive")
         t_coh = time.perf_counter() - t
     y1 = ifft_seconds(5)
     ref = min(y0, y1)

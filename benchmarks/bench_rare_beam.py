@@ -5,10 +5,10 @@ must-be-true 2, on the beam limit state).
         [--samples-per-level 900] [--seed 1000] [--level-probability 0.2] [--target-acceptance 0.44]
 
 Case: the paper's cantilever (Table 4) with the sharp-front beam model on a bank of ``--laws``
-log-normal patch energies (median 10 mJ/m², log-sd 0.5, as tests/stiction/test_rare_beam.py), at
+log-normal patch energies (median 10 mJ/m², log-sd 0.5, as tests/reliability/test_beam_limit_state.py), at
 the beam length where the bank's exact P(stuck) = 1 - prod_j (1 - q_j) is ``--target`` (computed
 here from Eq. 36's equilibrium positions, independently of the package). Runs
-``rs.beam_stiction_probability_subset`` once per seed with no stopping rule (one subset run of
+``rs.stuck_probability(bank, method="subset")`` once per seed with no stopping rule (one subset run of
 ``--samples-per-level`` beams per level) and prints, against the exact value: the mean estimate,
 the true cv of one run (rms error / P, with a chi-square interval), the mean reported cv, the 95 %
 interval's coverage, the evaluations (mean and largest) and the wall time per run, also as a
@@ -32,7 +32,7 @@ from _yardstick import ifft_seconds, spread_interval
 from scipy.optimize import brentq
 
 import roughstick as rs
-from roughstick.stiction.beam import PAPER_CANTILEVER
+from roughstick.stiction.cantilever import PAPER_CANTILEVER
 
 K = PAPER_CANTILEVER.stiffness_term
 PATCH = PAPER_CANTILEVER.interaction_zone_length
@@ -71,7 +71,7 @@ def main():
     ps, cvs, ns, walls, cover = [], [], [], [], 0
     for s in range(args.seed, args.seed + args.repeat):
         t0 = time.perf_counter()
-        ds = rs.beam_stiction_probability_subset(bank, beam_length=length, samples_per_level=args.samples_per_level,
+        ds = rs.stuck_probability(bank, method="subset", beam_length=length, n_per_level=args.samples_per_level,
                                                  seed=s, target_cv=None, level_probability=args.level_probability,
                                                  target_acceptance=args.target_acceptance).squeeze()
         walls.append(time.perf_counter() - t0)

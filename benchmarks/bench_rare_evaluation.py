@@ -2,12 +2,12 @@
 
     nice -n 10 python benchmarks/bench_rare_evaluation.py [--n 40] [--shape 128 128] [--rh 0.5]
 
-One evaluation of ``rs.failure_probability``'s limit state (white noise -> surface, Eqs. 33-34 ->
-modified-DMT curve on the surface's own grid, Eq. 16 -> adhesive energy, Eq. 13) on ``--n``
+One evaluation of ``rs.reliability.failure_probability``'s limit state (white noise -> surface,
+Eqs. 33-34 -> modified-DMT curve on the surface's own grid, Eq. 16 -> adhesive energy, Eq. 13) on ``--n``
 random zones of each family at 5 nm; then, on one full grid per zone (first water contact to below
 every pixel), the numpy kernels the limit state calls against the public xarray path it called
 before (``rs.rough_contact_curves`` + ``rs.adhesion_summary``) and the largest relative difference
-of their Gamma (the same kernel: 0 expected); and the FFT-BEM (``contact_model="fft_bem"``). Times
+of their Gamma (the same kernel: 0 expected); and the FFT-BEM (``model="fft_bem"``). Times
 are also given as multiples of one 1024^2 complex iFFT timed in the same process.
 """
 
@@ -21,7 +21,7 @@ import numpy as np
 from _yardstick import ifft_seconds
 
 import roughstick as rs
-from roughstick.stiction._rare_surface import NoiseToSurface, SurfaceResponse
+from roughstick.reliability._surface import NoiseToSurface, SurfaceResponse
 
 SPACING = 5e-9
 
@@ -44,7 +44,7 @@ def main():
         psd = rs.datasets.family_psd(fam)
         f = NoiseToSurface(psd, shape=shape, spacing=SPACING)
         model = SurfaceResponse(f, relative_humidity=args.rh, water_height=hw)
-        bem = SurfaceResponse(f, relative_humidity=args.rh, water_height=hw, contact_model="fft_bem")
+        bem = SurfaceResponse(f, relative_humidity=args.rh, water_height=hw, model="fft_bem")
         rng = np.random.default_rng(1)
         noise = [rng.standard_normal(shape) for _ in range(args.n)]
         model(noise[0])

@@ -33,7 +33,7 @@ def _lineages(ds, r):
     """Distinct level-0 ancestors of the seeds kept at each level and of the final failures, and
     the effective number of final lineages 1 / sum_i (n_i / n_F)^2 (the genealogical cv is about
     its inverse square root): where the estimator's variance comes from (docs/rare_events.md)."""
-    from roughstick.stiction import _rare_kernels as _k
+    from roughstick.reliability import _kernels as _k
 
     nl = int(ds.run_levels[r])
     chains, kept = [], []
@@ -54,7 +54,7 @@ def _lineages(ds, r):
 
 def _case(args):
     return dict(threshold=args.threshold, relative_humidity=args.rh, shape=tuple(args.shape), spacing=5e-9,
-                contact_model=args.contact_model)
+                model=args.contact_model)
 
 
 def _repeat(psd, args, settings, unit, first):
@@ -63,7 +63,7 @@ def _repeat(psd, args, settings, unit, first):
     ps, cvs, ns, walls = ([v] for v in first)
     for s in range(args.seed + 1, args.seed + args.repeat):
         t0 = time.perf_counter()
-        d = rs.failure_probability(psd, **_case(args), seed=s, target_cv=args.target_cv or None,
+        d = rs.reliability.failure_probability(psd, **_case(args), seed=s, target_cv=args.target_cv or None,
                                    max_evaluations=args.max_evaluations, **settings)
         walls.append(time.perf_counter() - t0)
         ps.append(float(d.failure_probability))
@@ -85,7 +85,7 @@ def _repeat(psd, args, settings, unit, first):
 def _monte_carlo(psd, args, unit):
     """Crude Monte Carlo of the same case: the independent reference."""
     t0 = time.perf_counter()
-    d = rs.failure_probability(psd, **_case(args), method="monte_carlo", samples_per_level=args.monte_carlo,
+    d = rs.reliability.failure_probability(psd, **_case(args), method="monte_carlo", n_per_level=args.monte_carlo,
                                seed=10_000 + args.seed)
     wall = time.perf_counter() - t0
     n = int(d.n_evaluations)
@@ -118,12 +118,12 @@ def main():
     # Limits): one warning per evaluation would drown the figures
     warnings.filterwarnings("ignore", category=rs.ValidityWarning)
     psd = rs.datasets.family_psd(args.family)
-    settings = {k: v for k, v in (("samples_per_level", args.samples_per_level),
+    settings = {k: v for k, v in (("n_per_level", args.samples_per_level),
                                   ("level_probability", args.level_probability),
                                   ("target_acceptance", args.target_acceptance)) if v is not None}
     unit0 = ifft_seconds(7)
     t0 = time.perf_counter()
-    ds = rs.failure_probability(
+    ds = rs.reliability.failure_probability(
         psd, **_case(args), seed=args.seed, target_cv=args.target_cv or None, max_evaluations=args.max_evaluations, **settings)
     wall = time.perf_counter() - t0
     unit = min(unit0, ifft_seconds(7))
@@ -174,7 +174,7 @@ def main():
     beta = norm.isf(1e-4)
     ps, cvs, aus, ns, cover = [], [], [], [], 0
     for s in range(args.analytic_runs):
-        r = rs.subset_simulation(linear, noise_shape=shape, threshold=beta, seed=1000 + s,
+        r = rs.reliability.subset_simulation(linear, noise_shape=shape, threshold=beta, seed=1000 + s,
                                   scheduler="sync", chunks=1000, **settings)
         ps.append(float(r.failure_probability))
         cvs.append(float(r.coefficient_of_variation))

@@ -3,7 +3,7 @@
     nice -n 10 python benchmarks/bench_rare_tail.py [--n 150000] [--threshold 0.012] [--seed 101]
 
 Crude Monte Carlo of the modified-DMT (Eq. 16) adhesive energy of Table-4 zones (128 x 128 px at
-5 nm, 50 % RH) with ``rs.failure_probability(method="monte_carlo")``, then the states above
+5 nm, 50 % RH) with ``rs.reliability.failure_probability(method="monte_carlo")``, then the states above
 ``--threshold``, ranked by their Eq. 16 Gamma, re-evaluated with the FFT boundary-element model
 (``rs.fft_bem_contact_curves``): the highest 16 and a few further ranks, and 4 typical zones. Then
 how knife-edged Eq. 16's Gamma is on those states: the relative change of Gamma under a pCN move
@@ -24,7 +24,7 @@ SPACING = 5e-9
 
 
 def bem_gamma(noise, psd, shape, rh):
-    h = rs.surface_from_noise(noise.reshape(shape), psd, shape=shape, spacing=SPACING)
+    h = rs.reliability.surface_from_noise(noise.reshape(shape), psd, shape=shape, spacing=SPACING)
     c = rs.fft_bem_contact_curves(h - h.mean(), relative_humidity=rh, progress=False)
     return float(rs.adhesion_summary(c, check_grid=False).adhesive_energy)
 
@@ -42,7 +42,7 @@ def main():
     shape = tuple(args.shape)
     kw = dict(relative_humidity=args.rh, shape=shape, spacing=SPACING)
     t0 = time.perf_counter()
-    ds = rs.failure_probability(psd, threshold=args.threshold, method="monte_carlo", samples_per_level=args.n,
+    ds = rs.reliability.failure_probability(psd, threshold=args.threshold, method="monte_carlo", n_per_level=args.n,
                                 seed=args.seed, check_failures=0, **kw)
     wall = time.perf_counter() - t0
     y = ds.failure_response.values
@@ -58,7 +58,7 @@ def main():
     rng = np.random.default_rng(args.seed + 1)
     typical = [rng.standard_normal(shape) for _ in range(4)]
     # the limit state failure_probability evaluates, one zone at a time
-    from roughstick.stiction._rare_surface import NoiseToSurface, SurfaceResponse
+    from roughstick.reliability._surface import NoiseToSurface, SurfaceResponse
 
     f = NoiseToSurface(psd, shape=shape, spacing=SPACING)
     model = SurfaceResponse(f, relative_humidity=args.rh, water_height=float(rs.water_height(args.rh).values))

@@ -32,12 +32,12 @@ cells = [
     code(
         "beam = rs.PAPER_CANTILEVER  # w = 30 µm, t = 2.62 µm, l = 1500 µm, h = 1.9 µm, E = 164 GPa\n"
         "lengths = [250e-6, 300e-6, 400e-6, 500e-6, 1500e-6]\n"
-        "gcrit = rs.critical_adhesive_energy(length=lengths, beam=beam)\n"
+        "gcrit = rs.stiction.critical_adhesive_energy(beam_length=lengths, beam=beam)\n"
         "print('Γ_crit [mJ/m²]:', dict(zip([f'{l*1e6:.0f} µm' for l in lengths], (gcrit.values * 1e3).round(4).tolist())))\n"
-        "s = rs.crack_length_from_adhesive_energy(np.array([1e-5, 1e-4, 1e-3, 1e-2]), beam=beam)\n"
+        "s = rs.stiction.crack_length_from_adhesive_energy(np.array([1e-5, 1e-4, 1e-3, 1e-2]), beam=beam)\n"
         "print('crack length [µm] for Γ = 0.01, 0.1, 1, 10 mJ/m²:', (s * 1e6).round(1))\n"
         "# a 15 % error on a measured s is a factor 1.15**4 = 1.75 on Γ (paper §5.3)\n"
-        "rs.adhesive_energy_from_crack_length(400e-6) / rs.adhesive_energy_from_crack_length(460e-6)"
+        "rs.stiction.adhesive_energy_from_crack_length(400e-6) / rs.stiction.adhesive_energy_from_crack_length(460e-6)"
     ),
     md(
         "## Table 4 → Eq. 37\n\n"
@@ -50,7 +50,7 @@ cells = [
     code(
         "rows = {}\n"
         "for n in (80.1, 88.1):\n"
-        "    p = rs.cantilever_psd(asperity_density=n * 1e12)\n"
+        "    p = rs.stiction.cantilever_psd(asperity_density=n * 1e12)\n"
         "    rows[f'N = {n} µm⁻²'] = dict(sqrt_m0_nm=float(p.m0)**0.5*1e9, m2=float(p.m2), m4_um2=float(p.m4)/1e12,\n"
         "                               q0_rad_um=float(p.q0)/1e6, s0_nm4=float(p.s0)*1e36, s1_nm4=float(p.s1)*1e36)\n"
         "rows['printed'] = dict(sqrt_m0_nm=3.54, m2=0.0035, m4_um2=9.1, q0_rad_um=19.4, s0_nm4=6.46e3, s1_nm4=6.29e-3)\n"
@@ -64,9 +64,9 @@ cells = [
         "with spectral derivatives, against Table 4:"
     ),
     code(
-        "fit = rs.cantilever_psd()\n"
-        "shape = rs.interaction_zone_shape(beam)\n"
-        "h = rs.surface.generate_surfaces(rs.interaction_zone_psd(fit, shape=shape), n=1, shape=shape, spacing=5e-9, seed=1).isel(realization=0).compute()\n"
+        "fit = rs.stiction.cantilever_psd()\n"
+        "shape = rs.stiction.interaction_zone_shape(beam)\n"
+        "h = rs.surface.generate_surfaces(rs.stiction.interaction_zone_psd(fit, shape=shape), n=1, shape=shape, spacing=5e-9, seed=1).isel(realization=0).compute()\n"
         "z = h.values - h.values.mean()\n"
         "qx = 2*np.pi*np.fft.fftfreq(shape[1], 5e-9); qy = 2*np.pi*np.fft.fftfreq(shape[0], 5e-9)\n"
         "P = np.abs(np.fft.fft2(z))**2 / z.size**2\n"
@@ -88,18 +88,18 @@ cells = [
     code(
         "rh = list(rs.PAPER_HUMIDITIES)\n"
         "layers = ['none', 'paper']\n"
-        "g = xr.concat([rs.predict_adhesive_energy(fit, n=10, shape=(64, 512), relative_humidity=rh,\n"
+        "g = xr.concat([rs.stiction.predict_adhesive_energy(fit, n=10, shape=(64, 512), relative_humidity=rh,\n"
         "                                          adsorbed_layer=layer, seed=7).adhesive_energy.compute()\n"
         "               for layer in layers], dim=xr.DataArray(layers, dims='adsorbed_layer', name='adsorbed_layer'))\n"
-        "risk = rs.stiction_risk(g, length=lengths, levels=[0.1, 0.5, 0.9])\n"
+        "risk = rs.stiction.risk_summary(g, beam_length=lengths, probabilities=[0.1, 0.5, 0.9])\n"
         "figures.fig20_adhesive_energy_bands(risk);"
     ),
     md(
-        "Your measured beams go on the same plot with `rs.measured_adhesion(rh, crack_length=...)` "
+        "Your measured beams go on the same plot with `rs.stiction.measured_adhesion(rh, crack_length=...)` "
         "(or `adhesive_energy=...`). The experimental points of the paper's Fig. 20 are not printed "
         "in its text, so none are bundled, e.g.:\n\n"
         "```python\n"
-        "mine = rs.measured_adhesion([0.4, 0.6, 0.8], crack_length=[450e-6, 410e-6, 380e-6], label='chip A')\n"
+        "mine = rs.stiction.measured_adhesion([0.4, 0.6, 0.8], crack_length=[450e-6, 410e-6, 380e-6], label='chip A')\n"
         "figures.fig20_adhesive_energy_bands(risk, measured=mine)\n"
         "```"
     ),

@@ -25,16 +25,16 @@ cells = [
     code(
         "beam = rs.PAPER_CANTILEVER\n"
         "for g0 in [1e-5, 1e-4, 1e-3]:\n"
-        "    s = rs.beam_crack_length(np.full(600, g0), beam=beam)\n"
+        "    s = rs.beam.crack_length(np.full(600, g0), beam=beam)\n"
         "    print(f'Γ0 = {g0:g} J/m²: model s = {float(s)*1e6:.2f} µm, Eq. 36 s = '\n"
-        "          f'{rs.crack_length_from_adhesive_energy(g0, beam=beam)*1e6:.2f} µm')"
+        "          f'{rs.stiction.crack_length_from_adhesive_energy(g0, beam=beam)*1e6:.2f} µm')"
     ),
     md("## A bank of patch laws (Table 4 PSD, modified DMT), cached on disk"),
     code(
-        "c = rs.cantilever_psd()\n"
+        "c = rs.stiction.cantilever_psd()\n"
         "psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 300), s0=float(c.s0), s1=float(c.s1),\n"
         "                         q0=float(c.q0), qmax=float(c.qmax))\n"
-        "bank = rs.build_patch_bank(psd, relative_humidity=[0.3, 0.6, 0.9], n_law=20, shape=(32, 32),\n"
+        "bank = rs.beam.build_patch_bank(psd, relative_humidity=[0.3, 0.6, 0.9], n=20, shape=(32, 32),\n"
         "                           spacing=20e-9, cache_dir=tempfile.mkdtemp())\n"
         "bank.to_pandas().describe()"
     ),
@@ -48,8 +48,8 @@ cells = [
     md("## Crack lengths and P(stuck) with its 95 % Wilson interval; both protocols"),
     code(
         "lengths = np.array([100, 150, 200, 300]) * 1e-6\n"
-        "rel = rs.simulate_beams(bank, beam_length=lengths, n_realization=200, seed=1)\n"
-        "up = rs.simulate_beams(bank, beam_length=lengths, n_realization=200, seed=1, protocol='step_up')\n"
+        "rel = rs.beam.simulate(bank, beam_length=lengths, n=200, seed=1)\n"
+        "up = rs.beam.simulate(bank, beam_length=lengths, n=200, seed=1, protocol='step_up')\n"
         "rel.stuck_probability.to_pandas()"
     ),
     code(
@@ -62,12 +62,12 @@ cells = [
     ),
     md("## Beside the pull-out proxy of Fig. 20\n\n"
        "The proxy treats one patch as the whole interaction zone: the beam sticks when that "
-       "patch's Γ exceeds Eq. 36's critical energy for its length (`rs.stiction_probability`, the "
+       "patch's Γ exceeds Eq. 36's critical energy for its length (`rs.stuck_probability`, the "
        "paper's Fig. 20). The beam model instead lets the crack front run over many random "
        "patches. Same bank, both with 95 % Wilson intervals; the proxy's n is the 20 laws, so its "
        "intervals are wide."),
     code(
-        "proxy = rs.stiction_probability(bank.rename(law='realization'), length=lengths)\n"
+        "proxy = rs.stuck_probability(bank.rename(law='realization'), beam_length=lengths)\n"
         "fig, axes = plt.subplots(1, rel.rh.size, figsize=(4 * rel.rh.size, 3.2), sharey=True)\n"
         "for ax, r in zip(axes, rel.rh.values):\n"
         "    for ds, v, lab in ((rel, 'stuck_probability', 'beam model'), (proxy, 'stiction_probability', 'pull-out proxy (Fig. 20)')):\n"
@@ -85,14 +85,14 @@ cells = [
         "print('largest difference [µm]:', float(d.max()) * 1e6)"
     ),
     md("## The cohesive beam on the same draws\n\n"
-       "`model='cohesive'` solves the Euler–Bernoulli cantilever loaded by each patch's law "
+       "`beam_model='cohesive'` solves the Euler–Bernoulli cantilever loaded by each patch's law "
        "(pull-in, then release by front continuation) instead of the sharp-front energy balance. "
        "Same seed, same patches: the two can be compared beam by beam. It costs ~0.5 s per beam "
        "(docs/beam.md), so only 10 beams here."),
     code(
-        "kw = dict(beam_length=[300e-6], n_realization=10, seed=1)\n"
-        "sharp = rs.simulate_beams(bank.sel(rh=[0.6]), **kw)\n"
-        "coh = rs.simulate_beams(bank.sel(rh=[0.6]), model='cohesive', **kw)\n"
+        "kw = dict(beam_length=[300e-6], n=10, seed=1)\n"
+        "sharp = rs.beam.simulate(bank.sel(rh=[0.6]), **kw)\n"
+        "coh = rs.beam.simulate(bank.sel(rh=[0.6]), beam_model='cohesive', **kw)\n"
         "print('stuck flags agree on', int((sharp.stuck == coh.stuck).sum()), 'of', sharp.stuck.size, 'beams')\n"
         "print('failed solves:', int(coh.solver_failed.sum()))\n"
         "ds = (coh.crack_length - sharp.crack_length).where(coh.stuck & sharp.stuck)\n"

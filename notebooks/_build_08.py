@@ -32,8 +32,8 @@ cells = [
         "shape = (64, 64)\n"
         "a = np.random.default_rng(1).standard_normal(shape); a /= np.linalg.norm(a)\n"
         "beta = norm.isf(1e-4)\n"
-        "r = rs.subset_simulation(lambda z: float(np.sum(a * z)), noise_shape=shape, threshold=beta,\n"
-        "                         samples_per_level=500, seed=0)\n"
+        "r = rs.reliability.subset_simulation(lambda z: float(np.sum(a * z)), noise_shape=shape,\n"
+        "                                     threshold=beta, n_per_level=500, seed=0)\n"
         "print(f\"P = {float(r.failure_probability):.2e} (exact 1.00e-04), 95% [{float(r.failure_probability_lower):.2e}, \"\n"
         "      f\"{float(r.failure_probability_upper):.2e}], cv {float(r.coefficient_of_variation):.2f}, \"\n"
         "      f\"{int(r.n_evaluations)} evaluations; crude MC would need {(1 - 1e-4) / (1e-4 * float(r.coefficient_of_variation)**2):.0f}\")\n"
@@ -52,14 +52,14 @@ cells = [
     ),
     code(
         "psd = rs.datasets.family_psd('table4')\n"
-        "ds = rs.stiction_probability_subset(psd, relative_humidity=[0.6, 0.7], shape=(128, 128), spacing=5e-9,\n"
-        "                                    length=150e-6, samples_per_level=60, target_cv=None,\n"
-        "                                    max_levels=4, seed=8)\n"
+        "ds = rs.stuck_probability(psd, method='subset', relative_humidity=[0.6, 0.7], shape=(128, 128),\n"
+        "                          spacing=5e-9, beam_length=150e-6, n_per_level=60, target_cv=None,\n"
+        "                          max_levels=4, seed=8)\n"
         "for i, rh in enumerate(ds.rh.values):\n"
         "    d = ds.isel(rh=i)\n"
         "    print(f\"RH {rh:.2f}: P(stuck) = {float(d.stiction_probability):.2e} 95% [{float(d.stiction_probability_lower):.2e}, \"\n"
         "          f\"{float(d.stiction_probability_upper):.2e}] ({int(d.n_evaluations)} evaluations)\")\n"
-        "ch = rs.crossing_humidity(ds[['stiction_probability', 'stiction_probability_lower', 'stiction_probability_upper']], level=1e-3)\n"
+        "ch = rs.stiction.crossing_humidity(ds[['stiction_probability', 'stiction_probability_lower', 'stiction_probability_upper']], probability=1e-3)\n"
         "edge = lambda v: f'{v:.3f}' if np.isfinite(v) else ('below the lowest RH computed' if v < 0 else 'above the highest RH computed')\n"
         "print(f\"P(stuck) = 1e-3 at RH {edge(float(ch.crossing_humidity))} [{edge(float(ch.crossing_humidity_lower))}, \"\n"
         "      f\"{edge(float(ch.crossing_humidity_upper))}]\")"
@@ -87,10 +87,10 @@ cells = [
         "not for Γ of a whole zone, which is an average (docs/rare_events.md)."
     ),
     code(
-        "w = rs.weakest_link(ds.isel(rh=1).rename(stiction_probability='failure_probability',\n"
-        "                                          stiction_probability_lower='failure_probability_lower',\n"
-        "                                          stiction_probability_upper='failure_probability_upper'),\n"
-        "                    patches=[1, 4, 16, 64])\n"
+        "w = rs.reliability.weakest_link(ds.isel(rh=1).rename(stiction_probability='failure_probability',\n"
+        "                                                      stiction_probability_lower='failure_probability_lower',\n"
+        "                                                      stiction_probability_upper='failure_probability_upper'),\n"
+        "                                patches=[1, 4, 16, 64])\n"
         "w[['failure_probability', 'failure_probability_lower', 'failure_probability_upper']].to_dataframe()"
     ),
 ]

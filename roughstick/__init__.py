@@ -19,10 +19,12 @@ import warnings
 
 from . import (
     accessor,  # registers the .rough accessor on DataArray and Dataset
+    beam,
     contact,
     datasets,
     ensemble,
     io,
+    reliability,
     stiction,
     surface,
     testing,
@@ -35,14 +37,15 @@ from ._renamed import RENAMED
 from .contact import *  # noqa: F403
 from .ensemble import *  # noqa: F403
 from .io import *  # noqa: F403
+from .reliability import stuck_probability
 from .stiction import *  # noqa: F403
 from .surface import *  # noqa: F403
 
 #: Every public function and class, gathered from the subpackages' own ``__all__``.
 __all__ = sorted(
-    name
-    for mod in (materials, io, surface, contact, ensemble, stiction)
-    for name in mod.__all__
+    [name
+     for mod in (materials, io, surface, contact, ensemble, stiction)
+     for name in mod.__all__] + ["stuck_probability"]
 )
 
 

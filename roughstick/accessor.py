@@ -14,7 +14,8 @@ import xarray as xr
 
 from . import ensemble, surface
 from .contact import adhesion, bem, curves, gw, meniscus, rough
-from .stiction import beam, risk
+from .reliability import stuck
+from .stiction import cantilever, risk
 
 __all__ = ["HEIGHT_MAP", "PSD", "RELATIVE_HUMIDITY", "SAMPLE", "CURVES", "MOMENTS", "ENSEMBLE"]
 
@@ -58,10 +59,10 @@ SAMPLE = {
     "quantile_interval": ensemble.quantile_interval,
     "ensemble_histogram": ensemble.histogram,
     "ensemble_ecdf": ensemble.ecdf,
-    "stiction_probability": risk.stiction_probability,
+    "stuck_probability": stuck.stuck_probability,
     "crossing_length": risk.crossing_length,
-    "stiction_risk": risk.stiction_risk,
-    "crack_length_from_adhesive_energy": beam.crack_length_from_adhesive_energy,
+    "risk_summary": risk.risk_summary,
+    "crack_length_from_adhesive_energy": cantilever.crack_length_from_adhesive_energy,
 }
 
 # -------------------------------------------------------------------- Dataset: one table per kind
@@ -80,8 +81,8 @@ MOMENTS = {
 #: Ensembles and summaries over ``realization``.
 ENSEMBLE = {
     "confidence_band": ensemble.confidence_band,
-    "stiction_probability": risk.stiction_probability,
-    "stiction_risk": risk.stiction_risk,
+    "stuck_probability": stuck.stuck_probability,
+    "risk_summary": risk.risk_summary,
     "crossing_humidity": risk.crossing_humidity,
 }
 

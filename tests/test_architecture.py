@@ -277,7 +277,7 @@ def _prefix_families():
 
 
 #: ``_prefix_`` families still to become sub-packages (shrinks to empty, as above).
-PREFIX_FAMILIES_TO_MOVE = {("roughstick/contact", "rough"), ("roughstick/stiction", "rare")}
+PREFIX_FAMILIES_TO_MOVE = {("roughstick/contact", "rough")}
 
 
 def test_families_of_private_modules_are_sub_packages():

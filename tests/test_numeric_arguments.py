@@ -1,6 +1,7 @@
 """Every numeric argument of every public function is checked before any work starts.
 
-The sweep: for each public callable of ``rs.__all__`` and each of its arguments whose default is
+The sweep: for each public callable of ``rs.__all__`` and of the stage namespaces' ``__all__``
+(``rs.beam.simulate``, ...) and each of its arguments whose default is
 a number, NaN, inf and (where the default is positive) a negative value and zero must raise a
 ValueError or TypeError whose message names the argument. The other arguments are a sentinel
 object no function can use, so a check that trips only after some work (or not at all) fails
@@ -51,10 +52,25 @@ class _Unusable:
     """Stands for every argument the sweep does not test: no function can use it."""
 
 
+#: The stage namespaces whose public functions the sweep covers beside ``rs.__all__``.
+NAMESPACES = ("io", "surface", "contact", "ensemble", "stiction", "beam", "reliability")
+
+
+def _public():
+    """(name, object) of every public callable once: ``rs.<name>``, else ``<namespace>.<name>``."""
+    seen = set()
+    for ns in ("",) + NAMESPACES:
+        mod = getattr(rs, ns) if ns else rs
+        for name in getattr(mod, "__all__", ()):
+            obj = getattr(mod, name)
+            if id(obj) not in seen:
+                seen.add(id(obj))
+                yield (f"{ns}.{name}" if ns else name), obj
+
+
 def _cases():
-    for name in rs.__all__:
-        obj = getattr(rs, name)
-        if not callable(obj) or name in RESULTS:
+    for name, obj in _public():
+        if not callable(obj) or name.rsplit(".", 1)[-1] in RESULTS:
             continue
         try:
             sig = inspect.signature(obj)
@@ -68,12 +84,14 @@ def _cases():
             if d > 0:
                 bad.update(negative=-d, zero=type(d)(0))
             for what, value in bad.items():
-                if what not in LEGAL.get((name, p.name), ()):
+                if what not in LEGAL.get((name.rsplit(".", 1)[-1], p.name), ()):
                     yield pytest.param(name, p.name, value, id=f"{name}-{p.name}={what}")
 
 
 def _call(name, arg, value):
-    obj = getattr(rs, name)
+    obj = rs
+    for part in name.split("."):
+        obj = getattr(obj, part)
     args, kwargs = [], {arg: value}
     for p in inspect.signature(obj).parameters.values():
         if p.name == arg or p.default is not inspect.Parameter.empty:
@@ -91,8 +109,9 @@ CASES = list(_cases())
 def test_the_sweep_covers_the_public_api():
     # the numeric arguments of the solvers, samplers and statistics are all in the sweep
     names = {c.values[0] for c in CASES}
-    assert {"fft_bem_contact_curves", "bem_contact_curves", "simulate_beams", "subset_simulation",
-            "build_patch_bank", "run", "confidence_band", "kelvin_radius"} <= names
+    assert {"fft_bem_contact_curves", "bem_contact_curves", "beam.simulate", "reliability.subset_simulation",
+            "beam.build_patch_bank", "run", "confidence_band", "kelvin_radius",
+            "stuck_probability"} <= names
     assert len(CASES) > 200
 
 

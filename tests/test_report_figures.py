@@ -35,7 +35,7 @@ def test_energy_band_figure_draws_and_says_the_median():
 def _risk(lengths_um):
     g, _ = lognormal_gamma(n=30, rh=(0.4, 0.7, 0.9))
     g = rs.conventions.set_attrs(g, "surface_adhesive_energy")
-    return rs.stiction_risk(g, length=np.asarray(lengths_um) * 1e-6, levels=[0.5])
+    return rs.stiction.risk_summary(g, beam_length=np.asarray(lengths_um) * 1e-6, probabilities=[0.5])
 
 
 def test_stiction_vs_length_draws_no_line_across_uncomputed_lengths():
@@ -72,7 +72,7 @@ def test_risk_figures_keep_legends_off_the_data():
     g, _ = lognormal_gamma(n=25, rh=np.arange(0.3, 0.951, 0.05))
     g = rs.conventions.set_attrs(g, "surface_adhesive_energy")
     sample = xr.concat([g, 2 * g], dim=xr.DataArray(["none", "paper"], dims="adsorbed_layer"))
-    risk = rs.stiction_risk(sample, length=[250e-6, 300e-6, 400e-6, 500e-6, 1500e-6], levels=[0.5])
+    risk = rs.stiction.risk_summary(sample, beam_length=[250e-6, 300e-6, 400e-6, 500e-6, 1500e-6], probabilities=[0.5])
     _, fig = cantilever.stiction_probability(risk, level=0.5)
     assert figure_problems(fig) == []
     _, fig = ensemble.fig17_energy_distributions(g.to_dataset(), rh_panels=[tuple(g.rh.values[[0, 6, 12]])])

@@ -487,14 +487,14 @@ def user_message(exc: BaseException) -> str | None:
 
 def small_p_problems(section: str, settings: dict) -> list[str]:
     """What is wrong with the subset-simulation stopping rule of ``[section]`` (the keys
-    ``method``, ``samples_per_level``, ``max_evaluations``), shared by ``risk`` and ``beam``."""
+    ``method``, ``n_per_level``, ``max_evaluations``), shared by ``risk`` and ``beam``."""
     problems = []
-    if settings["method"] == "subset" and settings["samples_per_level"] % 5:
-        problems.append(f"[{section}] samples_per_level = {settings['samples_per_level']}: must be a "
+    if settings["method"] == "subset" and settings["n_per_level"] % 5:
+        problems.append(f"[{section}] n_per_level = {settings['n_per_level']}: must be a "
                         "multiple of 5 (20 % of each level seed the chains), e.g. 1000")
-    if settings["max_evaluations"] < settings["samples_per_level"]:
+    if settings["max_evaluations"] < settings["n_per_level"]:
         problems.append(f"[{section}] max_evaluations = {settings['max_evaluations']} is below "
-                        f"samples_per_level = {settings['samples_per_level']}: raise it (e.g. 20000)")
+                        f"n_per_level = {settings['n_per_level']}: raise it (e.g. 20000)")
     return problems
 
 
@@ -505,12 +505,12 @@ def _model_key(table: str) -> str:
     return "contact_model" if old else "model"
 
 
-def config_spellings(*, contact_model: str, surface: str = "surface") -> dict:
+def config_spellings(*, contact_model: str, surface: str = "surface", key: str | None = None) -> dict:
     """How the warnings of a command read from a configuration file spell their remedies
-    (:mod:`roughstick._core.remedy`): keys of its tables, the contact model in
-    ``[contact_model]``, the pixel in ``[surface]``."""
+    (:mod:`roughstick._core.remedy`): keys of its tables, the contact model as ``key`` (default:
+    the key the schema gives it) in ``[contact_model]``, the pixel in ``[surface]``."""
     return {
-        "contact_model": config_key(contact_model, _model_key(contact_model)),
+        "contact_model": config_key(contact_model, key or _model_key(contact_model)),
         "spacing": config_key(surface, "spacing", fmt=lambda v: f'"{v * 1e9:.2g} nm"'),
         "resolution": lambda v=None, **kw: (f"the same run with [{surface}] spacing doubled (its size "
                                             "kept), compared with this one"),

@@ -62,6 +62,7 @@ _RENAMED = {
     "asperity_density_per_um2": 'asperity_density = "80.1 um-2"',
     "qmax_rad_per_um": 'qmax = "289 rad/um"',
     "youngs_modulus_GPa": 'youngs_modulus = "164 GPa"',
+    "samples_per_level": "n_per_level = 1000 (samples per level of subset simulation)",
 }
 _UNIT_SUFFIX = re.compile(r"^(?P<key>.+?)_(?P<unit>nm|um|mm|m|GPa|MPa|Pa|percent|pct|nm2|nm4)$")
 

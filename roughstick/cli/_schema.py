@@ -44,9 +44,9 @@ _SMALL_P = {  # the small-probability methods' stopping rule: [risk] of risk, [e
     "target_cv": F("fraction", "method 'subset'/'monte_carlo': stop when the cv of P(stuck) is at most this", default=0.3,
                    percent=False),
     "max_evaluations": F("int", "method 'subset'/'monte_carlo': evaluations allowed per length, RH (and layer)", default=20000, minimum=10),
-    "samples_per_level": F("int", "method 'subset': samples per level (a multiple of 5: p0 = 0.2)", default=1000, minimum=10)}
-#: The contact model, ONE key name in every command (its table differs: [ensemble] of run,
-#: [risk] of risk, [bank] of beam): ``model``.
+    "n_per_level": F("int", "method 'subset': samples per level (a multiple of 5: p0 = 0.2)", default=1000, minimum=10)}
+#: The contact model's choices (its key: ``model`` in [risk] of risk and [bank] of beam, as the
+#: Python keyword; ``contact_model`` in [ensemble] of run): ``model``.
 _CONTACT_MODEL = ("contact model of rough_contact_curves: 'modified_dmt' (Eq. 16), 'gw', 'fft_bem', "
                   "'bem' or 'auto' (the cheapest model measured within 10 % on these surfaces)")
 _COMMON = {
@@ -162,7 +162,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                                   "simulation of P(stuck) on zones of [surface] shape (small "
                                   "probabilities); 'monte_carlo': crude Monte Carlo on those zones",
                         default="count", choices=("count", "subset", "monte_carlo")), **_SMALL_P,
-            "contact_model": F("choice", "contact model: method 'count', that of the ensemble's "
+            "model": F("choice", "contact model: method 'count', that of the ensemble's "
                                "surfaces (" + _CONTACT_MODEL.split(": ", 1)[1] + "); 'subset'/"
                                "'monte_carlo', that of each zone: 'modified_dmt' (Eq. 16, ~1 ms per 128 x "
                                "128 zone; its failure states re-checked by the BEM) or 'fft_bem' (~45 "
@@ -215,7 +215,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "laws": F("int", "patch laws in the bank (surfaces computed once per RH)", default=1000,
                       minimum=1),
             "seed": F("int", "root seed of the patch surfaces", default=0, minimum=0),
-            "contact_model": F("choice", "contact model of the patch laws: " + _CONTACT_MODEL.split(": ", 1)[1],
+            "model": F("choice", "contact model of the patch laws: " + _CONTACT_MODEL.split(": ", 1)[1],
                                default="modified_dmt",
                                choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
             "cache": F("path", "folder of the bank cache (relative to the file)",

@@ -1,11 +1,11 @@
 """``roughstick beam CONFIG.toml``: cantilevers on random patch laws (beam-scale stochastic model).
 
 Builds (or reads back from its on-disk cache) a bank of patch laws for the PSD and RH of the file,
-runs the crack-front model of :mod:`roughstick.stiction.beam_model` on ``n`` beams per length and
-RH, and writes ``beam.nc`` (crack length, stuck flag, apparent Γ by Eq. 36, P(stuck) with its
-Wilson interval over (realization, rh, beam_length)). With ``method = "subset"`` in [ensemble]
-(sharp front only) it estimates P(stuck) on the bank by subset simulation to ``target_cv``
-instead (:func:`roughstick.beam_stiction_probability_subset`; ``beam.nc`` over (rh,
+runs the beam-scale model of :mod:`roughstick.beam` on ``n`` beams per length and RH, and writes
+``beam.nc`` (crack length, stuck flag, apparent Γ by Eq. 36, P(stuck) with its Wilson interval
+over (realization, rh, beam_length)). With ``method = "subset"`` in [ensemble] (sharp front only)
+it estimates P(stuck) on the bank by subset simulation to ``target_cv`` instead
+(:func:`roughstick.stuck_probability` with ``method="subset"``; ``beam.nc`` over (rh,
 beam_length) with interval, cv, evaluations and the bank's closed-form value). The file follows
 the one configuration schema of every command (docs/configuration.md); see
 ``examples/beam.toml`` and ``examples/beam_subset.toml``.
@@ -40,13 +40,13 @@ def register(sub):
                    help="output folder (default: [output] folder, else ./beam-output)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace results of another run in the output folder")
-    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="bank"))
+    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="bank", key="model"))
 
 
 def _psd(surface: dict):
     if surface.get("psd") is not None:
         return rs.io.open_dataset(surface["psd"])["psd"]
-    c = rs.cantilever_psd()
+    c = rs.stiction.cantilever_psd()
     q = np.geomspace(1e5, 4e9, 400)
     return rs.surface.self_affine_psd(q, s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
 
@@ -79,10 +79,10 @@ def _run(args) -> int:
     t0 = time.perf_counter()
     psd, cache = _psd(s), _beside(path, bank_cfg["cache"])
     try:
-        bank = rs.build_patch_bank(psd, relative_humidity=rh, n_law=bank_cfg["laws"], shape=shape,
-                                   spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["contact_model"],
-                                   cache_dir=cache,
-                                   **({} if material == POLYSILICON else {"material": material}))
+        bank = rs.beam.build_patch_bank(psd, relative_humidity=rh, n=bank_cfg["laws"], shape=shape,
+                                        spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["model"],
+                                        cache_dir=cache,
+                                        **({} if material == POLYSILICON else {"material": material}))
     except OSError as exc:  # the bank writes only into its cache folder
         cause = exc.__cause__ if isinstance(exc.__cause__, OSError) else exc
         raise ConfigError(
@@ -94,9 +94,9 @@ def _run(args) -> int:
     if ens["method"] != "count":
         return _run_subset(bank, b, ens, beam, out, t0, t1, overwrite=args.overwrite or o["overwrite"],
                            provenance=lambda ds: _provenance(ds, c, path, bank))
-    ds = rs.simulate_beams(bank, beam_length=np.asarray(b["lengths"], dtype=float), n_realization=ens["n"],
-                           seed=ens["seed"], protocol=ens["protocol"], beam=beam,
-                           patch_length=b.get("patch_length"), model=ens["beam_model"])
+    ds = rs.beam.simulate(bank, beam_length=np.asarray(b["lengths"], dtype=float), n=ens["n"],
+                          seed=ens["seed"], protocol=ens["protocol"], beam=beam,
+                          patch_length=b.get("patch_length"), beam_model=ens["beam_model"])
     t2 = time.perf_counter()
     write_netcdf(_provenance(ds, c, path, bank), out / "beam.nc", compute=True, overwrite=True)
     finish_folder(out)
@@ -127,11 +127,11 @@ def _provenance(ds, c: dict, path: pathlib.Path, bank):
     attrs.update(ds.attrs)  # the model's own (title, protocol, seed of the beams, beam, references)
     shape = s["shape"]
     attrs.update(
-        psd=str(s["psd"]) if s.get("psd") is not None else "paper Table 4 (Eq. 37, roughstick.cantilever_psd)",
+        psd=str(s["psd"]) if s.get("psd") is not None else "paper Table 4 (Eq. 37, roughstick.stiction.cantilever_psd)",
         relative_humidity=[float(v) for v in bank.rh.values],
         patch_shape=[int(v) for v in ((shape, shape) if np.ndim(shape) == 0 else shape)],
         patch_spacing=float(s["spacing"]), bank_laws=int(bank.sizes["law"]), bank_seed=int(bk["seed"]),
-        bank_model=str(bk["contact_model"]), bank_cache_file=str(bank.attrs.get("cache_file", "")),
+        bank_model=str(bk["model"]), bank_cache_file=str(bank.attrs.get("cache_file", "")),
         beam_seed=int(ens["seed"]), method=str(ens["method"]), beam_model=str(ens["beam_model"]),
         configuration=path.read_text(), **material_attrs(config_material(c["material"])))
     ds.attrs = attrs
@@ -139,8 +139,8 @@ def _provenance(ds, c: dict, path: pathlib.Path, bank):
 
 
 def _log_tail_check(bank) -> None:
-    """The FFT-BEM re-check of the bank's largest Eq. 16 energies (build_patch_bank), per RH (below
-    0.8 build_patch_bank's ValidityWarning, logged as a warning line, names the fix)."""
+    """The FFT-BEM re-check of the bank's largest Eq. 16 energies (rs.beam.build_patch_bank), per
+    RH (below 0.8 build_patch_bank's ValidityWarning, logged as a warning line, names the fix)."""
     if "tail_bem_ratio" not in bank.attrs:
         return
     ratio = np.atleast_1d(bank.attrs["tail_bem_ratio"])
@@ -198,10 +198,10 @@ def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite, provenance) -> in
     method = ens["method"]
     points = bank.sizes["rh"] * len(b["lengths"])  # one line per level, the time left over all
     with staged_progress(points, what=f"{method} (RH x length)", budget=ens["max_evaluations"]):
-        ds = rs.beam_stiction_probability_subset(
-            bank, beam_length=np.asarray(b["lengths"], dtype=float), protocol=ens["protocol"], beam=beam,
-            patch_length=b.get("patch_length"), method=method, target_cv=ens["target_cv"],
-            max_evaluations=ens["max_evaluations"], samples_per_level=ens["samples_per_level"],
+        ds = rs.stuck_probability(
+            bank, method=method, beam_length=np.asarray(b["lengths"], dtype=float), protocol=ens["protocol"],
+            beam=beam, patch_length=b.get("patch_length"), target_cv=ens["target_cv"],
+            max_evaluations=ens["max_evaluations"], n_per_level=ens["n_per_level"],
             seed=ens["seed"], output=out / "levels", overwrite=overwrite)
     t2 = time.perf_counter()
     write_netcdf(provenance(ds), out / "beam.nc", compute=True, overwrite=True)

@@ -22,8 +22,8 @@ from .._core.materials import POLYSILICON, material_attrs
 from .._core.progress import staged_progress
 from ..paper import cantilever as figures
 from ..plotting.save import save_figure
+from ..reliability.surface import ARTEFACT_RATIO
 from ..stiction.interaction_zone import TABLE4
-from ..stiction.rare_events import ARTEFACT_RATIO
 from ._common import (
     LOG,
     add_figure_options,
@@ -49,7 +49,7 @@ def register(sub):
     p.add_argument("--overwrite", action="store_true",
                    help="replace the results of a run with other parameters in the output folder")
     add_figure_options(p)
-    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="risk"))
+    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="risk", key="model"))
 
 
 def load_risk_config(path) -> dict:
@@ -89,11 +89,11 @@ def load_risk_config(path) -> dict:
             problems.append(f"[risk] method = {r['method']!r} simulates its own zones: remove "
                             "[ensemble] adhesive_energy, or use method = 'count' to read that sample")
         problems += small_p_problems("risk", r)
-        if r["contact_model"] not in ("modified_dmt", "fft_bem"):
-            problems.append(f"[risk] contact_model = {r['contact_model']!r} applies to method = 'count'; the "
+        if r["model"] not in ("modified_dmt", "fft_bem"):
+            problems.append(f"[risk] model = {r['model']!r} applies to method = 'count'; the "
                             f"zones of method = {r['method']!r} run on 'modified_dmt' or 'fft_bem'")
-    elif r["contact_model"] != "modified_dmt" and "adhesive_energy" in c["ensemble"]:
-        problems.append(f"[risk] contact_model = {r['contact_model']!r} computes Γ, which [ensemble] "
+    elif r["model"] != "modified_dmt" and "adhesive_energy" in c["ensemble"]:
+        problems.append(f"[risk] model = {r['model']!r} computes Γ, which [ensemble] "
                         "adhesive_energy gives: remove one of them")
     if problems:
         raise ConfigError(f"{path.name}: " + "; ".join(problems) + ".")
@@ -168,8 +168,8 @@ def _measured(c, beam):
     out = []
     for m in c["measured"]:
         kw = {k: np.asarray(m[k]) for k in ("crack_length", "adhesive_energy") if k in m}
-        out.append(rs.measured_adhesion(np.asarray(m["relative_humidity"]), beam=beam,
-                                        label=m.get("label", "measured"), **kw))
+        out.append(rs.stiction.measured_adhesion(np.asarray(m["relative_humidity"]), beam=beam,
+                                                 label=m.get("label", "measured"), **kw))
     return out
 
 
@@ -177,7 +177,7 @@ def _psd(s):
     if "psd" in s:
         return rs.io.open_dataset(s["psd"])["psd"]
     d = TABLE4
-    return rs.cantilever_psd(
+    return rs.stiction.cantilever_psd(
         roughness=s.get("roughness", d["roughness"]),
         asperity_radius=s.get("asperity_radius", d["asperity_radius"]),
         asperity_density=s.get("asperity_density", d["asperity_density"]),
@@ -200,12 +200,12 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
         psd = functools.partial(rs.surface.self_affine_psd, **{k: float(psd[k]) for k in ("s0", "s1", "q0", "qmax")})
     rh = list(ens["relative_humidity"])
     kw = {"scheduler": c["run"]["scheduler"]} if "scheduler" in c["run"] else {}
-    kw["contact_model"] = r["contact_model"]
+    kw["model"] = r["model"]
     material = config_material(c["material"])
     if material != POLYSILICON:  # the default is not named: earlier runs keep resuming
         kw["material"] = material
     if r["method"] == "subset":
-        kw["samples_per_level"] = r["samples_per_level"]
+        kw["n_per_level"] = r["n_per_level"]
     per_layer = []
     # one line per level, with the time left over every layer, length and humidity
     points = len(ens["adsorbed_layer"]) * len(lengths) * len(rh)
@@ -214,11 +214,11 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
             per_length = []
             for length in lengths:
                 LOG.info(f"[{layer}] l = {length * 1e6:g} um: {r['method']} on {s['shape'][0]} x {s['shape'][1]} px "
-                         f"zones ({r['contact_model']}), {len(rh)} humidities, target cv {r['target_cv']:g} ...")
+                         f"zones ({r['model']}), {len(rh)} humidities, target cv {r['target_cv']:g} ...")
                 prog.context = f"[{layer}] l = {length * 1e6:g} um"
-                ds = rs.stiction_probability_subset(
-                    psd, relative_humidity=rh, shape=s["shape"], spacing=s["spacing"], length=length,
-                    beam=beam, method=r["method"], target_cv=r["target_cv"],
+                ds = rs.stuck_probability(
+                    psd, method=r["method"], relative_humidity=rh, shape=s["shape"], spacing=s["spacing"],
+                    beam_length=length, beam=beam, target_cv=r["target_cv"],
                     max_evaluations=r["max_evaluations"], seed=ens["seed"], adsorbed_layer=layer,
                     confidence=r["confidence"], output=out / f"subset-{layer}-{length * 1e6:g}um",
                     overwrite=overwrite, **kw)
@@ -238,13 +238,13 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
                                                  name="adsorbed_layer"))
     risk["beam_length"].attrs = dict(ATTRS["beam_length"])
     risk["adsorbed_layer"].attrs = coord_attrs("adsorbed_layer", risk["adsorbed_layer"])
-    cross = [rs.crossing_humidity(risk, level=lev) for lev in r["levels"]]
+    cross = [rs.stiction.crossing_humidity(risk, probability=lev) for lev in r["levels"]]
     cross = xr.concat(cross, dim=xr.DataArray(r["levels"], dims="probability_level", name="probability_level"))
     cross["probability_level"].attrs = dict(ATTRS["probability_level"])
     for name in cross.data_vars:
         risk[name] = cross[name]
     risk.attrs.update(material_attrs(material))
-    risk.attrs.update({"method": r["method"], "target_cv": r["target_cv"], "contact_model": r["contact_model"],
+    risk.attrs.update({"method": r["method"], "target_cv": r["target_cv"], "contact_model": r["model"],
                        "zone_shape": list(s["shape"]), "spacing": s["spacing"],
                        "probability_model": "pull-out proxy P(Gamma > Gamma_crit(l)) of paper section 5.2 "
                                             "on zones of zone_shape pixels"})
@@ -270,7 +270,7 @@ def _gamma_samples(c, beam, out, *, overwrite):
     shape = s.get("shape")
     rh = ens["relative_humidity"]
     parts = []
-    model, material = c["risk"]["contact_model"], config_material(c["material"])
+    model, material = c["risk"]["model"], config_material(c["material"])
     for layer in layers:
         kw = {"material": material}
         if model != "modified_dmt":  # the default is not named: earlier ensembles keep resuming
@@ -280,10 +280,10 @@ def _gamma_samples(c, beam, out, *, overwrite):
             kw["overwrite"] = overwrite
         if "scheduler" in c["run"]:
             kw["scheduler"] = c["run"]["scheduler"]
-        shp = shape or rs.interaction_zone_shape(beam, spacing=spacing)
+        shp = shape or rs.stiction.interaction_zone_shape(beam, spacing=spacing)
         LOG.info(f"[{layer}] {ens['n']} surfaces of {shp[0]} x {shp[1]} px at {spacing * 1e9:g} nm, "
                  f"{len(rh)} humidities ...")
-        ds = rs.predict_adhesive_energy(psd, beam=beam, relative_humidity=rh, n=ens["n"],
+        ds = rs.stiction.predict_adhesive_energy(psd, beam=beam, relative_humidity=rh, n=ens["n"],
                                         spacing=spacing, shape=shape, adsorbed_layer=layer,
                                         seed=ens["seed"], chunks=ens.get("chunks"), **kw)
         parts.append(ds["adhesive_energy"].load())
@@ -318,10 +318,10 @@ def _run(args):
         return _run_subset(c, beam, lengths, out, overwrite=overwrite or unfinished)
     g = _gamma_samples(c, beam, out, overwrite=overwrite or unfinished)
     g = set_attrs(g, "surface_adhesive_energy")
-    risk = rs.stiction_risk(g, length=lengths, beam=beam, levels=levels, confidence=r["confidence"],
-                            interval=r["interval"], quantiles=r["quantiles"])
+    risk = rs.stiction.risk_summary(g, beam_length=lengths, beam=beam, probabilities=levels,
+                                    confidence=r["confidence"], interval=r["interval"], quantiles=r["quantiles"])
     risk["adhesive_energy"] = g
-    risk.attrs.update(material_attrs(config_material(c["material"])), contact_model=c["risk"]["contact_model"])
+    risk.attrs.update(material_attrs(config_material(c["material"])), contact_model=c["risk"]["model"])
     for name in ("adsorbed_layer", "realization"):
         if name in risk.coords:
             risk[name].attrs = coord_attrs(name, risk[name]) if name in ATTRS else risk[name].attrs
@@ -388,7 +388,7 @@ def _confirmed(d) -> str:
             "no interval: too few states checked to bound the median" if "failure_bem_ratio_low" in d else
             "no interval: only the median is kept")
     return head + f", median BEM/Eq. 16 {r:.2f} ({band})" + (
-        " (Eq. 16 artefacts: use contact_model = 'fft_bem')" if r < ARTEFACT_RATIO else "")
+        " (Eq. 16 artefacts: use [risk] model = 'fft_bem')" if r < ARTEFACT_RATIO else "")
 
 
 def _crossing_table(risk, levels):

@@ -1,7 +1,7 @@
 """Cantilevers and the risk of staying stuck, paper §5: Fig. 20 and the stiction-probability plots.
 
 One copy for ``roughstick demo`` and ``roughstick risk``. Every function takes a
-:func:`roughstick.stiction_risk` Dataset (optionally over ``adsorbed_layer``) and returns
+:func:`roughstick.stiction.risk_summary` Dataset (optionally over ``adsorbed_layer``) and returns
 ``(Dataset, Figure)`` with one panel per adsorbed-layer model.
 """
 

@@ -1,6 +1,6 @@
 """Plots of the cantilever comparison and the stiction risk (paper Figs. 18-20).
 
-Inputs are the Datasets of :func:`roughstick.stiction_risk` (optionally stacked along an
+Inputs are the Datasets of :func:`roughstick.stiction.risk_summary` (optionally stacked along an
 ``adsorbed_layer`` dimension) and :func:`roughstick.measured_adhesion`. Axes show RH in %,
 lengths in µm and adhesive energies in mJ m-2; the data stay SI.
 """
@@ -38,7 +38,7 @@ def _need(ds, names, what):
     if missing:
         raise ValueError(
             f"{what} needs {missing} in the Dataset (has {sorted(ds.data_vars)}); "
-            "pass the output of roughstick.stiction_risk(...)."
+            "pass the output of roughstick.stiction.risk_summary(...)."
         )
 
 
@@ -59,7 +59,7 @@ def plot_stiction_probability(risk: xr.Dataset, *, ax=None, level=None, layer=No
     Parameters
     ----------
     risk : xarray.Dataset
-        From :func:`roughstick.stiction_risk` or :func:`roughstick.stiction_probability`, with an
+        From :func:`roughstick.stiction.risk_summary` or :func:`roughstick.stuck_probability`, with an
         ``rh`` dimension (and optionally ``beam_length``).
     ax : matplotlib.axes.Axes, optional
     level : float, optional
@@ -91,7 +91,7 @@ def plot_stiction_probability(risk: xr.Dataset, *, ax=None, level=None, layer=No
                         color=line.get_color(), alpha=0.2, lw=0)
         if level is not None:
             c = float(crossing_humidity(d[["stiction_probability", "stiction_probability_lower",
-                                           "stiction_probability_upper"]], level=level).crossing_humidity)
+                                           "stiction_probability_upper"]], probability=level).crossing_humidity)
             if np.isfinite(c):
                 ax.plot([c * 100], [level], marker="x", color=line.get_color(), ms=8)
     if level is not None:
@@ -113,7 +113,7 @@ def plot_stiction_vs_length(risk: xr.Dataset, *, rh=None, ax=None, layer=None):
     Parameters
     ----------
     risk : xarray.Dataset
-        From :func:`roughstick.stiction_risk` with a ``beam_length`` dimension.
+        From :func:`roughstick.stiction.risk_summary` with a ``beam_length`` dimension.
     rh : sequence of float, optional
         Humidities (fractions) to plot; default: all.
     ax, layer
@@ -194,7 +194,7 @@ def plot_adhesive_energy_band(risk: xr.Dataset, *, measured=None, ax=None, layer
     Parameters
     ----------
     risk : xarray.Dataset
-        From :func:`roughstick.stiction_risk`.
+        From :func:`roughstick.stiction.risk_summary`.
     measured : xarray.Dataset or sequence of them, optional
         From :func:`roughstick.measured_adhesion`; the attribute ``label`` is the legend text.
     ax : matplotlib.axes.Axes, optional
@@ -252,7 +252,7 @@ def plot_crack_length_band(risk: xr.Dataset, *, measured=None, ax=None, layer=No
     Parameters
     ----------
     risk : xarray.Dataset
-        From :func:`roughstick.stiction_risk`.
+        From :func:`roughstick.stiction.risk_summary`.
     measured : xarray.Dataset or sequence, optional
         From :func:`roughstick.measured_adhesion` (RH, s).
     ax, layer
@@ -308,7 +308,7 @@ def plot_cantilever_comparison(risk: xr.Dataset, *, measured=None, axes=None):
     Parameters
     ----------
     risk : xarray.Dataset
-        :func:`roughstick.stiction_risk` outputs concatenated along ``adsorbed_layer`` (as written
+        :func:`roughstick.stiction.risk_summary` outputs concatenated along ``adsorbed_layer`` (as written
         by ``roughstick risk``), or a single one.
     measured : xarray.Dataset or sequence, optional
         From :func:`roughstick.measured_adhesion`.

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from ..datasets import TABLE4_VALUES
@@ -19,7 +20,7 @@ from ..ensemble.pipeline import distance_grid
 from ..ensemble.runner import run as run_ensemble
 from ..surface.moments import moments_from_asperities
 from ..surface.self_affine import fit_self_affine, self_affine_psd
-from .beam import PAPER_CANTILEVER, REFERENCES, Cantilever
+from .cantilever import PAPER_CANTILEVER, REFERENCES, Cantilever
 
 __all__ = [
     "TABLE4",
@@ -74,7 +75,7 @@ def cantilever_moments(
 
     Examples
     --------
-    >>> m = rs.cantilever_moments()
+    >>> m = rs.stiction.cantilever_moments()
     >>> round(float(m.m0) ** 0.5 * 1e9, 2), round(float(m.m2), 4), round(float(m.m4) / 1e12, 2)
     (3.54, 0.0035, 9.13)
     """
@@ -114,7 +115,7 @@ def cantilever_psd(
 
     Examples
     --------
-    >>> p = rs.cantilever_psd()
+    >>> p = rs.stiction.cantilever_psd()
     >>> round(float(p.q0) / 1e6, 1), round(float(p.s0) * 1e36, -2), round(float(p.s1) * 1e39, 1)
     (21.2, 5500.0, 5.5)
     """
@@ -147,7 +148,7 @@ def interaction_zone_shape(beam: Cantilever = PAPER_CANTILEVER, *, spacing: floa
 
     Examples
     --------
-    >>> rs.interaction_zone_shape()  # 2.62 µm x 30 µm at 5 nm (paper §5.2)
+    >>> rs.stiction.interaction_zone_shape()  # 2.62 µm x 30 µm at 5 nm (paper §5.2)
     (524, 6000)
     """
     spacing = float(spacing)
@@ -187,7 +188,7 @@ def interaction_zone_psd(fit: xr.Dataset | None = None, *, beam: Cantilever = PA
 
     Examples
     --------
-    >>> p = rs.interaction_zone_psd(shape=(64, 512))
+    >>> p = rs.stiction.interaction_zone_psd(shape=(64, 512))
     >>> p.sizes["qy"], p.sizes["qx"], p.attrs["units"]
     (64, 512, 'm4')
     """
@@ -201,7 +202,7 @@ def _psd_on_grid(fit: xr.Dataset, shape, spacing) -> xr.DataArray:
     """The Eq. 37 PSD of ``fit`` evaluated exactly on the FFT grid of ``shape`` (no interpolation)."""
     missing = [k for k in ("q0", "s0", "s1", "qmax") if k not in fit]
     if missing:
-        raise ValueError(f"the PSD Dataset lacks the Eq. 37 parameters {missing}; pass rs.cantilever_psd(...).")
+        raise ValueError(f"the PSD Dataset lacks the Eq. 37 parameters {missing}; pass rs.stiction.cantilever_psd(...).")
     ny, nx = shape
     qy = 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(ny, spacing))
     qx = 2 * np.pi * np.fft.fftshift(np.fft.fftfreq(nx, spacing))
@@ -212,9 +213,10 @@ def _psd_on_grid(fit: xr.Dataset, shape, spacing) -> xr.DataArray:
     return out.drop_vars([c for c in out.coords if c not in ("qx", "qy")])
 
 
-@check_numbers(lower="finite", num="count")
+@renamed_keywords(num="n_distance")
+@check_numbers(lower="finite", n_distance="count")
 def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer="paper",
-                             lower: float = 1.0, num: int = 200) -> xr.DataArray:
+                             lower: float = 1.0, n_distance: int = 200) -> xr.DataArray:
     r"""Distance grid for the interaction-zone ensembles, shared by both adsorbed-layer models.
 
     :func:`roughstick.ensemble_distance_grid` with its top set by the larger of the water heights
@@ -228,15 +230,21 @@ def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer
     DMT repulsion peaks near :math:`0.8\sqrt{m_0}` and falls again deeper down (asperities merge
     into a few huge, flat fitted spheres), so a grid reaching far below the equilibrium picks up a
     spurious second attractive region. ``lower = 1`` keeps the bottom in the repulsive range for
-    the paper's cantilever zone (checked on 64 x 512 to 524 x 6000 pixel zones, 30-95 % RH,
-    both layer models). Where a zone's curve has no stable zero crossing on this grid,
+    the paper's cantilever zone. Where a zone's curve has no stable zero crossing on this grid,
     :func:`roughstick.run_ensemble` extends that realization's grid down to its lowest pixel
     (and up past its highest point plus the water height), flags it in ``grid_extension``, and
     reports a curve attractive again deep in contact in ``attractive_at_floor`` (Γ and the
     equilibrium come from the outermost stable crossing, the separation path).
+
+    Examples
+    --------
+    >>> psd = rs.stiction.interaction_zone_psd(shape=(64, 512))
+    >>> d = rs.stiction.cantilever_distance_grid(psd, shape=(64, 512), n=4, relative_humidity=[0.5, 0.9])
+    >>> d.size, round(float(d[-1]) * 1e9, 1)  # points, top of the grid in nm
+    (200, 36.4)
     """
     grids = [distance_grid(psd, shape=shape, n=n, relative_humidity=relative_humidity,
-                           adsorbed_layer=layer, lower=lower, n_distance=num)
+                           adsorbed_layer=layer, lower=lower, n_distance=n_distance)
              for layer in (adsorbed_layer, "paper")]
     return grids[int(np.argmax([float(g[-1]) for g in grids]))]
 
@@ -291,7 +299,15 @@ def predict_adhesive_energy(
     -------
     xarray.Dataset
         The ensemble (lazy unless streamed); ``adhesive_energy`` over ``(realization, rh)`` is
-        what :func:`stiction_risk` takes. Attrs record the beam and the interaction zone.
+        what :func:`roughstick.reliability.stuck_probability` and :func:`.risk_summary` take.
+        Attrs record the beam and the interaction zone.
+
+    Examples
+    --------
+    >>> ds = rs.stiction.predict_adhesive_energy(n=2, shape=(32, 128), relative_humidity=[0.5, 0.9],
+    ...                                          seed=1)
+    >>> ds.adhesive_energy.dims
+    ('realization', 'rh')
     """
     shp = interaction_zone_shape(beam, spacing=spacing) if shape is None else tuple(int(v) for v in np.broadcast_to(shape, 2))
     if psd is None:
@@ -299,7 +315,7 @@ def predict_adhesive_energy(
     if isinstance(psd, xr.Dataset):
         missing = [k for k in ("q0", "s0", "s1", "qmax") if k not in psd]
         if missing:
-            raise ValueError(f"psd Dataset lacks the Eq. 37 parameters {missing}; pass rs.cantilever_psd(...).")
+            raise ValueError(f"psd Dataset lacks the Eq. 37 parameters {missing}; pass rs.stiction.cantilever_psd(...).")
         grid_psd = _psd_on_grid(psd, shp, spacing)
     elif isinstance(psd, xr.DataArray):
         grid_psd = psd

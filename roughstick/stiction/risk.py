@@ -1,15 +1,13 @@
-r"""The risk of stiction: probability that a beam stays stuck, with its Monte-Carlo uncertainty.
+r"""The risk of stiction read off a sample of Γ: P(stuck), crossing humidity and length (§5).
 
 Given a Monte-Carlo sample of :math:`\Gamma` (one value per generated interaction-zone surface,
-from :func:`roughstick.adhesion_summary`), the stiction probability of a beam of length
+from :func:`roughstick.contact.summary`), the stiction probability of a beam of length
 :math:`l` is the fraction of the sample above :math:`\Gamma_{crit}(l)` (Eq. 36 at
-:math:`s = l`, :mod:`.beam`); equivalently it is the empirical CDF of the predicted crack length at
-:math:`l`. Its uncertainty is a binomial interval (:func:`roughstick.binomial_interval`) and the
-interval of a crossing length an order-statistic one (:func:`roughstick.order_statistic_ranks`).
-Small probabilities (1e-3 ... 1e-4 and below, where counting needs 10^5+ surfaces) come from
-the zone model by subset simulation instead: :func:`roughstick.stiction_probability_subset`
-(``method="subset"`` or ``"monte_carlo"``, a ``target_cv`` stopping rule), whose output
-:func:`crossing_humidity` reads like this module's (:mod:`.rare_events`).
+:math:`s = l`, :mod:`.cantilever`); equivalently it is the empirical CDF of the predicted crack
+length at :math:`l`. Its uncertainty is a binomial interval and the interval of a crossing length
+an order-statistic one. The front door is :func:`roughstick.reliability.stuck_probability`
+(``method="count"``; small probabilities by subset simulation with ``method="subset"``, whose
+output :func:`crossing_humidity` reads the same way).
 """
 
 from __future__ import annotations
@@ -19,13 +17,14 @@ import math
 import numpy as np
 import xarray as xr
 
+from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs, set_attrs
 from .._core.intervals import interval_method, order_statistic_ranks
 from .._core.units import as_si, require
 from .._core.validate import as_relative_humidity, check_core_not_chunked, check_positive_block
 from ..ensemble.statistics import binomial_interval
-from .beam import (
+from .cantilever import (
     _MAGNITUDES,
     PAPER_CANTILEVER,
     REFERENCES,
@@ -38,11 +37,10 @@ from .beam import (
 )
 
 __all__ = [
-    "stiction_probability",
     "crossing_humidity",
     "crossing_length",
     "measured_adhesion",
-    "stiction_risk",
+    "risk_summary",
 ]
 
 
@@ -63,25 +61,27 @@ def _gamma_sample(adhesive_energy, dim):
 
 
 @check_numbers(confidence="fraction")
-def stiction_probability(
+def stuck_probability_from_sample(
     adhesive_energy,
     *,
-    length=None,
+    beam_length=None,
     beam: Cantilever = PAPER_CANTILEVER,
     dim: str = "realization",
     confidence: float = 0.95,
     interval: str = "wilson",
 ) -> xr.Dataset:
-    r"""Probability that a cantilever stays stuck, :math:`P(\Gamma > \Gamma_{crit}(l))`, with its
-    Monte-Carlo confidence interval.
+    r"""Probability that a cantilever stays stuck, :math:`P(\Gamma > \Gamma_{crit}(l))`, counted
+    on a Monte-Carlo sample of Γ, with its confidence interval.
+
+    What ``roughstick.stuck_probability(adhesive_energy, method="count")`` returns.
 
     Parameters
     ----------
     adhesive_energy : xarray.DataArray or xarray.Dataset
         Monte-Carlo sample of the interaction-zone adhesive energy :math:`\Gamma` [J m-2] along
-        ``dim`` (e.g. ``adhesion_summary(curves)``, dims ``(realization, rh)``). NaN members are
-        left out of both counts (``n_samples`` records how many were used).
-    length : float, sequence or xarray.DataArray, optional
+        ``dim`` (e.g. ``rs.contact.summary(curves)``, dims ``(realization, rh)``). NaN members
+        are left out of both counts (``n_samples`` records how many were used).
+    beam_length : float, sequence or xarray.DataArray, optional
         Beam length(s) [m]; default ``beam.length``. A sequence adds a ``beam_length`` dimension.
     beam : Cantilever
         Beam geometry and modulus.
@@ -113,14 +113,15 @@ def stiction_probability(
 
     Examples
     --------
+    >>> from roughstick.stiction.risk import stuck_probability_from_sample
     >>> g = xr.DataArray([1e-4, 5e-4, 2e-3, 8e-3], dims="realization", attrs={"units": "J m-2"})
-    >>> p = rs.stiction_probability(g, length=[200e-6, 400e-6, 800e-6])
+    >>> p = stuck_probability_from_sample(g, beam_length=[200e-6, 400e-6, 800e-6])
     >>> p.stiction_probability.values
     array([0. , 0.5, 1. ])
     """
     interval = interval_method(interval, confidence=confidence)
     g = _gamma_sample(adhesive_energy, dim)
-    gcrit = critical_adhesive_energy(length=length, beam=beam)
+    gcrit = critical_adhesive_energy(beam_length=beam_length, beam=beam)
     valid = g.notnull()
     n_stuck = (g > gcrit).sum(dim)
     n = valid.sum(dim)
@@ -143,7 +144,7 @@ def stiction_probability(
             "n_samples": set_attrs(n, "n_samples"),
         }
     )
-    lengths = _beam_lengths(length, beam)
+    lengths = _beam_lengths(beam_length, beam)
     if isinstance(gcrit, xr.DataArray):
         ds["critical_adhesive_energy"] = gcrit
         if "beam_length" in ds.coords:
@@ -165,7 +166,8 @@ def stiction_probability(
     )
     if not isinstance(lengths, xr.DataArray):
         ds.attrs["beam_length"] = float(lengths)
-    append_history(ds, f"roughstick.stiction_probability(dim={dim!r}, confidence={confidence}, interval={interval!r})")
+    append_history(ds, f"roughstick.stuck_probability(method='count', dim={dim!r}, confidence={confidence}, "
+                       f"interval={interval!r})")
     return ds
 
 
@@ -207,17 +209,23 @@ def _first_crossing_kernel(p, coord, level, late=False):
     return out
 
 
-@check_numbers(level="fraction")
-def crossing_humidity(probability: xr.Dataset | xr.DataArray, *, level: float = 0.5) -> xr.Dataset:
-    r"""Relative humidity at which the stiction probability first reaches ``level``.
+#: The P(stuck) variables a crossing humidity is read from: the sample and zone estimates
+#: (``stiction_probability``) and the simulated beams (``stuck_probability``).
+_PROBABILITY_VARIABLES = ("stiction_probability", "stuck_probability")
+
+
+@renamed_keywords(level="probability")
+@check_numbers(probability="fraction")
+def crossing_humidity(result: xr.Dataset | xr.DataArray, *, probability: float = 0.5) -> xr.Dataset:
+    r"""Relative humidity at which the stiction probability first reaches ``probability``.
 
     Parameters
     ----------
-    probability : xarray.Dataset or xarray.DataArray
-        Output of :func:`stiction_probability` (with an ``rh`` dimension), or a DataArray of
-        probabilities over ``rh``. With the Dataset, the interval bounds give the interval of the
-        crossing.
-    level : float
+    result : xarray.Dataset or xarray.DataArray
+        Output of :func:`roughstick.reliability.stuck_probability` (any method, with an ``rh``
+        dimension), or a DataArray of probabilities over ``rh``. With the Dataset, the interval
+        bounds give the interval of the crossing.
+    probability : float
         Probability level in (0, 1), e.g. 0.01 for "1 % of beams stuck".
 
     Returns
@@ -246,19 +254,25 @@ def crossing_humidity(probability: xr.Dataset | xr.DataArray, *, level: float = 
     Examples
     --------
     >>> p = xr.DataArray([0.0, 0.2, 0.6, 1.0], dims="rh", coords={"rh": [0.3, 0.4, 0.5, 0.6]})
-    >>> round(float(rs.crossing_humidity(p, level=0.5).crossing_humidity), 4)
+    >>> round(float(rs.stiction.crossing_humidity(p, probability=0.5).crossing_humidity), 4)
     0.4774
     """
+    level = probability
     if not 0 < level < 1:
-        raise ValueError(f"level must be a probability strictly between 0 and 1, got {level!r}.")
-    if isinstance(probability, xr.Dataset):
+        raise ValueError(f"probability must be strictly between 0 and 1, got {level!r}.")
+    if isinstance(result, xr.Dataset):
+        name = next((v for v in _PROBABILITY_VARIABLES if v in result), None)
+        if name is None:
+            raise ValueError(f"the Dataset holds no P(stuck) ({' or '.join(_PROBABILITY_VARIABLES)}; "
+                             f"it has {sorted(result.data_vars)}): pass the output of "
+                             "roughstick.stuck_probability.")
         pairs = {
-            "crossing_humidity": probability["stiction_probability"],
-            "crossing_humidity_lower": probability["stiction_probability_upper"],
-            "crossing_humidity_upper": probability["stiction_probability_lower"],
+            "crossing_humidity": result[name],
+            "crossing_humidity_lower": result[f"{name}_upper"],
+            "crossing_humidity_upper": result[f"{name}_lower"],
         }
     else:
-        pairs = {"crossing_humidity": probability}
+        pairs = {"crossing_humidity": result}
     out = {}
     for name, p in pairs.items():
         if "rh" not in p.dims:
@@ -285,9 +299,9 @@ def crossing_humidity(probability: xr.Dataset | xr.DataArray, *, level: float = 
         out["crossing_humidity_lower"].attrs["long_name"] += " (from the upper probability bound)"
         out["crossing_humidity_upper"].attrs["long_name"] += " (from the lower probability bound)"
     ds = xr.Dataset(out)
-    ds.attrs = dict(probability.attrs) if isinstance(probability, xr.Dataset) else {}
+    ds.attrs = dict(result.attrs) if isinstance(result, xr.Dataset) else {}
     ds.attrs["probability_level"] = float(level)
-    append_history(ds, f"roughstick.crossing_humidity(level={level})")
+    append_history(ds, f"roughstick.stiction.crossing_humidity(probability={level})")
     return ds
 
 
@@ -309,25 +323,26 @@ def _crossing_length_kernel(s, p, confidence):
     return out
 
 
-@check_numbers(level="fraction", confidence="fraction")
+@renamed_keywords(level="probability")
+@check_numbers(probability="fraction", confidence="fraction")
 def crossing_length(
     adhesive_energy,
     *,
-    level: float = 0.5,
+    probability: float = 0.5,
     beam: Cantilever = PAPER_CANTILEVER,
     dim: str = "realization",
     confidence: float = 0.95,
 ) -> xr.Dataset:
-    r"""Beam length above which the stiction probability reaches ``level``.
+    r"""Beam length above which the stiction probability reaches ``probability``.
 
-    Because :math:`P(\text{stuck} \mid l) = P(s < l)`, this is the ``level``-quantile of the
-    predicted crack length :math:`s` (Eq. 36 applied to the sample of Γ).
+    Because :math:`P(\text{stuck} \mid l) = P(s < l)`, this is the ``probability``-quantile of
+    the predicted crack length :math:`s` (Eq. 36 applied to the sample of Γ).
 
     Parameters
     ----------
     adhesive_energy : xarray.DataArray or xarray.Dataset
         Monte-Carlo sample of Γ [J m-2] along ``dim``; NaN members are left out.
-    level : float
+    probability : float
         Probability level in (0, 1).
     beam : Cantilever
         Beam thickness, gap and modulus.
@@ -340,7 +355,7 @@ def crossing_length(
     -------
     xarray.Dataset
         ``crossing_length`` :math:`l_p = s_{(\lceil np \rceil)}`, the shortest length whose
-        empirical stiction probability, for any longer beam, is at least ``level``;
+        empirical stiction probability, for any longer beam, is at least ``probability``;
         ``crossing_length_lower`` / ``_upper``: the order statistics
         :math:`[s_{(r)}, s_{(u)}]` bracketing the true quantile with probability >= ``confidence``
         (binomial ranks; 0 or ``inf`` when the sample is too small to bound that side).
@@ -348,11 +363,12 @@ def crossing_length(
     Examples
     --------
     >>> g = xr.DataArray([1e-4, 5e-4, 2e-3, 8e-3], dims="realization", attrs={"units": "J m-2"})
-    >>> round(float(rs.crossing_length(g, level=0.5).crossing_length) * 1e6, 1)  # µm
+    >>> round(float(rs.stiction.crossing_length(g, probability=0.5).crossing_length) * 1e6, 1)  # µm
     298.9
     """
+    level = probability
     if not 0 < level < 1:
-        raise ValueError(f"level must be a probability strictly between 0 and 1, got {level!r}.")
+        raise ValueError(f"probability must be strictly between 0 and 1, got {level!r}.")
     interval_method("wilson", confidence=confidence)
     g = _gamma_sample(adhesive_energy, dim)
     s = crack_length_from_adhesive_energy(g, beam=beam)
@@ -390,7 +406,7 @@ def crossing_length(
             **beam.attrs(),
         )
     )
-    append_history(ds, f"roughstick.crossing_length(level={level}, dim={dim!r})")
+    append_history(ds, f"roughstick.stiction.crossing_length(probability={level}, dim={dim!r})")
     return ds
 
 
@@ -428,7 +444,7 @@ def measured_adhesion(
 
     Examples
     --------
-    >>> m = rs.measured_adhesion([0.5, 0.7], crack_length=[400e-6, 350e-6])
+    >>> m = rs.stiction.measured_adhesion([0.5, 0.7], crack_length=[400e-6, 350e-6])
     >>> (m.adhesive_energy.values * 1e3).round(3)  # mJ m-2
     array([0.624, 1.064])
     """
@@ -476,13 +492,14 @@ def measured_adhesion(
     return ds
 
 
+@renamed_keywords(length="beam_length", levels="probabilities")
 @check_numbers(confidence="fraction")
-def stiction_risk(
+def risk_summary(
     adhesive_energy,
     *,
-    length=None,
+    beam_length=None,
     beam: Cantilever = PAPER_CANTILEVER,
-    levels=(0.05, 0.5, 0.95),
+    probabilities=(0.05, 0.5, 0.95),
     dim: str = "realization",
     confidence: float = 0.95,
     interval: str = "wilson",
@@ -494,49 +511,50 @@ def stiction_risk(
     ----------
     adhesive_energy : xarray.DataArray or xarray.Dataset
         Sample of :math:`\Gamma` [J m-2] along ``dim`` (typically dims ``(realization, rh)``).
-    length : float, sequence or xarray.DataArray, optional
+    beam_length : float, sequence or xarray.DataArray, optional
         Beam lengths [m] (``beam_length`` dimension); default ``beam.length``.
     beam : Cantilever
         Beam geometry and modulus.
-    levels : sequence of float
+    probabilities : sequence of float
         Probability levels for the crossing humidity and length (``probability_level`` dim).
     dim, confidence, interval
-        See :func:`stiction_probability`.
+        See :func:`roughstick.reliability.stuck_probability` (``method="count"``).
     quantiles : sequence of float
         Quantiles of Γ and of the crack length to report (default: the 95 % band and median).
 
     Returns
     -------
     xarray.Dataset
-        The variables of :func:`stiction_probability`; ``crossing_humidity`` (+ ``_lower``,
-        ``_upper``) over ``(probability_level, beam_length)`` when there is an ``rh`` dim;
-        ``crossing_length`` (+ bounds) over ``(probability_level, ...)``;
-        ``adhesive_energy_quantile`` and ``crack_length_quantile`` over ``(quantile, ...)``;
-        ``adhesive_energy_mean``.
+        The variables of ``stuck_probability(adhesive_energy, method="count")``;
+        ``crossing_humidity`` (+ ``_lower``, ``_upper``) over ``(probability_level,
+        beam_length)`` when there is an ``rh`` dim; ``crossing_length`` (+ bounds) over
+        ``(probability_level, ...)``; ``adhesive_energy_quantile`` and
+        ``crack_length_quantile`` over ``(quantile, ...)``; ``adhesive_energy_mean``.
 
     Examples
     --------
     >>> g = xr.DataArray([[1e-4, 2e-4], [5e-4, 1e-3], [2e-3, 4e-3]], dims=("realization", "rh"),
     ...                  coords={"rh": [0.4, 0.8]}, attrs={"units": "J m-2"})
-    >>> r = rs.stiction_risk(g, length=[300e-6, 600e-6], levels=[0.5])
+    >>> r = rs.stiction.risk_summary(g, beam_length=[300e-6, 600e-6], probabilities=[0.5])
     >>> r.stiction_probability.transpose("beam_length", "rh").values.round(3)
     array([[0.333, 0.333],
            [0.667, 1.   ]])
     """
-    levels = [float(v) for v in np.atleast_1d(levels)]
+    levels = [float(v) for v in np.atleast_1d(probabilities)]
     for v in levels:
         if not 0 < v < 1:
-            raise ValueError(f"levels must be probabilities strictly between 0 and 1, got {v!r}.")
+            raise ValueError(f"probabilities must be strictly between 0 and 1, got {v!r}.")
     g = _gamma_sample(adhesive_energy, dim)
-    ds = stiction_probability(g, length=length, beam=beam, dim=dim, confidence=confidence, interval=interval)
+    ds = stuck_probability_from_sample(g, beam_length=beam_length, beam=beam, dim=dim,
+                                       confidence=confidence, interval=interval)
     lev = xr.DataArray(levels, dims="probability_level", coords={"probability_level": levels})
     lev = set_attrs(lev, "probability_level")
-    parts = [crossing_length(g, level=v, beam=beam, dim=dim, confidence=confidence) for v in levels]
+    parts = [crossing_length(g, probability=v, beam=beam, dim=dim, confidence=confidence) for v in levels]
     cl = xr.concat([p[list(p.data_vars)] for p in parts], dim=lev)
     for k in cl.data_vars:
         ds[k] = cl[k]
     if "rh" in ds.dims:
-        parts = [crossing_humidity(ds, level=v) for v in levels]
+        parts = [crossing_humidity(ds, probability=v) for v in levels]
         ch = xr.concat([p[list(p.data_vars)] for p in parts], dim=lev)
         for k in ch.data_vars:
             ds[k] = ch[k]
@@ -557,5 +575,5 @@ def stiction_risk(
         long_name="mean apparent adhesive energy over the Monte-Carlo sample",
     )
     ds["quantile"].attrs = {"units": "1", "long_name": "quantile"}
-    append_history(ds, f"roughstick.stiction_risk(levels={levels}, quantiles={qs})")
+    append_history(ds, f"roughstick.stiction.risk_summary(probabilities={levels}, quantiles={qs})")
     return ds

@@ -18,7 +18,7 @@ shape = [16, 16]
 [ensemble]
 relative_humidity = [0.3, 0.9]
 method = "subset"
-samples_per_level = 500
+n_per_level = 500
 target_cv = 0.3
 max_evaluations = 6000
 [bank]
@@ -38,8 +38,8 @@ def test_cli_beam_subset_matches_the_python_call(tmp_path, capsys):
     ds = rs.io.open_dataset(out / "beam.nc").load()
     assert ds.stiction_probability.dims == ("rh", "beam_length") and ds.sizes == {"rh": 2, "beam_length": 2}
     bank = rs.io.open_dataset(next((tmp_path / "beam-bank-cache").glob("patch_bank_*.nc")))["adhesive_energy"]
-    ref = rs.beam_stiction_probability_subset(bank.load(), beam_length=[110e-6, 160e-6], samples_per_level=500,
-                                              target_cv=0.3, max_evaluations=6000, seed=0)
+    ref = rs.stuck_probability(bank.load(), method="subset", beam_length=[110e-6, 160e-6], n_per_level=500,
+                               target_cv=0.3, max_evaluations=6000, seed=0)
     for v in ("stiction_probability", "coefficient_of_variation", "n_evaluations", "bank_stiction_probability"):
         np.testing.assert_array_equal(ds[v].values, ref[v].values, err_msg=v)
     p = ds.bank_stiction_probability.values
@@ -55,8 +55,15 @@ def test_cli_beam_subset_matches_the_python_call(tmp_path, capsys):
 def test_cli_beam_subset_refuses_the_cohesive_beam_and_bad_levels(tmp_path, capsys):
     cfg = tmp_path / "beam.toml"
     cfg.write_text(CONFIG.replace('method = "subset"', 'method = "subset"\nbeam_model = "cohesive"')
-                   .replace("samples_per_level = 500", "samples_per_level = 502"))
+                   .replace("n_per_level = 500", "n_per_level = 502"))
     assert main(["beam", str(cfg)]) == 1
     err = capsys.readouterr().err
     assert "beam_model = 'sharp_front'" in err and "multiple of 5" in err
     assert not (tmp_path / "beam-output").exists()
+
+
+def test_cli_beam_refuses_the_old_contact_model_key_naming_the_new_one(tmp_path, capsys):
+    cfg = tmp_path / "beam.toml"
+    cfg.write_text(CONFIG.replace("laws = 40", 'laws = 40\ncontact_model = "fft_bem"'))
+    assert main(["beam", str(cfg)]) == 1
+    assert 'unknown key \'contact_model\'. Write model = "fft_bem"' in capsys.readouterr().err

@@ -41,7 +41,7 @@ def test_cli_risk_from_given_sample(tmp_path, capsys):
     got = rs.io.open_dataset(out / "risk.nc").load()
     # issue 16 item 6: the string coordinate is the layer model, not a thickness in metres
     assert got["adsorbed_layer"].attrs == {"long_name": "adsorbed water layer model"}
-    ref = rs.stiction_risk(sample, length=[250e-6, 350e-6, 500e-6], levels=[0.1, 0.5])
+    ref = rs.stiction.risk_summary(sample, beam_length=[250e-6, 350e-6, 500e-6], probabilities=[0.1, 0.5])
     np.testing.assert_allclose(got.stiction_probability.transpose(*ref.stiction_probability.dims),
                                ref.stiction_probability)
     np.testing.assert_allclose(got.crossing_humidity.transpose(*ref.crossing_humidity.dims),
@@ -71,15 +71,15 @@ def test_failed_risk_run_never_blocks_the_next(tmp_path, monkeypatch, capsys):
     text = ('[output]\nfolder = "out"\n[surface]\nshape = [64, 512]\n'
             '[ensemble]\nn = 2\nseed = {seed}\nrelative_humidity = [0.5, 0.7, 0.9]\nadsorbed_layer = ["none"]\n')
     cfg.write_text(text.format(seed=1))
-    real = rs.predict_adhesive_energy
+    real = rs.stiction.predict_adhesive_energy
 
     def fails_after_writing(*a, **kw):
         real(*a, **kw)  # the ensemble folder is written, then the run fails
         raise ValueError("the mean pressure is still attractive at the bottom of the distance grid")
 
-    monkeypatch.setattr(risk.rs, "predict_adhesive_energy", fails_after_writing)
+    monkeypatch.setattr(risk.rs.stiction, "predict_adhesive_energy", fails_after_writing)
     assert main(["risk", str(cfg), "-q"]) == 1
-    monkeypatch.setattr(risk.rs, "predict_adhesive_energy", real)
+    monkeypatch.setattr(risk.rs.stiction, "predict_adhesive_energy", real)
     cfg.write_text(text.format(seed=2))  # the user's retry with other parameters
     assert main(["risk", str(cfg), "-q"]) == 0
     assert (tmp_path / "out" / "risk.nc").is_file()
@@ -98,14 +98,14 @@ def test_cli_risk_subset_method_is_checked_before_work(tmp_path, capsys):
     from roughstick.cli.risk import load_risk_config
 
     cfg = tmp_path / "r.toml"
-    cfg.write_text('[risk]\nmethod = "subset"\nsamples_per_level = 333\nmax_evaluations = 100\n')
+    cfg.write_text('[risk]\nmethod = "subset"\nn_per_level = 333\nmax_evaluations = 100\n')
     try:
         load_risk_config(cfg)
     except ConfigError as exc:
         msg = str(exc)
     else:  # pragma: no cover
         raise AssertionError("no ConfigError")
-    assert "set [surface] shape" in msg and "multiple of 5" in msg and "below samples_per_level" in msg
+    assert "set [surface] shape" in msg and "multiple of 5" in msg and "below n_per_level" in msg
     cfg.write_text('[risk]\nmethod = "importance"\n')
     assert main(["risk", str(cfg)]) == 1
     cfg.write_text('[risk]\nmethod = "subset"\ntarget_cv = 1.5\n[surface]\nshape = [16, 16]\n')
@@ -113,23 +113,28 @@ def test_cli_risk_subset_method_is_checked_before_work(tmp_path, capsys):
     cfg.write_text('[risk]\nmethod = "subset"\ntarget_cv = "20 %"\n[surface]\nshape = [16, 16]\n')
     c = load_risk_config(cfg)
     assert c["risk"]["method"] == "subset" and c["risk"]["target_cv"] == 0.2
-    assert c["risk"]["samples_per_level"] == 1000 and c["risk"]["max_evaluations"] == 20000
-    assert c["risk"]["contact_model"] == "modified_dmt"
-    cfg.write_text('[risk]\ncontact_model = "auto"\n')  # counting: the ensemble's model
-    assert load_risk_config(cfg)["risk"]["contact_model"] == "auto"
-    cfg.write_text('[risk]\ncontact_model = "fft_bem"\n[ensemble]\nadhesive_energy = "g.nc"\n')
+    assert c["risk"]["n_per_level"] == 1000 and c["risk"]["max_evaluations"] == 20000
+    assert c["risk"]["model"] == "modified_dmt"
+    cfg.write_text('[risk]\nmodel = "auto"\n')  # counting: the ensemble's model
+    assert load_risk_config(cfg)["risk"]["model"] == "auto"
+    cfg.write_text('[risk]\nmodel = "fft_bem"\n[ensemble]\nadhesive_energy = "g.nc"\n')
     (tmp_path / "g.nc").write_text("")
-    with pytest.raises(ConfigError, match="contact_model = 'fft_bem' computes Γ, which"):
+    with pytest.raises(ConfigError, match="model = 'fft_bem' computes Γ, which"):
         load_risk_config(cfg)
-    cfg.write_text('[risk]\nmethod = "subset"\ncontact_model = "bem"\n[surface]\nshape = [16, 16]\n')
+    cfg.write_text('[risk]\nmethod = "subset"\nmodel = "bem"\n[surface]\nshape = [16, 16]\n')
     assert main(["risk", str(cfg)]) == 1
     assert "fft_bem" in capsys.readouterr().err
+    for old_key, new in (('contact_model = "fft_bem"', 'model = "fft_bem"'),
+                         ("samples_per_level = 500", "n_per_level = 1000")):
+        cfg.write_text(f'[risk]\n{old_key}\n')  # the keys of earlier releases name the new one
+        with pytest.raises(ConfigError, match=f"unknown key .* Write {new}"):
+            load_risk_config(cfg)
 
 
 def test_cli_risk_subset_run(tmp_path, capsys):
     """A small subset-simulation risk run: P(stuck) per layer, length and RH with its interval,
     cv and evaluations in risk.nc, crossing humidities read from it; and the numbers are those of
-    rs.stiction_probability_subset with the same settings."""
+    rs.stuck_probability(psd, method="subset") with the same settings."""
     from roughstick.cli import main
 
     cfg = tmp_path / "r.toml"
@@ -139,7 +144,7 @@ def test_cli_risk_subset_run(tmp_path, capsys):
         '[surface]\nshape = [16, 16]\n'
         '[ensemble]\nrelative_humidity = [0.5, 0.7]\nadsorbed_layer = ["paper"]\nseed = 3\n'
         '[run]\nscheduler = "sync"\n'
-        '[risk]\nmethod = "subset"\nsamples_per_level = 50\ntarget_cv = 0.5\nmax_evaluations = 400\n'
+        '[risk]\nmethod = "subset"\nn_per_level = 50\ntarget_cv = 0.5\nmax_evaluations = 400\n'
         "levels = [0.01]\n")
     assert main(["risk", str(cfg), "-q"]) == 0
     got = rs.io.open_dataset(tmp_path / "out" / "risk.nc").load()
@@ -148,19 +153,19 @@ def test_cli_risk_subset_run(tmp_path, capsys):
     assert np.all((got.stiction_probability_lower.values <= p) & (p <= got.stiction_probability_upper.values))
     assert np.all(got.n_evaluations.values <= 400 + 40)
     assert "crossing_humidity" in got and got.attrs["method"] == "subset"
-    fit = rs.cantilever_psd(**{k: rs.stiction.interaction_zone.TABLE4[k]
+    fit = rs.stiction.cantilever_psd(**{k: rs.stiction.interaction_zone.TABLE4[k]
                                for k in ("roughness", "asperity_radius", "asperity_density", "qmax")})
-    ref = rs.stiction_probability_subset(
-        lambda q: rs.surface.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}),
-        relative_humidity=[0.5, 0.7], shape=(16, 16), spacing=5e-9, length=400e-6, target_cv=0.5,
-        max_evaluations=400, seed=3, samples_per_level=50, scheduler="sync")
+    ref = rs.stuck_probability(
+        lambda q: rs.surface.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}), method="subset",
+        relative_humidity=[0.5, 0.7], shape=(16, 16), spacing=5e-9, beam_length=400e-6, target_cv=0.5,
+        max_evaluations=400, seed=3, n_per_level=50, scheduler="sync")
     np.testing.assert_array_equal(p[0, 0], ref.stiction_probability.values)
 
 
 def test_cli_risk_subset_on_the_boundary_element_model(tmp_path, capsys):
-    """contact_model = 'fft_bem' runs the estimate on the FFT-BEM (the model to use where Eq. 16's
-    tail is an artefact): the numbers are those of rs.stiction_probability_subset with
-    contact_model='fft_bem', they differ from the Eq. 16 run's, and the Eq. 16 run carries its
+    """[risk] model = 'fft_bem' runs the estimate on the FFT-BEM (the model to use where Eq. 16's
+    tail is an artefact): the numbers are those of rs.stuck_probability(method="subset") with
+    model='fft_bem', they differ from the Eq. 16 run's, and the Eq. 16 run carries its
     BEM re-check into risk.nc."""
     from roughstick.cli import main
 
@@ -172,19 +177,19 @@ def test_cli_risk_subset_on_the_boundary_element_model(tmp_path, capsys):
             '[surface]\nshape = [16, 16]\n'
             '[ensemble]\nrelative_humidity = [0.5]\nadsorbed_layer = ["paper"]\nseed = 5\n'
             '[run]\nscheduler = "sync"\n'
-            '[risk]\nmethod = "subset"\nsamples_per_level = 50\ntarget_cv = 0.9\nmax_evaluations = 200\n'
-            f'levels = [0.01]\ncontact_model = "{model}"\n')
+            '[risk]\nmethod = "subset"\nn_per_level = 50\ntarget_cv = 0.9\nmax_evaluations = 200\n'
+            f'levels = [0.01]\nmodel = "{model}"\n')
         assert main(["risk", str(cfg), "-q"]) == 0
         return rs.io.open_dataset(tmp_path / folder / "risk.nc").load()
 
     bem = run("fft_bem", "bem")
     assert bem.attrs["contact_model"] == "fft_bem" and "failures_confirmed_by_bem" not in bem
-    fit = rs.cantilever_psd(**{k: rs.stiction.interaction_zone.TABLE4[k]
+    fit = rs.stiction.cantilever_psd(**{k: rs.stiction.interaction_zone.TABLE4[k]
                                for k in ("roughness", "asperity_radius", "asperity_density", "qmax")})
-    ref = rs.stiction_probability_subset(
-        lambda q: rs.surface.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}),
-        relative_humidity=[0.5], shape=(16, 16), spacing=5e-9, length=120e-6, target_cv=0.9,
-        max_evaluations=200, seed=5, samples_per_level=50, scheduler="sync", contact_model="fft_bem")
+    ref = rs.stuck_probability(
+        lambda q: rs.surface.self_affine_psd(q, **{k: float(fit[k]) for k in ("s0", "s1", "q0", "qmax")}), method="subset",
+        relative_humidity=[0.5], shape=(16, 16), spacing=5e-9, beam_length=120e-6, target_cv=0.9,
+        max_evaluations=200, seed=5, n_per_level=50, scheduler="sync", model="fft_bem")
     np.testing.assert_array_equal(bem.stiction_probability.values[0, 0], ref.stiction_probability.values)
     dmt = run("modified_dmt", "dmt")
     assert dmt.attrs["contact_model"] == "modified_dmt"
@@ -205,14 +210,14 @@ def test_cli_risk_subset_shows_each_level_with_the_time_left(tmp_path, capsys):
         '[surface]\nshape = [16, 16]\n'
         '[ensemble]\nrelative_humidity = [0.5]\nadsorbed_layer = ["paper"]\nseed = 3\n'
         '[run]\nscheduler = "sync"\n'
-        '[risk]\nmethod = "subset"\nsamples_per_level = 50\ntarget_cv = 0.9\nmax_evaluations = 300\n'
+        '[risk]\nmethod = "subset"\nn_per_level = 50\ntarget_cv = 0.9\nmax_evaluations = 300\n'
         "levels = [0.01]\n")
     with warnings.catch_warnings():
         warnings.simplefilter("always", rs.ValidityWarning)  # printed by the command
         assert main(["risk", str(cfg)]) == 0
     text = capsys.readouterr()
     # the BEM re-check's remedy is the key of this file, not failure_probability's argument
-    assert '[risk] contact_model = "fft_bem"' in text.err and "contact_model='" not in text.err
+    assert '[risk] model = "fft_bem"' in text.err and "model='" not in text.err
     out = text.out.splitlines()
     levels = [i for i, line in enumerate(out) if line.startswith("subset [paper] l = ")]
     assert len(levels) >= 3, out  # the short beam needs several levels, the long one one

@@ -91,7 +91,7 @@ def test_cantilever_figures_one_panel_per_layer():
     g, _ = lognormal_gamma(n=25, rh=np.arange(0.3, 0.951, 0.05))
     g = rs.conventions.set_attrs(g, "surface_adhesive_energy")
     sample = xr.concat([g, 2 * g], dim=xr.DataArray(["none", "paper"], dims="adsorbed_layer"))
-    risk = rs.stiction_risk(sample, length=[300e-6, 500e-6], levels=[0.5])
+    risk = rs.stiction.risk_summary(sample, beam_length=[300e-6, 500e-6], probabilities=[0.5])
     for func in (cantilever.stiction_probability, cantilever.stiction_vs_length, cantilever.crack_length,
                  cantilever.fig20_adhesive_energy_bands):
         ds, fig = func(risk)

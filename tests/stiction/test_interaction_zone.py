@@ -24,18 +24,18 @@ def _spectral_moments(z, dy, dx):
 
 
 def test_table4_moments_and_eq37_both_densities():
-    m = rs.cantilever_moments()
+    m = rs.stiction.cantilever_moments()
     assert float(m.m0) ** 0.5 == pytest.approx(3.54e-9, rel=2e-3)
     assert float(m.m4) == pytest.approx((3 * np.sqrt(np.pi) / (8 * 220e-9)) ** 2, rel=1e-12)
     assert float(m.m4) == pytest.approx(9.1e12, rel=5e-3)  # Table 4: 9.1 um^-2
     assert float(m.m2) == pytest.approx(0.0035, rel=5e-3)  # Table 4: 0.0035
-    p = rs.cantilever_psd()
+    p = rs.stiction.cantilever_psd()
     assert float(p.q0) == pytest.approx(21.2e6, rel=5e-3)
     assert float(p.s0) == pytest.approx(5.5e3 * 1e-36, rel=1e-2)
     assert float(p.s1) == pytest.approx(5.5e-3 * 1e-36, rel=2e-2)
     assert "88.1" in p.attrs["note"]
     # the paper's printed solution comes from N = 88.1 um^-2 (within the 3 printed digits, ~1 %)
-    printed = rs.cantilever_psd(asperity_density=88.1e12)
+    printed = rs.stiction.cantilever_psd(asperity_density=88.1e12)
     assert float(printed.q0) == pytest.approx(19.4e6, rel=1e-2)
     assert float(printed.s0) == pytest.approx(6.46e3 * 1e-36, rel=1.5e-2)
     assert float(printed.s1) == pytest.approx(6.29e-3 * 1e-36, rel=1.5e-2)
@@ -49,8 +49,8 @@ def test_table4_eq37_generated_rectangle_reproduces_moments():
     """Table 4 -> Eq. 37 -> surfaces on the interaction zone Delta s x w = 2.62 x 30 um at 5 nm
     (524 x 6000 pixels, the full rectangle): the sample moments match mu0, mu2, mu4 within
     the Monte-Carlo standard error plus the discretisation of the PSD on the wave-number grid."""
-    p = rs.cantilever_psd()
-    m = rs.cantilever_moments()
+    p = rs.stiction.cantilever_psd()
+    m = rs.stiction.cantilever_moments()
 
     def iso(q):
         return rs.self_affine_psd(np.asarray(q).ravel(), s0=p.s0, s1=p.s1, q0=p.q0, qmax=p.qmax).values.reshape(np.shape(q))
@@ -83,7 +83,7 @@ def test_predicted_gamma_layer_vs_no_layer():
     """Fig. 20a vs 20b on a small interaction zone (64 x 512 px, 6 surfaces): the same surfaces
     give the same Gamma without the layer below 65 % RH and a smaller one above it."""
     rh = [0.55, 0.6, 0.7, 0.8, 0.9]
-    runs = {layer: rs.predict_adhesive_energy(n=6, shape=(64, 512), relative_humidity=rh,
+    runs = {layer: rs.stiction.predict_adhesive_energy(n=6, shape=(64, 512), relative_humidity=rh,
                                               adsorbed_layer=layer, seed=3)
             for layer in ("none", "paper")}
     g = {k: v.adhesive_energy.compute() for k, v in runs.items()}
@@ -95,5 +95,5 @@ def test_predicted_gamma_layer_vs_no_layer():
     assert (g["none"].sel(rh=above) < g["paper"].sel(rh=above)).all()
     assert runs["paper"].attrs["interaction_zone_shape"] == [64, 512]
     # risk on the prediction: longer beams stick at least as often
-    risk = rs.stiction_risk(g["paper"], length=[150e-6, 250e-6, 400e-6, 800e-6])
+    risk = rs.stiction.risk_summary(g["paper"], beam_length=[150e-6, 250e-6, 400e-6, 800e-6])
     assert (risk.stiction_probability.diff("beam_length") >= 0).all()

@@ -65,7 +65,7 @@ def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
               for layer in layers]
     g = xr.concat(gammas, dim=xr.DataArray(layers, dims="adsorbed_layer", name="adsorbed_layer"))
     g["adsorbed_layer"].attrs = rs.conventions.coord_attrs("adsorbed_layer", g["adsorbed_layer"])
-    risk = rs.stiction_risk(g, length=LENGTHS, levels=[0.05, 0.5, 0.95])
+    risk = rs.stiction.risk_summary(g, beam_length=LENGTHS, probabilities=[0.05, 0.5, 0.95])
     risk["adhesive_energy"] = rs.conventions.set_attrs(g, "surface_adhesive_energy")
     rs.conventions.set_coord_attrs(risk)
     risk.attrs.update(interaction_zone_shape=list(shape), interaction_zone_spacing=5e-9,

@@ -1,4 +1,4 @@
-"""P(stuck) of the beam-scale model by subset simulation (issue 15: method="subset" for beams)."""
+"""P(stuck) of the beam-scale model by subset simulation (stuck_probability(bank, method="subset"))."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
-from roughstick.stiction import _rare_beam as _b
-from roughstick.stiction.beam import PAPER_CANTILEVER
+from roughstick.reliability import _beam as _b
+from roughstick.stiction.cantilever import PAPER_CANTILEVER
 
 K = PAPER_CANTILEVER.stiffness_term
 PATCH = PAPER_CANTILEVER.interaction_zone_length
@@ -21,7 +21,7 @@ def lognormal_bank(n_law=5000, median=(0.01,), seed=7):
 
 
 def closed_form(energy, length):
-    """1 - prod_j (1 - q_j) from the equilibrium positions of Eq. 36 (independent of _rare_beam)."""
+    """1 - prod_j (1 - q_j) from the equilibrium positions of Eq. 36 (independent of reliability._beam)."""
     m = int(np.ceil(length / PATCH - 1e-9))
     far_edge = np.minimum((np.arange(m) + 1) * PATCH, length)
     s_eq = (K / energy) ** 0.25
@@ -40,7 +40,7 @@ def test_margin_above_one_is_the_stuck_flag_of_the_beam_model():
     energy = margin.energy[np.stack([margin.laws(zi) for zi in z])]
     beam = rs.Cantilever(length=length, width=PAPER_CANTILEVER.width, thickness=PAPER_CANTILEVER.thickness,
                          gap=PAPER_CANTILEVER.gap, youngs_modulus=PAPER_CANTILEVER.youngs_modulus)
-    stuck = np.isfinite(rs.stiction.beam_crack_length(energy, beam=beam))
+    stuck = np.isfinite(rs.beam.crack_length(energy, beam=beam))
     assert 0.1 < stuck.mean() < 0.9
     np.testing.assert_array_equal(r > 1.0, stuck)
 
@@ -48,8 +48,8 @@ def test_margin_above_one_is_the_stuck_flag_of_the_beam_model():
 def test_closed_form_on_the_bank_agrees_with_counting_simulated_beams():
     bank = lognormal_bank(n_law=400, median=(0.01, 0.012))
     lengths = [128e-6, 134e-6]
-    ds = rs.beam_stiction_probability_subset(bank, beam_length=lengths, target_cv=None, samples_per_level=100)
-    mc = rs.simulate_beams(bank, beam_length=lengths, n_realization=20000, seed=5)
+    ds = rs.stuck_probability(bank, method="subset", beam_length=lengths, target_cv=None, n_per_level=100)
+    mc = rs.beam.simulate(bank, beam_length=lengths, n=20000, seed=5)
     for k in range(2):
         for b, length in enumerate(lengths):
             p = float(ds.bank_stiction_probability[k, b])
@@ -61,7 +61,7 @@ def test_closed_form_on_the_bank_agrees_with_counting_simulated_beams():
 def test_subset_reaches_1e_3_within_its_interval_in_few_evaluations():
     """P(stuck) = 1.0e-3 on a 5000-law bank: target cv 0.3 met with < 5,000 beams, closed form inside."""
     bank = lognormal_bank()
-    ds = rs.beam_stiction_probability_subset(bank, beam_length=130e-6, samples_per_level=500, seed=3).squeeze()
+    ds = rs.stuck_probability(bank, method="subset", beam_length=130e-6, n_per_level=500, seed=3).squeeze()
     exact = closed_form(bank.values[:, 0], 130e-6)
     assert exact == pytest.approx(1e-3, rel=0.01)
     assert float(ds.bank_stiction_probability) == pytest.approx(exact, rel=1e-12)
@@ -72,7 +72,7 @@ def test_subset_reaches_1e_3_within_its_interval_in_few_evaluations():
 
 def test_zero_on_the_bank_gives_zero_with_an_upper_bound():
     bank = lognormal_bank(n_law=500)
-    ds = rs.beam_stiction_probability_subset(bank, beam_length=100e-6, samples_per_level=200,
+    ds = rs.stuck_probability(bank, method="subset", beam_length=100e-6, n_per_level=200,
                                              max_evaluations=3000).squeeze()
     assert float(ds.bank_stiction_probability) == 0.0
     assert float(ds.stiction_probability) == 0.0 and float(ds.stiction_probability_upper) > 0
@@ -81,22 +81,22 @@ def test_zero_on_the_bank_gives_zero_with_an_upper_bound():
 
 def test_step_up_keeps_the_stuck_flags_of_the_first_humidity():
     bank = lognormal_bank(n_law=400, median=(0.01, 0.02, 0.03))
-    kw = dict(beam_length=[128e-6], target_cv=None, samples_per_level=200, seed=1)
-    up = rs.beam_stiction_probability_subset(bank, protocol="step_up", **kw)
-    first = rs.beam_stiction_probability_subset(bank.isel(rh=[0]), **kw)
+    kw = dict(beam_length=[128e-6], target_cv=None, n_per_level=200, seed=1)
+    up = rs.stuck_probability(bank, method="subset", protocol="step_up", **kw)
+    first = rs.stuck_probability(bank.isel(rh=[0]), method="subset", **kw)
     for k in range(3):
         xr.testing.assert_equal(up.stiction_probability.isel(rh=k, drop=True),
                                 first.stiction_probability.isel(rh=0, drop=True))
-    sim = rs.simulate_beams(bank, beam_length=128e-6, n_realization=500, protocol="step_up")
+    sim = rs.beam.simulate(bank, beam_length=128e-6, n=500, protocol="step_up")
     assert (sim.stuck == sim.stuck.isel(rh=0)).all()
 
 
 def test_resumes_from_its_levels(tmp_path):
     bank = lognormal_bank(n_law=1000)
-    kw = dict(beam_length=[140e-6], samples_per_level=500, target_cv=None, seed=2, output=tmp_path / "lv")
-    a = rs.beam_stiction_probability_subset(bank, **kw)
+    kw = dict(beam_length=[140e-6], n_per_level=500, target_cv=None, seed=2, output=tmp_path / "lv")
+    a = rs.stuck_probability(bank, method="subset", **kw)
     assert any((tmp_path / "lv").rglob("*.nc"))
-    b = rs.beam_stiction_probability_subset(bank, **kw)
+    b = rs.stuck_probability(bank, method="subset", **kw)
     xr.testing.assert_identical(a.drop_attrs(), b.drop_attrs())
 
 
@@ -106,7 +106,7 @@ def test_resumes_from_its_levels(tmp_path):
 ])
 def test_bad_bank(bad, match):
     with pytest.raises(ValueError, match=match):
-        rs.beam_stiction_probability_subset(bad, beam_length=1e-4)
+        rs.stuck_probability(bad, method="subset", beam_length=1e-4)
 
 
 @pytest.mark.slow
@@ -117,7 +117,7 @@ def test_interval_coverage_over_seeds():
     exact = closed_form(bank.values[:, 0], 130e-6)
     hits = 0
     for seed in range(40):
-        ds = rs.beam_stiction_probability_subset(bank, beam_length=130e-6, samples_per_level=500,
+        ds = rs.stuck_probability(bank, method="subset", beam_length=130e-6, n_per_level=500,
                                                  seed=100 + seed).squeeze()
         hits += float(ds.stiction_probability_lower) <= exact <= float(ds.stiction_probability_upper)
     assert hits >= 33
@@ -125,7 +125,7 @@ def test_interval_coverage_over_seeds():
 
 def test_bit_identical_across_chunks_and_threads():
     bank = lognormal_bank(n_law=1000)
-    kw = dict(beam_length=[140e-6], samples_per_level=200, target_cv=None, seed=4)
-    a = rs.beam_stiction_probability_subset(bank, **kw)
-    b = rs.beam_stiction_probability_subset(bank, chunks=7, scheduler="threads", **kw)
+    kw = dict(beam_length=[140e-6], n_per_level=200, target_cv=None, seed=4)
+    a = rs.stuck_probability(bank, method="subset", **kw)
+    b = rs.stuck_probability(bank, method="subset", chunks=7, scheduler="threads", **kw)
     xr.testing.assert_identical(a.drop_attrs(), b.drop_attrs())

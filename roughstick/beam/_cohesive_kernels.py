@@ -1,4 +1,4 @@
-r"""Numba kernels of the cohesive beam model (plain numpy, no xarray; public side: :mod:`.cohesive_beam`).
+r"""Numba kernels of the cohesive beam model (plain numpy, no xarray; public side: :mod:`.cohesive`).
 
 Internal units (all kernels): length along the beam in µm, deflection and gap in nm, energy in pJ,
 pressure as ``p_hat = p[Pa] * 1e-9`` (pJ µm⁻² nm⁻¹), adhesion energy per area in J m⁻² (= pJ µm⁻²).
@@ -9,7 +9,8 @@ Discretisation: Euler-Bernoulli Hermite-cubic elements (deflection ``v`` and slo
 node), node 0 clamped (both dofs removed), free tip. Unknown vector ``u = [v1, v1', v2, v2', ...]``
 (half-bandwidth 3). Interface energy ``w * sum_q wq * phi_k(g_q)`` with 3-point Gauss per element;
 every element lies inside one patch (the mesh is aligned on patch boundaries), so the patch law of
-element ``e`` is ``law_index[e]``.
+element ``e`` is ``law_index[e]``. The kernels take their state as two named tuples:
+:class:`LawTable` (the tabulated laws) and :class:`MeshArrays` (the mesh and the beam).
 
 The driver at the end (:class:`BeamMesh`, :func:`release`) follows the release protocol by a
 front-controlled continuation (the unknown is the uniform load, the control the position of the
@@ -23,12 +24,14 @@ grid ``p = phi = 0``; below it the last segment is extrapolated linearly (stiff 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-__all__ = ["tabulate_laws", "law_eval", "assemble", "ldl_factor", "ldl_solve", "load_vector",
-           "point_interp", "marker_vector", "BeamMesh", "release",
+__all__ = ["LawTable", "MeshArrays", "tabulate_laws", "law_eval", "assemble", "ldl_factor",
+           "ldl_solve", "load_vector", "point_interp", "marker_vector", "BeamMesh", "release",
            "SolverError", "ReleaseResult", "pull_in"]
 
 GAUSS_XI = np.array([0.5 - 0.5 * math.sqrt(0.6), 0.5, 0.5 + 0.5 * math.sqrt(0.6)])
@@ -36,6 +39,29 @@ GAUSS_W = np.array([5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0])
 
 
 # ----------------------------------------------------------------------------- laws
+class LawTable(NamedTuple):
+    """The patch laws on one uniform gap grid ``g_i = g_lo + i dg`` (nm): pressure ``P[k, i]``
+    (p_hat), its slope ``S[k, i]`` on segment i and the potential ``PHI[k, i]``."""
+
+    P: np.ndarray
+    S: np.ndarray
+    PHI: np.ndarray
+    g_lo: float
+    dg: float
+
+
+class MeshArrays(NamedTuple):
+    """What the assembly needs of a mesh and its beam: node positions (µm), the law of each
+    element, the gap (nm), the bending stiffness EI_hat, the width (µm) and the unit load vector."""
+
+    xnode: np.ndarray
+    law_index: np.ndarray
+    gap: float
+    EI: float
+    width: float
+    F: np.ndarray
+
+
 def tabulate_laws(pressure_hat: np.ndarray, g_lo: float, dg: float) -> tuple[np.ndarray, np.ndarray]:
     """Potential table ``PHI`` and slopes ``S`` of tabulated pressures ``P`` (last axis = gap grid).
 
@@ -52,20 +78,21 @@ def tabulate_laws(pressure_hat: np.ndarray, g_lo: float, dg: float) -> tuple[np.
 
 
 @njit(cache=True, nogil=True)
-def law_eval(P, S, PHI, k, g, g_lo, dg):
-    """(p, dp/dg, phi) of law ``k`` at gap ``g`` (nm); piecewise-linear p, exact phi."""
-    n = P.shape[1]
-    t = (g - g_lo) / dg
+def law_eval(laws, k, g):
+    """(p, dp/dg, phi) of law ``k`` of the :class:`LawTable` at gap ``g`` (nm); piecewise-linear
+    p, exact phi."""
+    n = laws.P.shape[1]
+    t = (g - laws.g_lo) / laws.dg
     if t >= n - 1:
         return 0.0, 0.0, 0.0
     if t < 0.0:
         i = 0
     else:
         i = int(t)
-    d = g - (g_lo + i * dg)
-    s = S[k, i]
-    p = P[k, i] + s * d
-    phi = PHI[k, i] - (P[k, i] * d + 0.5 * s * d * d)
+    d = g - (laws.g_lo + i * laws.dg)
+    s = laws.S[k, i]
+    p = laws.P[k, i] + s * d
+    phi = laws.PHI[k, i] - (laws.P[k, i] * d + 0.5 * s * d * d)
     return p, s, phi
 
 
@@ -114,12 +141,14 @@ def load_vector(xnode, width):
 
 
 @njit(cache=True, nogil=True)
-def assemble(u, xnode, law_index, P, S, PHI, g_lo, dg, gap, EI, width, lam, F, band, r):
+def assemble(u, mesh, laws, lam, band, r):
     """Energy, residual and banded Hessian of the total potential energy.
 
-    ``Pi = 1/2 u K u + w sum_q wq phi(g_q) - lam F.u`` with ``g = gap - v``.
+    ``Pi = 1/2 u K u + w sum_q wq phi(g_q) - lam F.u`` with ``g = gap - v`` on the
+    :class:`MeshArrays` ``mesh`` with the :class:`LawTable` ``laws``.
     ``band[d, j] = K[j + d, j]`` (lower band, d = 0..3). Returns Pi; fills ``r`` and ``band``.
     """
+    xnode, law_index, gap, EI, width, F = mesh.xnode, mesh.law_index, mesh.gap, mesh.EI, mesh.width, mesh.F
     ne = xnode.shape[0] - 1
     band[:, :] = 0.0
     r[:] = 0.0
@@ -159,7 +188,7 @@ def assemble(u, xnode, law_index, P, S, PHI, g_lo, dg, gap, EI, width, lam, F, b
         for q in range(3):
             _shape(GAUSS_XI[q], L, N, dN)
             v = N[0] * ue[0] + N[1] * ue[1] + N[2] * ue[2] + N[3] * ue[3]
-            p, sp, phi = law_eval(P, S, PHI, k, gap - v, g_lo, dg)
+            p, sp, phi = law_eval(laws, k, gap - v)
             wq = width * GAUSS_W[q] * L
             energy += wq * phi
             for a in range(4):
@@ -304,9 +333,9 @@ class BeamMesh:
     """
 
     def __init__(self, length, width, EI, gap, patch_law, patch_length, element_size, x_fine,
-                 P, S, PHI, g_lo, dg):
+                 laws: LawTable):
         self.length, self.width, self.EI, self.gap = length, width, EI, gap
-        self.P, self.S, self.PHI, self.g_lo, self.dg = P, S, PHI, g_lo, dg
+        self.laws = laws
         n_patch = int(math.ceil(length / patch_length - 1e-9))
         patch_law = np.asarray(patch_law, dtype=np.int64)
         if patch_law.shape[0] < n_patch:
@@ -329,12 +358,12 @@ class BeamMesh:
         self.law_index = np.array(laws_e, dtype=np.int64)
         self.ndof = 2 * (self.x.size - 1)
         self.F = load_vector(self.x, width)
+        self.arrays = MeshArrays(self.x, self.law_index, float(gap), float(EI), float(width), self.F)
         self._band = np.zeros((4, self.ndof))
         self._r = np.zeros(self.ndof)
 
     def assemble(self, u, lam):
-        e = assemble(u, self.x, self.law_index, self.P, self.S, self.PHI, self.g_lo, self.dg,
-                     self.gap, self.EI, self.width, lam, self.F, self._band, self._r)
+        e = assemble(u, self.arrays, self.laws, lam, self._band, self._r)
         return e, self._r, self._band
 
     def guess(self, front, contact_gap):
@@ -456,13 +485,19 @@ class BeamMesh:
         return math.inf if c3 >= 0 else -2 * c2 / (3 * c3)
 
 
+@dataclass
 class ReleaseResult:
-    __slots__ = ("stuck", "crack_length", "front", "attached_length", "clamp_moment", "u",
-                 "n_steps", "path")
+    """Outcome of :func:`release` in internal units (µm, nm): stuck flag, crack length, front,
+    attached length, clamp moment, final deflection ``u``, continuation steps and the path."""
 
-    def __init__(self, **kw):
-        for k in self.__slots__:
-            setattr(self, k, kw.get(k))
+    stuck: bool
+    crack_length: float
+    front: float
+    attached_length: float
+    clamp_moment: float = None
+    u: np.ndarray = None
+    n_steps: int = None
+    path: list = None
 
 
 def pull_in(mesh: BeamMesh, *, start, marker_gap, contact_gap, max_tries=8):

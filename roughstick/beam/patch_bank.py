@@ -1,16 +1,17 @@
-r"""A bank of patch laws: adhesive energies of random surface patches, computed once and cached.
+r"""Banks of patch laws: random surface patches computed once (and cached) for the beam models.
 
-Each law is one random periodic patch (:func:`roughstick.generate_surfaces` on a PSD, Eqs.
-33-35) put through :func:`roughstick.rough_contact_curves` at every requested RH and reduced to
-its adhesive energy (Eq. 13, :func:`roughstick.adhesion_summary`). Law ``k`` is the same patch at
-every RH. With ``cache_dir`` the bank is stored as netCDF under a name hashing every input, so a
-rerun with the same PSD, RH, patch grid, count and seed reads it instead of recomputing.
+Each law is one random periodic patch (:func:`roughstick.surface.generate_surfaces` on a PSD,
+Eqs. 33-35) put through the contact model at every requested RH and reduced to its adhesive
+energy (Eq. 13; :func:`build_patch_bank`, cached on disk under a name hashing every input) or
+kept as its pressure-distance curve (:func:`pressure_law_bank`, for the cohesive beam). Law
+``k`` is the same patch at every RH.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import warnings
 from pathlib import Path
@@ -19,6 +20,7 @@ import dask
 import numpy as np
 import xarray as xr
 
+from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs
 from .._core.intervals import median_interval
@@ -28,6 +30,7 @@ from .._core.validate import as_length, external_stacklevel, relative_humidity_a
 from ..contact import (
     ValidityWarning,
     adhesion_summary,
+    contact_distance_grid,
     expected_surface_groups,
     rough_contact_curves,
     warn_if_outside_validity,
@@ -35,7 +38,7 @@ from ..contact import (
 from ..io.netcdf import publish
 from ..surface import generate_surfaces
 
-__all__ = ["build_patch_bank"]
+__all__ = ["build_patch_bank", "pressure_law_bank"]
 
 
 def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON):
@@ -54,9 +57,7 @@ def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON):
 _SPELLING = {"contact_model": argument("model", call="build_patch_bank")}
 
 
-#: median BEM/Eq. 16 ratio of the bank's largest laws below which it warns: on the example bank
-#: (32² px at 20 nm, 3,000 laws) a ratio of 0.71 at 60 % RH came with P(stuck) of 200 µm beams
-#: 0.026 on Eq. 16 against 0.004 on the BEM bank of the same patches (bench_bank_tail.py --beams)
+#: median BEM/Eq. 16 ratio of the bank's largest laws below which it warns (docs/beam.md)
 TAIL_RATIO_WARN = 0.8
 
 #: laws per part: a part is computed by one dask task and, with a cache, stored on its own so an
@@ -121,9 +122,7 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int,
     fewer, :func:`roughstick.median_interval`) and ``attrs["tail_checked"]``, and warns (ValidityWarning) where the ratio is below
     :data:`TAIL_RATIO_WARN`.
     The largest laws set the beam's small P(stuck) (the front stops at the first patch able to
-    hold it), and the modified DMT's tail is where it is least reliable: on 64² Table-4 patches
-    at 50 % RH the 16 largest of 3,000 Eq. 16 energies (43-133 mJ/m²) have BEM energies of
-    10-33 mJ/m² (benchmarks/bench_bank_tail.py).
+    hold it), and the modified DMT's tail is where it is least reliable (docs/beam.md).
     """
     values = bank.values
     k = min(int(n_check), values.shape[0])
@@ -174,19 +173,21 @@ def _check_cache_writable(folder: Path) -> None:
         ) from exc
 
 
-@check_numbers(n_law="count", spacing="length", seed="seed", check_tail="count0")
-def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000, shape=(64, 64),
-               spacing: float, seed: int = 0, model: str = "modified_dmt",
-               cache_dir=None, check_tail: int = 8, material=None) -> xr.DataArray:
-    r"""Adhesive energies of ``n_law`` random patches at each RH: the law bank of the beam model.
+@renamed_keywords(n_law="n")
+@check_numbers(n="count", spacing="length", seed="seed", check_tail="count0")
+def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, shape=(64, 64),
+                     spacing: float, seed: int = 0, model: str = "modified_dmt",
+                     cache_dir=None, check_tail: int = 8, material=None) -> xr.DataArray:
+    r"""Adhesive energies of ``n`` random patches at each RH: the law bank of the beam model.
 
     Parameters
     ----------
     psd : xarray.DataArray
-        Power spectral density of the patches (as :func:`roughstick.generate_surfaces` takes).
+        Power spectral density of the patches (as :func:`roughstick.surface.generate_surfaces`
+        takes).
     relative_humidity : float or sequence
         RH fractions in (0, 1).
-    n_law : int
+    n : int
         Number of patches (laws).
     shape : (int, int)
         Pixels of a patch; with ``spacing`` the patch size (the interaction zone, §5.2).
@@ -195,7 +196,7 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
     seed : int
         Root seed of the patches (one SeedSequence child per patch, as generate_surfaces does).
     model : str
-        Contact model of :func:`roughstick.rough_contact_curves`.
+        Contact model of :func:`roughstick.contact.curves`.
     cache_dir : path-like, optional
         Directory of the on-disk cache; ``None`` computes without caching. The laws are computed
         in parts of 25 by dask's threads (both cores; a law is the same whatever the parts);
@@ -217,10 +218,20 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         ``adhesive_energy`` [J m-2] over ``(law, rh)``; ``attrs["cache_file"]`` when cached and
         ``attrs["from_cache"]`` telling whether it was read back; ``tail_bem_ratio`` and
         ``tail_checked`` (see ``check_tail``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> psd = rs.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
+    >>> bank = rs.beam.build_patch_bank(psd, relative_humidity=[0.5, 0.7], n=2, shape=(32, 32),
+    ...                                 spacing=20e-9, check_tail=0)
+    >>> bank.dims, (bank.values * 1e3).round(2)  # mJ m-2 over (law, rh)
+    (('law', 'rh'), array([[ 0.71,  6.43],
+           [ 2.05, 18.49]]))
     """
     rh = relative_humidity_array(relative_humidity)
-    if int(n_law) < 1:
-        raise ValueError("n_law must be at least 1")
+    if int(n) < 1:
+        raise ValueError("n must be at least 1")
     if int(check_tail) < 0:
         raise ValueError(f"check_tail must be >= 0 (laws re-checked with the BEM), got {check_tail}")
     check = int(check_tail) if model == "modified_dmt" else 0
@@ -246,21 +257,21 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
             warn_if_outside_validity(None, relative_humidity=list(rh), groups=groups, material=material)
     path = None
     if cache_dir is not None:
-        key = _key(psd, rh, n_law, shape, spacing, seed, model, material)
+        key = _key(psd, rh, n, shape, spacing, seed, model, material)
         path = Path(cache_dir) / f"patch_bank_{key}.nc"
-        out = _read_cached(path, int(n_law), rh) if path.exists() else None
+        out = _read_cached(path, int(n), rh) if path.exists() else None
         if out is not None:
-            if check and int(out.attrs.get("tail_checked", -1)) != min(check, int(n_law)):
+            if check and int(out.attrs.get("tail_checked", -1)) != min(check, int(n)):
                 out = _tail_check(out, psd, shape, float(spacing), seed, check, material)  # an older cache
             out.attrs.update(cache_file=str(path), from_cache=1)
             return out
         _check_cache_writable(path.parent)  # before any law is computed
     parts_dir = None if path is None else path.with_name(path.stem + ".parts")
-    blocks = [(a, min(a + _LAWS_PER_PART, int(n_law))) for a in range(0, int(n_law), _LAWS_PER_PART)]
+    blocks = [(a, min(a + _LAWS_PER_PART, int(n))) for a in range(0, int(n), _LAWS_PER_PART)]
     tasks = [dask.delayed(_part)(psd, a, b, rh, shape, float(spacing), seed, model, parts_dir, material)
              for a, b in blocks]
     values = np.concatenate(dask.compute(*tasks, scheduler="threads"), axis=0)
-    out = xr.DataArray(values, {"law": np.arange(int(n_law)), "rh": rh}, ("law", "rh"),
+    out = xr.DataArray(values, {"law": np.arange(int(n)), "rh": rh}, ("law", "rh"),
                        name="adhesive_energy",
                        attrs={"units": "J m-2", "long_name": "adhesive energy of a patch (Eq. 13)",
                               "contact_model": model, "seed": int(seed),
@@ -277,9 +288,9 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
         # a cache file read on its own says what it is (global CF attributes and history)
         file = out.to_dataset().assign_attrs(dataset_attrs(
             "roughstick patch bank: adhesive energies of random surface patches (Eq. 13)",
-            patch_shape=list(shape), spacing_m=float(spacing), n_law=int(n_law), seed=int(seed),
+            patch_shape=list(shape), spacing_m=float(spacing), n_law=int(n), seed=int(seed),
             contact_model=model, cache_key=key))
-        append_history(file, f"patch_bank(n_law={int(n_law)}, shape={list(shape)}, spacing={float(spacing)!r}, "
+        append_history(file, f"build_patch_bank(n={int(n)}, shape={list(shape)}, spacing={float(spacing)!r}, "
                              f"relative_humidity={[float(r) for r in rh]}, seed={int(seed)}, model={model!r})")
         file.to_netcdf(tmp)
         publish(tmp, path)
@@ -289,3 +300,81 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 1000,
             parts_dir.rmdir()
         out.attrs.update(cache_file=str(path), from_cache=0)
     return out
+
+
+@renamed_keywords(n_law="n")
+@check_numbers(n="count", spacing="length", seed="seed", n_gap="count")
+def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, shape=(64, 64),
+                      spacing: float, seed: int = 0, model: str = "modified_dmt",
+                      n_gap: int = 400) -> xr.DataArray:
+    r"""Pressure-distance laws of ``n`` random patches per RH on one uniform gap grid.
+
+    The same patches as :func:`build_patch_bank` with the same arguments (law k is realization
+    k of :func:`roughstick.surface.generate_surfaces`), kept as full curves (Eqs. 33-35, 13)
+    for the cohesive model instead of their adhesive energies. Patches are assumed
+    independent; a ``ValueError`` is raised when the patch is not at least four correlation
+    lengths of the first surface long (autocorrelation falling below 1/e).
+
+    Parameters
+    ----------
+    psd : xarray.DataArray
+        Power spectral density of the patches.
+    relative_humidity : float or sequence
+        RH fractions in (0, 1).
+    n : int
+        Number of patches (laws).
+    shape : (int, int)
+        Pixels of a patch.
+    spacing : float
+        Pixel size [m].
+    seed : int
+        Root seed of the patches.
+    model : str
+        Contact model of :func:`roughstick.contact.curves`.
+    n_gap : int
+        Points of the uniform gap grid.
+
+    Returns
+    -------
+    xarray.DataArray
+        ``pressure`` [Pa] (positive repulsive) over ``(law, rh, gap)``, gap [m] between mean planes.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> psd = rs.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
+    >>> bank = rs.beam.pressure_law_bank(psd, relative_humidity=[0.5], n=2, shape=(32, 32),
+    ...                                  spacing=20e-9, n_gap=50)
+    >>> bank.dims, bank.shape
+    (('law', 'rh', 'gap'), (2, 1, 50))
+    """
+    rh = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
+    if np.any((rh <= 0) | (rh >= 1)):
+        raise ValueError("relative_humidity must be fractions in (0, 1), e.g. 0.6 not 60")
+    if int(n) < 1 or int(n_gap) < 8:
+        raise ValueError("n must be >= 1 and n_gap >= 8")
+    surf = generate_surfaces(psd, n=int(n), shape=tuple(shape), spacing=float(spacing),
+                             seed=seed).load()
+    first = np.asarray(surf.isel(realization=0).values, dtype=float)
+    z = first - first.mean()
+    acf = np.fft.ifft2(np.abs(np.fft.fft2(z)) ** 2).real[0] / np.sum(z * z)
+    corr = spacing * int(np.argmax(acf[: z.shape[1] // 2] < math.exp(-1)))
+    if not 0 < corr <= spacing * z.shape[1] / 4:
+        raise ValueError(f"patch of {spacing * z.shape[1]:.3g} m is not >= 4 correlation lengths "
+                         f"({corr:.3g} m): patch laws would not be independent; use longer patches")
+    grid = np.asarray(contact_distance_grid(surf.isel(realization=0), relative_humidity=list(rh)).values)
+    rms = float(z.std())
+    lo, hi = grid.min() - 0.5 * (grid.max() - grid.min()), grid.max() + 4 * rms
+    gap = np.linspace(lo, hi, int(n_gap))
+    out = np.empty((int(n), len(rh), gap.size))
+    for k in range(int(n)):
+        c = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh), distance=gap,
+                                 model=model)
+        out[k] = c["pressure"].transpose("rh", "distance").values
+    bank = xr.DataArray(out, {"law": np.arange(int(n)), "rh": rh, "gap": gap},
+                        ("law", "rh", "gap"), name="pressure",
+                        attrs={"units": "Pa", "long_name": "mean pressure of a patch law (positive repulsive)",
+                               "contact_model": model, "seed": int(seed), "correlation_length": corr,
+                               "independence": "patch laws independent (patch >= 4 correlation lengths)"})
+    bank["gap"].attrs.update(units="m", long_name="distance between the mean planes")
+    return bank

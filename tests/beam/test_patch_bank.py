@@ -9,17 +9,17 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
-from roughstick.stiction.patch_bank import build_patch_bank
+from roughstick.beam.patch_bank import build_patch_bank
 
 
 def _psd():
-    c = rs.cantilever_psd()
+    c = rs.stiction.cantilever_psd()
     q = np.geomspace(1e5, 4e9, 200)
     return rs.self_affine_psd(q, s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
 
 
 def test_bank_cached_and_reused(tmp_path):
-    kwargs = dict(relative_humidity=[0.3, 0.9], n_law=2, shape=(16, 16), spacing=10e-9, seed=4,
+    kwargs = dict(relative_humidity=[0.3, 0.9], n=2, shape=(16, 16), spacing=10e-9, seed=4,
                   cache_dir=tmp_path)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -31,16 +31,16 @@ def test_bank_cached_and_reused(tmp_path):
     np.testing.assert_array_equal(first.values, again.values)
     assert other.attrs["cache_file"] != first.attrs["cache_file"]
     on_disk = xr.open_dataset(first.attrs["cache_file"])  # the cache file says what it is
-    assert on_disk.attrs["Conventions"].startswith("CF") and "patch_bank(n_law=2" in on_disk.attrs["history"]
+    assert on_disk.attrs["Conventions"].startswith("CF") and "patch_bank(n=2" in on_disk.attrs["history"]
     assert on_disk.attrs["seed"] == 4 and list(on_disk.attrs["patch_shape"]) == [16, 16]
     on_disk.close()
     assert bool((first.isel(rh=1) > first.isel(rh=0)).all())  # capillary adhesion rises with RH
-    ds = rs.simulate_beams(first, beam_length=1500e-6, n_realization=5)
+    ds = rs.beam.simulate(first, beam_length=1500e-6, n=5)
     assert ds.crack_length.dims == ("realization", "rh", "beam_length")
 
 
 def test_a_damaged_cache_file_is_named_set_aside_and_rebuilt(tmp_path):
-    kwargs = dict(relative_humidity=[0.5], n_law=2, shape=(16, 16), spacing=40e-9, seed=4,
+    kwargs = dict(relative_humidity=[0.5], n=2, shape=(16, 16), spacing=40e-9, seed=4,
                   cache_dir=tmp_path, check_tail=0)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", rs.ValidityWarning)
@@ -57,7 +57,7 @@ def test_a_damaged_cache_file_is_named_set_aside_and_rebuilt(tmp_path):
     assert (tmp_path / f"{path.name}.corrupt").read_bytes().startswith(b"CDF\x01")
     # a damaged part of an interrupted bank is recomputed too
     other = {**kwargs, "seed": 5}
-    from roughstick.stiction import patch_bank as pb
+    from roughstick.beam import patch_bank as pb
 
     key = pb._key(_psd(), np.array([0.5]), 2, (16, 16), 40e-9, 5, "modified_dmt")
     parts = tmp_path / f"patch_bank_{key}.parts"
@@ -72,7 +72,7 @@ def test_a_damaged_cache_file_is_named_set_aside_and_rebuilt(tmp_path):
 
 
 def test_a_cache_folder_that_cannot_be_written_is_refused_before_any_law(tmp_path, monkeypatch):
-    from roughstick.stiction import patch_bank as pb
+    from roughstick.beam import patch_bank as pb
 
     def no_work(*args, **kwargs):
         raise AssertionError("a law was computed before the cache folder was checked")
@@ -83,7 +83,7 @@ def test_a_cache_folder_that_cannot_be_written_is_refused_before_any_law(tmp_pat
         warnings.simplefilter("ignore", rs.ValidityWarning)
         with pytest.raises(PermissionError, match=r"cannot write the patch-bank cache folder .*a-file/cache.*"
                                                   r"pass a writable cache_dir="):
-            build_patch_bank(_psd(), relative_humidity=[0.5], n_law=2, shape=(16, 16), spacing=40e-9,
+            build_patch_bank(_psd(), relative_humidity=[0.5], n=2, shape=(16, 16), spacing=40e-9,
                              cache_dir=tmp_path / "a-file" / "cache")
 
 
@@ -97,7 +97,7 @@ def test_bank_bad_input():
 def test_patches_shorter_than_four_correlation_lengths_are_flagged():
     """The independence assumption is checked against the PSD's correlation length (expected
     from the PSD, no surface needed) and recorded in the bank's attributes."""
-    kw = dict(relative_humidity=[0.5], n_law=1, seed=1)
+    kw = dict(relative_humidity=[0.5], n=1, seed=1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", rs.ValidityWarning)
         with pytest.warns(UserWarning, match="shorter than 4 correlation lengths"):
@@ -113,9 +113,9 @@ def test_patches_shorter_than_four_correlation_lengths_are_flagged():
 def test_bank_parts_independent_and_resumed(tmp_path):
     """A law is the same whatever the parts (25 laws per dask task); an interrupted cached bank
     resumes from its finished parts (here a finished part planted on disk is read, not redone)."""
-    from roughstick.stiction import patch_bank as pb
+    from roughstick.beam import patch_bank as pb
 
-    kw = dict(relative_humidity=[0.5], n_law=27, shape=(16, 16), spacing=40e-9, seed=3)
+    kw = dict(relative_humidity=[0.5], n=27, shape=(16, 16), spacing=40e-9, seed=3)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         plain = build_patch_bank(_psd(), **kw)
@@ -136,7 +136,7 @@ def test_the_bank_tail_is_rechecked_with_the_boundary_element_model(tmp_path):
     """The largest Eq. 16 energies of a bank of 64² Table-4 patches at 50 % RH are artefacts: the
     FFT-BEM gives them less than half (ValidityWarning naming model='fft_bem'), while on typical
     laws (around the median) the two models agree within a factor 0.6 (independent BEM calls)."""
-    kw = dict(relative_humidity=[0.5], n_law=600, shape=(64, 64), spacing=5e-9, seed=2)
+    kw = dict(relative_humidity=[0.5], n=600, shape=(64, 64), spacing=5e-9, seed=2)
     with pytest.warns(rs.ValidityWarning, match="model='fft_bem'"):
         bank = build_patch_bank(_psd(), cache_dir=tmp_path, **kw)
     assert bank.attrs["tail_checked"] == 8
@@ -151,11 +151,11 @@ def test_the_bank_tail_is_rechecked_with_the_boundary_element_model(tmp_path):
     # a bank cached without the check (check_tail=0) gets it when read back; the BEM bank has none
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        plain = build_patch_bank(_psd(), check_tail=0, **{**kw, "n_law": 50, "seed": 3}, cache_dir=tmp_path)
+        plain = build_patch_bank(_psd(), check_tail=0, **{**kw, "n": 50, "seed": 3}, cache_dir=tmp_path)
         assert "tail_bem_ratio" not in plain.attrs
-        again = build_patch_bank(_psd(), **{**kw, "n_law": 50, "seed": 3}, cache_dir=tmp_path)
+        again = build_patch_bank(_psd(), **{**kw, "n": 50, "seed": 3}, cache_dir=tmp_path)
         assert again.attrs["from_cache"] == 1 and again.attrs["tail_checked"] == 8
-        bem_bank = build_patch_bank(_psd(), **{**kw, "n_law": 4}, model="fft_bem")
+        bem_bank = build_patch_bank(_psd(), **{**kw, "n": 4}, model="fft_bem")
     assert "tail_bem_ratio" not in bem_bank.attrs
     with pytest.raises(ValueError, match="check_tail=-1: must be an integer >= 0"):
         build_patch_bank(_psd(), check_tail=-1, **kw)

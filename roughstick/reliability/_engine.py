@@ -1,8 +1,9 @@
-"""The engine of :mod:`roughstick.stiction.rare_events`: settings, level store, levels on dask.
+"""The subset-simulation engine: settings, level store, levels on dask, estimate.
 
-Private: the level bookkeeping (one ``_Level`` per subset level, written to one NetCDF file each
-so an interrupted run resumes), the chains of a level evaluated block by block on dask, and the
-estimate, coefficient of variation and interval assembled into the result Dataset.
+Private to :mod:`roughstick.reliability`: the level bookkeeping (one :class:`_Level` per subset
+level, written to one NetCDF file each so an interrupted run resumes), the chains of a level
+evaluated block by block on dask, and the runs' estimate, coefficient of variation and interval
+(:class:`Estimate`) assembled into the result Dataset.
 """
 
 from __future__ import annotations
@@ -11,19 +12,19 @@ import dataclasses
 import json
 import math
 import pathlib
+from typing import NamedTuple
 
 import numpy as np
 import xarray as xr
 
-from roughstick._core.conventions import append_history, dataset_attrs
-from roughstick._core.references import cite
-from roughstick.io.netcdf import publish, write
-
 from .._core.arguments import check_numbers
+from .._core.conventions import append_history, dataset_attrs
 from .._core.dask import owns_client, resolve_scheduler
 from .._core.progress import StagedProgress, current_staged_progress
-from . import _rare_kernels as _k
-from . import _rare_moves as _m
+from .._core.references import cite
+from ..io.netcdf import publish, write
+from . import _kernels as _k
+from . import _moves as _m
 
 __all__: list[str] = []
 
@@ -33,7 +34,7 @@ REFERENCES = cite(("au2001", "subset simulation, cv with the chain correlation f
 
 _METHODS = ("subset", "monte_carlo")
 #: Rules (roughstick._core.arguments) of the sampler's settings, shared by its public callers.
-SETTING_RULES = dict(samples_per_level="count", level_probability="fraction", independent_runs="count",
+SETTING_RULES = dict(n_per_level="count", level_probability="fraction", independent_runs="count",
                      proposal_scale="positive", target_acceptance="fraction", max_levels="count",
                      target_cv="positive?", max_evaluations="count?", confidence="fraction",
                      seed="seed", chunks="count")
@@ -47,10 +48,10 @@ def checked(*names, **more):
     return check_numbers(**{n: SETTING_RULES[n] for n in names}, **more)
 
 
-_PROPOSALS = ("adaptive", "pcn", "shell")
+_PROPOSALS = ("adaptive", "pcn")
 _FORMAT = "roughstick-rare-events/1"
 
-#: CF attributes of the variables written here (phase 2: move into the conventions table)
+#: CF attributes of the variables written here
 ATTRS = {
     "run": {"units": "1", "long_name": "independent run index"},
     "level": {"units": "1", "long_name": "subset-simulation level (0: crude Monte Carlo)"},
@@ -99,6 +100,8 @@ def _attrs(da, name, **extra):
 # ============================================================================ settings and store
 @dataclasses.dataclass(frozen=True)
 class _Settings:
+    """The sampler's settings of one estimate (their field names are part of the resume hash)."""
+
     method: str
     samples: int
     level_probability: float
@@ -111,36 +114,42 @@ class _Settings:
     def n_keep(self):
         return int(round(self.level_probability * self.samples))
 
+    @classmethod
+    def checked(cls, *, method, n_per_level, level_probability, proposal, proposal_scale,
+                target_acceptance, max_levels) -> _Settings:
+        """The settings, refused with the argument's name when out of range."""
+        if method not in _METHODS:
+            raise ValueError(f"method must be one of {_METHODS}, got {method!r}.")
+        if not (isinstance(n_per_level, (int, np.integer)) and n_per_level >= 2):
+            raise ValueError(f"n_per_level must be an integer >= 2, got {n_per_level!r}.")
+        if not 0 < level_probability < 1:
+            raise ValueError(f"level_probability must lie in (0, 1) (0.1 is customary), got {level_probability!r}.")
+        if method == "subset":
+            nk = level_probability * n_per_level
+            if nk < 1 or n_per_level - nk < 1 or abs(nk - round(nk)) > 1e-9:
+                raise ValueError(
+                    f"level_probability * n_per_level = {nk:g} must be a whole number of chains "
+                    f"between 1 and n_per_level - 1; e.g. n_per_level=1000 with "
+                    f"level_probability=0.1.")
+        if proposal not in _PROPOSALS:
+            raise ValueError(f"proposal must be one of {_PROPOSALS}, got {proposal!r}.")
+        if not 0 < proposal_scale <= 1:
+            raise ValueError(f"proposal_scale (the pCN step sqrt(1 - rho^2)) must lie in (0, 1], got {proposal_scale!r}.")
+        if not 0 < target_acceptance < 1:
+            raise ValueError(f"target_acceptance must lie in (0, 1), got {target_acceptance!r}.")
+        if not (isinstance(max_levels, (int, np.integer)) and max_levels >= 1):
+            raise ValueError(f"max_levels must be an integer >= 1, got {max_levels!r}.")
+        return cls(method, int(n_per_level), float(level_probability), proposal, float(proposal_scale),
+                   float(target_acceptance), int(max_levels))
 
-def _check_settings(method, samples, level_probability, proposal, scale, target_acceptance, max_levels,
-                    target_cv, max_evaluations, confidence):
-    if method not in _METHODS:
-        raise ValueError(f"method must be one of {_METHODS}, got {method!r}.")
-    if not (isinstance(samples, (int, np.integer)) and samples >= 2):
-        raise ValueError(f"samples_per_level must be an integer >= 2, got {samples!r}.")
-    if not 0 < level_probability < 1:
-        raise ValueError(f"level_probability must lie in (0, 1) (0.1 is customary), got {level_probability!r}.")
-    if method == "subset":
-        nk = level_probability * samples
-        if nk < 1 or samples - nk < 1 or abs(nk - round(nk)) > 1e-9:
-            raise ValueError(
-                f"level_probability * samples_per_level = {nk:g} must be a whole number of chains "
-                f"between 1 and samples_per_level - 1; e.g. samples_per_level=1000 with "
-                f"level_probability=0.1.")
-    if proposal not in _PROPOSALS:
-        raise ValueError(f"proposal must be one of {_PROPOSALS}, got {proposal!r}.")
-    if not 0 < scale <= 1:
-        raise ValueError(f"proposal_scale (the pCN step sqrt(1 - rho^2)) must lie in (0, 1], got {scale!r}.")
-    if not 0 < target_acceptance < 1:
-        raise ValueError(f"target_acceptance must lie in (0, 1), got {target_acceptance!r}.")
-    if not (isinstance(max_levels, (int, np.integer)) and max_levels >= 1):
-        raise ValueError(f"max_levels must be an integer >= 1, got {max_levels!r}.")
-    if target_cv is not None and not target_cv > 0:
-        raise ValueError(f"target_cv must be positive (e.g. 0.3) or None, got {target_cv!r}.")
-    if max_evaluations is not None and not max_evaluations >= samples:
-        raise ValueError(f"max_evaluations ({max_evaluations!r}) must be at least samples_per_level ({samples}).")
-    if not 0 < confidence < 1:
-        raise ValueError(f"confidence must lie in (0, 1), got {confidence!r}.")
+    def check_stopping(self, target_cv, max_evaluations, confidence) -> None:
+        """Refuse a stopping rule the settings cannot meet."""
+        if target_cv is not None and not target_cv > 0:
+            raise ValueError(f"target_cv must be positive (e.g. 0.3) or None, got {target_cv!r}.")
+        if max_evaluations is not None and not max_evaluations >= self.samples:
+            raise ValueError(f"max_evaluations ({max_evaluations!r}) must be at least n_per_level ({self.samples}).")
+        if not 0 < confidence < 1:
+            raise ValueError(f"confidence must lie in (0, 1), got {confidence!r}.")
 
 
 def store_token(limit_state, token):
@@ -330,7 +339,6 @@ class _Engine:
         self.chunks = int(chunks)
         self.scheduler = scheduler
         self.store = store
-        _m.check_proposal(settings.proposal, model)
         # one line per level with the time left (the caller's progress counts the points of a
         # whole command; alone, this estimate is one point)
         self.progress = current_staged_progress() or StagedProgress(
@@ -365,7 +373,7 @@ class _Engine:
         m = seeds_y.size
         lengths = _k.chain_lengths(n, m)
         b = prev.next_threshold
-        adaptive = self.s.proposal in ("adaptive", "shell")
+        adaptive = self.s.proposal == "adaptive"
         spread = seeds_z.std(axis=0, ddof=1) if adaptive and m > 1 else np.ones(self.noise_shape)
         L = int(lengths.max())
         ys = np.full((m, L), np.nan)
@@ -378,8 +386,8 @@ class _Engine:
         moves = [None] * L
         per_task = max(1, self.chunks)
         for k in range(1, L):
-            moves[k] = _m.round_move(self.s.proposal, k, self.model, self.noise_shape, spread, scale)
-            scales[k] = np.nan if isinstance(moves[k], _m.ShellMove) else scale
+            moves[k] = _m.PCNMove(*_k.proposal_scales(spread, scale))
+            scales[k] = scale
             active = [c for c in range(m) if lengths[c] > k]
             items = [(c, zs[c], ys[c, k - 1]) for c in active]
             parts = _compute(_round_block, self.model, _blocks(items, per_task), self.scheduler,
@@ -501,66 +509,109 @@ def _above(lv):
 
 
 def _genealogical_cv2(levels):
-    """Squared cv of one run from its genealogy (see ``_rare_kernels.genealogical_cv2``)."""
+    """Squared cv of one run from its genealogy (see ``_kernels.genealogical_cv2``)."""
     kept = [np.flatnonzero(_above(lv)) for lv in levels]
     roots = _k.root_ancestors([lv.chain for lv in levels], kept)
     return _k.genealogical_cv2(roots[-1], _above(levels[-1]), levels[0].response.size)
 
 
-def _run_summary(levels):
-    """(P, cv, evaluations, Au-Beck cv) of one run; cv: the genealogical estimate."""
+class RunSummary(NamedTuple):
+    """One run's estimate: P, its genealogical cv, model evaluations and Au-Beck's cv."""
+
+    probability: float
+    cv: float
+    evaluations: int
+    au_beck_cv: float
+
+
+def _run_summary(levels) -> RunSummary:
+    """The :class:`RunSummary` of one run (a list of levels)."""
     p = float(np.prod([lv.probability for lv in levels]))
     au2 = float(sum(lv.cv2 for lv in levels))
-    return p, math.sqrt(_genealogical_cv2(levels)), int(sum(lv.evaluations for lv in levels)), math.sqrt(au2)
+    return RunSummary(p, math.sqrt(_genealogical_cv2(levels)), int(sum(lv.evaluations for lv in levels)),
+                      math.sqrt(au2))
 
 
+@dataclasses.dataclass
+class Runs:
+    """The independent runs of one estimate: their levels, sizes (samples per level) and the
+    index of each run's first level-0 sample."""
 
-def _estimate(runs, sizes, method, confidence):
+    levels: list = dataclasses.field(default_factory=list)
+    sizes: list = dataclasses.field(default_factory=list)
+    offsets: list = dataclasses.field(default_factory=list)
+
+    def add(self, levels, size, offset):
+        self.levels.append(levels)
+        self.sizes.append(size)
+        self.offsets.append(offset)
+
+    def __len__(self):
+        return len(self.levels)
+
+    def summaries(self) -> list[RunSummary]:
+        return [_run_summary(lv) for lv in self.levels]
+
+    def evaluations(self) -> int:
+        return sum(s.evaluations for s in self.summaries())
+
+    def largest_run(self) -> int:
+        """Model evaluations of the costliest run so far."""
+        return max(s.evaluations for s in self.summaries())
+
+
+@dataclasses.dataclass(frozen=True)
+class Estimate:
+    """P, its cv (the one the interval uses), Au-Beck's and the between-run cv, the interval
+    and how it was built."""
+
+    probability: float
+    cv: float
+    au_beck_cv: float
+    between_run_cv: float
+    lower: float
+    upper: float
+    interval: str
+
+
+def _estimate(runs: Runs, method, confidence) -> Estimate:
     """Estimate, cv and interval from the runs (see subset_simulation's Notes)."""
     from scipy.special import stdtrit
 
-    out = {}
     # a subset run that stops at level 0 is crude Monte Carlo: the binomial cv and Wilson interval
     # (Au-Beck's and the genealogical cv are 0 when every sample fails, which no sample proves)
-    if method == "monte_carlo" or all(len(levels) == 1 for levels in runs):
-        k = sum(int(round(lv[0].probability * n)) for lv, n in zip(runs, sizes, strict=True))
-        tot = sum(sizes)
+    if method == "monte_carlo" or all(len(levels) == 1 for levels in runs.levels):
+        k = sum(int(round(lv[0].probability * n)) for lv, n in zip(runs.levels, runs.sizes, strict=True))
+        tot = sum(runs.sizes)
         p = k / tot
-        out["p"] = p
-        out["cv"] = out["au_beck_cv"] = math.sqrt((1 - p) / (tot * p)) if p > 0 else math.inf
-        out["between_run_cv"] = math.nan
-        out["lo"], out["hi"] = _k.wilson_interval(k, tot, confidence)
-        out["interval"] = "wilson"
-        return out
-    summ = [_run_summary(lv) for lv in runs]
-    ps = np.array([a[0] for a in summ])
-    cvs = np.array([a[1] for a in summ])
+        cv = math.sqrt((1 - p) / (tot * p)) if p > 0 else math.inf
+        return Estimate(p, cv, cv, math.nan, *_k.wilson_interval(k, tot, confidence), "wilson")
+    summ = runs.summaries()
+    ps = np.array([a.probability for a in summ])
+    cvs = np.array([a.cv for a in summ])
     R = ps.size
     p = float(ps.mean())
-    aus = np.array([a[3] for a in summ])
+    aus = np.array([a.au_beck_cv for a in summ])
     gen = float(math.sqrt(np.mean(cvs**2) / R)) if np.all(np.isfinite(cvs)) else math.inf
     au = float(math.sqrt(np.mean(aus**2) / R)) if np.all(np.isfinite(aus)) else math.inf
     between = float(ps.std(ddof=1) / math.sqrt(R) / p) if R >= 2 and p > 0 else math.nan
-    out["p"], out["au_beck_cv"], out["between_run_cv"] = p, au, between
     if R >= 3 and np.isfinite(between) and between > gen:
         cv, q, how = between, float(stdtrit(R - 1, 0.5 + confidence / 2)), f"log-normal, between-run cv, Student t with {R - 1} dof"
     else:
         cv, q, how = gen, None, "log-normal, genealogical cv"
-    out["cv"] = cv
     if p > 0:
-        out["lo"], out["hi"] = _k.lognormal_interval(p, cv, confidence, quantile=q)
+        lo, hi = _k.lognormal_interval(p, cv, confidence, quantile=q)
     else:  # no failure seen: the levels reached times a Wilson bound on 0 out of N
         bounds = [float(np.prod([lv.probability for lv in levels[:-1]]))
-                  * _k.wilson_interval(0, levels[-1].response.size, confidence)[1] for levels in runs]
-        out["lo"], out["hi"], out["cv"] = 0.0, min(bounds), math.inf
-    out["interval"] = how
-    return out
+                  * _k.wilson_interval(0, levels[-1].response.size, confidence)[1] for levels in runs.levels]
+        lo, hi, cv = 0.0, min(bounds), math.inf
+    return Estimate(p, cv, au, between, lo, hi, how)
 
 
-def _to_dataset(runs, sizes, offsets, s, threshold, target_cv, converged, confidence, root, rattrs, method):
-    R = len(runs)
-    L = max(len(lv) for lv in runs)
-    N = max(sizes)
+def _level_arrays(runs: Runs):
+    """The per-state ``(run, level, sample)``, per-level ``(run, level)`` and per-round arrays
+    of the runs, and the failure samples of their last levels."""
+    R, L, N = len(runs), max(len(lv) for lv in runs.levels), max(runs.sizes)
     resp = np.full((R, L, N), np.nan)
     prop = np.full((R, L, N), np.nan)
     acc = np.full((R, L, N), -1, np.int8)
@@ -569,9 +620,9 @@ def _to_dataset(runs, sizes, offsets, s, threshold, target_cv, converged, confid
                                                "correlation_factor", "level_cv",
                                                "acceptance_rate", "level_evaluations")}
     fails, frun, fresp = [], [], []
-    n_round = max(lv.scales.size for levels in runs for lv in levels)
+    n_round = max(lv.scales.size for levels in runs.levels for lv in levels)
     scale = np.full((R, L, n_round), np.nan)
-    for r, levels in enumerate(runs):
+    for r, levels in enumerate(runs.levels):
         for j, lv in enumerate(levels):
             n = lv.response.size
             resp[r, j, :n] = lv.response
@@ -591,52 +642,60 @@ def _to_dataset(runs, sizes, offsets, s, threshold, target_cv, converged, confid
             fails.append(last.keep_noise.reshape(last.keep_noise.shape[0], -1))
             frun.extend([r] * last.keep_noise.shape[0])
             fresp.extend(last.keep_response.tolist())
-    summ = [_run_summary(lv) for lv in runs]
-    est = _estimate(runs, sizes, method, confidence)
-    p, cv, lo, hi, interval = est["p"], est["cv"], est["lo"], est["hi"], est["interval"]
+    states = {"response": resp, "proposal_response": prop, "accepted": acc, "chain": chain}
+    return states, per, scale, (fails, frun, fresp)
+
+
+def _to_dataset(runs: Runs, s: _Settings, *, threshold, target_cv, converged, confidence, root, rattrs):
+    """The result Dataset of :func:`roughstick.reliability.subset_simulation`."""
+    method = s.method
+    states, per, scale, (fails, frun, fresp) = _level_arrays(runs)
+    summ = runs.summaries()
+    est = _estimate(runs, method, confidence)
+    R, L, N = states["response"].shape
     rdims = ("run", "level", "sample")
     ds = xr.Dataset(coords={"run": np.arange(R), "level": np.arange(L), "sample": np.arange(N)})
-    ds["response"] = _attrs(xr.DataArray(resp, dims=rdims), "response", **rattrs)
-    ds["proposal_response"] = _attrs(xr.DataArray(prop, dims=rdims), "proposal_response", **rattrs)
-    ds["accepted"] = _attrs(xr.DataArray(acc, dims=rdims), "accepted")
-    ds["chain"] = _attrs(xr.DataArray(chain, dims=rdims), "chain")
+    for k, v in states.items():
+        extra = rattrs if k in ("response", "proposal_response") else {}
+        ds[k] = _attrs(xr.DataArray(v, dims=rdims), k, **extra)
     for k, v in per.items():
         extra = rattrs if k in ("level_threshold", "next_threshold") else {}
         ds[k] = _attrs(xr.DataArray(v, dims=("run", "level")), k, **extra)
     ds["proposal_scale"] = _attrs(xr.DataArray(scale, dims=("run", "level", "round")), "proposal_scale")
-    ds["run_probability"] = _attrs(xr.DataArray([a[0] for a in summ], dims="run"), "run_probability")
-    ds["run_cv"] = _attrs(xr.DataArray([a[1] for a in summ], dims="run"), "run_cv")
-    ds["run_evaluations"] = _attrs(xr.DataArray(np.array([a[2] for a in summ], np.int64), dims="run"), "run_evaluations")
-    ds["run_levels"] = _attrs(xr.DataArray(np.array([len(lv) for lv in runs], np.int64), dims="run"), "run_levels")
-    ds["run_samples"] = _attrs(xr.DataArray(np.array(sizes, np.int64), dims="run"), "run_samples")
-    ds["run_offset"] = _attrs(xr.DataArray(np.array(offsets, np.int64), dims="run"), "run_offset")
+    ds["run_probability"] = _attrs(xr.DataArray([a.probability for a in summ], dims="run"), "run_probability")
+    ds["run_cv"] = _attrs(xr.DataArray([a.cv for a in summ], dims="run"), "run_cv")
+    ds["run_evaluations"] = _attrs(xr.DataArray(np.array([a.evaluations for a in summ], np.int64), dims="run"),
+                                   "run_evaluations")
+    ds["run_levels"] = _attrs(xr.DataArray(np.array([len(lv) for lv in runs.levels], np.int64), dims="run"),
+                              "run_levels")
+    ds["run_samples"] = _attrs(xr.DataArray(np.array(runs.sizes, np.int64), dims="run"), "run_samples")
+    ds["run_offset"] = _attrs(xr.DataArray(np.array(runs.offsets, np.int64), dims="run"), "run_offset")
     if fails:
         ds["failure_noise"] = _attrs(xr.DataArray(np.concatenate(fails), dims=("failure", "noise")), "failure_noise")
         ds["failure_run"] = _attrs(xr.DataArray(np.array(frun, np.int64), dims="failure"), "failure_run")
         ds["failure_response"] = _attrs(xr.DataArray(np.array(fresp), dims="failure"), "failure_response", **rattrs)
-    ds["failure_probability"] = _attrs(xr.DataArray(p), "failure_probability")
-    ds["failure_probability_lower"] = _attrs(xr.DataArray(float(lo)), "failure_probability_lower")
-    ds["failure_probability_upper"] = _attrs(xr.DataArray(float(hi)), "failure_probability_upper")
-    ds["coefficient_of_variation"] = _attrs(xr.DataArray(float(cv)), "coefficient_of_variation")
-    ds["au_beck_cv"] = _attrs(xr.DataArray(float(est["au_beck_cv"])), "au_beck_cv")
-    ds["between_run_cv"] = _attrs(xr.DataArray(float(est["between_run_cv"])), "between_run_cv")
-    ds["n_evaluations"] = _attrs(xr.DataArray(np.int64(sum(a[2] for a in summ))), "n_evaluations")
-    ds["converged"] = _attrs(xr.DataArray(np.int8(bool(converged) and p > 0)), "converged")
-    ds = ds.assign_coords(round=np.arange(n_round))
+    ds["failure_probability"] = _attrs(xr.DataArray(est.probability), "failure_probability")
+    ds["failure_probability_lower"] = _attrs(xr.DataArray(float(est.lower)), "failure_probability_lower")
+    ds["failure_probability_upper"] = _attrs(xr.DataArray(float(est.upper)), "failure_probability_upper")
+    ds["coefficient_of_variation"] = _attrs(xr.DataArray(float(est.cv)), "coefficient_of_variation")
+    ds["au_beck_cv"] = _attrs(xr.DataArray(float(est.au_beck_cv)), "au_beck_cv")
+    ds["between_run_cv"] = _attrs(xr.DataArray(float(est.between_run_cv)), "between_run_cv")
+    ds["n_evaluations"] = _attrs(xr.DataArray(np.int64(sum(a.evaluations for a in summ))), "n_evaluations")
+    ds["converged"] = _attrs(xr.DataArray(np.int8(bool(converged) and est.probability > 0)), "converged")
+    ds = ds.assign_coords(round=np.arange(scale.shape[2]))
     for c in ("run", "level", "sample", "round"):
         ds[c].attrs = dict(ATTRS[c])
     recorded = int(root.entropy) if int(root.entropy) < 2**63 else str(root.entropy)
+    first = runs.levels[0][0]
     ds.attrs = dataset_attrs(
         "failure probability by " + ("subset simulation" if method == "subset" else "crude Monte Carlo"),
         references=REFERENCES, method=method, threshold=float(threshold),
         samples_per_level=int(s.samples), level_probability=float(s.level_probability),
         proposal=s.proposal, proposal_scale=float(s.scale),
         target_acceptance=float(s.target_acceptance), confidence_level=float(confidence),
-        interval_method=interval, target_cv=float(target_cv) if target_cv is not None else "none",
-        seed=recorded, noise_shape=list(runs[0][0].keep_noise.shape[1:]) if runs[0][0].keep_noise is not None else [],
+        interval_method=est.interval, target_cv=float(target_cv) if target_cv is not None else "none",
+        seed=recorded, noise_shape=list(first.keep_noise.shape[1:]) if first.keep_noise is not None else [],
     )
     append_history(ds, f"subset_simulation(method={method!r}, threshold={threshold:.6g}, runs={R}, "
                        f"evaluations={int(ds.n_evaluations)})")
     return ds
-
-

@@ -1,4 +1,4 @@
-"""Cohesive beam model (roughstick.stiction.cohesive_beam, simulate_beams(model="cohesive")):
+"""Cohesive beam model (roughstick.beam.cohesive, rs.beam.simulate(beam_model="cohesive")):
 the Eq. 36 limit, convergence, energy balance, agreement with the sharp front, reproducibility,
 the pull-in start and the recording of failed solves."""
 
@@ -9,15 +9,15 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from roughstick.stiction import _cohesive_kernels as K
-from roughstick.stiction import cohesive_beam as CB
-from roughstick.stiction.beam import Cantilever, crack_length_from_adhesive_energy
-from roughstick.stiction.beam_model import simulate_beams
-from roughstick.stiction.cohesive_beam import (
+import roughstick as rs
+from roughstick.beam import _cohesive_kernels as K
+from roughstick.beam import cohesive as CB
+from roughstick.beam.cohesive import (
     PatchLaws,
-    release_cohesive_beam,
+    release_cohesive,
     short_range_pressure_law,
 )
+from roughstick.stiction.cantilever import Cantilever, crack_length_from_adhesive_energy
 
 BEAM = Cantilever()  # paper §5.1: w 30 µm, t 2.62 µm, h 1.9 µm, E 164 GPa, l 1500 µm
 ZEROS = np.zeros(1000, int)
@@ -38,7 +38,7 @@ def test_short_range_law_has_the_requested_work():
 def test_deterministic_limit_is_eq36(gamma):
     """Uniform short-range law (range 2 nm ≪ h = 1.9 µm): s = Eq. 36 within 1 %."""
     laws = PatchLaws.uniform(*short_range_pressure_law(gamma))
-    res = release_cohesive_beam(laws, ZEROS, beam=BEAM)
+    res = release_cohesive(laws, ZEROS, beam=BEAM)
     assert res.stuck and not res.arc
     assert res.crack_length == pytest.approx(s36(gamma), rel=0.01)
     assert res.apparent_adhesive_energy == pytest.approx(gamma, rel=0.04)
@@ -50,9 +50,9 @@ def test_deterministic_limit_is_eq36(gamma):
 def test_beams_shorter_than_s_come_free(gamma):
     laws = PatchLaws.uniform(*short_range_pressure_law(gamma))
     s = s36(gamma)
-    free = release_cohesive_beam(laws, ZEROS, beam=replace(BEAM, length=0.95 * s))
+    free = release_cohesive(laws, ZEROS, beam=replace(BEAM, length=0.95 * s))
     assert not free.stuck and math.isnan(free.crack_length)
-    res = release_cohesive_beam(laws, ZEROS, beam=replace(BEAM, length=1.05 * s))
+    res = release_cohesive(laws, ZEROS, beam=replace(BEAM, length=1.05 * s))
     assert res.stuck and res.crack_length == pytest.approx(s, rel=0.01)
 
 
@@ -61,7 +61,7 @@ def test_energy_balance_at_the_clamp(gamma):
     """J-integral: the strain energy released per unit crack advance, M(0)²/(2 E I w), equals
     the work of separation of the law, whatever the shape of the cohesive zone."""
     laws = PatchLaws.uniform(*short_range_pressure_law(gamma, law_range=5e-9))
-    res = release_cohesive_beam(laws, ZEROS, beam=BEAM)
+    res = release_cohesive(laws, ZEROS, beam=BEAM)
     EI = BEAM.youngs_modulus * BEAM.width * BEAM.thickness**3 / 12
     assert res.clamp_moment**2 / (2 * EI * BEAM.width) == pytest.approx(gamma, rel=0.005)
 
@@ -69,7 +69,7 @@ def test_energy_balance_at_the_clamp(gamma):
 def test_convergence_in_elements():
     laws = PatchLaws.uniform(*short_range_pressure_law(1e-3))
     beam = replace(BEAM, length=450e-6)  # s = 355 µm
-    s = [release_cohesive_beam(laws, ZEROS, beam=beam, element_size=e).crack_length
+    s = [release_cohesive(laws, ZEROS, beam=beam, element_size=e).crack_length
          for e in (2e-6, 1e-6, 0.5e-6, 0.25e-6)]
     d = np.abs(np.diff(s))
     assert d[-1] < 1e-3 * s[-1]  # 0.5 -> 0.25 µm changes s by < 0.1 %
@@ -83,7 +83,7 @@ def test_fine_patches_average_the_laws():
     pb, _ = short_range_pressure_law(0.5e-3)
     laws = PatchLaws(xr.DataArray(np.stack([pa, pb]), dims=("law", "gap"), coords={"gap": g}))
     beam = replace(BEAM, length=420e-6)  # s(mean) = 336 µm
-    s = release_cohesive_beam(laws, np.arange(20000) % 2, beam=beam, patch_length=0.25e-6,
+    s = release_cohesive(laws, np.arange(20000) % 2, beam=beam, patch_length=0.25e-6,
                               element_size=0.25e-6).crack_length
     assert s == pytest.approx(s36(1.25e-3), rel=0.01)
 
@@ -92,7 +92,7 @@ def test_pull_in_start_gives_the_same_release(monkeypatch):
     """The load-controlled pull-in start (used when the direct start solve fails) lands on
     the same equilibrium path: same crack length as the direct start."""
     laws = PatchLaws.uniform(*short_range_pressure_law(1e-3))
-    direct = release_cohesive_beam(laws, ZEROS, beam=BEAM)
+    direct = release_cohesive(laws, ZEROS, beam=BEAM)
     original = K.BeamMesh.solve_constrained
 
     def no_direct_start(self, u, lam, *args, max_iter=40, **kw):
@@ -101,7 +101,7 @@ def test_pull_in_start_gives_the_same_release(monkeypatch):
         return original(self, u, lam, *args, max_iter=max_iter, **kw)
 
     monkeypatch.setattr(K.BeamMesh, "solve_constrained", no_direct_start)
-    pulled = release_cohesive_beam(laws, ZEROS, beam=BEAM)
+    pulled = release_cohesive(laws, ZEROS, beam=BEAM)
     assert pulled.stuck
     assert pulled.crack_length == pytest.approx(direct.crack_length, rel=1e-4)
 
@@ -127,16 +127,16 @@ def test_cohesive_matches_sharp_front_on_long_patches():
     rng.uniform(size=50)  # the second draw of cmp.py, as measured
     gam = 10 ** rng.uniform(-3.2, -2.8, size=50)
     bank = _energy_bank(gam)
-    kw = dict(beam_length=[400e-6, 1500e-6], n_realization=20, seed=3)
-    coh = simulate_beams(bank, model="cohesive", element_size=1e-6, patch_length=20e-6, **kw)
-    sf = simulate_beams(bank, patch_length=20e-6, **kw)
+    kw = dict(beam_length=[400e-6, 1500e-6], n=20, seed=3)
+    coh = rs.beam.simulate(bank, beam_model="cohesive", element_size=1e-6, patch_length=20e-6, **kw)
+    sf = rs.beam.simulate(bank, patch_length=20e-6, **kw)
     assert int(coh.solver_failed.sum()) == 0
     assert (coh.stuck == sf.stuck).all()
     d = np.abs(coh.crack_length - sf.crack_length).max()
     assert float(d) <= 4 * zone_length(gam.min())
-    fine_c = simulate_beams(bank, model="cohesive", element_size=0.5e-6, patch_length=0.5e-6,
-                            beam_length=[1500e-6], n_realization=4, seed=3)
-    fine_s = simulate_beams(bank, patch_length=0.5e-6, beam_length=[1500e-6], n_realization=4,
+    fine_c = rs.beam.simulate(bank, beam_model="cohesive", element_size=0.5e-6, patch_length=0.5e-6,
+                            beam_length=[1500e-6], n=4, seed=3)
+    fine_s = rs.beam.simulate(bank, patch_length=0.5e-6, beam_length=[1500e-6], n=4,
                             seed=3)
     assert (fine_c.crack_length > fine_s.crack_length).all()
 
@@ -146,9 +146,9 @@ def test_bit_identical_across_chunkings():
     low = 10 ** rng.uniform(-3.5, -2.5, 30)
     bank = xr.DataArray(np.stack([low, 3 * low], axis=1), dims=("law", "rh"),
                         coords={"rh": [0.5, 0.8]})
-    kw = dict(beam_length=[300e-6, 600e-6], seed=7, model="cohesive", element_size=1e-6)
-    whole = simulate_beams(bank, n_realization=6, **kw)
-    parts = [simulate_beams(bank, realizations=r, **kw) for r in ([0, 1, 2], [3], [4, 5])]
+    kw = dict(beam_length=[300e-6, 600e-6], seed=7, beam_model="cohesive", element_size=1e-6)
+    whole = rs.beam.simulate(bank, n=6, **kw)
+    parts = [rs.beam.simulate(bank, realizations=r, **kw) for r in ([0, 1, 2], [3], [4, 5])]
     joined = xr.concat([p[["crack_length", "stuck", "solver_failed", "attached_length"]]
                         for p in parts], dim="realization")
     for v in ["crack_length", "stuck", "solver_failed", "attached_length"]:
@@ -162,12 +162,12 @@ def test_bit_identical_across_thread_counts(monkeypatch):
     low = 10 ** rng.uniform(-3.5, -2.5, 30)
     bank = xr.DataArray(np.stack([low, 3 * low], axis=1), dims=("law", "rh"),
                         coords={"rh": [0.5, 0.8]})
-    kw = dict(beam_length=[300e-6, 600e-6], n_realization=5, seed=3, model="cohesive",
+    kw = dict(beam_length=[300e-6, 600e-6], n=5, seed=3, beam_model="cohesive",
               element_size=1e-6)
     runs = {}
     for n in (1, 2, 3):
         monkeypatch.setattr(CB.os, "cpu_count", lambda n=n: n)
-        runs[n] = simulate_beams(bank, **kw)
+        runs[n] = rs.beam.simulate(bank, **kw)
     for n in (2, 3):
         for v in ["crack_length", "stuck", "solver_failed", "attached_length", "arc"]:
             np.testing.assert_array_equal(runs[1][v].values, runs[n][v].values)
@@ -175,7 +175,7 @@ def test_bit_identical_across_thread_counts(monkeypatch):
 
 def test_failed_solves_are_recorded_not_dropped(monkeypatch):
     bank = _energy_bank([1e-3, 2e-3, 3e-3])
-    original = CB.release_cohesive_beam
+    original = CB.release_cohesive
     calls = {"n": 0}
 
     def flaky(*args, **kwargs):
@@ -184,9 +184,9 @@ def test_failed_solves_are_recorded_not_dropped(monkeypatch):
             raise K.SolverError("injected failure")
         return original(*args, **kwargs)
 
-    monkeypatch.setattr(CB, "release_cohesive_beam", flaky)
+    monkeypatch.setattr(CB, "release_cohesive", flaky)
     monkeypatch.setattr(CB.os, "cpu_count", lambda: 1)  # the call counter needs one thread
-    ds = simulate_beams(bank, beam_length=[600e-6], n_realization=4, seed=1, model="cohesive",
+    ds = rs.beam.simulate(bank, beam_length=[600e-6], n=4, seed=1, beam_model="cohesive",
                         element_size=1e-6)
     assert ds.sizes["realization"] == 4
     assert int(ds.solver_failed.sum()) == 1
@@ -199,20 +199,20 @@ def test_failed_solves_are_recorded_not_dropped(monkeypatch):
 def test_bad_input():
     laws = PatchLaws.uniform(*short_range_pressure_law(1e-3))
     with pytest.raises(ValueError, match="patch laws"):
-        release_cohesive_beam(laws, np.zeros(3, int))
+        release_cohesive(laws, np.zeros(3, int))
     with pytest.raises(ValueError, match=r"\[0, 1\)"):
-        release_cohesive_beam(laws, np.ones(1000, int))
+        release_cohesive(laws, np.ones(1000, int))
     p, g = short_range_pressure_law(1e-3)
     with pytest.raises(ValueError, match="uniform"):
         PatchLaws.uniform(p[[0, 1, 3, 4]], g[[0, 1, 3, 4]])
     bank = _energy_bank([1e-3])
     with pytest.raises(ValueError, match="model must be one of"):
-        simulate_beams(bank, beam_length=[600e-6], model="fem")
+        rs.beam.simulate(bank, beam_length=[600e-6], beam_model="fem")
     with pytest.raises(ValueError, match="rh coordinate increasing"):
-        simulate_beams(xr.DataArray([[2e-3, 1e-3]], dims=("law", "rh"), coords={"rh": [0.6, 0.3]}),
-                       beam_length=[600e-6], model="cohesive", protocol="step_up")
+        rs.beam.simulate(xr.DataArray([[2e-3, 1e-3]], dims=("law", "rh"), coords={"rh": [0.6, 0.3]}),
+                         beam_length=[600e-6], beam_model="cohesive", protocol="step_up")
     with pytest.raises(ValueError, match="dims"):
-        simulate_beams(bank.expand_dims(x=[0]), beam_length=[600e-6], model="cohesive")
+        rs.beam.simulate(bank.expand_dims(x=[0]), beam_length=[600e-6], beam_model="cohesive")
 
 
 def test_step_up_on_a_uniform_interface():
@@ -221,9 +221,9 @@ def test_step_up_on_a_uniform_interface():
     (a fresh release would leave it stuck): the hysteresis of the free state."""
     g1, g2 = 1e-4, 4e-4  # s36 = 632 and 447 µm
     bank = xr.DataArray([[g1, g2]], dims=("law", "rh"), coords={"rh": [0.3, 0.6]})
-    kw = dict(n_realization=1, model="cohesive", element_size=1e-6)
-    up = simulate_beams(bank, beam_length=[500e-6, 800e-6], protocol="step_up", **kw)
-    rel = simulate_beams(bank, beam_length=[500e-6, 800e-6], protocol="release", **kw)
+    kw = dict(n=1, beam_model="cohesive", element_size=1e-6)
+    up = rs.beam.simulate(bank, beam_length=[500e-6, 800e-6], protocol="step_up", **kw)
+    rel = rs.beam.simulate(bank, beam_length=[500e-6, 800e-6], protocol="release", **kw)
     assert not up.solver_failed.any()
     assert not up.stuck.isel(beam_length=0).any()  # 500 µm: free at RH 0.3, stays free
     assert bool(rel.stuck.isel(beam_length=0, rh=1).all())
@@ -235,9 +235,9 @@ def test_step_up_is_pinned_further_out_on_random_patches():
     rng = np.random.default_rng(8)
     low = 10 ** rng.uniform(-4.5, -3.5, 40)
     bank = xr.DataArray(np.stack([low, 4 * low], 1), dims=("law", "rh"), coords={"rh": [0.3, 0.6]})
-    kw = dict(beam_length=[1000e-6], n_realization=8, seed=2, model="cohesive", element_size=1e-6)
-    rel = simulate_beams(bank, protocol="release", **kw).isel(rh=1)
-    up = simulate_beams(bank, protocol="step_up", **kw).isel(rh=1)
+    kw = dict(beam_length=[1000e-6], n=8, seed=2, beam_model="cohesive", element_size=1e-6)
+    rel = rs.beam.simulate(bank, protocol="release", **kw).isel(rh=1)
+    up = rs.beam.simulate(bank, protocol="step_up", **kw).isel(rh=1)
     assert not up.solver_failed.any() and up.stuck.all() and rel.stuck.all()
     assert (up.crack_length >= rel.crack_length * (1 - 1e-3)).all()
     assert int((up.crack_length > 1.05 * rel.crack_length).sum()) >= 4  # measured 8 of 8
@@ -255,9 +255,9 @@ def test_table4_pressure_bank_releases_are_solved():
     def psd(q):
         return self_affine_psd(q, **kw)
 
-    bank = CB.pressure_law_bank(psd, relative_humidity=[0.7], n_law=6, shape=(256, 524),
+    bank = rs.beam.pressure_law_bank(psd, relative_humidity=[0.7], n=6, shape=(256, 524),
                                 spacing=5e-9, seed=3)
     assert bank.dims == ("law", "rh", "gap")
-    ds = simulate_beams(bank, beam_length=[1500e-6], n_realization=12, seed=1, model="cohesive")
+    ds = rs.beam.simulate(bank, beam_length=[1500e-6], n=12, seed=1, beam_model="cohesive")
     assert int(ds.solver_failed.sum()) == 0
     assert ds.stuck.all()

@@ -1,4 +1,4 @@
-"""The rough-surface limit states of :mod:`roughstick.stiction.rare_events` (private).
+"""The rough-surface limit states of :func:`roughstick.reliability.failure_probability` (private).
 
 White noise -> surface (Eqs. 33-34) -> modified-DMT curve (Eq. 16) -> adhesive energy (Eq. 13)
 or pull-off pressure, through the public functions of :mod:`roughstick.surface` and
@@ -16,12 +16,13 @@ import numpy as np
 import scipy.fft
 import xarray as xr
 
-from roughstick._core.conventions import CURVE_VARIABLES
 from roughstick._core.intervals import median_interval
-from roughstick._core.materials import POLYSILICON, hertz_modulus
-from roughstick._core.remedy import argument, spell, spelled
-from roughstick._core.validate import external_stacklevel
-from roughstick.contact import (
+
+from .._core.conventions import CURVE_VARIABLES
+from .._core.materials import POLYSILICON, hertz_modulus
+from .._core.remedy import argument, spell, spelled
+from .._core.validate import external_stacklevel
+from ..contact import (
     ValidityWarning,
     adhesion_summary,
     adhesion_summary_kernel,
@@ -29,9 +30,7 @@ from roughstick.contact import (
     laplace_pressure,
     modified_dmt_kernel,
 )
-from roughstick.surface import surface_filter
-
-from ._rare_moves import shell_labels
+from ..surface import surface_filter
 
 __all__: list[str] = []
 
@@ -68,8 +67,6 @@ class NoiseToSurface:
         self.ny, self.nx, self.dy, self.dx = ny, nx, dy, dx
         self.noise_shape = (ny, nx)
         self.variance = float(power.sum())
-        #: shells of equal |q| and amplitude on the rfft2 grid (``proposal="shell"``)
-        self.shell_labels = shell_labels(self.amplitude, shape=(ny, nx), spacing=(dy, dx))
 
     def height_array(self, z) -> xr.DataArray:
         """A height map [m] of this grid as the labelled, periodic DataArray the models take."""
@@ -94,21 +91,20 @@ class SurfaceResponse:
     pull-off are taken from the equilibrium outwards (:func:`roughstick.adhesion_summary`).
     ``patches > 1`` cuts the surface into that many strips along ``y`` evaluated alone (not
     periodic) and returns the largest response: a weakest-link structure simulated directly.
-    ``contact_model="fft_bem"`` evaluates the periodic zone with
-    :func:`roughstick.fft_bem_contact_curves` on its own automatic grid instead (about 20 x the
-    cost of Eq. 16 on 128 x 128 zones). ``water_height`` is :math:`h_{water}` at this RH with
+    ``model="fft_bem"`` evaluates the periodic zone with
+    :func:`roughstick.fft_bem_contact_curves` on its own automatic grid instead (docs/rare_events.md
+    for its cost). ``water_height`` is :math:`h_{water}` at this RH with
     this ``adsorbed_layer`` (:func:`roughstick.water_height`): Eq. 16 takes it as given.
     """
 
     def __init__(self, to_surface, *, relative_humidity, quantity="adhesive_energy",
                  material=None, material2=None, adsorbed_layer="paper", connectivity=4,
                  points_per_water_height=20.0, lower=2.0, extend=0.5, periodic=True, patches=1,
-                 water_height, contact_model="modified_dmt"):
+                 water_height, model="modified_dmt"):
         if quantity not in QUANTITIES:
             raise ValueError(f"quantity must be one of {QUANTITIES}, got {quantity!r}.")
         self.to_surface = to_surface
         self.noise_shape = to_surface.noise_shape
-        self.shell_labels = to_surface.shell_labels
         self.rh = float(relative_humidity)
         self.hw = float(water_height)
         self.sigma = math.sqrt(to_surface.variance)
@@ -123,12 +119,12 @@ class SurfaceResponse:
         self.step = self.hw / float(points_per_water_height)
         self.lower, self.extend = float(lower), float(extend)
         self.periodic, self.patches = bool(periodic), int(patches)
-        if contact_model not in CONTACT_MODELS:
-            raise ValueError(f"contact_model must be one of {CONTACT_MODELS}, got {contact_model!r}.")
-        if contact_model == "fft_bem" and (not self.periodic or self.patches != 1):
-            raise ValueError("contact_model='fft_bem' solves periodic zones only: use periodic=True and "
-                             "patches=1, or contact_model='modified_dmt' for pieces and strips.")
-        self.contact_model = contact_model
+        if model not in CONTACT_MODELS:
+            raise ValueError(f"model must be one of {CONTACT_MODELS}, got {model!r}.")
+        if model == "fft_bem" and (not self.periodic or self.patches != 1):
+            raise ValueError("model='fft_bem' solves periodic zones only: use periodic=True and "
+                             "patches=1, or model='modified_dmt' for pieces and strips.")
+        self.model = model
         self.bem_kw = {"material": material, "material2": material2, "adsorbed_layer": adsorbed_layer}
         if self.patches < 1 or to_surface.ny % self.patches:
             raise ValueError(f"patches={patches} must be >= 1 and divide the {to_surface.ny} rows "
@@ -149,7 +145,7 @@ class SurfaceResponse:
     def map_response(self, z, *, periodic) -> float:
         """Response of one height map [m] (its own distance grid, see the class notes)."""
         zc = z - z.mean()
-        if self.contact_model == "fft_bem":
+        if self.model == "fft_bem":
             return self._bem_response(zc)
         top = float(zc.max()) + self.hw
         zmin = float(zc.min())
@@ -198,12 +194,10 @@ def bem_check(ds, model, threshold, n_check):
     select exactly the states where a cheap model may be wrong, so the result carries this
     measured check, and warns (ValidityWarning) in two cases:
 
-    * ratio below one half: the failure states are Eq. 16 artefacts (on Table-4 and smooth zones
-      the Eq. 16 tail is 5-10 x the BEM's, docs/rare_events.md);
+    * ratio below one half: the failure states are Eq. 16 artefacts (docs/rare_events.md);
     * ratio above one half but fewer than half of the states confirmed: Eq. 16's ordinary error
-      (on S1 zones at 1e-4 it is ~10 % above the BEM, ratio 0.91) moves most failures across
-      the threshold, so the probability carries that error (at 1e-4 a 10 % shift of the
-      threshold changes P by about 2 x).
+      moves most failures across the threshold, so the probability carries that error (in the
+      tail a small shift of the threshold changes P by a factor).
 
     Periodic zones of one patch only (the BEM is periodic).
     """
@@ -212,7 +206,7 @@ def bem_check(ds, model, threshold, n_check):
     if n_check > 0 and model.periodic and model.patches == 1 and noise.shape[0] > 0:
         pick = np.unique(np.linspace(0, noise.shape[0] - 1, min(int(n_check), noise.shape[0])).astype(int))
         bem = SurfaceResponse(model.to_surface, relative_humidity=model.rh, water_height=model.hw,
-                              quantity=model.quantity, contact_model="fft_bem", **model.bem_kw)
+                              quantity=model.quantity, model="fft_bem", **model.bem_kw)
         got = np.array([bem(noise[i]) for i in pick])  # against the stored Eq. 16 responses
         ok, n = int(np.sum(got > threshold)), int(pick.size)
         ratio, lo, hi = median_interval(got / ds["failure_response"].values[pick], confidence=0.95)
@@ -226,7 +220,7 @@ def bem_check(ds, model, threshold, n_check):
         ds[name] = xr.DataArray(v, attrs={  # order statistics; NaN: too few states checked to bound it
             "units": "1", "checked": n, "confidence": 0.95,
             "long_name": f"{side} end of the 95 % distribution-free interval of failure_bem_ratio"})
-    with spelled(contact_model=argument("contact_model")):  # failure_probability's argument
+    with spelled(contact_model=argument("model")):  # failure_probability's argument
         rerun = spell("contact_model", "fft_bem")
     if n and ratio < ARTEFACT_RATIO:
         what = (f"only {ok} of {n} stay above the threshold): this probability is made of modified-DMT "

@@ -7,8 +7,7 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
-from roughstick.stiction.beam import PAPER_CANTILEVER, crack_length_from_adhesive_energy
-from roughstick.stiction.beam_model import beam_crack_length, simulate_beams
+from roughstick.stiction.cantilever import PAPER_CANTILEVER, crack_length_from_adhesive_energy
 
 BEAM = PAPER_CANTILEVER  # 1500 µm, t 2.62 µm, h 1.9 µm, E 164 GPa
 
@@ -47,7 +46,7 @@ def test_uniform_law_gives_eq36(gamma0, patch_length):
     for length in [0.5 * s36, 0.99 * s36, 1.01 * s36, 3 * s36, 1500e-6]:
         beam = replace(BEAM, length=length)
         n = int(np.ceil(length / patch_length)) + 1
-        s = float(beam_crack_length(np.full(n, gamma0), beam=beam, patch_length=patch_length))
+        s = float(rs.beam.crack_length(np.full(n, gamma0), beam=beam, patch_length=patch_length))
         if s36 < length:
             assert s == pytest.approx(s36, rel=0.01)
         else:  # shorter beams come free
@@ -68,7 +67,7 @@ def test_random_fronts_are_energy_minima_reached_downhill():
     patch = 2.62e-6
     for _ in range(10):
         gamma = rng.lognormal(np.log(5e-3), 1.0, size=600)
-        s = float(beam_crack_length(gamma, beam=BEAM, patch_length=patch))
+        s = float(rs.beam.crack_length(gamma, beam=BEAM, patch_length=patch))
         if not np.isfinite(s):
             continue
         delta = 0.05e-6
@@ -94,7 +93,7 @@ def test_converges_with_patch_length_to_a_smooth_interface():
     errors = []
     for dx in [4e-6, 1e-6, 0.25e-6]:
         centres = (np.arange(int(1500e-6 / dx) + 1) + 0.5) * dx
-        errors.append(abs(float(beam_crack_length(gamma(centres), beam=BEAM, patch_length=dx)) - ref))
+        errors.append(abs(float(rs.beam.crack_length(gamma(centres), beam=BEAM, patch_length=dx)) - ref))
     assert errors[2] < errors[0] / 4
     assert errors[2] / ref < 1e-3
 
@@ -108,7 +107,7 @@ def _bank(rh=(0.3, 0.6, 0.9), n_law=50, seed=1):
 
 
 def test_layout_and_probability():
-    ds = simulate_beams(_bank(), beam_length=[300e-6, 1500e-6], n_realization=40, seed=5,
+    ds = rs.beam.simulate(_bank(), beam_length=[300e-6, 1500e-6], n=40, seed=5,
                         shape_points=11)
     assert ds.crack_length.dims == ("realization", "rh", "beam_length")
     assert ds.crack_length.attrs["units"] == "m"
@@ -128,8 +127,8 @@ def test_layout_and_probability():
 
 def test_bit_identical_across_chunkings():
     bank = _bank()
-    whole = simulate_beams(bank, beam_length=1500e-6, n_realization=30, seed=9)
-    parts = [simulate_beams(bank, beam_length=1500e-6, realizations=r, seed=9)
+    whole = rs.beam.simulate(bank, beam_length=1500e-6, n=30, seed=9)
+    parts = [rs.beam.simulate(bank, beam_length=1500e-6, realizations=r, seed=9)
              for r in (range(0, 7), range(7, 30))]
     merged = xr.concat([p.crack_length for p in parts], "realization")
     np.testing.assert_array_equal(merged.values, whole.crack_length.values)
@@ -137,8 +136,8 @@ def test_bit_identical_across_chunkings():
 
 def test_step_up_hysteresis():
     bank = _bank()
-    rel = simulate_beams(bank, beam_length=1500e-6, n_realization=200, seed=2)
-    up = simulate_beams(bank, beam_length=1500e-6, n_realization=200, seed=2, protocol="step_up")
+    rel = rs.beam.simulate(bank, beam_length=1500e-6, n=200, seed=2)
+    up = rs.beam.simulate(bank, beam_length=1500e-6, n=200, seed=2, protocol="step_up")
     np.testing.assert_array_equal(rel.crack_length.isel(rh=0).values, up.crack_length.isel(rh=0).values)
     both = rel.stuck & up.stuck
     diff = (up.crack_length - rel.crack_length).where(both)
@@ -147,23 +146,23 @@ def test_step_up_hysteresis():
     # a uniform interface has no hysteresis
     uni = xr.DataArray(np.tile([[1e-3, 3e-3, 1e-2]], (5, 1)), dims=("law", "rh"),
                        coords={"rh": [0.3, 0.6, 0.9]})
-    a = simulate_beams(uni, beam_length=1500e-6, n_realization=3)
-    b = simulate_beams(uni, beam_length=1500e-6, n_realization=3, protocol="step_up")
+    a = rs.beam.simulate(uni, beam_length=1500e-6, n=3)
+    b = rs.beam.simulate(uni, beam_length=1500e-6, n=3, protocol="step_up")
     np.testing.assert_allclose(a.crack_length.values, b.crack_length.values, rtol=1e-12)
 
 
 def test_bad_input():
     with pytest.raises(ValueError, match="patch energies"):
-        beam_crack_length(np.ones(10), beam=BEAM)
+        rs.beam.crack_length(np.ones(10), beam=BEAM)
     with pytest.raises(ValueError, match="metres"):
-        beam_crack_length(np.ones(10), beam=BEAM, patch_length=2.62)
+        rs.beam.crack_length(np.ones(10), beam=BEAM, patch_length=2.62)
     with pytest.raises(ValueError, match="NaN"):
-        beam_crack_length(np.full(600, np.nan), beam=BEAM)
+        rs.beam.crack_length(np.full(600, np.nan), beam=BEAM)
     with pytest.raises(ValueError, match="protocol"):
-        beam_crack_length(np.ones(600), beam=BEAM, protocol="down")
+        rs.beam.crack_length(np.ones(600), beam=BEAM, protocol="down")
     bad = _bank().assign_coords(rh=[0.9, 0.6, 0.3])
     with pytest.raises(ValueError, match="increasing"):
-        simulate_beams(bad, beam_length=1e-3, protocol="step_up")
+        rs.beam.simulate(bad, beam_length=1e-3, protocol="step_up")
 
 
 def test_beam_length_unit_slip_is_refused_by_name():
@@ -172,8 +171,8 @@ def test_beam_length_unit_slip_is_refused_by_name():
     with pytest.raises(ValueError, match=r"beam_length=300 m is implausible for a MEMS beam "
                                          r"\(plausible 1e-6 to 1e-2 m\); it looks like µm: give "
                                          r"it in m, e\.g\. beam_length=300e-6"):
-        simulate_beams(_bank(), beam_length=[300], n_realization=2)
-    simulate_beams(_bank(), beam_length=[1e-6, 1e-2], n_realization=2, patch_length=0.5e-6)  # the bounds are allowed
+        rs.beam.simulate(_bank(), beam_length=[300], n=2)
+    rs.beam.simulate(_bank(), beam_length=[1e-6, 1e-2], n=2, patch_length=0.5e-6)  # the bounds are allowed
 
 
 def test_a_bank_in_mj_labelled_j_is_refused_with_the_fix():
@@ -181,12 +180,12 @@ def test_a_bank_in_mj_labelled_j_is_refused_with_the_fix():
     mj = (_bank() * 1e3).assign_attrs(units="J m-2")
     fix = r"look like mJ m-2: divide by 1000 \(bank / 1000\) or set bank\.attrs\['units'\] = 'mJ m-2'"
     with pytest.raises(ValueError, match=r"bank has adhesive energies up to 395\.7 J m-2 .*above 0\.5 J m-2.*" + fix):
-        simulate_beams(mj, beam_length=[300e-6], n_realization=2)
+        rs.beam.simulate(mj, beam_length=[300e-6], n=2)
     with pytest.raises(ValueError, match=fix):
-        rs.beam_stiction_probability_subset(mj, beam_length=300e-6)
+        rs.stuck_probability(mj, method="subset", beam_length=300e-6)
     # labelled as what they are, the same energies give the same beams
-    got = simulate_beams(mj.assign_attrs(units="mJ m-2"), beam_length=[300e-6, 1500e-6], n_realization=30, seed=1)
-    ref = simulate_beams(_bank(), beam_length=[300e-6, 1500e-6], n_realization=30, seed=1)
+    got = rs.beam.simulate(mj.assign_attrs(units="mJ m-2"), beam_length=[300e-6, 1500e-6], n=30, seed=1)
+    ref = rs.beam.simulate(_bank(), beam_length=[300e-6, 1500e-6], n=30, seed=1)
     np.testing.assert_array_equal(got.stuck.values, ref.stuck.values)
     np.testing.assert_allclose(got.crack_length.values, ref.crack_length.values, rtol=1e-9)
 
@@ -196,21 +195,21 @@ def test_negative_or_infinite_energies_are_refused(bad, said):
     bank = _bank().copy()
     bank[3, 1] = bad
     with pytest.raises(ValueError, match=rf"bank has the adhesive energy {said}.*finite and >= 0"):
-        simulate_beams(bank, beam_length=[300e-6], n_realization=2)
+        rs.beam.simulate(bank, beam_length=[300e-6], n=2)
     with pytest.raises(ValueError, match="finite and >= 0"):
-        rs.beam_stiction_probability_subset(bank, beam_length=300e-6)
+        rs.stuck_probability(bank, method="subset", beam_length=300e-6)
     with pytest.raises(ValueError, match="finite and >= 0"):
-        simulate_beams(bank, beam_length=[300e-6], n_realization=2, model="cohesive")
+        rs.beam.simulate(bank, beam_length=[300e-6], n=2, beam_model="cohesive")
     with pytest.raises(ValueError, match="patch_energy must be finite and >= 0"):
-        beam_crack_length(np.full(600, bad), beam=BEAM)
+        rs.beam.crack_length(np.full(600, bad), beam=BEAM)
 
 
 def test_no_beams_is_an_error_not_nan():
-    """n_realization=0 returned P(stuck) = NaN."""
-    with pytest.raises(ValueError, match=r"n_realization=0: must be an integer >= 1; pass e\.g\. n_realization=100"):
-        simulate_beams(_bank(), beam_length=[300e-6], n_realization=0)
+    """n=0 (n_realization=0) returned P(stuck) = NaN."""
+    with pytest.raises(ValueError, match=r"n=0: must be an integer >= 1; pass e\.g\. n=100"):
+        rs.beam.simulate(_bank(), beam_length=[300e-6], n=0)
     with pytest.raises(ValueError, match="realizations must be a non-empty"):
-        simulate_beams(_bank(), beam_length=[300e-6], realizations=[])
+        rs.beam.simulate(_bank(), beam_length=[300e-6], realizations=[])
 
 
 def test_a_patch_longer_than_the_shortest_beam_is_refused():
@@ -218,9 +217,9 @@ def test_a_patch_longer_than_the_shortest_beam_is_refused():
     said = (r"patch_length=0\.0003 m is longer than the shortest beam \(beam_length=0\.0001 m\).*"
             r"Pass a shorter patch_length")
     with pytest.raises(ValueError, match=said):
-        simulate_beams(_bank(), beam_length=[100e-6, 200e-6], patch_length=300e-6, n_realization=2)
+        rs.beam.simulate(_bank(), beam_length=[100e-6, 200e-6], patch_length=300e-6, n=2)
     with pytest.raises(ValueError, match=said):
-        rs.beam_stiction_probability_subset(_bank(), beam_length=[100e-6, 200e-6], patch_length=300e-6)
+        rs.stuck_probability(_bank(), method="subset", beam_length=[100e-6, 200e-6], patch_length=300e-6)
     with pytest.raises(ValueError, match=r"patch_length=0\.0003 m is longer than the beam"):
-        beam_crack_length(np.ones(10), beam=replace(BEAM, length=100e-6), patch_length=300e-6)
-    simulate_beams(_bank(), beam_length=[100e-6, 200e-6], patch_length=100e-6, n_realization=2)  # one patch
+        rs.beam.crack_length(np.ones(10), beam=replace(BEAM, length=100e-6), patch_length=300e-6)
+    rs.beam.simulate(_bank(), beam_length=[100e-6, 200e-6], patch_length=100e-6, n=2)  # one patch

@@ -2,7 +2,7 @@ r"""Beam-scale stochastic stiction: a crack front running along a cantilever on 
 
 The interface under an S-shaped stuck cantilever (Fig. 18b) is cut into patches of length
 ``patch_length`` (the interaction-zone length :math:`\Delta s` of §5.2); each patch carries the
-adhesive energy :math:`\Gamma_j` of one law drawn from a bank (:mod:`.patch_bank`). The front
+adhesive energy :math:`\Gamma_j` of one law drawn from a bank (:func:`build_patch_bank`). The front
 (crack length :math:`s`) feels the energy release rate of the Euler-Bernoulli beam,
 :math:`G(s) = \frac32 E t^3 h^2/s^4` (the derivative of the S-shape's bending energy, the
 relation of Eq. 36), and moves only while that lowers the total energy
@@ -16,30 +16,36 @@ direction it moves, so heterogeneity pins the front and two protocols differ:
   where the release protocol would have put it further out: adhesion hysteresis.
 
 With a uniform law :math:`\Gamma_0` the front stops at :math:`s = (3Eh^2t^3/2\Gamma_0)^{1/4}`,
-Eq. 36, or frees the beam when that exceeds its length (tests/stiction/test_beam_model.py).
+Eq. 36, or frees the beam when that exceeds its length.
 
-Scope: by default (``model="sharp_front"``) the patches are treated in the short-range limit,
-each law reduced to its work of separation. ``model="cohesive"`` resolves the finite range of
-the laws instead: an Euler-Bernoulli finite-element cantilever loaded by each patch's pressure
-law and released by continuation (:mod:`.cohesive_beam`).
+Scope: by default (``beam_model="sharp_front"``) the patches are treated in the short-range
+limit, each law reduced to its work of separation. ``beam_model="cohesive"`` resolves the finite
+range of the laws instead: an Euler-Bernoulli finite-element cantilever loaded by each patch's
+pressure law and released by continuation (:mod:`.cohesive`).
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
+from typing import NamedTuple
+
 import numpy as np
 import xarray as xr
 
+from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
 from .._core.validate import PLAUSIBLE_BEAM_LENGTH, adhesive_energy_values, check_plausible_value
 from ..ensemble.statistics import binomial_interval
-from . import _beam_kernels as K
-from . import cohesive_beam as CB
-from .beam import PAPER_CANTILEVER, Cantilever, adhesive_energy_from_crack_length
+from ..stiction.cantilever import PAPER_CANTILEVER, Cantilever, adhesive_energy_from_crack_length
+from . import _front_kernels as K
+from . import cohesive as CB
 
-__all__ = ["beam_crack_length", "simulate_beams", "stuck_probability"]
+__all__ = ["crack_length", "simulate"]
 
+#: The protocols of :func:`simulate`: a fresh release at every RH, or RH stepped up in place.
 PROTOCOLS = ("release", "step_up")
-MODELS = ("sharp_front", "cohesive")
+#: The beam models of :func:`simulate`.
+BEAM_MODELS = ("sharp_front", "cohesive")
 
 
 def _check_patch_length(patch_length):
@@ -51,13 +57,15 @@ def _check_patch_length(patch_length):
     return patch_length
 
 
-def _n_patches(length, patch_length):
+def n_patches(length, patch_length) -> int:
+    """Number of patches under a beam of ``length`` (the last one may be cut short)."""
     return int(np.ceil(length / patch_length - 1e-9))
 
 
-def _beam_axes(beam_length, patch_length, beam):
+def lengths_and_patch(beam_length, patch_length, beam):
     """(beam lengths, patch length) of a run, checked: lengths positive and plausible in m, the
-    patch no longer than the shortest beam (a beam holds at least one whole patch)."""
+    patch no longer than the shortest beam (a beam holds at least one whole patch); the patch
+    defaults to the beam's interaction-zone length."""
     lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
     if lengths.ndim != 1 or lengths.size == 0 or np.any(~np.isfinite(lengths)) or np.any(lengths <= 0):
         raise ValueError(f"beam_length must be positive lengths in m, got {beam_length!r}")
@@ -75,8 +83,8 @@ def _beam_axes(beam_length, patch_length, beam):
     return lengths, patch_length
 
 
-def beam_crack_length(patch_energy, *, beam: Cantilever = PAPER_CANTILEVER, patch_length=None,
-                      start=None, protocol: str = "release"):
+def crack_length(patch_energy, *, beam: Cantilever = PAPER_CANTILEVER, patch_length=None,
+                 start=None, protocol: str = "release"):
     r"""Crack length of cantilevers whose interface patches have the given adhesive energies.
 
     The per-sample function of the beam model (Eq. 36 on a heterogeneous interface): no
@@ -105,7 +113,7 @@ def beam_crack_length(patch_energy, *, beam: Cantilever = PAPER_CANTILEVER, patc
     Examples
     --------
     >>> import numpy as np
-    >>> s = rs.stiction.beam_crack_length(np.full(600, 0.1))  # uniform 0.1 J m-2
+    >>> s = rs.beam.crack_length(np.full(600, 0.1))  # uniform 0.1 J m-2
     >>> round(float(s) * 1e6, 1)  # µm, Eq. 36
     112.4
     """
@@ -116,7 +124,7 @@ def beam_crack_length(patch_energy, *, beam: Cantilever = PAPER_CANTILEVER, patc
     energy = np.asarray(patch_energy, dtype=float)
     if energy.ndim == 0:
         raise ValueError("patch_energy needs a last axis of patches along the beam")
-    m = _n_patches(beam.length, patch_length)
+    m = n_patches(beam.length, patch_length)
     if energy.shape[-1] < m:
         raise ValueError(f"beam of {beam.length:g} m with patches of {patch_length:g} m needs "
                          f"{m} patch energies on the last axis, got {energy.shape[-1]}")
@@ -147,28 +155,29 @@ def _draw_indices(seed, realizations, n_law, n_patch):
     return out
 
 
-@check_numbers(n_realization="count", seed="seed", shape_points="count0", element_size="length")
-def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100, seed: int = 0,
-                   protocol: str = "release", beam: Cantilever = PAPER_CANTILEVER,
-                   patch_length=None, realizations=None, shape_points: int = 0,
-                   model: str = "sharp_front", element_size: float = 0.5e-6,
-                   law_kwargs=None) -> xr.Dataset:
+@renamed_keywords(n_realization="n", model="beam_model")
+@check_numbers(n="count", seed="seed", shape_points="count0", element_size="length")
+def simulate(bank: xr.DataArray, *, beam_length, n: int = 100, seed: int = 0,
+             protocol: str = "release", beam: Cantilever = PAPER_CANTILEVER,
+             patch_length=None, realizations=None, shape_points: int = 0,
+             beam_model: str = "sharp_front", element_size: float = 0.5e-6,
+             law_kwargs=None) -> xr.Dataset:
     r"""Monte-Carlo cantilevers on random patches drawn from a bank of patch laws.
 
     Parameters
     ----------
     bank : xarray.DataArray
-        Adhesive energy over ``(law, rh)`` (:func:`roughstick.build_patch_bank`, or any
-        DataArray with those dims), in its ``units`` (J m-2 without them). Law ``k`` is one
-        surface patch at every RH, so a patch keeps its identity when RH changes. NaN, negative
-        or infinite energies are refused, and so are energies above 0.5 J m-2, more than a
-        water meniscus holds (mJ m-2 labelled J m-2). With ``model="cohesive"`` also a pressure bank
-        [Pa] over ``(law, rh, gap)`` (:func:`roughstick.stiction.cohesive_beam.pressure_law_bank`).
+        Adhesive energy over ``(law, rh)`` (:func:`build_patch_bank`, or any DataArray with
+        those dims), in its ``units`` (J m-2 without them). Law ``k`` is one surface patch at
+        every RH, so a patch keeps its identity when RH changes. NaN, negative or infinite
+        energies are refused, and so are energies above 0.5 J m-2, more than a water meniscus
+        holds (mJ m-2 labelled J m-2). With ``beam_model="cohesive"`` also a pressure bank [Pa]
+        over ``(law, rh, gap)`` (:func:`pressure_law_bank`).
     beam_length : float or sequence
         Beam lengths [m], 1 µm to 10 mm (a value outside, e.g. 300 meant as µm, is refused as
         a unit slip); all lengths share the patches of a realization (common random numbers),
         counted from the clamp.
-    n_realization : int
+    n : int
         Number of beams per length, >= 1 (ignored when ``realizations`` is given).
     seed : int
         Root seed; realization ``r`` draws from ``SeedSequence(seed, spawn_key=(r,))``, so any
@@ -185,17 +194,16 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
     shape_points : int
         If > 0, also return the deflection ``shape`` [m] on that many points of ``x/l``
         (the S-shape of the crack length; sharp-front shape for both models).
-    model : {"sharp_front", "cohesive"}
+    beam_model : {"sharp_front", "cohesive"}
         Sharp front on each patch's work of separation (fast, default) or the Euler-Bernoulli
-        beam on each patch's pressure law (:func:`roughstick.stiction.cohesive_beam.release_cohesive_beam`; an energy
-        bank gets the short-range law shape of :func:`roughstick.stiction.cohesive_beam.short_range_pressure_law`).
-        Both draw the same patches for the same seed. With ``"cohesive"``, ``"step_up"``
-        carries each beam's deflection from one RH to the next
-        (:func:`roughstick.stiction.cohesive_beam.step_cohesive_beam`).
+        beam on each patch's pressure law (:func:`release_cohesive`; an energy bank gets the
+        short-range law shape of :func:`short_range_pressure_law`). Both draw the same patches
+        for the same seed. With ``"cohesive"``, ``"step_up"`` carries each beam's deflection
+        from one RH to the next (:func:`step_cohesive`).
     element_size : float
         Largest finite element [m] of the cohesive model.
     law_kwargs : dict, optional
-        Keywords of :func:`roughstick.stiction.cohesive_beam.short_range_pressure_law` for an energy bank (cohesive).
+        Keywords of :func:`short_range_pressure_law` for an energy bank (cohesive).
 
     Returns
     -------
@@ -205,13 +213,20 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
         followed; such beams are excluded from the trials of P(stuck), ``n_solved``),
         ``apparent_adhesive_energy`` [J m-2] from Eq. 36; ``stuck_probability`` with its 95 %
         Wilson interval over ``(rh, beam_length)``; optional ``shape``.
+
+    Examples
+    --------
+    >>> bank = xr.DataArray([[1e-3], [2e-2]], dims=("law", "rh"), coords={"rh": [0.5]},
+    ...                     attrs={"units": "J m-2"})
+    >>> beams = rs.beam.simulate(bank, beam_length=[150e-6, 170e-6, 180e-6], n=50, seed=1)
+    >>> beams.stuck_probability.values  # over (rh, beam_length)
+    array([[0.  , 0.5 , 0.96]])
     """
-    if model not in MODELS:
-        raise ValueError(f"model must be one of {MODELS}, got {model!r}")
-    if model == "cohesive":
-        return _simulate_cohesive(bank, beam_length=beam_length, n_realization=n_realization,
-                                  seed=seed, protocol=protocol, beam=beam,
-                                  patch_length=patch_length, realizations=realizations,
+    if beam_model not in BEAM_MODELS:
+        raise ValueError(f"beam_model must be one of {BEAM_MODELS}, got {beam_model!r}")
+    if beam_model == "cohesive":
+        return _simulate_cohesive(bank, beam_length=beam_length, n=n, seed=seed, protocol=protocol,
+                                  beam=beam, patch_length=patch_length, realizations=realizations,
                                   shape_points=shape_points, element_size=element_size,
                                   law_kwargs=law_kwargs or {})
     if protocol not in PROTOCOLS:
@@ -219,54 +234,60 @@ def simulate_beams(bank: xr.DataArray, *, beam_length, n_realization: int = 100,
     if set(bank.dims) != {"law", "rh"}:
         raise ValueError(f"bank must have dims ('law', 'rh'), got {bank.dims}")
     bank = bank.transpose("law", "rh")
-    rh, lengths, patch_length, reals = _run_axes(bank, beam_length, n_realization, protocol,
-                                                 beam, patch_length, realizations)
+    axes = _run_axes(bank, beam_length, n, protocol, beam, patch_length, realizations)
     energy_bank = adhesive_energy_values(bank)
-    m = _n_patches(lengths.max(), patch_length)
-    idx = _draw_indices(seed, reals, energy_bank.shape[0], m)
-    s = np.empty((len(reals), len(rh), len(lengths)))
-    for b, length in enumerate(lengths):
-        geom = _with_length(beam, length)
+    idx = _draw_indices(seed, axes.realizations, energy_bank.shape[0],
+                        n_patches(axes.lengths.max(), axes.patch_length))
+    s = np.empty((len(axes.realizations), len(axes.rh), len(axes.lengths)))
+    for b, length in enumerate(axes.lengths):
+        geom = replace(beam, length=float(length))
         prev = None
-        for k in range(len(rh)):
+        for k in range(len(axes.rh)):
             gam = energy_bank[idx, k]
             if protocol == "release" or prev is None:
-                s[:, k, b] = beam_crack_length(gam, beam=geom, patch_length=patch_length)
+                s[:, k, b] = crack_length(gam, beam=geom, patch_length=axes.patch_length)
             else:
-                s[:, k, b] = beam_crack_length(gam, beam=geom, patch_length=patch_length,
-                                               start=prev, protocol="step_up")
+                s[:, k, b] = crack_length(gam, beam=geom, patch_length=axes.patch_length,
+                                          start=prev, protocol="step_up")
             prev = s[:, k, b]
-    return _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points)
+    return _dataset(s, axes, beam, protocol=protocol, seed=seed, shape_points=shape_points)
 
 
-def _run_axes(bank, beam_length, n_realization, protocol, beam, patch_length, realizations):
-    """(rh, beam lengths, patch length, realization indices) of a run, checked."""
+class _Axes(NamedTuple):
+    """The axes of a run: humidities, beam lengths, patch length, realization indices."""
+
+    rh: np.ndarray
+    lengths: np.ndarray
+    patch_length: float
+    realizations: np.ndarray
+
+
+def _run_axes(bank, beam_length, n, protocol, beam, patch_length, realizations) -> _Axes:
+    """The :class:`_Axes` of a run, checked."""
     rh = bank["rh"].values if "rh" in bank.coords else np.arange(bank.sizes["rh"])
     if protocol == "step_up" and np.any(np.diff(rh) <= 0):
         raise ValueError("protocol='step_up' needs the bank's rh coordinate increasing")
-    lengths, patch_length = _beam_axes(beam_length, patch_length, beam)
-    reals = np.arange(int(n_realization)) if realizations is None else \
-        np.asarray(realizations, dtype=np.int64)
+    lengths, patch_length = lengths_and_patch(beam_length, patch_length, beam)
+    reals = np.arange(int(n)) if realizations is None else np.asarray(realizations, dtype=np.int64)
     if reals.ndim != 1 or reals.size == 0:
         raise ValueError(f"realizations must be a non-empty 1-D list of indices, got {realizations!r}; "
-                         "or pass n_realization=100")
-    return rh, lengths, patch_length, reals
+                         "or pass n=100")
+    return _Axes(rh, lengths, patch_length, reals)
 
 
-def _simulate_cohesive(bank, *, beam_length, n_realization, seed, protocol, beam, patch_length,
+def _simulate_cohesive(bank, *, beam_length, n, seed, protocol, beam, patch_length,
                        realizations, shape_points, element_size, law_kwargs):
     if protocol not in PROTOCOLS:
         raise ValueError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
     if not {"law", "rh"} <= set(bank.dims):
         raise ValueError(f"bank must have dims ('law', 'rh'[, 'gap']), got {bank.dims}")
-    rh, lengths, patch_length, reals = _run_axes(bank, beam_length, n_realization, protocol,
-                                                 beam, patch_length, realizations)
+    axes = _run_axes(bank, beam_length, n, protocol, beam, patch_length, realizations)
     laws = CB.laws_by_rh(bank, **law_kwargs)
-    idx = _draw_indices(seed, reals, bank.sizes["law"], _n_patches(lengths.max(), patch_length))
-    s, failed, attached, arc = CB.release_many(laws, idx, lengths, beam, patch_length,
+    idx = _draw_indices(seed, axes.realizations, bank.sizes["law"],
+                        n_patches(axes.lengths.max(), axes.patch_length))
+    s, failed, attached, arc = CB.release_many(laws, idx, axes.lengths, beam, axes.patch_length,
                                                element_size=element_size, protocol=protocol)
-    ds = _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points,
-                  failed=failed)
+    ds = _dataset(s, axes, beam, protocol=protocol, seed=seed, shape_points=shape_points, failed=failed)
     dims = ("realization", "rh", "beam_length")
     ds["attached_length"] = xr.DataArray(attached, ds["stuck"].coords, dims, attrs={
         "units": "m", "long_name": "length of beam beyond the crack front (cohesive model)"})
@@ -276,20 +297,14 @@ def _simulate_cohesive(bank, *, beam_length, n_realization, seed, protocol, beam
     return ds
 
 
-def _with_length(beam, length):
-    from dataclasses import replace
-    return replace(beam, length=float(length))
-
-
 def s_shape(crack_length, gap, x):
     """Deflection below the rest position: S-shape on [0, s], flat on the pad beyond."""
     xi = np.clip(x / crack_length, 0.0, 1.0)
     return gap * (3 * xi**2 - 2 * xi**3)
 
 
-def _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_points,
-             failed=None):
-    coords = {"realization": reals, "rh": rh, "beam_length": lengths}
+def _dataset(s, axes: _Axes, beam, *, protocol, seed, shape_points, failed=None):
+    coords = {"realization": axes.realizations, "rh": axes.rh, "beam_length": axes.lengths}
     dims = ("realization", "rh", "beam_length")
     failed = np.zeros(s.shape, bool) if failed is None else failed
     stuck = np.isfinite(s) & ~failed
@@ -310,22 +325,24 @@ def _dataset(s, reals, rh, lengths, beam, patch_length, protocol, seed, shape_po
     ds["beam_length"].attrs.update(units="m", long_name="beam length")
     if shape_points:
         xr_ = np.linspace(0.0, 1.0, int(shape_points))
-        x = xr_[None, None, None, :] * lengths[None, None, :, None]
+        x = xr_[None, None, None, :] * axes.lengths[None, None, :, None]
         w = np.where(stuck[..., None], s_shape(np.where(stuck, s, 1.0)[..., None], beam.gap, x), 0.0)
         ds["shape"] = xr.DataArray(w, {**coords, "x_over_length": xr_}, dims + ("x_over_length",),
                                    attrs={"units": "m", "long_name": "deflection towards the pad"})
-    ds = xr.merge([ds, stuck_probability(ds)])
+    ds = xr.merge([ds, stuck_probability_from_beams(ds)])
     ds.attrs.update(title="beam-scale stochastic stiction", protocol=protocol, seed=int(seed),
                     model="sharp_front",
-                    patch_length=patch_length, thickness=beam.thickness, gap=beam.gap,
+                    patch_length=axes.patch_length, thickness=beam.thickness, gap=beam.gap,
                     youngs_modulus=beam.youngs_modulus,
                     references="paper Eq. 36, §5; Hoang et al. 2017 (beam-scale model)")
     return ds
 
 
 @check_numbers(confidence="fraction")
-def stuck_probability(result: xr.Dataset, *, confidence: float = 0.95, method: str = "wilson"):
-    """P(stuck) over ``realization`` with its binomial interval (Wilson by default).
+def stuck_probability_from_beams(result: xr.Dataset, *, confidence: float = 0.95,
+                                 interval: str = "wilson") -> xr.Dataset:
+    """P(stuck) of simulated beams over ``realization`` with its binomial interval (Wilson by
+    default): what ``roughstick.stuck_probability(beams)`` returns for :func:`simulate`'s output.
 
     Beams flagged ``solver_failed`` are not trials: ``n_solved`` counts the rest.
     """
@@ -333,12 +350,12 @@ def stuck_probability(result: xr.Dataset, *, confidence: float = 0.95, method: s
     n = result.sizes["realization"]
     if "solver_failed" in result:
         n = n - result["solver_failed"].sum("realization")
-    lo, hi = binomial_interval(k, n, confidence=confidence, method=method)
+    lo, hi = binomial_interval(k, n, confidence=confidence, method=interval)
     out = xr.Dataset({"stuck_probability": k / n, "stuck_probability_lower": lo,
                       "stuck_probability_upper": hi, "n_stuck": k,
                       "n_solved": n if isinstance(n, xr.DataArray) else xr.full_like(k, n)})
     out["stuck_probability"].attrs.update(units="1", long_name="probability that the beam stays stuck")
-    level = f"{100 * confidence:g} % {method}"
+    level = f"{100 * confidence:g} % {interval}"
     out["stuck_probability_lower"].attrs.update(units="1", long_name=f"lower bound of P(stuck), {level} interval")
     out["stuck_probability_upper"].attrs.update(units="1", long_name=f"upper bound of P(stuck), {level} interval")
     out["n_stuck"].attrs.update(units="1", long_name="number of stuck beams")

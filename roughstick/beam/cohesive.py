@@ -1,14 +1,14 @@
 r"""Cohesive beam model: an Euler-Bernoulli cantilever released onto the patches' pressure laws.
 
-The finite-range counterpart of the sharp-front model of :mod:`.beam_model` (issue 14). The
+The finite-range counterpart of the sharp-front model of :mod:`.sharp_front`. The
 cantilever (length l, width w, thickness t, modulus E, gap h; the §5.1 beams by default) is
 clamped at the support and loaded along its length by the interface pressure :math:`p_k(g)` of
 the patch k under each point, g the local distance between the mean planes. Patches of length
 Δx along the beam each carry one law of a bank:
 
-- a bank of pressure-distance laws over ``(law, rh, gap)`` (:func:`pressure_law_bank`: the
+- a bank of pressure-distance laws over ``(law, rh, gap)`` (:func:`.pressure_law_bank`: the
   modified-DMT curves of independent patch surfaces, Eqs. 33-35 and 13), or
-- main's bank of adhesive energies over ``(law, rh)`` (:func:`roughstick.build_patch_bank`):
+- a bank of adhesive energies over ``(law, rh)`` (:func:`.build_patch_bank`):
   each energy :math:`\Gamma_k` is given the short-range shape of
   :func:`short_range_pressure_law` (stiff repulsion, a cubic well of work :math:`\Gamma_k` and
   range ``law_range``) — the law's shape is then assumed, only its energy is random.
@@ -26,7 +26,7 @@ an S-shaped guess, energy descent, load doubled/halved). A release that still fa
 The crack length reported is the zero-slope point of the free span's cubic (the s of Eq. 36);
 the apparent Γ is Eq. 36 applied to it, as an experimenter would. Internal units: µm along the
 beam, nm for gaps (:mod:`._cohesive_kernels`). RH stepping (state carried from one RH to the
-next): :func:`step_cohesive_beam`.
+next): :func:`step_cohesive`.
 """
 
 from __future__ import annotations
@@ -41,13 +41,11 @@ import xarray as xr
 
 from .._core.arguments import check_numbers
 from .._core.validate import adhesive_energy_values
-from ..contact import contact_distance_grid, rough_contact_curves
-from ..surface import generate_surfaces
+from ..stiction.cantilever import PAPER_CANTILEVER, Cantilever
 from . import _cohesive_kernels as K
-from .beam import PAPER_CANTILEVER, Cantilever
 
-__all__ = ["PatchLaws", "CohesiveRelease", "release_cohesive_beam", "step_cohesive_beam",
-           "short_range_pressure_law", "pressure_law_bank"]
+__all__ = ["PatchLaws", "CohesiveRelease", "release_cohesive", "step_cohesive",
+           "short_range_pressure_law"]
 
 SolverError = K.SolverError
 _PA_TO_HAT = 1e-9  # p_hat = p[Pa] * 1e-9  (pJ µm^-2 nm^-1)
@@ -73,6 +71,13 @@ def short_range_pressure_law(adhesive_energy, *, law_range=2e-9, contact_gap=5e-
     -------
     (numpy.ndarray, numpy.ndarray)
         Pressure [Pa] (positive repulsive, 0 at the top of the grid) and the uniform gap grid [m].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p, g = rs.beam.short_range_pressure_law(1e-3)  # Γ = 1 mJ m-2
+    >>> round(float(-np.trapezoid(np.minimum(p, 0.0), g)) * 1e3, 4)  # its work of separation
+    1.0
     """
     gamma = np.asarray(adhesive_energy, dtype=float)
     g = np.arange(0.0, contact_gap + law_range + gap_step / 2, gap_step)
@@ -93,6 +98,12 @@ class PatchLaws:
         ``gap`` coordinate [m]. The last column is set to 0 (the law vanishes above the grid;
         the largest magnitude dropped is kept in ``top_pressure``); below the grid the last
         segment is extrapolated (stiff repulsion).
+
+    Examples
+    --------
+    >>> laws = rs.beam.PatchLaws.from_energy([1e-3, 2e-3])  # two short-range laws [J m-2]
+    >>> (laws.adhesive_energy * 1e3).round(3)  # the depth of each law's potential, mJ m-2
+    array([1., 2.])
     """
 
     def __init__(self, pressure: xr.DataArray):
@@ -113,6 +124,8 @@ class PatchLaws:
         self.P = np.ascontiguousarray(p * _PA_TO_HAT)
         self.g_lo, self.dg, self.g_hi = float(g[0]), float(dg), float(g[-1])
         self.PHI, self.S = K.tabulate_laws(self.P, self.g_lo, self.dg)
+        #: the tables as the kernels take them
+        self.table = K.LawTable(self.P, self.S, self.PHI, self.g_lo, self.dg)
         self.n_laws = p.shape[0]
         #: work of separation from the equilibrium gap [J m-2] (the depth of each law's potential)
         self.adhesive_energy = -self.PHI.min(axis=1)
@@ -126,7 +139,7 @@ class PatchLaws:
 
     @classmethod
     def from_energy(cls, adhesive_energy, **law_kwargs) -> PatchLaws:
-        """One :func:`short_range_pressure_law` per adhesive energy [J m-2] (main's bank format)."""
+        """One :func:`short_range_pressure_law` per adhesive energy [J m-2] (an energy bank)."""
         gamma = np.atleast_1d(np.asarray(adhesive_energy, dtype=float))
         if gamma.ndim != 1 or not np.all(np.isfinite(gamma)) or np.any(gamma < 0):
             raise ValueError("adhesive energies must be a 1-D array of finite values >= 0 J m-2")
@@ -151,7 +164,7 @@ class CohesiveRelease:
     n_steps: int
     arc: bool = False
     #: deflection dofs (internal units) and mesh refinement start of the state reached, for
-    #: :func:`step_cohesive_beam`; None when free
+    #: :func:`step_cohesive`; None when free
     state: np.ndarray | None = field(default=None, repr=False, compare=False)
     x_fine: float = math.nan
 
@@ -159,14 +172,13 @@ class CohesiveRelease:
 def _mesh(laws: PatchLaws, patch_law, beam: Cantilever, patch_length, element_size, x_fine):
     EI_hat = beam.youngs_modulus * beam.width * beam.thickness**3 / 12.0 * 1e12
     return K.BeamMesh(beam.length * 1e6, beam.width * 1e6, EI_hat, beam.gap * 1e9, patch_law,
-                      patch_length * 1e6, element_size * 1e6, x_fine, laws.P, laws.S, laws.PHI,
-                      laws.g_lo, laws.dg)
+                      patch_length * 1e6, element_size * 1e6, x_fine, laws.table)
 
 
 @check_numbers(patch_length="length?", element_size="length", step="length")
-def release_cohesive_beam(laws: PatchLaws, patch_law, *, beam: Cantilever = PAPER_CANTILEVER,
-                          patch_length: float | None = None, element_size: float = 0.5e-6,
-                          step: float = 1e-6) -> CohesiveRelease:
+def release_cohesive(laws: PatchLaws, patch_law, *, beam: Cantilever = PAPER_CANTILEVER,
+                     patch_length: float | None = None, element_size: float = 0.5e-6,
+                     step: float = 1e-6) -> CohesiveRelease:
     r"""Release one pulled-in cantilever onto its patch laws: stuck or free, and the crack length.
 
     Parameters
@@ -193,13 +205,21 @@ def release_cohesive_beam(laws: PatchLaws, patch_law, *, beam: Cantilever = PAPE
     ------
     SolverError
         The equilibrium path could not be followed (recorded as ``solver_failed`` by
-        :func:`roughstick.simulate_beams`).
+        :func:`roughstick.beam.simulate`).
 
     Notes
     -----
     The continuation starts at the front where the energy release rate of Eq. 36 is
     1/0.8⁴ ≈ 2.4 times the strongest law used, so every front behind it needs a positive
     holding load; a beam shorter than that start comes free.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> laws = rs.beam.PatchLaws.from_energy([1e-3])  # one law under every patch: 1 mJ m-2
+    >>> r = rs.beam.release_cohesive(laws, np.zeros(200, int), beam=rs.stiction.Cantilever(length=500e-6))
+    >>> r.stuck, round(float(r.crack_length) * 1e6, 1)  # µm; Eq. 36 gives 355.5
+    (True, 355.0)
     """
     patch_length = float(beam.interaction_zone_length if patch_length is None else patch_length)
     if not (patch_length > 0 and element_size > 0 and step > 0):
@@ -238,9 +258,9 @@ def release_cohesive_beam(laws: PatchLaws, patch_law, *, beam: Cantilever = PAPE
 
 
 @check_numbers(patch_length="length?", element_size="length")
-def step_cohesive_beam(laws: PatchLaws, patch_law, previous: CohesiveRelease, *,
-                       beam: Cantilever = PAPER_CANTILEVER, patch_length: float | None = None,
-                       element_size: float = 0.5e-6) -> CohesiveRelease:
+def step_cohesive(laws: PatchLaws, patch_law, previous: CohesiveRelease, *,
+                  beam: Cantilever = PAPER_CANTILEVER, patch_length: float | None = None,
+                  element_size: float = 0.5e-6) -> CohesiveRelease:
     r"""The beam left in place while RH changes: its state carried onto the new patch laws.
 
     The protocol of DelRio et al. (2007), RH stepped up with no pull-in in between: a free beam
@@ -254,13 +274,22 @@ def step_cohesive_beam(laws: PatchLaws, patch_law, previous: CohesiveRelease, *,
     Parameters
     ----------
     laws, patch_law, beam, patch_length, element_size
-        As in :func:`release_cohesive_beam` (same patches, same mesh parameters as ``previous``).
+        As in :func:`release_cohesive` (same patches, same mesh parameters as ``previous``).
     previous : CohesiveRelease
-        The state at the previous RH (from :func:`release_cohesive_beam` or this function).
+        The state at the previous RH (from :func:`release_cohesive` or this function).
 
     Returns
     -------
     CohesiveRelease
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> beam, patches = rs.stiction.Cantilever(length=500e-6), np.zeros(200, int)
+    >>> first = rs.beam.release_cohesive(rs.beam.PatchLaws.from_energy([1e-3]), patches, beam=beam)
+    >>> wetter = rs.beam.step_cohesive(rs.beam.PatchLaws.from_energy([2e-3]), patches, first, beam=beam)
+    >>> round(float(wetter.crack_length) * 1e6, 1)  # µm: the front zips towards Eq. 36 (298.9)
+    298.5
     """
     nan = math.nan
     if previous.state is None:
@@ -301,7 +330,7 @@ def release_many(laws: list[PatchLaws], idx, lengths, beam: Cantilever, patch_le
     """Every (realization, rh, length): arrays s [m] (inf free), failed, attached, arc.
 
     ``protocol="step_up"`` releases at the first RH and carries each beam's state through the
-    next ones (:func:`step_cohesive_beam`); a failure there fails the later RH of that beam.
+    next ones (:func:`step_cohesive`); a failure there fails the later RH of that beam.
     Realizations are independent and solved on ``threads`` threads (default: one per core; the
     compiled assembly and solves release the GIL), each writing only its own rows, so the result
     does not depend on the number of threads.
@@ -319,14 +348,13 @@ def release_many(laws: list[PatchLaws], idx, lengths, beam: Cantilever, patch_le
             for j, law in enumerate(laws):
                 try:
                     if protocol == "release" or j == 0:
-                        r = release_cohesive_beam(law, idx[i], beam=geom, patch_length=patch_length,
-                                                  element_size=element_size, step=step)
+                        r = release_cohesive(law, idx[i], beam=geom, patch_length=patch_length,
+                                             element_size=element_size, step=step)
                     elif prev is None:
                         raise K.SolverError("the state at the previous RH was not solved")
                     else:
-                        r = step_cohesive_beam(law, idx[i], prev, beam=geom,
-                                               patch_length=patch_length,
-                                               element_size=element_size)
+                        r = step_cohesive(law, idx[i], prev, beam=geom, patch_length=patch_length,
+                                          element_size=element_size)
                 except K.SolverError:
                     failed[i, j, b] = True
                     s[i, j, b] = np.nan
@@ -346,52 +374,3 @@ def release_many(laws: list[PatchLaws], idx, lengths, beam: Cantilever, patch_le
         with ThreadPoolExecutor(max_workers=workers) as pool:
             list(pool.map(one, range(idx.shape[0])))  # list(): re-raises a worker's exception
     return s, failed, attached, arc
-
-
-@check_numbers(n_law="count", spacing="length", seed="seed", n_gap="count")
-def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 100, shape=(64, 64),
-                      spacing: float, seed: int = 0, model: str = "modified_dmt",
-                      n_gap: int = 400) -> xr.DataArray:
-    r"""Pressure-distance laws of ``n_law`` random patches per RH on one uniform gap grid.
-
-    The same patches as :func:`roughstick.build_patch_bank` with the same arguments (law k is
-    realization k of :func:`roughstick.generate_surfaces`), kept as full curves (Eqs. 33-35,
-    13) for the cohesive model instead of their adhesive energies. Patches are assumed
-    independent; a ``ValueError`` is raised when the patch is not at least four correlation
-    lengths of the first surface long (autocorrelation falling below 1/e).
-
-    Returns
-    -------
-    xarray.DataArray
-        ``pressure`` [Pa] (positive repulsive) over ``(law, rh, gap)``, gap [m] between mean planes.
-    """
-    rh = np.atleast_1d(np.asarray(relative_humidity, dtype=float))
-    if np.any((rh <= 0) | (rh >= 1)):
-        raise ValueError("relative_humidity must be fractions in (0, 1), e.g. 0.6 not 60")
-    if int(n_law) < 1 or int(n_gap) < 8:
-        raise ValueError("n_law must be >= 1 and n_gap >= 8")
-    surf = generate_surfaces(psd, n=int(n_law), shape=tuple(shape), spacing=float(spacing),
-                             seed=seed).load()
-    first = np.asarray(surf.isel(realization=0).values, dtype=float)
-    z = first - first.mean()
-    acf = np.fft.ifft2(np.abs(np.fft.fft2(z)) ** 2).real[0] / np.sum(z * z)
-    corr = spacing * int(np.argmax(acf[: z.shape[1] // 2] < math.exp(-1)))
-    if not 0 < corr <= spacing * z.shape[1] / 4:
-        raise ValueError(f"patch of {spacing * z.shape[1]:.3g} m is not >= 4 correlation lengths "
-                         f"({corr:.3g} m): patch laws would not be independent; use longer patches")
-    grid = np.asarray(contact_distance_grid(surf.isel(realization=0), relative_humidity=list(rh)).values)
-    rms = float(z.std())
-    lo, hi = grid.min() - 0.5 * (grid.max() - grid.min()), grid.max() + 4 * rms
-    gap = np.linspace(lo, hi, int(n_gap))
-    out = np.empty((int(n_law), len(rh), gap.size))
-    for k in range(int(n_law)):
-        c = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh), distance=gap,
-                                 model=model)
-        out[k] = c["pressure"].transpose("rh", "distance").values
-    bank = xr.DataArray(out, {"law": np.arange(int(n_law)), "rh": rh, "gap": gap},
-                        ("law", "rh", "gap"), name="pressure",
-                        attrs={"units": "Pa", "long_name": "mean pressure of a patch law (positive repulsive)",
-                               "contact_model": model, "seed": int(seed), "correlation_length": corr,
-                               "independence": "patch laws independent (patch >= 4 correlation lengths)"})
-    bank["gap"].attrs.update(units="m", long_name="distance between the mean planes")
-    return bank

@@ -1,4 +1,4 @@
-"""Tests of the rare-event estimators: subset simulation, crude Monte Carlo, weakest link (issue 15)."""
+"""Tests of the rare-event estimators: subset simulation, crude Monte Carlo, weakest link."""
 
 from __future__ import annotations
 
@@ -10,9 +10,8 @@ import xarray as xr
 from scipy.stats import norm
 
 import roughstick as rs
-from roughstick.stiction import _rare_kernels as _k
-from roughstick.stiction import _rare_surface as _s
-from roughstick.stiction import rare_events as re_
+from roughstick.reliability import _kernels as _k
+from roughstick.reliability import _surface as _s
 
 # The modified DMT on these small Table-4 zones is outside its measured validity map (issue 13);
 # the estimators are tested here, not the contact model, so its warning is not the subject.
@@ -67,7 +66,7 @@ def test_noise_map_has_the_psd(shape):
     assert np.isclose(power_map.sum(), power_gen.sum(), rtol=4 * np.sqrt(2 / 200))
     v = z.var(axis=(1, 2)).mean()
     assert abs(v / f.variance - 1) < 0.15
-    out = re_.surface_from_noise(z[0] * 0 + rng.standard_normal(f.noise_shape), psd, shape=shape, spacing=SPACING)
+    out = rs.reliability.surface_from_noise(z[0] * 0 + rng.standard_normal(f.noise_shape), psd, shape=shape, spacing=SPACING)
     assert out.dims == ("y", "x") and out.attrs["units"] == "m"
 
 
@@ -122,8 +121,8 @@ def test_subset_against_exact_linear_limit_state(beta):
     exact = norm.sf(beta)
     ps, cvs, cover = [], [], 0
     for s in range(20):
-        ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=beta, seed=s,
-                                   samples_per_level=500, scheduler="sync")
+        ds = rs.reliability.subset_simulation(Linear(shape), noise_shape=shape, threshold=beta, seed=s,
+                                   n_per_level=500, scheduler="sync")
         p = float(ds.failure_probability)
         ps.append(p)
         cvs.append(float(ds.coefficient_of_variation))
@@ -166,8 +165,8 @@ def test_reported_cv_matches_the_spread_over_seeds():
     exact = norm.sf(3.09)
     ps, cvs, aus, cover = [], [], [], 0
     for s in range(40):
-        ds = re_.subset_simulation(Linear(shape, seed=1), noise_shape=shape, threshold=3.09, seed=500 + s,
-                                   samples_per_level=300, scheduler="sync", chunks=10_000)
+        ds = rs.reliability.subset_simulation(Linear(shape, seed=1), noise_shape=shape, threshold=3.09, seed=500 + s,
+                                   n_per_level=300, scheduler="sync", chunks=10_000)
         ps.append(float(ds.failure_probability))
         cvs.append(float(ds.coefficient_of_variation))
         aus.append(float(ds.au_beck_cv))
@@ -182,16 +181,16 @@ def test_certain_failure_is_not_certain_from_a_sample():
     """Every level-0 sample fails (a 1500 um beam: Gamma_crit 3e-3 mJ/m2): the run stops at level 0,
     P = 1, and the interval is the Wilson one of N out of N, not [1, 1] with cv 0."""
     shape = (8, 2)
-    ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=-20.0, seed=0,
-                               samples_per_level=300, scheduler="sync")
+    ds = rs.reliability.subset_simulation(Linear(shape), noise_shape=shape, threshold=-20.0, seed=0,
+                               n_per_level=300, scheduler="sync")
     assert float(ds.failure_probability) == 1.0
     lo, hi = rs.binomial_interval(300, 300)
     assert math.isclose(float(ds.failure_probability_lower), float(lo), rel_tol=1e-12) and float(lo) < 0.99
 
 def test_monte_carlo_against_exact_and_wilson():
     shape = (10, 2)
-    ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=1.645, method="monte_carlo",
-                               samples_per_level=4000, seed=3, scheduler="sync")
+    ds = rs.reliability.subset_simulation(Linear(shape), noise_shape=shape, threshold=1.645, method="monte_carlo",
+                               n_per_level=4000, seed=3, scheduler="sync")
     exact = norm.sf(1.645)
     lo, hi = float(ds.failure_probability_lower), float(ds.failure_probability_upper)
     assert lo < exact < hi
@@ -204,8 +203,8 @@ def test_monte_carlo_against_exact_and_wilson():
 
 def test_target_cv_adds_runs_until_met():
     shape = (20, 2)
-    ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=3.09, seed=5,
-                               samples_per_level=200, target_cv=0.15, scheduler="sync")
+    ds = rs.reliability.subset_simulation(Linear(shape), noise_shape=shape, threshold=3.09, seed=5,
+                               n_per_level=200, target_cv=0.15, scheduler="sync")
     assert int(ds.converged) == 1
     assert float(ds.coefficient_of_variation) <= 0.15
     assert ds.sizes["run"] >= 2
@@ -214,16 +213,16 @@ def test_target_cv_adds_runs_until_met():
     assert np.array_equal(off[1:], np.cumsum(ds.run_samples.values)[:-1])
     assert int(ds.n_evaluations) == int(ds.level_evaluations.sum())
     # budget: stops early, says so
-    small = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=3.09, seed=5,
-                                  samples_per_level=200, target_cv=0.05, max_evaluations=2000,
+    small = rs.reliability.subset_simulation(Linear(shape), noise_shape=shape, threshold=3.09, seed=5,
+                                  n_per_level=200, target_cv=0.05, max_evaluations=2000,
                                   scheduler="sync")
     assert int(small.converged) == 0 and int(small.n_evaluations) <= 2000 + 180  # + one level
 
 
 def test_monte_carlo_target_cv():
     shape = (4,)
-    ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=1.0, method="monte_carlo",
-                               samples_per_level=100, target_cv=0.1, seed=1, scheduler="sync")
+    ds = rs.reliability.subset_simulation(Linear(shape), noise_shape=shape, threshold=1.0, method="monte_carlo",
+                               n_per_level=100, target_cv=0.1, seed=1, scheduler="sync")
     p = float(ds.failure_probability)
     assert float(ds.coefficient_of_variation) <= 0.1 and int(ds.converged) == 1
     assert abs(p - norm.sf(1.0)) < 4 * 0.1 * p
@@ -236,8 +235,8 @@ def test_unreachable_threshold_gives_zero_with_upper_bound():
     def bounded(z):
         return float(np.tanh(z[0]))
 
-    ds = re_.subset_simulation(bounded, noise_shape=shape, threshold=2.0, seed=0,
-                               samples_per_level=100, max_levels=4, scheduler="sync")
+    ds = rs.reliability.subset_simulation(bounded, noise_shape=shape, threshold=2.0, seed=0,
+                               n_per_level=100, max_levels=4, scheduler="sync")
     assert float(ds.failure_probability) == 0.0
     assert int(ds.converged) == 0
     assert float(ds.failure_probability_upper) > 0
@@ -246,10 +245,10 @@ def test_unreachable_threshold_gives_zero_with_upper_bound():
 # ------------------------------------------------------------------------------ reproducibility
 def test_bit_identical_across_chunks_and_schedulers():
     shape = (12, 3)
-    kw = dict(noise_shape=shape, threshold=3.0, seed=9, samples_per_level=200)
-    a = re_.subset_simulation(Linear(shape), chunks=1, scheduler="sync", **kw)
-    b = re_.subset_simulation(Linear(shape), chunks=7, scheduler="threads", **kw)
-    c = re_.subset_simulation(Linear(shape), chunks=1000, scheduler="threads", **kw)
+    kw = dict(noise_shape=shape, threshold=3.0, seed=9, n_per_level=200)
+    a = rs.reliability.subset_simulation(Linear(shape), chunks=1, scheduler="sync", **kw)
+    b = rs.reliability.subset_simulation(Linear(shape), chunks=7, scheduler="threads", **kw)
+    c = rs.reliability.subset_simulation(Linear(shape), chunks=1000, scheduler="threads", **kw)
     for other in (b, c):
         xr.testing.assert_identical(a.drop_attrs(), other.drop_attrs())
 
@@ -257,36 +256,36 @@ def test_bit_identical_across_chunks_and_schedulers():
 def test_surface_model_bit_identical_across_chunks():
     psd = table4()
     kw = dict(threshold=0.02, relative_humidity=0.5, shape=(48, 48), spacing=SPACING, seed=2,
-              samples_per_level=50)
-    a = re_.failure_probability(psd, chunks=1, scheduler="sync", **kw)
-    b = re_.failure_probability(psd, chunks=13, scheduler="threads", **kw)
+              n_per_level=50)
+    a = rs.reliability.failure_probability(psd, chunks=1, scheduler="sync", **kw)
+    b = rs.reliability.failure_probability(psd, chunks=13, scheduler="threads", **kw)
     xr.testing.assert_identical(a.drop_attrs(), b.drop_attrs())
     assert a.sizes["level"] >= 2  # the chains ran
 
 
 def test_resume_after_kill_equals_uninterrupted(tmp_path):
     shape = (10, 2)
-    kw = dict(noise_shape=shape, threshold=3.2, seed=4, samples_per_level=200, scheduler="sync")
-    full = re_.subset_simulation(Linear(shape), **kw)
+    kw = dict(noise_shape=shape, threshold=3.2, seed=4, n_per_level=200, scheduler="sync")
+    full = rs.reliability.subset_simulation(Linear(shape), **kw)
     with pytest.raises(KeyboardInterrupt):
-        re_.subset_simulation(Counting(shape, 500), output=tmp_path / "run", token="lin", **kw)
+        rs.reliability.subset_simulation(Counting(shape, 500), output=tmp_path / "run", token="lin", **kw)
     files = sorted(p.name for p in (tmp_path / "run").glob("*.nc"))
     assert files == ["run000-level00.nc", "run000-level01.nc"]  # 200 + 180 evaluations kept
-    again = re_.subset_simulation(Counting(shape, 10**9), output=tmp_path / "run", token="lin", **kw)
+    again = rs.reliability.subset_simulation(Counting(shape, 10**9), output=tmp_path / "run", token="lin", **kw)
     xr.testing.assert_identical(full.drop_attrs(), again.drop_attrs())
     # a finished run is read back without evaluating anything
-    never = re_.subset_simulation(Counting(shape, 0), output=tmp_path / "run", token="lin", **kw)
+    never = rs.reliability.subset_simulation(Counting(shape, 0), output=tmp_path / "run", token="lin", **kw)
     xr.testing.assert_identical(full.drop_attrs(), never.drop_attrs())
     # different parameters: refused unless overwrite
     with pytest.raises(FileExistsError, match="different parameters"):
-        re_.subset_simulation(Linear(shape), output=tmp_path / "run", token="lin",
+        rs.reliability.subset_simulation(Linear(shape), output=tmp_path / "run", token="lin",
                               **{**kw, "threshold": 3.0})
 
 
 def test_result_is_cf_netcdf(tmp_path):
     shape = (6, 2)
-    ds = re_.subset_simulation(Linear(shape), noise_shape=shape, threshold=2.5, seed=0,
-                               samples_per_level=100, scheduler="sync")
+    ds = rs.reliability.subset_simulation(Linear(shape), noise_shape=shape, threshold=2.5, seed=0,
+                               n_per_level=100, scheduler="sync")
     rs.write(ds, tmp_path / "r.nc", compute=True)
     back = xr.open_dataset(tmp_path / "r.nc")
     assert float(back.failure_probability) == float(ds.failure_probability)
@@ -298,7 +297,7 @@ def test_result_is_cf_netcdf(tmp_path):
     "kwargs, match",
     [
         (dict(method="importance"), "method must be"),
-        (dict(samples_per_level=105, level_probability=0.1), "whole number of chains"),
+        (dict(n_per_level=105, level_probability=0.1), "whole number of chains"),
         (dict(level_probability=1.5), "level_probability"),
         (dict(proposal_scale=0.0), "proposal_scale"),
         (dict(target_cv=-1.0), "target_cv"),
@@ -307,17 +306,17 @@ def test_result_is_cf_netcdf(tmp_path):
 )
 def test_bad_settings(kwargs, match):
     with pytest.raises(ValueError, match=match):
-        re_.subset_simulation(Linear((3,)), noise_shape=(3,), threshold=1.0, **kwargs)
+        rs.reliability.subset_simulation(Linear((3,)), noise_shape=(3,), threshold=1.0, **kwargs)
 
 
 def test_a_stored_run_needs_a_token_that_survives_a_new_process(tmp_path):
     """With output=, a limit state whose repr holds a memory address (a lambda) is refused
     without token=, naming the fix; with a token it runs."""
-    kw = dict(noise_shape=(3,), threshold=1.0, samples_per_level=50, scheduler="sync", output=tmp_path / "r")
+    kw = dict(noise_shape=(3,), threshold=1.0, n_per_level=50, scheduler="sync", output=tmp_path / "r")
     with pytest.raises(ValueError, match="needs token="):
-        re_.subset_simulation(lambda z: float(z.sum()), **kw)
+        rs.reliability.subset_simulation(lambda z: float(z.sum()), **kw)
     assert not (tmp_path / "r").exists()  # refused before anything is written
-    ds = re_.subset_simulation(lambda z: float(z.sum()), token="sum", **kw)
+    ds = rs.reliability.subset_simulation(lambda z: float(z.sum()), token="sum", **kw)
     assert ds.n_evaluations > 0
 
 
@@ -325,17 +324,17 @@ def test_bad_surface_input():
     psd = table4()
     kw = dict(threshold=0.01, relative_humidity=0.5, shape=(32, 32), spacing=SPACING)
     with pytest.raises(ValueError, match="relative_humidity"):
-        re_.failure_probability(psd, **{**kw, "relative_humidity": 50})
+        rs.reliability.failure_probability(psd, **{**kw, "relative_humidity": 50})
     with pytest.raises(ValueError, match="quantity"):
-        re_.failure_probability(psd, quantity="gamma", **kw)
+        rs.reliability.failure_probability(psd, quantity="gamma", **kw)
     with pytest.raises(ValueError, match="threshold"):
-        re_.failure_probability(psd, **{**kw, "threshold": -1.0})
+        rs.reliability.failure_probability(psd, **{**kw, "threshold": -1.0})
     with pytest.raises(ValueError, match="patches"):
-        re_.failure_probability(psd, patches=5, **kw)
-    with pytest.raises(ValueError, match="contact_model must be one of"):
-        re_.failure_probability(psd, contact_model="bem", **kw)
+        rs.reliability.failure_probability(psd, patches=5, **kw)
+    with pytest.raises(ValueError, match="model must be one of"):
+        rs.reliability.failure_probability(psd, model="bem", **kw)
     with pytest.raises(ValueError, match="periodic zones only"):
-        re_.failure_probability(psd, contact_model="fft_bem", patches=2, **kw)
+        rs.reliability.failure_probability(psd, model="fft_bem", patches=2, **kw)
 
 
 def test_bem_check_confirms_or_flags_the_failure_states():
@@ -346,7 +345,7 @@ def test_bem_check_confirms_or_flags_the_failure_states():
     psd = table4()
     f = _s.NoiseToSurface(psd, shape=(24, 24), spacing=SPACING)
     model = _s.SurfaceResponse(f, relative_humidity=0.5, water_height=float(rs.water_height(0.5).values))
-    bem = _s.SurfaceResponse(f, relative_humidity=0.5, water_height=model.hw, contact_model="fft_bem")
+    bem = _s.SurfaceResponse(f, relative_humidity=0.5, water_height=model.hw, model="fft_bem")
     rng = np.random.default_rng(4)
     noise = rng.standard_normal((5, 24 * 24))
     g = np.array([bem(w) for w in noise])
@@ -362,7 +361,7 @@ def test_bem_check_confirms_or_flags_the_failure_states():
     assert np.isnan(float(low.failure_bem_ratio_low)) and np.isnan(float(low.failure_bem_ratio_high))
     with pytest.warns(rs.ValidityWarning, match="model error moves them") as rec:
         high = _s.bem_check(ds.copy(), model, 2 * g.max(), 3)
-    assert "contact_model='fft_bem'" in str(rec[0].message) and "artefacts" not in str(rec[0].message)
+    assert "model='fft_bem'" in str(rec[0].message) and "artefacts" not in str(rec[0].message)
     assert float(high.failures_confirmed_by_bem) == 0.0 and high.failures_confirmed_by_bem.attrs["checked"] == 3
     with pytest.warns(rs.ValidityWarning, match="only 2 of 5"):  # strictly above the median: 2 of 5
         mid = _s.bem_check(ds.copy(), model, float(np.median(g)), 8)
@@ -382,17 +381,17 @@ def test_bem_check_confirms_or_flags_the_failure_states():
 
 
 def test_fft_bem_limit_state_is_the_public_model():
-    """contact_model="fft_bem": every failure sample's stored response is the boundary-element
+    """model="fft_bem": every failure sample's stored response is the boundary-element
     Γ of its surface computed by the public functions (noise -> surface -> fft_bem_contact_curves
     -> adhesion_summary), and the result says which model it used."""
     psd = table4()
-    ds = re_.failure_probability(psd, threshold=0.04, relative_humidity=0.5, shape=(24, 24),
-                                 spacing=SPACING, contact_model="fft_bem", method="monte_carlo",
-                                 samples_per_level=40, seed=2, scheduler="sync")
+    ds = rs.reliability.failure_probability(psd, threshold=0.04, relative_humidity=0.5, shape=(24, 24),
+                                 spacing=SPACING, model="fft_bem", method="monte_carlo",
+                                 n_per_level=40, seed=2, scheduler="sync")
     assert ds.attrs["contact_model"] == "fft_bem"
     assert 0 < ds.failure_noise.shape[0] < 40  # a threshold inside the distribution
     for w, y in zip(ds.failure_noise.values[:3], ds.failure_response.values[:3], strict=False):
-        h = re_.surface_from_noise(w.reshape(24, 24), psd, shape=(24, 24), spacing=SPACING)
+        h = rs.reliability.surface_from_noise(w.reshape(24, 24), psd, shape=(24, 24), spacing=SPACING)
         c = rs.fft_bem_contact_curves(h - h.mean(), relative_humidity=0.5, progress=False)
         assert float(rs.adhesion_summary(c, check_grid=False).adhesive_energy) == y > 0.04
 
@@ -405,7 +404,7 @@ def test_weakest_link_formula():
         "failure_probability_upper": xr.DataArray(0.012),
         "coefficient_of_variation": xr.DataArray(0.1),
     })
-    w = re_.weakest_link(ds, patches=[1, 4, 1000])
+    w = rs.reliability.weakest_link(ds, patches=[1, 4, 1000])
     p = w.failure_probability.values
     assert math.isclose(p[0], 0.01) and math.isclose(p[1], 1 - 0.99**4)
     assert p[2] > 0.9999
@@ -414,9 +413,9 @@ def test_weakest_link_formula():
     # small p: P_m ~ m p, cv unchanged
     tiny = ds.copy()
     tiny["failure_probability"] = xr.DataArray(1e-7)
-    assert math.isclose(float(re_.weakest_link(tiny, patches=4).coefficient_of_variation), 0.1, rel_tol=1e-5)
+    assert math.isclose(float(rs.reliability.weakest_link(tiny, patches=4).coefficient_of_variation), 0.1, rel_tol=1e-5)
     with pytest.raises(ValueError, match="patches"):
-        re_.weakest_link(ds, patches=0)
+        rs.reliability.weakest_link(ds, patches=0)
 
 
 # ------------------------------------------------------------------------------ the surface model
@@ -425,8 +424,8 @@ def test_surface_subset_small_run_is_consistent(tmp_path):
     level above its threshold, evaluations counted, the estimate inside its interval, and the
     result is a CF NetCDF file (its failure/noise index coords carry their attributes)."""
     psd = table4()
-    ds = re_.failure_probability(psd, threshold=0.03, relative_humidity=0.5, shape=(48, 48),
-                                 spacing=SPACING, samples_per_level=50, seed=3, scheduler="sync")
+    ds = rs.reliability.failure_probability(psd, threshold=0.03, relative_humidity=0.5, shape=(48, 48),
+                                 spacing=SPACING, n_per_level=50, seed=3, scheduler="sync")
     assert ds.sizes["level"] >= 2
     thr = ds.next_threshold.values.ravel()
     thr = thr[np.isfinite(thr)]
@@ -449,8 +448,8 @@ def test_subset_agrees_with_crude_monte_carlo():
     crude Monte Carlo (10,000 evaluations) agree within their 95 % intervals."""
     psd = table4()
     kw = dict(threshold=0.023, relative_humidity=0.5, shape=(64, 64), spacing=SPACING)
-    mc = re_.failure_probability(psd, method="monte_carlo", samples_per_level=10_000, seed=100, **kw)
-    ss = re_.failure_probability(psd, seed=200, samples_per_level=500, **kw)
+    mc = rs.reliability.failure_probability(psd, method="monte_carlo", n_per_level=10_000, seed=100, **kw)
+    ss = rs.reliability.failure_probability(psd, seed=200, n_per_level=500, **kw)
     assert int(ss.n_evaluations) < 2500
     assert 3e-3 < float(mc.failure_probability) < 3e-2
     assert float(ss.failure_probability_lower) < float(mc.failure_probability_upper)
@@ -464,11 +463,11 @@ def test_subset_interval_coverage_on_the_surface_model():
     of the 95 % intervals (binomial: P(<= 15 | 0.95) = 0.3 %); the rate is printed (-s)."""
     psd = table4()
     kw = dict(threshold=0.023, relative_humidity=0.5, shape=(64, 64), spacing=SPACING)
-    mc = float(re_.failure_probability(psd, method="monte_carlo", samples_per_level=10_000, seed=100,
+    mc = float(rs.reliability.failure_probability(psd, method="monte_carlo", n_per_level=10_000, seed=100,
                                        **kw).failure_probability)
     inside = 0
     for s in range(20):
-        ss = re_.failure_probability(psd, seed=300 + s, samples_per_level=300, **kw)
+        ss = rs.reliability.failure_probability(psd, seed=300 + s, n_per_level=300, **kw)
         inside += float(ss.failure_probability_lower) <= mc <= float(ss.failure_probability_upper)
     print(f"crude MC {mc:.4g} inside {inside} of 20 subset intervals")
     assert inside >= 16
@@ -482,28 +481,29 @@ def test_weakest_link_against_a_four_times_longer_zone():
     them): the two 95 % intervals overlap."""
     psd = table4()
     kw = dict(threshold=0.035, relative_humidity=0.5, spacing=SPACING, method="monte_carlo", periodic=False)
-    patch = re_.failure_probability(psd, shape=(32, 64), samples_per_level=1500, seed=21, **kw)
-    long = re_.failure_probability(psd, shape=(128, 64), patches=4, samples_per_level=600, seed=22, **kw)
-    pred = re_.weakest_link(patch, patches=4)
+    patch = rs.reliability.failure_probability(psd, shape=(32, 64), n_per_level=1500, seed=21, **kw)
+    long = rs.reliability.failure_probability(psd, shape=(128, 64), patches=4, n_per_level=600, seed=22, **kw)
+    pred = rs.reliability.weakest_link(patch, patches=4)
     assert 0.02 < float(patch.failure_probability) < 0.1
     assert float(pred.failure_probability_lower) < float(long.failure_probability_upper)
     assert float(long.failure_probability_lower) < float(pred.failure_probability_upper)
 
 
-def test_stiction_probability_subset_matches_the_counting_estimator():
-    """Crude-MC P(stuck) equals rs.stiction_probability on the same Γ sample (the responses of
-    level 0) with Eq. 36's Γ_crit, and crossing_humidity reads the result with its interval."""
+def test_zone_monte_carlo_matches_the_counting_estimator():
+    """Crude-MC P(stuck) of the zone model equals stuck_probability(method="count") on the same Γ
+    sample (the responses of level 0) with Eq. 36's Γ_crit, and crossing_humidity reads the result
+    with its interval."""
     psd = table4()
     length = 400e-6
-    ds = rs.stiction_probability_subset(psd, relative_humidity=[0.3, 0.5], shape=(32, 32), spacing=SPACING,
-                                        length=length, method="monte_carlo", samples_per_level=40,
-                                        target_cv=None, seed=5, scheduler="sync")
-    assert math.isclose(ds.attrs["critical_adhesive_energy"], rs.critical_adhesive_energy(length=length))
+    ds = rs.stuck_probability(psd, method="monte_carlo", relative_humidity=[0.3, 0.5], shape=(32, 32),
+                              spacing=SPACING, beam_length=length, n_per_level=40,
+                              target_cv=None, seed=5, scheduler="sync")
+    assert math.isclose(ds.attrs["critical_adhesive_energy"], rs.stiction.critical_adhesive_energy(beam_length=length))
     g = ds.response.isel(run=0, level=0).rename(sample="realization").assign_attrs(units="J m-2")
-    ref = rs.stiction_probability(g, length=length)
+    ref = rs.stuck_probability(g, beam_length=length)
     np.testing.assert_allclose(ds.stiction_probability.values, ref.stiction_probability.values, rtol=1e-12)
-    ch = rs.crossing_humidity(ds[["stiction_probability", "stiction_probability_lower",
-                                  "stiction_probability_upper"]], level=0.1)
+    ch = rs.stiction.crossing_humidity(ds[["stiction_probability", "stiction_probability_lower",
+                                           "stiction_probability_upper"]], probability=0.1)
     assert {"crossing_humidity", "crossing_humidity_lower", "crossing_humidity_upper"} <= set(ch)
 
 

@@ -1,4 +1,4 @@
-"""Plain-numpy kernels of the rare-event estimators in :mod:`roughstick.stiction.rare_events`.
+"""Plain-numpy kernels of subset simulation (:func:`roughstick.reliability.subset_simulation`).
 
 Subset simulation (Au & Beck 2001) in the standard-normal space of the white noise that
 roughstick's generator filters by the PSD, with preconditioned Crank-Nicolson (pCN) moves
@@ -10,7 +10,7 @@ but the indicator: accept z' iff Y(z') > b (Cotter, Roberts, Stuart & White 2013
 Betz, Zwirglmaier & Straub 2015 for its use in subset simulation).
 
 Reproducibility: every random draw comes from one generator per (run, level, chain) or per
-level-0 sample (:func:`chain_rng`, :func:`sample_rng`), each drawing a fixed number of normals per
+level-0 sample (:func:`step_rng`, :func:`sample_rng`), each drawing a fixed number of normals per
 step whatever happens, so a chain is replayed exactly from its seed state and its acceptance flags
 (:func:`replay_chain`) and the result does not depend on how chains are grouped into tasks.
 """
@@ -79,7 +79,7 @@ def sample_noise(index, *, entropy, spawn_key, noise_shape):
 def chain_step(model, z, y, *, threshold, move, rng):
     """One conditional move: ``(z_new, y_new, proposal_response, accepted)``.
 
-    ``move(z, rng)`` is a proposal reversible for the N(0, I) prior (``_rare_moves``), so the
+    ``move(z, rng)`` is a proposal reversible for the N(0, I) prior (``_moves``), so the
     proposal is accepted iff its response is strictly above ``threshold`` (NaN: rejected).
     """
     cand = move(z, rng)

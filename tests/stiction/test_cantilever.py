@@ -1,4 +1,4 @@
-"""Tests of roughstick.stiction.beam: Eq. 36 both ways, its edge cases, units and laziness."""
+"""Tests of roughstick.stiction.cantilever: Eq. 36 both ways, its edge cases, units and laziness."""
 
 from __future__ import annotations
 
@@ -21,25 +21,25 @@ K = 1.5 * 164e9 * (1.9e-6) ** 2 * (2.62e-6) ** 3  # 3/2 E h^2 t^3 of the paper's
 def test_eq36_stiffness_term_and_value():
     assert BEAM.stiffness_term == pytest.approx(K, rel=1e-14)
     # Gamma_crit of the 1500 um beams: 3/2 E h^2 t^3 / l^4, by hand: 1.5971e-17 / 5.0625e-12
-    assert rs.critical_adhesive_energy() == pytest.approx(3.1549e-6, rel=1e-4)
-    assert rs.adhesive_energy_from_crack_length(1500e-6) == pytest.approx(rs.critical_adhesive_energy())
+    assert rs.stiction.critical_adhesive_energy() == pytest.approx(3.1549e-6, rel=1e-4)
+    assert rs.stiction.adhesive_energy_from_crack_length(1500e-6) == pytest.approx(rs.stiction.critical_adhesive_energy())
 
 
 def test_eq36_round_trip_numpy_and_units():
     s = np.array([50e-6, 200e-6, 1500e-6, 4e-3])
-    g = rs.adhesive_energy_from_crack_length(s)
-    np.testing.assert_allclose(rs.crack_length_from_adhesive_energy(g), s, rtol=1e-14)
+    g = rs.stiction.adhesive_energy_from_crack_length(s)
+    np.testing.assert_allclose(rs.stiction.crack_length_from_adhesive_energy(g), s, rtol=1e-14)
     gamma = np.geomspace(1e-7, 1e-1, 13)
-    np.testing.assert_allclose(rs.adhesive_energy_from_crack_length(rs.crack_length_from_adhesive_energy(gamma)),
+    np.testing.assert_allclose(rs.stiction.adhesive_energy_from_crack_length(rs.stiction.crack_length_from_adhesive_energy(gamma)),
                                gamma, rtol=1e-13)
     # s^-4 scaling: a 15 % change of s changes Gamma by a factor 1.15^4 = 1.75 (paper §5.3)
-    assert rs.adhesive_energy_from_crack_length(400e-6) / rs.adhesive_energy_from_crack_length(460e-6) == pytest.approx(1.15**4)
+    assert rs.stiction.adhesive_energy_from_crack_length(400e-6) / rs.stiction.adhesive_energy_from_crack_length(460e-6) == pytest.approx(1.15**4)
     # DataArray in micrometres
     da = xr.DataArray([300.0, 600.0], dims="point", attrs={"units": "um"})
-    out = rs.adhesive_energy_from_crack_length(da)
+    out = rs.stiction.adhesive_energy_from_crack_length(da)
     assert out.attrs["units"] == "J m-2" and out.name == "adhesive_energy"
     np.testing.assert_allclose(out.values, K / (np.array([300e-6, 600e-6]) ** 4))
-    back = rs.crack_length_from_adhesive_energy(out)
+    back = rs.stiction.crack_length_from_adhesive_energy(out)
     rs.testing.assert_units(back, "m")
     np.testing.assert_allclose(back.values, [300e-6, 600e-6], rtol=1e-14)
 
@@ -61,35 +61,35 @@ def test_eq36_from_energy_minimisation():
 
         res = optimize.minimize_scalar(total, bounds=(10e-6, beam_len), method="bounded",
                                        options={"xatol": 1e-12})
-        assert rs.crack_length_from_adhesive_energy(gamma) == pytest.approx(res.x, rel=1e-5)
+        assert rs.stiction.crack_length_from_adhesive_energy(gamma) == pytest.approx(res.x, rel=1e-5)
 
 
 def test_eq36_edge_cases():
-    assert rs.crack_length_from_adhesive_energy(0.0) == np.inf
-    assert rs.adhesive_energy_from_crack_length(0.0) == np.inf
-    assert np.isnan(rs.crack_length_from_adhesive_energy(np.nan))
+    assert rs.stiction.crack_length_from_adhesive_energy(0.0) == np.inf
+    assert rs.stiction.adhesive_energy_from_crack_length(0.0) == np.inf
+    assert np.isnan(rs.stiction.crack_length_from_adhesive_energy(np.nan))
     with pytest.raises(ValueError, match="must be >= 0"):
-        rs.crack_length_from_adhesive_energy(-1e-3)
+        rs.stiction.crack_length_from_adhesive_energy(-1e-3)
     with pytest.raises(ValueError, match="must be >= 0"):
-        rs.adhesive_energy_from_crack_length([1e-4, -1e-4])
+        rs.stiction.adhesive_energy_from_crack_length([1e-4, -1e-4])
     with pytest.raises(UnitsError, match="units"):
-        rs.crack_length_from_adhesive_energy(xr.DataArray([1e-3]))
+        rs.stiction.crack_length_from_adhesive_energy(xr.DataArray([1e-3]))
     with pytest.raises(UnitsError, match="not a energy_per_area unit"):
-        rs.crack_length_from_adhesive_energy(xr.DataArray([1e-3], attrs={"units": "m"}))
+        rs.stiction.crack_length_from_adhesive_energy(xr.DataArray([1e-3], attrs={"units": "m"}))
     with pytest.raises(ValueError, match="has no 'adhesive_energy'"):
-        rs.crack_length_from_adhesive_energy(xr.Dataset({"x": 1.0}))
+        rs.stiction.crack_length_from_adhesive_energy(xr.Dataset({"x": 1.0}))
 
 
 def test_eq36_lazy(backend):
     g, _ = lognormal_gamma(n=8)
     gi = backend(g, chunks={"realization": 4})
     with raise_if_dask_computes():
-        s = rs.crack_length_from_adhesive_energy(gi)
+        s = rs.stiction.crack_length_from_adhesive_energy(gi)
     assert isinstance(s.data, type(gi.data))
-    xr.testing.assert_allclose(s, rs.crack_length_from_adhesive_energy(g))
+    xr.testing.assert_allclose(s, rs.stiction.crack_length_from_adhesive_energy(g))
     if backend.kind == "dask":
         bad = backend(-g, chunks={"realization": 4})
-        out = rs.crack_length_from_adhesive_energy(bad)  # lazy: the error comes at compute time
+        out = rs.stiction.crack_length_from_adhesive_energy(bad)  # lazy: the error comes at compute time
         with pytest.raises(ValueError, match="must be >= 0"):
             out.compute()
 
@@ -101,4 +101,4 @@ def test_cantilever_validation():
         with pytest.raises(ValueError, match="must be a positive finite number"):
             rs.Cantilever(**kw)
     with pytest.raises(ValueError, match="beam lengths must be positive"):
-        rs.critical_adhesive_energy(length=[100e-6, -1.0])
+        rs.stiction.critical_adhesive_energy(beam_length=[100e-6, -1.0])

@@ -9,8 +9,8 @@ An S-shaped cantilever stuck to its landing pad (Fig. 18b) detaches at the crack
 A beam of length :math:`l` cannot have a crack longer than itself: it stays stuck when the
 adhesive energy of the interaction zone exceeds :math:`\Gamma_{crit} = \Gamma(s = l)`
 (:func:`critical_adhesive_energy`). The probabilities built on it are :mod:`.risk`; the model of
-the interaction zone is :mod:`.interaction_zone`. (The beam-scale stochastic model of Hoang et
-al. 2017 will sit beside this module.)
+the interaction zone is :mod:`.interaction_zone`; the beam-scale stochastic model (Hoang et al.
+2017) is :mod:`roughstick.beam`.
 
 References
 ----------
@@ -27,6 +27,7 @@ import numpy as np
 import xarray as xr
 
 from .._core import constants as C
+from .._core.api import renamed_keywords
 from .._core.conventions import set_attrs
 from .._core.references import PAPER, cite
 from .._core.units import as_si, require
@@ -74,7 +75,7 @@ class Cantilever:
 
     Examples
     --------
-    >>> beam = rs.Cantilever(length=400e-6)
+    >>> beam = rs.stiction.Cantilever(length=400e-6)
     >>> beam.interaction_area * 1e12  # µm², Δs × w
     78.6...
     """
@@ -179,7 +180,7 @@ def adhesive_energy_from_crack_length(crack_length, *, beam: Cantilever = PAPER_
 
     Examples
     --------
-    >>> round(rs.adhesive_energy_from_crack_length(1500e-6) * 1e6, 3)  # µJ m-2, s = l = 1500 µm
+    >>> round(rs.stiction.adhesive_energy_from_crack_length(1500e-6) * 1e6, 3)  # µJ m-2, s = l
     3.155
     """
     s = _nonnegative(crack_length, "length", "crack_length")
@@ -205,7 +206,7 @@ def crack_length_from_adhesive_energy(adhesive_energy, *, beam: Cantilever = PAP
     ----------
     adhesive_energy : float, array, xarray.DataArray or xarray.Dataset
         :math:`\Gamma` [J m-2] (a Dataset must hold ``adhesive_energy``, e.g. the output of
-        :func:`roughstick.adhesion_summary`). DataArrays need ``units`` (``J m-2``).
+        :func:`roughstick.contact.summary`). DataArrays need ``units`` (``J m-2``).
     beam : Cantilever
         Beam thickness, gap and modulus.
 
@@ -225,7 +226,7 @@ def crack_length_from_adhesive_energy(adhesive_energy, *, beam: Cantilever = PAP
 
     Examples
     --------
-    >>> round(rs.crack_length_from_adhesive_energy(1e-3) * 1e6, 1)  # µm, Γ = 1 mJ m-2
+    >>> round(rs.stiction.crack_length_from_adhesive_energy(1e-3) * 1e6, 1)  # µm, Γ = 1 mJ m-2
     355.5
     """
     g = _nonnegative(adhesive_energy, "energy_per_area", "adhesive_energy")
@@ -240,25 +241,25 @@ def crack_length_from_adhesive_energy(adhesive_energy, *, beam: Cantilever = PAP
     return out
 
 
-def _beam_lengths(length, beam: Cantilever):
+def _beam_lengths(beam_length, beam: Cantilever):
     """Beam length(s) as float or a DataArray along ``beam_length`` (SI, validated > 0)."""
-    if length is None:
+    if beam_length is None:
         return beam.length
-    if isinstance(length, xr.DataArray):
-        v = require(length, "length", name="length")
+    if isinstance(beam_length, xr.DataArray):
+        v = require(beam_length, "length", name="beam_length")
         if v.chunks is not None:
-            raise ValueError("beam lengths must be in memory (they are coordinates): pass length.compute().")
+            raise ValueError("beam lengths must be in memory (they are coordinates): pass beam_length.compute().")
     else:
-        arr = np.asarray(as_si(length, "length", name="length"), dtype=float)
+        arr = np.asarray(as_si(beam_length, "length", name="beam_length"), dtype=float)
         if arr.ndim == 0:
             v = float(arr)
         elif arr.ndim == 1:
             v = xr.DataArray(arr, dims=("beam_length",), coords={"beam_length": arr})
         else:
-            raise ValueError(f"length must be a scalar or a 1-D sequence of beam lengths [m], got shape {arr.shape}.")
+            raise ValueError(f"beam_length must be a scalar or a 1-D sequence of beam lengths [m], got shape {arr.shape}.")
     data = v.data if isinstance(v, xr.DataArray) else v
     if not isinstance(data, np.ndarray | float) or np.any(~(np.asarray(data) > 0)) or np.any(~np.isfinite(data)):
-        raise ValueError(f"beam lengths must be positive finite numbers in m (e.g. 400e-6), got {length!r}.")
+        raise ValueError(f"beam lengths must be positive finite numbers in m (e.g. 400e-6), got {beam_length!r}.")
     if isinstance(v, xr.DataArray):
         v = set_attrs(v.rename("beam_length"), "beam_length")
     else:
@@ -266,12 +267,13 @@ def _beam_lengths(length, beam: Cantilever):
     return v
 
 
-def critical_adhesive_energy(*, length=None, beam: Cantilever = PAPER_CANTILEVER):
+@renamed_keywords(length="beam_length")
+def critical_adhesive_energy(*, beam_length=None, beam: Cantilever = PAPER_CANTILEVER):
     r"""Adhesive energy above which a beam of length :math:`l` stays stuck: Eq. 36 at :math:`s = l`.
 
     Parameters
     ----------
-    length : float, sequence or xarray.DataArray, optional
+    beam_length : float, sequence or xarray.DataArray, optional
         Beam length(s) [m]; default ``beam.length``. A sequence gives a ``beam_length`` dimension.
     beam : Cantilever
         Beam thickness, gap and modulus.
@@ -283,11 +285,11 @@ def critical_adhesive_energy(*, length=None, beam: Cantilever = PAPER_CANTILEVER
 
     Examples
     --------
-    >>> g = rs.critical_adhesive_energy(length=[250e-6, 500e-6, 1500e-6])
+    >>> g = rs.stiction.critical_adhesive_energy(beam_length=[250e-6, 500e-6, 1500e-6])
     >>> (g.values * 1e6).round(3)  # µJ m-2
     array([4.088708e+03, 2.555440e+02, 3.155000e+00])
     """
-    lengths = _beam_lengths(length, beam)
+    lengths = _beam_lengths(beam_length, beam)
     out = beam.stiffness_term / lengths**4
     if isinstance(out, xr.DataArray):
         out = set_attrs(out.rename("critical_adhesive_energy"), "critical_adhesive_energy")
