@@ -168,6 +168,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                                "128 zone; its failure states re-checked by the BEM) or 'fft_bem' (~45 "
                                "ms; needed where Eq. 16's tail is an artefact, docs/rare_events.md)",
                                default="modified_dmt",
+                               replaces=("contact_model",),
                                choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
         },
         "material": _COMMON["material"],
@@ -217,6 +218,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "seed": F("int", "root seed of the patch surfaces", default=0, minimum=0),
             "model": F("choice", "contact model of the patch laws: " + _CONTACT_MODEL.split(": ", 1)[1],
                                default="modified_dmt",
+                               replaces=("contact_model",),
                                choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
             "cache": F("path", "folder of the bank cache (relative to the file)",
                        default="beam-bank-cache"),

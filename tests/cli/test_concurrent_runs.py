@@ -39,7 +39,7 @@ adsorbed_layer = ["paper"]
 seed = 3
 [risk]
 method = "subset"
-samples_per_level = 50
+n_per_level = 50
 target_cv = 0.5
 max_evaluations = 400
 levels = [0.01]
@@ -132,7 +132,7 @@ def test_a_failed_run_does_not_block_the_next(tmp_path, monkeypatch, capsys):
     def broken(*a, **kw):
         raise OSError(28, "No space left on device", "x.nc")
 
-    monkeypatch.setattr(run_cmd.rs, "run_ensemble", broken)
+    monkeypatch.setattr(run_cmd.rs.ensemble, "run", broken)
     assert main(["run", str(tmp_path / "run.toml"), "-q"]) == 1
     assert not (tmp_path / "out" / LOCK).exists()
 

@@ -127,7 +127,8 @@ def test_cli_risk_subset_method_is_checked_before_work(tmp_path, capsys):
     for old_key, new in (('contact_model = "fft_bem"', 'model = "fft_bem"'),
                          ("samples_per_level = 500", "n_per_level = 1000")):
         cfg.write_text(f'[risk]\n{old_key}\n')  # the keys of earlier releases name the new one
-        with pytest.raises(ConfigError, match=f"unknown key .* Write {new}"):
+        key = new.split()[0]
+        with pytest.raises(ConfigError, match=f"unknown key .* (Write {new}|It is now '{key}')"):
             load_risk_config(cfg)
 
 
