@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import xarray as xr
 
-from .contact import adhesion, bem, curves, gw, meniscus, rough
+from . import contact
+from .contact import adhesion, bem, gw, meniscus
+from .contact import modified_dmt as rough
 from .ensemble import distributions, statistics
 from .ensemble import run as ensemble_run
 from .stiction import beam, risk
@@ -69,7 +71,7 @@ class RoughDataArrayAccessor(_Accessor):
         return summary.psd_summary(self._obj, **kwargs)
 
     def rough_contact_curves(self, **kwargs):
-        return curves.rough_contact_curves(self._obj, **kwargs)
+        return contact.rough_contact_curves(self._obj, **kwargs)
 
     def modified_dmt_curves(self, **kwargs):
         return rough.modified_dmt_curves(self._obj, **kwargs)

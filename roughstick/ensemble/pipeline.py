@@ -31,7 +31,7 @@ from .._core.references import PAPER, cite
 from .._core.validate import as_length, relative_humidity_array
 from .._core.version import __version__
 from ..contact.adhesion import adhesion_summary, equilibrium_crossings
-from ..contact.curves import rough_contact_curves
+from ..contact import rough_contact_curves
 from ..contact.meniscus import as_relative_humidity, water_height
 from ..surface.generate import extrapolation_said_once
 from ..surface.moments import psd_moments

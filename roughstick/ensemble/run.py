@@ -31,9 +31,9 @@ from .._core.progress import estimate_model_seconds, format_seconds
 from .._core.remedy import argument, spelled
 from .._core.validate import as_length, distance_array, relative_humidity_array
 from ..contact.adhesion import adhesion_summary
-from ..contact.curves import CONTACT_MODELS, rough_contact_curves
-from ..contact.pixel import warn_if_unresolved
-from ..contact.validity import (
+from ..contact import CONTACT_MODELS, rough_contact_curves
+from ..contact import warn_if_unresolved
+from ..contact import (
     VALIDITY_BOUND,
     expected_surface_groups,
     select_model,

@@ -92,7 +92,7 @@ def test_auto_says_its_choice_and_cost_before_the_work(caplog, monkeypatch):
     chosen model's estimated cost, before the chosen model is called."""
     import logging
 
-    from roughstick.contact import curves as dispatch
+    from roughstick.contact import _pipeline as dispatch
 
     caplog.set_level(logging.INFO, logger="roughstick")
     said_when_called = {}

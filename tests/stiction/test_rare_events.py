@@ -16,7 +16,7 @@ from roughstick.stiction import rare_events as re_
 
 # The modified DMT on these small Table-4 zones is outside its measured validity map (issue 13);
 # the estimators are tested here, not the contact model, so its warning is not the subject.
-pytestmark = pytest.mark.filterwarnings("ignore::roughstick.contact.validity.ValidityWarning")
+pytestmark = pytest.mark.filterwarnings("ignore::roughstick.ValidityWarning")
 
 SPACING = 5e-9
 

@@ -15,7 +15,7 @@ from roughstick.stiction import _rare_moves as _m
 from roughstick.stiction import _rare_surface as _s
 from roughstick.stiction import rare_events as re_
 
-pytestmark = pytest.mark.filterwarnings("ignore::roughstick.contact.validity.ValidityWarning")
+pytestmark = pytest.mark.filterwarnings("ignore::roughstick.ValidityWarning")
 
 SHAPES = [(16, 16), (15, 12), (12, 9), (9, 14)]
 

@@ -23,14 +23,14 @@ import warnings
 import numpy as np
 import xarray as xr
 
-from .._core.arguments import check_numbers
-from .._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
-from .._core.dask import is_lazy
-from .._core.materials import POLYSILICON, hertz_modulus, reduced_modulus
-from .._core.memory import check_map_fits_in_memory
-from .._core.references import PAPER, cite
-from .._core.remedy import spell
-from .._core.validate import (
+from ..._core.arguments import check_numbers
+from ..._core.conventions import ATTRS, append_history, dataset_attrs, set_attrs
+from ..._core.dask import is_lazy
+from ..._core.materials import POLYSILICON, hertz_modulus, reduced_modulus
+from ..._core.memory import check_map_fits_in_memory
+from ..._core.references import PAPER, cite
+from ..._core.remedy import spell
+from ..._core.validate import (
     MIN_MAP_PIXELS,
     ValidityWarning,
     check_core_not_chunked,
@@ -41,9 +41,9 @@ from .._core.validate import (
     height_in_si,
     relative_humidity_coordinate,
 )
-from . import _rough_kernels as _k
-from .adhesion import adhesion_summary_kernel
-from .meniscus import laplace_pressure, water_height
+from . import _controller as _k
+from ..adhesion import adhesion_summary_kernel
+from ..meniscus import laplace_pressure, water_height
 
 __all__ = ["modified_dmt_curves", "modified_dmt_kernel", "contact_distance_grid"]
 

@@ -17,8 +17,8 @@ import warnings
 import numpy as np
 import xarray as xr
 
-from .._core.arguments import check_numbers
-from .._core.conventions import (
+from ..._core.arguments import check_numbers
+from ..._core.conventions import (
     ATTRS,
     CURVE_VARIABLES,
     append_history,
@@ -26,11 +26,11 @@ from .._core.conventions import (
     set_attrs,
     set_coord_attrs,
 )
-from .._core.materials import POLYSILICON, Material, reduced_modulus
-from .._core.memory import check_map_fits_in_memory
-from .._core.progress import WorkProgress, estimate_seconds
-from .._core.references import cite
-from .._core.validate import (
+from ..._core.materials import POLYSILICON, Material, reduced_modulus
+from ..._core.memory import check_map_fits_in_memory
+from ..._core.progress import WorkProgress, estimate_seconds
+from ..._core.references import cite
+from ..._core.validate import (
     MIN_MAP_PIXELS,
     check_core_not_chunked,
     check_has_roughness,
@@ -38,14 +38,14 @@ from .._core.validate import (
     height_in_si,
     relative_humidity_coordinate,
 )
-from .fft_bem import (
+from ..fft_bem._curves import (
     SOLVED_ATTRS,
     automatic_grid_counts,
     fft_bem_contact_curves,
     merge_humidity_grids,
 )
-from .meniscus import laplace_pressure, water_height
-from .periodic import count_periodic_clusters, periodic_offset_coefficient
+from ..meniscus import laplace_pressure, water_height
+from .._shared import count_periodic_clusters, periodic_offset_coefficient
 
 __all__ = ["bem_contact_curves", "periodic_offset_coefficient"]
 

@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 
 import roughstick as rs
-from roughstick.contact import validity
+from roughstick.contact.trust import validity
 from roughstick.testing import make_topography
 
 

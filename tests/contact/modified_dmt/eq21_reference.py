@@ -1,7 +1,7 @@
 """Literal, slow reference of the rough-surface modified DMT (Eqs. 16-23).
 
 It follows the paper step by step, one distance at a time, with generic library tools and no
-cleverness, so that the fast path in :mod:`roughstick.contact._rough_kernels` can be tested against it:
+cleverness, so that the fast path in :mod:`roughstick.contact.modified_dmt._controller` can be tested against it:
 
 1. flood the map at level ``d``: ``scipy.ndimage.label`` of ``{z >= d}``; on a periodic map the
    labels touching opposite edges are merged, and each asperity is unwrapped by a breadth-first
@@ -21,7 +21,7 @@ cleverness, so that the fast path in :mod:`roughstick.contact._rough_kernels` ca
    the wetted area ``(z >= d - h_water).sum()`` counted directly.
 
 The conventions (mean plane, NaN pixels, connectivity, parametrisation by the cap height) are
-those listed in :mod:`roughstick.contact._rough_kernels`.
+those listed in :mod:`roughstick.contact.modified_dmt._controller`.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ import math
 import numpy as np
 from scipy import linalg, ndimage, optimize
 
-from ._rough_kernels import prepare_heights
+from roughstick.contact.modified_dmt._controller import prepare_heights
 
 __all__: list[str] = []
 
@@ -161,7 +161,7 @@ def fit_asperity(x, y, z, d, area, dx, dy):
     ``x, y`` are unwrapped pixel centres [m], ``z`` heights [m], ``d`` the level, ``area`` the
     footprint area A, ``dx, dy`` the pixel size. The unknowns are the centre (x0, y0), within the
     footprint's bounding box, and the cap height ``t = delta / a_f`` in [0, 1]
-    (a smooth parametrisation of R, see :mod:`roughstick.contact._rough_kernels`).
+    (a smooth parametrisation of R, see :mod:`roughstick.contact.modified_dmt._controller`).
     """
     af = math.sqrt(area / math.pi)
     x = x - x.mean()

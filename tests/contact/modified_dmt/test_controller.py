@@ -13,8 +13,8 @@ from scipy import ndimage
 
 import roughstick as rs
 from roughstick import hertz_modulus, laplace_pressure, water_height
-from roughstick.contact import _rough_kernels as rk
-from roughstick.contact import _rough_tail
+from roughstick.contact.modified_dmt import _controller as rk
+from roughstick.contact.modified_dmt import _tail as _rough_tail
 from roughstick.contact.adhesion import adhesion_summary_kernel as _summary_kernel
 
 DATA = pathlib.Path(__file__).resolve().parents[2] / "data_samples"

@@ -25,8 +25,8 @@ import warnings
 import numpy as np
 import xarray as xr
 
-from .._core.arguments import check_numbers
-from .._core.conventions import (
+from ..._core.arguments import check_numbers
+from ..._core.conventions import (
     ATTRS,
     CURVE_VARIABLES,
     append_history,
@@ -34,22 +34,22 @@ from .._core.conventions import (
     set_attrs,
     set_coord_attrs,
 )
-from .._core.materials import POLYSILICON, Material, reduced_modulus
-from .._core.memory import check_map_fits_in_memory
-from .._core.progress import WorkProgress, estimate_seconds
-from .._core.references import cite
-from .._core.units import require
-from .._core.validate import (
+from ..._core.materials import POLYSILICON, Material, reduced_modulus
+from ..._core.memory import check_map_fits_in_memory
+from ..._core.progress import WorkProgress, estimate_seconds
+from ..._core.references import cite
+from ..._core.units import require
+from ..._core.validate import (
     MIN_MAP_PIXELS,
     check_core_not_chunked,
     check_has_roughness,
     external_stacklevel,
     height_in_si,
 )
-from . import _fft_bem_kernels as _k
-from .meniscus import as_relative_humidity, laplace_pressure, water_height
-from .periodic import count_periodic_clusters, periodic_offset_coefficient
-from .validity import ValidityWarning
+from . import _kernels as _k
+from ..meniscus import as_relative_humidity, laplace_pressure, water_height
+from .._shared import count_periodic_clusters, periodic_offset_coefficient
+from ..trust.validity import ValidityWarning
 
 __all__ = ["fft_bem_contact_curves"]
 

@@ -35,9 +35,9 @@ import threading
 import numba as nb
 import numpy as np
 
-from .._core.conventions import CURVE_VARIABLES
-from ._rough_search import GRID_KEEP
-from ._rough_tail import (
+from ..._core.conventions import CURVE_VARIABLES
+from ._search import GRID_KEEP
+from ._tail import (
     _NEXTB,
     _NJ,
     _NSORTED,

@@ -37,10 +37,10 @@ import numba as nb
 import numpy as np
 import xarray as xr
 
-from .._core.arguments import check_numbers
-from .._core.materials import POLYSILICON, Material, reduced_modulus
-from .._core.remedy import spell
-from .._core.validate import (
+from ..._core.arguments import check_numbers
+from ..._core.materials import POLYSILICON, Material, reduced_modulus
+from ..._core.remedy import spell
+from ..._core.validate import (
     MIN_MAP_PIXELS,
     ValidityWarning,
     as_length,
@@ -49,9 +49,9 @@ from .._core.validate import (
     grid_spacing,
     height_in_si,
 )
-from ..datasets import validity_map_path
-from ..surface.generate import surface_filter
-from .meniscus import as_relative_humidity, laplace_pressure, water_height
+from ...datasets import validity_map_path
+from ...surface.generate import surface_filter
+from ..meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = [
     "ValidityWarning",

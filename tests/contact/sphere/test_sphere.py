@@ -6,7 +6,7 @@ import xarray as xr
 from scipy.integrate import trapezoid
 
 import roughstick as rs
-from roughstick.contact import _sphere_kernels as k
+from roughstick.contact.sphere import _kernels as k
 from roughstick.testing import assert_units, raise_if_dask_computes
 
 KPS = rs.hertz_modulus()  # 115.4 GPa

@@ -1,6 +1,6 @@
 """The fast modified-DMT path (union-find + Newton fits) against the literal reference.
 
-The reference (`roughstick.contact._rough_reference`) relabels the map at every distance with
+The reference (`eq21_reference` (beside this file)) relabels the map at every distance with
 scipy.ndimage.label, unwraps each asperity by a breadth-first walk and fits it with
 scipy.optimize.least_squares; the test asks the pressure to agree to 1e-6 (relative) wherever
 |p| > 1e-3 max|p|, and every other output to agree closely, on small maps with the hard cases.
@@ -21,9 +21,9 @@ import pytest
 from scipy import ndimage
 
 from roughstick import datasets, hertz_modulus, laplace_pressure, water_height
-from roughstick.contact._rough_fit import fit_footprint
-from roughstick.contact._rough_kernels import curves, curves_kernel, hertz_levels, prepare_heights
-from roughstick.contact._rough_reference import fit_asperity, footprints, reference_curves
+from roughstick.contact.modified_dmt._fit import fit_footprint
+from roughstick.contact.modified_dmt._controller import curves, curves_kernel, hertz_levels, prepare_heights
+from eq21_reference import fit_asperity, footprints, reference_curves
 
 K = hertz_modulus()
 RH = np.array([0.3, 0.7, 0.9])
@@ -126,7 +126,7 @@ def test_measured_map_edge_bump():
 def test_measured_random_map(connectivity):
     # non-periodic, odd non-square random map: asperities are cut by the edges. Eq. 21 has several
     # local minima for steep asperities cut by the edge. Before the compass search
-    # (roughstick.contact._rough_search) an 18-pixel asperity in the map's corner was fitted 5 %
+    # (roughstick.contact.modified_dmt._search) an 18-pixel asperity in the map's corner was fitted 5 %
     # worse than by the reference (whose least_squares reached a lower minimum from the same
     # start); now no asperity is fitted worse, and at levels where every asperity reaches the
     # reference's minimum the pressures agree to 1e-6 (measured: 13 of 14 levels; at the other
@@ -151,7 +151,7 @@ def test_measured_random_map(connectivity):
 def test_steep_measured_maps(seed):
     # Gaussian-filtered measured maps of 2-pixel correlation: steep asperities of a few pixels,
     # many cut by the edges, where Eq. 21 has several minima. Before the searches of
-    # roughstick.contact._rough_search the fast fit was worse than the reference on a 7-pixel
+    # roughstick.contact.modified_dmt._search the fast fit was worse than the reference on a 7-pixel
     # (+0.03 %) and a 16-pixel asperity (+2.0 %) of these two maps
     z = smooth_field((48, 56), sigma_px=2, rms=4e-9, seed=seed, wrap=False)
     zc = z - z.mean()

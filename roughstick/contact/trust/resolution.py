@@ -13,13 +13,13 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .._core.arguments import check_numbers
-from .._core.conventions import append_history
-from .._core.validate import height_in_si
-from ..surface.generate import generate_surfaces
-from ..testing import make_topography
-from .adhesion import adhesion_summary
-from .curves import rough_contact_curves
+from ..._core.arguments import check_numbers
+from ..._core.conventions import append_history
+from ..._core.validate import height_in_si
+from ...surface.generate import generate_surfaces
+from ...testing import make_topography
+from ..adhesion import adhesion_summary
+from .._pipeline import rough_contact_curves
 
 __all__ = ["resolution_study", "resample_pixels"]
 

@@ -18,7 +18,7 @@ import math
 import numba as nb
 import numpy as np
 
-from ._rough_fit import _SIMD, fit_sphere
+from ._fit import _SIMD, fit_sphere
 
 __all__ = ["bucket_sort", "count_ge", "successor", "eval_level", "prepare_heights"]
 

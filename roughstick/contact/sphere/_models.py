@@ -18,14 +18,14 @@ import warnings
 import numpy as np
 import xarray as xr
 
-from .._core.conventions import ATTRS, dataset_attrs, set_attrs
-from .._core.materials import POLYSILICON, Material, hertz_modulus
-from .._core.references import PAPER, cite
-from .._core.units import require
-from .._core.validate import ValidityWarning, external_stacklevel, positive
-from . import _sphere_energy
-from . import _sphere_kernels as K_
-from .meniscus import as_relative_humidity, laplace_pressure, water_height
+from ..._core.conventions import ATTRS, dataset_attrs, set_attrs
+from ..._core.materials import POLYSILICON, Material, hertz_modulus
+from ..._core.references import PAPER, cite
+from ..._core.units import require
+from ..._core.validate import ValidityWarning, external_stacklevel, positive
+from . import _energy
+from . import _kernels as K_
+from ..meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = [
     "SPHERE_MODELS",

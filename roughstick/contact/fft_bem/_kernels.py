@@ -27,7 +27,7 @@ import numba
 import numpy as np
 import scipy.fft as sfft
 
-from .adhesion import equilibrium_crossings
+from ..adhesion import equilibrium_crossings
 
 __all__ = ["FFTGrid", "pk_solve", "solve_state", "curve_on_grid", "auto_curve"]
 

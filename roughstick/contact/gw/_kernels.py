@@ -12,8 +12,8 @@ import functools
 import numpy as np
 from scipy import interpolate, special
 
-from .._core.conventions import CURVE_VARIABLES
-from . import _sphere_kernels
+from ..._core.conventions import CURVE_VARIABLES
+from ..sphere import _kernels as _sphere_kernels
 
 __all__: list[str] = []
 

@@ -15,7 +15,7 @@ import math
 
 import numba as nb
 
-from ._rough_lm import cost_at, lm
+from ._lm import cost_at, lm
 
 __all__ = ["outside", "awry", "pattern_search", "grid_search", "GRID_KEEP"]
 

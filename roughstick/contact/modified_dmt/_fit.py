@@ -31,8 +31,8 @@ import math
 import numba as nb
 import numpy as np
 
-from ._rough_lm import cost_at, lm, over_plateau
-from ._rough_search import GRID_KEEP, awry, grid_search, pattern_search
+from ._lm import cost_at, lm, over_plateau
+from ._search import GRID_KEEP, awry, grid_search, pattern_search
 
 __all__ = ["fit_footprint", "fit_sphere", "small_fit", "paraboloid_start", "plateau_escape"]
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._sphere_kernels import (
+from ._kernels import (
     _HALF_PI,
     _JKR_A_MIN,
     _check_model,

@@ -37,12 +37,12 @@ from .._core.validate import (
     height_in_si,
     relative_humidity_values,
 )
-from .bem import bem_contact_curves
-from .fft_bem import automatic_grid_counts, fft_bem_contact_curves
-from .gw import gw_contact_curves
-from .pixel import RESOLVED_NECK_PIXELS, warn_if_unresolved
-from .rough import modified_dmt_curves
-from .validity import (
+from .bem._curves import bem_contact_curves
+from .fft_bem._curves import automatic_grid_counts, fft_bem_contact_curves
+from .gw._curves import gw_contact_curves
+from .trust.pixel import RESOLVED_NECK_PIXELS, warn_if_unresolved
+from .modified_dmt._curves import modified_dmt_curves
+from .trust.validity import (
     MODEL_COST_ORDER,
     VALIDITY_BOUND,
     NoModelMeetsTolerance,

@@ -16,7 +16,7 @@ import xarray as xr
 from scipy import integrate, special
 
 import roughstick as rs
-from roughstick.contact._sphere_kernels import sphere_force_kernel
+from roughstick.contact.sphere._kernels import sphere_force_kernel
 from roughstick.testing import raise_if_dask_computes
 
 NM = 1e-9

@@ -41,15 +41,15 @@ import numbers
 import numpy as np
 import xarray as xr
 
-from .._core.arguments import check_numbers
-from .._core.conventions import append_history, dataset_attrs, set_attrs
-from .._core.dask import is_lazy
-from .._core.materials import POLYSILICON, Material, hertz_modulus
-from .._core.memory import check_map_fits_in_memory
-from .._core.references import PAPER, cite
-from .._core.validate import distance_array, height_in_si
-from ..surface.moments import moments_si, roughness_moments, summit_density
-from ._gw_kernels import (
+from ..._core.arguments import check_numbers
+from ..._core.conventions import append_history, dataset_attrs, set_attrs
+from ..._core.dask import is_lazy
+from ..._core.materials import POLYSILICON, Material, hertz_modulus
+from ..._core.memory import check_map_fits_in_memory
+from ..._core.references import PAPER, cite
+from ..._core.validate import distance_array, height_in_si
+from ...surface.moments import moments_si, roughness_moments, summit_density
+from ._kernels import (
     _VARS,
     _XI_BOTTOM,
     _XI_TOP,
@@ -59,7 +59,7 @@ from ._gw_kernels import (
     _gw_block,
     _log_density,
 )
-from .meniscus import as_relative_humidity, laplace_pressure, water_height
+from ..meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = ["summit_joint_density", "gw_contact_curves", "gw_cutoff_study"]
 

@@ -18,9 +18,9 @@ import warnings
 import numpy as np
 import xarray as xr
 
-from .._core.remedy import spell
-from .._core.validate import ValidityWarning, external_stacklevel
-from .meniscus import as_relative_humidity, water_height
+from ..._core.remedy import spell
+from ..._core.validate import ValidityWarning, external_stacklevel
+from ..meniscus import as_relative_humidity, water_height
 from .validity import _centred_moments_kernel, _maps, _neck_radius
 
 __all__ = ["RESOLVED_NECK_PIXELS", "FINE_PIXEL", "PixelResolutionWarning", "warn_if_unresolved"]
