@@ -30,11 +30,11 @@ import warnings
 
 import numpy as np
 import xarray as xr
+from roughstick.contact._rough_fit import fit_footprint
+from roughstick.contact._rough_reference import fit_asperity, footprints, reference_curves
 
 import roughstick as rs
 from roughstick.contact import _rough_kernels as rk
-from roughstick.contact._rough_fit import fit_footprint
-from roughstick.contact._rough_reference import fit_asperity, footprints, reference_curves
 from roughstick.contact.adhesion import adhesion_summary_kernel as _summary_kernel
 
 DATA = pathlib.Path(__file__).resolve().parents[1] / "data_samples"

@@ -22,11 +22,10 @@ import math
 import warnings
 
 import numpy as np
-from scipy import ndimage
-
 from roughstick.contact._rough_fit import fit_footprint
 from roughstick.contact._rough_kernels import prepare_heights
 from roughstick.contact._rough_reference import fit_asperity, footprints
+from scipy import ndimage
 
 DX = 5e-9
 FIT_RTOL, FIT_ATOL = 1e-9, 1e-9

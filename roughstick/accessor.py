@@ -10,11 +10,12 @@ ensembles. Importing :mod:`roughstick` registers it.
 
 from __future__ import annotations
 
+import functools
+
 import xarray as xr
 
 from . import contact
-from .contact import adhesion, bem, gw, meniscus
-from .contact import modified_dmt as rough
+from .contact import MODELS, meniscus
 from .ensemble import distributions, statistics
 from .ensemble import run as ensemble_run
 from .stiction import beam, risk
@@ -24,13 +25,28 @@ __all__: list[str] = []
 
 
 class _Accessor:
+    #: Whether the object is the input of a contact model (a map; moments for a Dataset).
+    _moments = False
+
     def __init__(self, obj):
         self._obj = obj
+
+    def _models(self) -> dict:
+        """``<model>_curves`` of every registered contact model that takes this object."""
+        return {f"{name}_curves": m for name, m in MODELS.items()
+                if not self._moments or m.accepts_moments}
+
+    def __dir__(self):
+        return sorted({*super().__dir__(), *self._models()})
 
     def __getattr__(self, name):
         if name.startswith("_"):
             raise AttributeError(name)
-        methods = sorted(n for n in dir(type(self)) if not n.startswith("_"))
+        model = self._models().get(name)
+        if model is not None:  # read from the contact-model registry
+            return functools.partial(model.function or functools.partial(contact.curves, model=model.name),
+                                     self._obj)
+        methods = sorted(n for n in dir(self) if not n.startswith("_"))
         raise AttributeError(
             f"roughstick has no public function {name!r} that .rough forwards for a "
             f"{type(self._obj).__name__}; its methods are {methods}. Call roughstick.<function> directly."
@@ -38,7 +54,8 @@ class _Accessor:
 
 
 def _doc(func):
-    return f"``obj.rough.{func.__name__}(...)`` is :func:`roughstick.{func.__name__}` ``(obj, ...)``."
+    home = "roughstick.contact" if func.__name__ in contact.__all__ else "roughstick"
+    return f"``obj.rough.{func.__name__}(...)`` is :func:`{home}.{func.__name__}` ``(obj, ...)``."
 
 
 @xr.register_dataarray_accessor("rough")
@@ -70,20 +87,11 @@ class RoughDataArrayAccessor(_Accessor):
     def psd_summary(self, **kwargs):
         return summary.psd_summary(self._obj, **kwargs)
 
-    def rough_contact_curves(self, **kwargs):
-        return contact.rough_contact_curves(self._obj, **kwargs)
-
-    def modified_dmt_curves(self, **kwargs):
-        return rough.modified_dmt_curves(self._obj, **kwargs)
+    def curves(self, **kwargs):  # and <model>_curves of every registered contact model
+        return contact.curves(self._obj, **kwargs)
 
     def contact_distance_grid(self, **kwargs):
-        return rough.contact_distance_grid(self._obj, **kwargs)
-
-    def gw_contact_curves(self, **kwargs):
-        return gw.gw_contact_curves(self._obj, **kwargs)
-
-    def bem_contact_curves(self, **kwargs):
-        return bem.bem_contact_curves(self._obj, **kwargs)
+        return contact.contact_distance_grid(self._obj, **kwargs)
 
     # ---- PSD (qy, qx) or (q)
     def psd_isotropic(self, **kwargs):
@@ -150,9 +158,11 @@ class RoughDataArrayAccessor(_Accessor):
 class RoughDatasetAccessor(_Accessor):
     """Forwarding methods for curves, summaries, moments and ensembles."""
 
+    _moments = True
+
     # ---- force-distance curves (..., rh, distance)
-    def adhesion_summary(self, **kwargs):
-        return adhesion.adhesion_summary(self._obj, **kwargs)
+    def summary(self, **kwargs):
+        return contact.summary(self._obj, **kwargs)
 
     # ---- moments m0, m2, m4
     def asperity_statistics(self):
@@ -164,11 +174,8 @@ class RoughDatasetAccessor(_Accessor):
     def summit_density(self):
         return moments.summit_density(self._obj)
 
-    def gw_contact_curves(self, **kwargs):
-        return gw.gw_contact_curves(self._obj, **kwargs)
-
-    def gw_cutoff_study(self, **kwargs):
-        return gw.gw_cutoff_study(self._obj, **kwargs)
+    def gw_cutoff_study(self, **kwargs):  # and <model>_curves of the models that take moments
+        return contact.gw_cutoff_study(self._obj, **kwargs)
 
     # ---- ensembles and summaries over realization
     def confidence_band(self, **kwargs):

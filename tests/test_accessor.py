@@ -13,7 +13,8 @@ from roughstick.accessor import RoughDataArrayAccessor, RoughDatasetAccessor
 @pytest.mark.parametrize("cls", [RoughDataArrayAccessor, RoughDatasetAccessor])
 def test_every_method_forwards_to_the_public_function_of_its_name(cls):
     methods = [n for n in vars(cls) if not n.startswith("_")]
-    assert len(methods) >= 10
+    served = cls(xr.Dataset() if cls is RoughDatasetAccessor else xr.DataArray(0.0))._models()
+    assert len(methods) + len(served) >= 10  # + <model>_curves of the contact-model registry
     for name in methods:
         assert name in rs.__all__, f".rough.{name} forwards to no public rs.{name}"
         body = inspect.getsource(getattr(cls, name)).strip().splitlines()[1:]
@@ -36,3 +37,20 @@ def test_unknown_names_say_what_is_offered():
         rh.rough.not_a_function()
     with pytest.raises(AttributeError, match="no public function 'level'"):
         xr.Dataset().rough.level()  # a height-map method is not offered on a Dataset
+
+
+def test_contact_models_are_served_from_the_registry():
+    """``.rough.<model>_curves`` exists for every registered contact model (a map) or for those
+    that take spectral moments (a Dataset), and is that model's function."""
+    h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
+    names = {f"{m}_curves" for m in rs.contact.MODELS}
+    assert names <= set(dir(h.rough))
+    d = np.linspace(-1e-9, 1e-9, 5)
+    rs.testing.assert_same_result(h.rough.fft_bem_curves(relative_humidity=0.5, distance=d + 2e-9),
+                                  rs.contact.fft_bem_curves(h, relative_humidity=0.5, distance=d + 2e-9))
+    xr.testing.assert_identical(h.rough.curves(relative_humidity=0.5, distance=d).pressure,
+                                rs.contact.curves(h, relative_humidity=0.5, distance=d).pressure)
+    m = h.rough.roughness_moments()
+    assert "gw_curves" in dir(m.rough) and "fft_bem_curves" not in dir(m.rough)
+    with pytest.raises(AttributeError, match="no public function 'fft_bem_curves'"):
+        m.rough.fft_bem_curves()

@@ -10,6 +10,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
+from ..contact import MODEL_CHOICES
+
 __all__ = ["Field", "SCHEMAS"]
 
 
@@ -45,7 +47,7 @@ _SMALL_P = {  # the small-probability methods' stopping rule: [risk] of risk, [e
     "samples_per_level": F("int", "method 'subset': samples per level (a multiple of 5: p0 = 0.2)", default=1000, minimum=10)}
 #: The contact model, ONE key name in every command (its table differs: [ensemble] of run,
 #: [risk] of risk, [bank] of beam).
-_CONTACT_MODEL = ("contact model of rough_contact_curves: 'modified_dmt' (Eq. 16), 'gw', 'fft_bem', "
+_CONTACT_MODEL = ("contact model of roughstick.contact.curves: 'modified_dmt' (Eq. 16), 'gw', 'fft_bem', "
                   "'bem' or 'auto' (the cheapest model measured within 10 % on these surfaces)")
 _COMMON = {
     "material": {
@@ -111,7 +113,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "distance_lower": F("number", "bottom of the distance grid in units of the rms height",
                                 default=1.5, minimum=0.0),
             "contact_model": F("choice", _CONTACT_MODEL, default="modified_dmt",
-                               choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
+                               choices=MODEL_CHOICES),
         },
         "material": _COMMON["material"],
         "output": _COMMON["output"],
@@ -165,7 +167,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                                "128 zone; its failure states re-checked by the BEM) or 'fft_bem' (~45 "
                                "ms; needed where Eq. 16's tail is an artefact, docs/rare_events.md)",
                                default="modified_dmt",
-                               choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
+                               choices=MODEL_CHOICES),
         },
         "material": _COMMON["material"],
         "measured": {  # an array of tables: [[measured]]
@@ -214,7 +216,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "seed": F("int", "root seed of the patch surfaces", default=0, minimum=0),
             "contact_model": F("choice", "contact model of the patch laws: " + _CONTACT_MODEL.split(": ", 1)[1],
                                default="modified_dmt",
-                               choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
+                               choices=MODEL_CHOICES),
             "cache": F("path", "folder of the bank cache (relative to the file)",
                        default="beam-bank-cache"),
         },

@@ -12,7 +12,10 @@ import numpy as np
 from scipy import ndimage
 from scipy.special import erfc
 
-__all__ = ["periodic_offset_coefficient", "count_periodic_clusters"]
+__all__ = ["periodic_offset_coefficient", "count_periodic_clusters", "merge_humidity_grids", "SOLVED_ATTRS"]
+
+# the ``solved`` variable of both boundary-element models (see merge_humidity_grids)
+SOLVED_ATTRS = {"long_name": "state solved at this humidity (1) or interpolated (0)", "units": "1"}
 
 
 def periodic_offset_coefficient(length_x: float, length_y: float) -> float:
@@ -36,7 +39,7 @@ def periodic_offset_coefficient(length_x: float, length_y: float) -> float:
 
     Examples
     --------
-    >>> round(rs.periodic_offset_coefficient(1.0, 1.0), 6)
+    >>> round(rs.contact.fft_bem.periodic_offset_coefficient(1.0, 1.0), 6)
     -3.900265
     """
     if not (length_x > 0 and length_y > 0):
@@ -82,3 +85,31 @@ def count_periodic_clusters(mask: np.ndarray) -> int:
         if ra != rb:
             parent[ra] = rb
     return len({find(k) for k in range(1, n + 1)})
+
+
+def merge_humidity_grids(per_rh, zmax, names, unit, onto=None):
+    """Curves of several humidities, each on its own grid, on the union of the grids.
+
+    ``per_rh``: (distances, {name: values}) per humidity, in units of ``unit`` [m]. Between a
+    humidity's own points its values are linearly interpolated (Eq. 13 on the piecewise-linear
+    curve, the pull-off and d_eq are unchanged by that); below its first point they are NaN,
+    above its last (beyond max z + h_water, or where the neck let go) the state is dry (zero,
+    and ``max_interference`` = max z - d); ``solved`` marks the computed points. Returns the
+    union [m] and arrays (n_rh, n_union); ``onto`` (same unit): report on that grid instead of
+    the union. Used by both boundary-element models."""
+    union = np.unique(np.concatenate([dd for dd, _ in per_rh])) if onto is None else np.asarray(onto)
+    out = {k: np.full((len(per_rh), union.size), np.nan) for k in names}
+    for i, (dd, v) in enumerate(per_rh):
+        if dd.size == 0:  # nothing solved at this humidity (every BEM state stalled): NaN
+            if "solved" in out:
+                out["solved"][i] = 0.0
+            continue
+        inside = (union >= dd[0]) & (union <= dd[-1])
+        above = union > dd[-1]
+        for k in names:
+            if k == "solved":
+                out[k][i] = np.isin(union, dd).astype(float)
+                continue
+            out[k][i, inside] = np.interp(union[inside], dd, v[k])
+            out[k][i, above] = (zmax - union[above]) * unit if k == "max_interference" else 0.0
+    return union * unit, out

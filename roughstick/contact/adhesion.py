@@ -17,7 +17,7 @@ from .._core.conventions import append_history, set_attrs
 from .._core.remedy import spell
 from .._core.validate import check_core_not_chunked
 
-__all__ = ["CurveGridWarning", "adhesion_summary", "adhesion_summary_kernel", "adhesive_energy_kernel"]
+__all__ = ["CurveGridWarning", "summary"]
 
 
 class CurveGridWarning(UserWarning):
@@ -126,7 +126,7 @@ def _grid_coverage_warning(p: xr.DataArray, d: np.ndarray, attrs: dict) -> None:
                 "no equilibrium: the surfaces collapse into full contact, which a very smooth or "
                 "flat map, a soft material or a very low humidity can cause; the model (rigid "
                 "asperities, Hertz per asperity) is outside its range there"
-                + (f": use {spell('contact_model', 'fft_bem')}" if model in ("modified_dmt", "greenwood_williamson")
+                + (f": use {spell('contact_model', 'fft_bem')}" if model in ("modified_dmt", "gw")
                    else "") + "; widen the grid only to inspect the curve, e.g. " + lower))
     with np.errstate(invalid="ignore"):
         bad = (v[:, -1] > 0) & (~cross | (v[:, -1] > 1e-2 * scale)) & ~p_att
@@ -142,7 +142,7 @@ def _grid_coverage_warning(p: xr.DataArray, d: np.ndarray, attrs: dict) -> None:
                 f"The automatic grid of {model} stops in contact: pass an explicit grid reaching "
                 "higher, e.g. " + higher + " (or a larger n_distance)"))
     if problems:
-        warnings.warn("adhesion_summary: " + "; ".join(problems) + ".", CurveGridWarning,
+        warnings.warn("roughstick.contact.summary: " + "; ".join(problems) + ".", CurveGridWarning,
                       stacklevel=3)
 
 
@@ -167,7 +167,8 @@ def adhesive_energy_kernel(pressure, distance):
 
     Examples
     --------
-    >>> float(rs.adhesive_energy_kernel(np.array([0.0, -2.0, 2.0]), np.array([0.0, 1.0, 2.0])))
+    >>> from roughstick.contact.adhesion import adhesive_energy_kernel
+    >>> float(adhesive_energy_kernel(np.array([0.0, -2.0, 2.0]), np.array([0.0, 1.0, 2.0])))
     1.5
     """
     p = np.asarray(pressure, dtype=float)
@@ -184,8 +185,8 @@ def adhesive_energy_kernel(pressure, distance):
     return np.sum(both + tri, axis=-1)
 
 
-def adhesion_summary_kernel(p, wet, d, from_equilibrium=True):
-    """:func:`adhesion_summary` on numpy arrays, without checks (for callers that evaluate
+def summary_kernel(p, wet, d, from_equilibrium=True):
+    """:func:`summary` on numpy arrays, without checks (for callers that evaluate
     thousands of curves, e.g. :func:`roughstick.failure_probability`).
 
     Parameters
@@ -195,18 +196,19 @@ def adhesion_summary_kernel(p, wet, d, from_equilibrium=True):
     d : numpy.ndarray
         Ascending distances [m], 1-D, at least two.
     from_equilibrium : bool, default True
-        As in :func:`adhesion_summary`.
+        As in :func:`summary`.
 
     Returns
     -------
     tuple of numpy.ndarray
         Per curve: adhesive energy [J m-2] (Eq. 13), pull-off pressure [Pa], equilibrium
         distance [m] (NaN if none), wet fraction there, attraction below the equilibrium
-        [J m-2]: the variables of :func:`adhesion_summary`, in that order.
+        [J m-2]: the variables of :func:`summary`, in that order.
 
     Examples
     --------
-    >>> g, pull, deq, weq, below = rs.adhesion_summary_kernel(
+    >>> from roughstick.contact.adhesion import summary_kernel
+    >>> g, pull, deq, weq, below = summary_kernel(
     ...     np.array([1.0, -2.0, 0.0]), np.zeros(3), np.array([0.0, 1.0, 2.0]))
     >>> float(deq), float(pull), round(float(g), 3)
     (0.3333333333333333, 2.0, 1.667)
@@ -238,7 +240,7 @@ def adhesion_summary_kernel(p, wet, d, from_equilibrium=True):
     return gamma, pull, deq, weq, gamma_all - gamma_sep
 
 
-def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
+def summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
                      check_grid: bool = True) -> xr.Dataset:
     r"""Apparent adhesive energy (Eq. 13), pull-off pressure and equilibrium of each curve.
 
@@ -293,8 +295,8 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     Examples
     --------
     >>> h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
-    >>> c = rs.rough_contact_curves(h, relative_humidity=0.5, distance=np.linspace(-3e-9, 3e-9, 61))
-    >>> s = rs.adhesion_summary(c)
+    >>> c = rs.contact.curves(h, relative_humidity=0.5, distance=np.linspace(-3e-9, 3e-9, 61))
+    >>> s = rs.contact.summary(c)
     >>> bool(s.adhesive_energy > 0), bool(s.equilibrium_distance < c.max_interference.distance.max())
     (True, True)
     """
@@ -315,7 +317,7 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     if d.size < 2:
         raise ValueError("curves need at least two distances to integrate Eq. 13.")
     outs = xr.apply_ufunc(
-        adhesion_summary_kernel,
+        summary_kernel,
         p,
         wet,
         kwargs={"d": d, "from_equilibrium": bool(from_equilibrium)},
@@ -341,7 +343,7 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     ds.attrs["adhesive_energy_range"] = "from_equilibrium" if from_equilibrium else "whole_grid"
     append_history(
         ds,
-        "adhesion_summary: Eq. 13 on the piecewise-linear pressure "
+        "roughstick.contact.summary: Eq. 13 on the piecewise-linear pressure "
         + ("from the equilibrium outwards" if from_equilibrium else "over the whole grid")
         + ", pull-off, equilibrium",
     )

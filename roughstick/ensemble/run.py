@@ -30,15 +30,16 @@ from .._core.materials import POLYSILICON, as_material
 from .._core.progress import estimate_model_seconds, format_seconds
 from .._core.remedy import argument, spelled
 from .._core.validate import as_length, distance_array, relative_humidity_array
-from ..contact.adhesion import adhesion_summary
-from ..contact import CONTACT_MODELS, rough_contact_curves
-from ..contact import warn_if_unresolved
 from ..contact import (
     VALIDITY_BOUND,
     expected_surface_groups,
+    model_names,
     select_model,
     warn_if_outside_validity,
+    warn_if_unresolved,
 )
+from ..contact import curves as contact_curves
+from ..contact import summary as contact_summary
 from ..surface.generate import ExtrapolatedPSDWarning, generate_surfaces
 from .execute import auto_ensemble, stream
 from .pipeline import (
@@ -69,8 +70,8 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
     without warnings.
     """
     model = curves_kwargs.get("model", "modified_dmt")
-    if model not in CONTACT_MODELS:
-        raise ValueError(f"curves_kwargs['model'] must be one of {CONTACT_MODELS}, got {model!r}.")
+    if model not in model_names(auto=True):
+        raise ValueError(f"curves_kwargs['model'] must be one of {model_names(auto=True)}, got {model!r}.")
     tolerance = curves_kwargs.get("tolerance", VALIDITY_BOUND)
     quantity = curves_kwargs.get("quantity", "adhesive_energy")
     if not (isinstance(tolerance, (int, float)) and tolerance > 0):
@@ -85,7 +86,7 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
                                          material=material, adsorbed_layer=adsorbed_layer)
     selection = None
     if model == "auto":
-        model, reason = select_model(None, relative_humidity=rh, tolerance=tolerance,
+        model, reason = select_model(None, relative_humidity=rh, accuracy=tolerance,
                                      quantity=quantity, groups=groups)
         selection = (
             f"auto -> {model} for every realization, chosen once for the ensemble from the "
@@ -98,7 +99,7 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
             f"(within a factor ~3); {reason}")
     with spelled(**PYTHON_SPELLING):  # the remedies named in run_ensemble's arguments
         if selection is None and warn and model != "bem":  # "auto"'s choice meets the tolerance
-            warn_if_outside_validity(None, relative_humidity=rh, model=model, tolerance=tolerance,
+            warn_if_outside_validity(None, relative_humidity=rh, model=model, accuracy=tolerance,
                                      quantity=quantity, material=material,
                                      adsorbed_layer=adsorbed_layer, groups=groups)
         if warn and model != "gw":  # the pixel models: does the pixel resolve the water necks?
@@ -108,8 +109,8 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
 
 #: How run_ensemble's warnings spell their remedies (:mod:`roughstick._core.remedy`).
 PYTHON_SPELLING = {
-    "contact_model": lambda v, tolerance=None, **kw: (
-        "curves_kwargs={" + f"'model': {v!r}" + ("" if tolerance is None else f", 'tolerance': {tolerance!r}")
+    "contact_model": lambda v, accuracy=None, **kw: (
+        "curves_kwargs={" + f"'model': {v!r}" + ("" if accuracy is None else f", 'tolerance': {accuracy!r}")
         + "}"),
     "spacing": argument("spacing", fmt=lambda v: f"{v:.2g}"),
     "resolution": lambda v=None, **kw: ("roughstick.resolution_study(psd=psd, shape=shape, spacing=spacing, "
@@ -293,9 +294,9 @@ def run_ensemble(
     generate = generate_surfaces if generate is None else generate
     # the per-surface validity check would warn once per realization from inside dask: the run is
     # checked once above, on its realization 0, before any graph is built
-    curves = (functools.partial(rough_contact_curves, check_validity=False) if curves is None
+    curves = (functools.partial(contact_curves, check_validity=False) if curves is None
               else curves)
-    summary = adhesion_summary if summary is None else summary
+    summary = contact_summary if summary is None else summary
     root = as_seed_sequence(seed)
     if distance is None:
         dist = np.asarray(
@@ -374,7 +375,7 @@ def _select_for_sizes(psd, shapes, spacing, rh, kwargs):
                                                     adsorbed_layer=kwargs.get("adsorbed_layer", "paper"))
                             for s in shapes], dim="size")
     tolerance = ck.get("tolerance", VALIDITY_BOUND)
-    chosen, reason = select_model(None, relative_humidity=rh, tolerance=tolerance,
+    chosen, reason = select_model(None, relative_humidity=rh, accuracy=tolerance,
                                   quantity=ck.get("quantity", "adhesive_energy"), groups=groups)
     ck["model"] = chosen
     return ck, (f"auto -> {chosen} for every size and realization, chosen once from the surface "

@@ -41,7 +41,8 @@ import xarray as xr
 
 from .._core.arguments import check_numbers
 from .._core.validate import adhesive_energy_values
-from ..contact import contact_distance_grid, rough_contact_curves
+from ..contact import contact_distance_grid
+from ..contact import curves as contact_curves
 from ..surface import generate_surfaces
 from . import _cohesive_kernels as K
 from .beam import PAPER_CANTILEVER, Cantilever
@@ -385,8 +386,8 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n_law: int = 100,
     gap = np.linspace(lo, hi, int(n_gap))
     out = np.empty((int(n_law), len(rh), gap.size))
     for k in range(int(n_law)):
-        c = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh), distance=gap,
-                                 model=model)
+        c = contact_curves(surf.isel(realization=k), relative_humidity=list(rh), distance=gap,
+                           model=model)
         out[k] = c["pressure"].transpose("rh", "distance").values
     bank = xr.DataArray(out, {"law": np.arange(int(n_law)), "rh": rh, "gap": gap},
                         ("law", "rh", "gap"), name="pressure",

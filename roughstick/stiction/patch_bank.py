@@ -24,13 +24,9 @@ from .._core.conventions import append_history, dataset_attrs
 from .._core.materials import POLYSILICON
 from .._core.remedy import argument, spell, spelled
 from .._core.validate import as_length, external_stacklevel, relative_humidity_array
-from ..contact import (
-    ValidityWarning,
-    adhesion_summary,
-    expected_surface_groups,
-    rough_contact_curves,
-    warn_if_outside_validity,
-)
+from ..contact import ValidityWarning, expected_surface_groups, warn_if_outside_validity
+from ..contact import curves as contact_curves
+from ..contact import summary as adhesion_summary
 from ..ensemble.statistics import median_interval
 from ..io.netcdf import publish
 from ..surface import generate_surfaces
@@ -71,8 +67,8 @@ def _law_energies(psd, laws, rh, shape, spacing, seed, model, material=POLYSILIC
                              seed=seed).compute(scheduler="sync")
     values = np.empty((len(laws), len(rh)))
     for k in range(len(laws)):
-        curves = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh),
-                                      model=model, material=material, check_validity=False)
+        curves = contact_curves(surf.isel(realization=k), relative_humidity=list(rh),
+                                model=model, material=material, check_validity=False)
         values[k] = adhesion_summary(curves)["adhesive_energy"].transpose("rh").values
     return values
 

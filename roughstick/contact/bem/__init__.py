@@ -1,6 +1,9 @@
-"""(temporary)"""
+"""The boundary-element reference of humid rough contact, via Tamaas (registered as ``"bem"``).
 
-from . import _curves
-from ._curves import *  # noqa: F403
+:func:`bem_curves`: the model the others are measured against (``pip install roughstick[bem]``);
+the Tamaas adapter (solver, retries, the states without hard contact) in :mod:`._tamaas`.
+"""
 
-__all__ = list(_curves.__all__)
+from ._curves import MODEL, bem_curves
+
+__all__ = ["bem_curves", "MODEL"]

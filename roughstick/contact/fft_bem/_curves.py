@@ -25,69 +25,29 @@ import warnings
 import numpy as np
 import xarray as xr
 
+from ..._core.api import renamed_keywords
 from ..._core.arguments import check_numbers
-from ..._core.conventions import (
-    ATTRS,
-    CURVE_VARIABLES,
-    append_history,
-    dataset_attrs,
-    set_attrs,
-    set_coord_attrs,
-)
-from ..._core.materials import POLYSILICON, Material, reduced_modulus
-from ..._core.memory import check_map_fits_in_memory
-from ..._core.progress import WorkProgress, estimate_seconds
+from ..._core.materials import POLYSILICON, Material
+from ..._core.progress import WorkProgress, estimate_model_seconds, estimate_seconds
 from ..._core.references import cite
 from ..._core.units import require
-from ..._core.validate import (
-    MIN_MAP_PIXELS,
-    check_core_not_chunked,
-    check_has_roughness,
-    external_stacklevel,
-    height_in_si,
+from ..._core.validate import ValidityWarning, check_has_roughness, external_stacklevel
+from .._model import ContactModel, Grid, options_of, register_model
+from .._pipeline import apply
+from .._shared import (
+    SOLVED_ATTRS,
+    count_periodic_clusters,
+    merge_humidity_grids,
+    periodic_offset_coefficient,
 )
 from . import _kernels as _k
-from ..meniscus import as_relative_humidity, laplace_pressure, water_height
-from .._shared import count_periodic_clusters, periodic_offset_coefficient
-from ..trust.validity import ValidityWarning
 
-__all__ = ["fft_bem_contact_curves"]
+__all__ = ["fft_bem_curves", "periodic_offset_coefficient", "MODEL"]
 
 _REFERENCES = cite("polonsky1999", "rey2017", "maugis1992")
 _LENGTH_UNIT = 1e-9
-# the ``solved`` variable of both boundary-element models (see merge_humidity_grids)
-SOLVED_ATTRS = {"long_name": "state solved at this humidity (1) or interpolated (0)", "units": "1"}
 _NAMES = ("pressure", "repulsive_pressure", "wet_fraction", "contact_fraction", "n_contacts",
           "max_interference", "distance_offset", "solver_residual", "solved")
-
-
-def _spacing(height):
-    out = []
-    for dim in ("y", "x"):
-        if dim not in height.dims:
-            raise ValueError(f"height needs dimensions 'y' and 'x'; it has {height.dims}.")
-        if height.sizes[dim] < MIN_MAP_PIXELS:
-            raise ValueError(
-                f"height has only {height.sizes[dim]} pixels along {dim!r}; the solver needs a "
-                f"map of at least {MIN_MAP_PIXELS} x {MIN_MAP_PIXELS} pixels."
-            )
-        if dim not in height.coords:
-            raise ValueError(
-                f"height has no {dim!r} coordinate, so its pixel size is unknown. Build it with "
-                "roughstick.testing.make_topography(values, spacing=...)."
-            )
-        coord = height[dim]
-        if coord.attrs.get("units", "m") != "m":
-            coord = require(coord.copy(), "length", name=dim)
-        c = np.asarray(coord.values, dtype=float)
-        step = np.diff(c)
-        if not (np.all(step > 0) and np.allclose(step, step[0], rtol=1e-6)):
-            raise ValueError(
-                f"coordinate {dim!r} must be uniform and ascending for the FFT solver; "
-                "resample the map onto a uniform grid."
-            )
-        out.append(float(step[0]))
-    return tuple(out)
 
 
 def _states_to_arrays(states, d_nm, zmax, e_star, sigma0, offset_per_pressure):
@@ -164,34 +124,6 @@ def _fft_bem_kernel(z, *, spacing, distances, sigma0s, h_waters, e_star, toleran
     return merge_humidity_grids(per_rh, zmax, _NAMES, L)
 
 
-def merge_humidity_grids(per_rh, zmax, names, unit, onto=None):
-    """Curves of several humidities, each on its own grid, on the union of the grids.
-
-    ``per_rh``: (distances, {name: values}) per humidity, in units of ``unit`` [m]. Between a
-    humidity's own points its values are linearly interpolated (Eq. 13 on the piecewise-linear
-    curve, the pull-off and d_eq are unchanged by that); below its first point they are NaN,
-    above its last (beyond max z + h_water, or where the neck let go) the state is dry (zero,
-    and ``max_interference`` = max z - d); ``solved`` marks the computed points. Returns the
-    union [m] and arrays (n_rh, n_union); ``onto`` (same unit): report on that grid instead of
-    the union. Used by both boundary-element models."""
-    union = np.unique(np.concatenate([dd for dd, _ in per_rh])) if onto is None else np.asarray(onto)
-    out = {k: np.full((len(per_rh), union.size), np.nan) for k in names}
-    for i, (dd, v) in enumerate(per_rh):
-        if dd.size == 0:  # nothing solved at this humidity (every BEM state stalled): NaN
-            if "solved" in out:
-                out["solved"][i] = 0.0
-            continue
-        inside = (union >= dd[0]) & (union <= dd[-1])
-        above = union > dd[-1]
-        for k in names:
-            if k == "solved":
-                out[k][i] = np.isin(union, dd).astype(float)
-                continue
-            out[k][i, inside] = np.interp(union[inside], dd, v[k])
-            out[k][i, above] = (zmax - union[above]) * unit if k == "max_interference" else 0.0
-    return union * unit, out
-
-
 def _warn_unconverged(stats, max_iterations, tolerance, e_star) -> None:
     """Warn when states stopped unconverged (residual at or over 10 x the tolerance), saying how
     many hit ``max_iterations`` and how many stalled before it: none on 64² maps of the five
@@ -223,9 +155,127 @@ def automatic_grid_counts(n_distance: int) -> dict:
     return {"n_contact": n_contact, "n_free": max(4, int(n_distance) - n_contact)}
 
 
-@check_numbers(tolerance="positive", max_iterations="count", n_contact="count", n_free="count",
-               refine="count0")
-def fft_bem_contact_curves(
+def _check_choice(name, choices):
+    def check(value):
+        if value not in choices:
+            raise ValueError(f"{name} must be {' or '.join(map(repr, choices))}, got {value!r}.")
+        return value
+    return check
+
+
+# --------------------------------------------------------------------------------------------
+# the model's entry
+
+
+def _solver_spacing(height):
+    """Pixel sizes ``(dy, dx)`` [m] the solver uses: the first step of each coordinate (the
+    pipeline has checked them uniform to 1e-6; this keeps the solver's numbers unchanged)."""
+    out = []
+    for dim in ("y", "x"):
+        coord = height[dim]
+        if coord.attrs.get("units", "m") != "m":
+            coord = require(coord.copy(), "length", name=dim)
+        out.append(float(np.diff(np.asarray(coord.values, dtype=float))[0]))
+    return tuple(out)
+
+
+def _prepare(ctx):
+    ctx.spacing = _solver_spacing(ctx.height)
+    o = ctx.options
+    hw, dp = ctx.water_height, ctx.laplace_pressure
+    if o["adhesion"] and np.any(hw <= 0):
+        raise ValueError(
+            f"water height must be positive at every humidity; got {hw.tolist()} m. Check the "
+            "adsorbed_layer model."
+        )
+    counts = automatic_grid_counts(ctx.n_distance) if ctx.n_distance is not None else {}
+    n_contact = o["n_contact"] if o["n_contact"] is not None else counts.get("n_contact", 12)
+    n_free = o["n_free"] if o["n_free"] is not None else counts.get("n_free", 24)
+    ctx.state["stats"] = {"fft_calls": 0, "states": 0, "iterations": 0, "unconverged": 0, "capped": 0}
+    ctx.state["kw"] = dict(
+        spacing=ctx.spacing, sigma0s=np.abs(dp) if o["adhesion"] else np.zeros_like(dp),
+        h_waters=hw, e_star=ctx.reduced_modulus, tolerance=o["solver_tolerance"],
+        max_iterations=o["max_iterations"], path=o["path"], precision=o["precision"],
+        n_contact=n_contact, n_free=n_free, refine=o["refine"], stats=ctx.state["stats"])
+
+
+def _bar(ctx, n_points):
+    """Size and estimated time said before the work; progress one step per humidity and map."""
+    h = ctx.height
+    n_maps = int(np.prod([h.sizes[d] for d in ctx.lead]))
+    ny, nx = h.sizes["y"], h.sizes["x"]
+    n_rh = ctx.water_height.size
+    return WorkProgress(
+        n_maps * n_rh,
+        what=(f"fft_bem: {n_maps} map(s) of {ny} x {nx} pixels x {n_rh} humidities "
+              f"(about {n_maps * n_rh * n_points} states)"),
+        estimate=estimate_seconds("fft_bem", (ny, nx), n_maps * n_rh * n_points),
+        progress=ctx.options["progress"],
+        unit="curves",
+    )
+
+
+def _progress(ctx, grid):
+    return _bar(ctx, grid.distance.size)
+
+
+def _kernel(z, distance, ctx):
+    zbar = float(np.mean(z))
+    if distance[0] <= zbar:
+        raise ValueError(
+            f"distance {distance[0]!r} m lies at or below the mean plane of the heights "
+            f"({zbar!r} m): the mean gap would be <= 0 (full contact). Pass distances above the "
+            "mean plane."
+        )
+    return _fft_bem_kernel(z, distances=distance, on_curve=ctx.step, **ctx.state["kw"])[1]
+
+
+def _default_grid(z, ctx):
+    kw = ctx.state["kw"]
+    # the automatic grid solved 44-48 states per curve with n_contact=12, n_free=24
+    with _bar(ctx, int(1.3 * (kw["n_contact"] + kw["n_free"]))) as bar:
+        dist, res = _fft_bem_kernel(z, distances=None, on_curve=bar.update, **kw)
+    return Grid(dist, curves=res)
+
+
+def _variable_attrs(ctx):
+    return {"solved": dict(SOLVED_ATTRS)}
+
+
+def _describe(ctx, grid):
+    o = ctx.options
+    attrs = dict(
+        solver="Polonsky-Keer conjugate gradient with Dugdale wet-set updates (roughstick)",
+        reduced_modulus=ctx.reduced_modulus, solver_tolerance=o["solver_tolerance"],
+        precision=o["precision"], path=o["path"], adhesion=int(bool(o["adhesion"])),
+        distance_convention="mean gap + mean height (zero-mean elastic displacement); "
+        "add distance_offset for the isolated-contact convention of Eq. 16",
+        periodic=1)
+    return attrs, (
+        f"fft_bem_curves(solver_tolerance={o['solver_tolerance']}, precision={o['precision']!r}, "
+        f"n_rh={ctx.water_height.size}, n_distance={grid.distance.size}"
+        + (", automatic grid" if grid.automatic else "") + ")"
+        + ("; height not periodic: solved as if it wrapped around"
+           if int(ctx.height.attrs.get("periodic", 1)) == 0 else ""))
+
+
+def _finish(ds, ctx):
+    if ctx.height.chunks is None:
+        st = ctx.state["stats"]
+        ds.attrs.update(fft_calls=st["fft_calls"], states=st["states"],
+                        iterations=st["iterations"], unconverged=st["unconverged"])
+        _warn_unconverged(st, ctx.options["max_iterations"], ctx.options["solver_tolerance"],
+                          ctx.reduced_modulus)
+
+
+# --------------------------------------------------------------------------------------------
+# public function
+
+
+@renamed_keywords(tolerance="solver_tolerance")
+@check_numbers(solver_tolerance="positive", max_iterations="count", n_contact="count?",
+               n_free="count?", refine="count0", n_distance="count?")
+def fft_bem_curves(
     height: xr.DataArray,
     *,
     relative_humidity,
@@ -233,15 +283,16 @@ def fft_bem_contact_curves(
     material: Material = POLYSILICON,
     material2: Material | None = None,
     adsorbed_layer="paper",
-    tolerance: float = 1e-3,
+    solver_tolerance: float = 1e-3,
     max_iterations: int = 500,
     path: str = "retract",
     precision: str = "single",
-    n_contact: int = 12,
-    n_free: int = 24,
+    n_contact: int | None = None,
+    n_free: int | None = None,
     refine: int = 2,
     adhesion: bool = True,
     progress: bool | None = None,
+    n_distance: int | None = None,
 ) -> xr.Dataset:
     r"""Humid adhesive contact of a rough surface and a flat: fast FFT boundary-element model.
 
@@ -343,147 +394,40 @@ def fft_bem_contact_curves(
     Examples
     --------
     >>> h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
-    >>> ds = rs.fft_bem_contact_curves(h, relative_humidity=0.5)
-    >>> s = rs.adhesion_summary(ds)
+    >>> ds = rs.contact.fft_bem_curves(h, relative_humidity=0.5)
+    >>> s = rs.contact.summary(ds)
     >>> bool(s.adhesive_energy > 0)
     True
     """
-    if not isinstance(height, xr.DataArray):
-        raise TypeError(
-            "height must be an xarray.DataArray with dims (..., y, x) and units; wrap a numpy "
-            "array with roughstick.testing.make_topography(values, spacing=...)."
-        )
-    if path not in ("retract", "approach"):
-        raise ValueError(f"path must be 'retract' or 'approach', got {path!r}.")
-    if precision not in ("single", "double"):
-        raise ValueError(f"precision must be 'single' or 'double', got {precision!r}.")
-    check_map_fits_in_memory(height, model="fft_bem_double" if precision == "double" else "fft_bem")
-    height = height_in_si(height)
-    spacing = _spacing(height)
-    if height.chunks is not None:
-        check_core_not_chunked(height, ("y", "x"))
-    rh = as_relative_humidity(relative_humidity)
-    if rh.ndim > 1 or (rh.ndim == 1 and rh.dims != ("rh",)):
-        raise ValueError("relative_humidity must be a scalar or 1-D along 'rh'.")
-    rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
-    rh_values = np.asarray(rh1.values, dtype=float)
-    dp = np.asarray(laplace_pressure(rh1).values, dtype=float)
-    hw = np.asarray(water_height(rh1, adsorbed_layer=adsorbed_layer).values, dtype=float)
-    if adhesion and np.any(hw <= 0):
-        raise ValueError(
-            f"water height must be positive at every humidity; got {hw.tolist()} m. Check the "
-            "adsorbed_layer model."
-        )
-    e_star = reduced_modulus(material, material2)
-    sigma0s = np.abs(dp) if adhesion else np.zeros_like(dp)
-    stats = {"fft_calls": 0, "states": 0, "iterations": 0, "unconverged": 0, "capped": 0}
-    kw = dict(spacing=spacing, sigma0s=sigma0s, h_waters=hw, e_star=e_star, tolerance=tolerance,
-              max_iterations=max_iterations, path=path, precision=precision,
-              n_contact=n_contact, n_free=n_free, refine=refine, stats=stats)
+    return apply(MODEL, height, relative_humidity=relative_humidity, distance=distance,
+                 material=material, material2=material2, adsorbed_layer=adsorbed_layer,
+                 n_distance=n_distance, solver_tolerance=solver_tolerance,
+                 max_iterations=max_iterations, path=path, precision=precision,
+                 n_contact=n_contact, n_free=n_free, refine=refine, adhesion=adhesion,
+                 progress=progress)
 
-    def announce(n_points):
-        # cost estimate before the work starts (issue 16): states = distance points solved
-        n_maps = int(np.prod([height.sizes[d] for d in height.dims if d not in ("y", "x")]))
-        ny, nx = height.sizes["y"], height.sizes["x"]
-        bar = WorkProgress(
-            n_maps * rh_values.size,
-            what=(f"fft_bem: {n_maps} map(s) of {ny} x {nx} pixels x {rh_values.size} humidities "
-                  f"(about {n_maps * rh_values.size * n_points} states)"),
-            estimate=estimate_seconds("fft_bem", (ny, nx), n_maps * rh_values.size * n_points),
-            progress=progress,
-            unit="curves",
-        )
-        kw["on_curve"] = bar.update
-        return bar
 
-    if distance is None:
-        if height.chunks is not None or height.ndim != 2:
-            raise ValueError(
-                "distance=None builds a grid from one eager (y, x) map; for stacks or dask maps "
-                "pass distance= explicitly so that all maps share one grid, e.g. the automatic "
-                "grid of one map: distance=roughstick.fft_bem_contact_curves(height.isel("
-                "realization=0).compute(), relative_humidity=...).distance.values."
-            )
-        # the automatic grid solved 44-48 states per curve with n_contact=12, n_free=24
-        # (benchmarks/bench_bem_cost.py)
-        bar = announce(int(1.3 * (n_contact + n_free)))
-        dist, res = _fft_bem_kernel(np.asarray(height.transpose("y", "x").values), distances=None,
-                                    **kw)
-        data = {n: xr.DataArray(res[n], dims=("rh", "distance")) for n in _NAMES}
-    else:
-        dist = np.sort(np.unique(np.asarray(distance, dtype=float).ravel()))
-        if dist.size < 1 or not np.all(np.isfinite(dist)):
-            raise ValueError("distance must hold finite values [m].")
-        if height.chunks is None:
-            zbar = np.asarray(height.mean(("y", "x")).values)
-            if np.any(dist[0] <= zbar):
-                raise ValueError(
-                    f"distance {dist[0]!r} m lies at or below the mean plane of the heights "
-                    f"({float(np.max(zbar))!r} m): the mean gap would be <= 0 (full contact). "
-                    "Pass distances above the mean plane."
-                )
-
-        bar = announce(dist.size)
-
-        def kernel(z):
-            _, res = _fft_bem_kernel(z, distances=dist, **kw)
-            return tuple(res[n] for n in _NAMES)
-
-        lead = [d for d in height.dims if d not in ("y", "x")]
-        outs = xr.apply_ufunc(
-            kernel, height.transpose(*lead, "y", "x"),
-            input_core_dims=[["y", "x"]], output_core_dims=[["rh", "distance"]] * len(_NAMES),
-            vectorize=bool(lead), dask="parallelized", output_dtypes=[float] * len(_NAMES),
-            dask_gufunc_kwargs={"output_sizes": {"rh": rh_values.size, "distance": dist.size}},
-        )
-        data = dict(zip(_NAMES, outs, strict=True))
-    bar.close()
-    ds = xr.Dataset(coords={"rh": rh_values, "distance": dist})
-    for n in _NAMES:
-        arr = data[n].assign_coords(rh=rh_values, distance=dist)
-        if n == "solved":
-            arr.attrs = dict(SOLVED_ATTRS)
-            ds[n] = arr
-        else:
-            ds[n] = set_attrs(arr, n)
-    ds["fit_error"] = set_attrs(xr.full_like(ds["pressure"], np.nan), "fit_error")
-    ds = ds[[*CURVE_VARIABLES, "distance_offset", "solver_residual", "solved"]]
-    ds = ds.assign_coords(
-        water_height=("rh", hw, ATTRS["water_height"]),
-        laplace_pressure=("rh", dp, ATTRS["laplace_pressure"]),
-    )
-    set_coord_attrs(ds)
-    if rh.ndim == 0:
-        ds = ds.squeeze("rh")
-    for c in [d for d in height.dims if d not in ("y", "x")]:
-        if c in height.coords:
-            ds = ds.assign_coords({c: height[c]})
-    ds.attrs = dataset_attrs(
-        "Humid adhesive contact of a rough surface and a flat: FFT boundary-element model",
-        references=_REFERENCES,
-        contact_model="fft_bem",
-        solver="Polonsky-Keer conjugate gradient with Dugdale wet-set updates (roughstick)",
-        reduced_modulus=e_star,
-        adsorbed_layer=str(getattr(adsorbed_layer, "__name__", adsorbed_layer)),
-        tolerance=tolerance,
-        precision=precision,
-        path=path,
-        adhesion=int(bool(adhesion)),
-        distance_convention="mean gap + mean height (zero-mean elastic displacement); "
-        "add distance_offset for the isolated-contact convention of Eq. 16",
-        periodic=1,
-        distance_grid="automatic" if distance is None else "given",
-    )
-    if height.chunks is None:
-        ds.attrs.update(fft_calls=stats["fft_calls"], states=stats["states"],
-                        iterations=stats["iterations"], unconverged=stats["unconverged"])
-        _warn_unconverged(stats, max_iterations, tolerance, e_star)
-    append_history(
-        ds,
-        f"fft_bem_contact_curves(tolerance={tolerance}, precision={precision!r}, "
-        f"n_rh={rh_values.size}, n_distance={dist.size}"
-        + (", automatic grid" if distance is None else "") + ")"
-        + ("; height not periodic: solved as if it wrapped around"
-           if int(height.attrs.get("periodic", 1)) == 0 else ""),
-    )
-    return ds
+MODEL = register_model(ContactModel(
+    name="fft_bem",
+    title="Humid adhesive contact of a rough surface and a flat: FFT boundary-element model",
+    description="the FFT boundary-element model: elastic half-space, Dugdale capillary zone, "
+                "periodic map (no optional dependency)",
+    kernel=_kernel,
+    options=options_of(fft_bem_curves, solver_tolerance="positive", max_iterations="count",
+                       path=_check_choice("path", ("retract", "approach")),
+                       precision=_check_choice("precision", ("single", "double")),
+                       n_contact="count?", n_free="count?", refine="count0"),
+    cost_rank=2.0,
+    default_grid=_default_grid,
+    extra_variables=("distance_offset", "solver_residual", "solved"),
+    references=_REFERENCES,
+    complete_map=True,
+    memory=lambda o: "fft_bem_double" if o.get("precision") == "double" else "fft_bem",
+    estimate_seconds=lambda shape, curves, points: estimate_model_seconds("fft_bem", shape, curves, points),
+    prepare=_prepare,
+    progress=_progress,
+    describe=_describe,
+    variable_attrs=_variable_attrs,
+    finish=_finish,
+    function=fft_bem_curves,
+))

@@ -42,13 +42,14 @@ import numpy as np
 import xarray as xr
 
 from ..._core.arguments import check_numbers
-from ..._core.conventions import append_history, dataset_attrs, set_attrs
 from ..._core.dask import is_lazy
-from ..._core.materials import POLYSILICON, Material, hertz_modulus
-from ..._core.memory import check_map_fits_in_memory
+from ..._core.materials import POLYSILICON, Material
+from ..._core.progress import estimate_model_seconds
 from ..._core.references import PAPER, cite
-from ..._core.validate import distance_array, height_in_si
+from ..._core.validate import height_in_si
 from ...surface.moments import moments_si, roughness_moments, summit_density
+from .._model import ContactModel, Grid, options_of, register_model
+from .._pipeline import apply
 from ._kernels import (
     _VARS,
     _XI_BOTTOM,
@@ -59,9 +60,8 @@ from ._kernels import (
     _gw_block,
     _log_density,
 )
-from ..meniscus import as_relative_humidity, laplace_pressure, water_height
 
-__all__ = ["summit_joint_density", "gw_contact_curves", "gw_cutoff_study"]
+__all__ = ["summit_joint_density", "gw_curves", "gw_cutoff_study", "MODEL"]
 
 REFERENCES = cite("nayak1971", "greenwood1966", "greenwood2006", (PAPER, "Eq. 14"))
 
@@ -265,7 +265,6 @@ def _gw_auto_distance(m0, m2, m4, dP, hw, kw, n=None):
 
 def _as_moments(moments, moment_method, qmax) -> xr.Dataset:
     if isinstance(moments, xr.DataArray):
-        check_map_fits_in_memory(moments, model="gw")
         return roughness_moments(moments, method=moment_method, qmax=qmax)
     if isinstance(moments, xr.Dataset):
         if moment_method != "spline" or qmax is not None:
@@ -280,9 +279,164 @@ def _as_moments(moments, moment_method, qmax) -> xr.Dataset:
     )
 
 
+def _check_sphere_model(value):
+    if value not in SPHERE_MODELS:
+        raise ValueError(f"sphere_model must be one of {SPHERE_MODELS}, got {value!r}.")
+    return value
+
+
+def _check_curvature_measure(value):
+    if value not in CURVATURE_MEASURES:
+        raise ValueError(f"curvature_measure must be one of {CURVATURE_MEASURES}, got {value!r}.")
+    return value
+
+
+def _check_curvature_limits(value):
+    try:
+        k_lo, k_hi = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"curvature_limits must be two numbers (units of sqrt(m4)), got {value!r}."
+        ) from None
+    if not (np.isfinite(k_lo) and np.isfinite(k_hi) and 0 <= k_lo < k_hi):
+        raise ValueError(
+            f"curvature_limits must satisfy 0 <= low < high < inf (units of sqrt(m4)), got "
+            f"{value!r}; the paper uses (0.1, 2.5)."
+        )
+    return value
+
+
+def _check_height_cutoff(value):
+    if value is not None and (not isinstance(value, numbers.Real) or not (0 < float(value) < np.inf)):
+        raise ValueError(
+            f"height_cutoff must be a positive number of standard deviations sqrt(m0) or None, "
+            f"got {value!r}; Fig. 9 of the paper uses 2.5 to 6."
+        )
+    return value
+
+
+def _check_nodes(name):
+    def check(value):
+        if not isinstance(value, numbers.Integral) or value < 2:
+            raise ValueError(f"{name} must be an integer >= 2, got {value!r}.")
+        return value
+    return check
+
+
+def _check_force_table(value):
+    if value is not None and (not isinstance(value, numbers.Integral) or (value != 0 and value < 16)):
+        raise ValueError(f"force_table must be 0 (no table) or an integer >= 16, got {value!r}.")
+    return value
+
+
+def _check_apparent_area(value):
+    if value is not None and not (isinstance(value, numbers.Real) and value > 0):
+        raise ValueError(f"apparent_area must be a positive area in m2 or None, got {value!r}.")
+    return value
+
+
+# --------------------------------------------------------------------------------------------
+# the model's entry: moments, default grid and the quadrature over them
+
+
+def _prepare(ctx):
+    o = ctx.options
+    k_lo, k_hi = (float(v) for v in o["curvature_limits"])
+    xi_top = _XI_TOP if o["height_cutoff"] is None else min(float(o["height_cutoff"]), _XI_TOP)
+    table = o["force_table"]
+    if table is None:
+        table = 0 if o["sphere_model"] in ("hertz", "modified_dmt") else 256
+    moments = _as_moments(ctx.source if ctx.height is None else ctx.height, o["moment_method"], o["qmax"])
+    area = o["apparent_area"]
+    if area is None and ctx.height is not None:  # a map: its own area
+        area = ctx.height.sizes["x"] * ctx.height.sizes["y"] * ctx.spacing[1] * ctx.spacing[0]
+    t_nodes, t_weights = _gauss(int(o["n_curvature"]))
+    ctx.state.update(
+        moments=moments, moments_si=moments_si(moments), curvature_limits=(k_lo, k_hi),
+        xi_top=xi_top, force_table=int(table), apparent_area=area,
+        quadrature=dict(model=o["sphere_model"], K=ctx.hertz_modulus,
+                        t_nodes=k_lo + (k_hi - k_lo) * t_nodes, t_weights=(k_hi - k_lo) * t_weights,
+                        xi_top=xi_top, n_height=int(o["n_height"]), measure=o["curvature_measure"],
+                        table=int(table)))
+
+
+def _inputs(ctx):
+    m0, m2, m4 = ctx.state["moments_si"]
+    return m0, m2, m4, ctx.humidity["laplace_pressure"], ctx.humidity["water_height"]
+
+
+def _default_grid(_, ctx):
+    if ctx.n_distance is not None and ctx.n_distance < 2:
+        raise ValueError(f"n_distance must be an integer >= 2 or None, got {ctx.n_distance!r}.")
+    inputs = _inputs(ctx)
+    if any(is_lazy(v) for v in inputs):
+        raise ValueError(
+            "the automatic distance grid needs eager moments and humidities: pass distance= "
+            "explicitly, e.g. distance=roughstick.contact.gw_curves(moments.isel(realization=0)"
+            ".compute(), relative_humidity=...).distance, or compute the moments first."
+        )
+    d = _gw_auto_distance(*(np.asarray(v.values, dtype=float) for v in xr.broadcast(*inputs)),
+                          ctx.state["quadrature"], n=ctx.n_distance)
+    return Grid(d)
+
+
+def _run(ctx, grid):
+    """Eq. 14 over every moment set and humidity (one broadcast ``apply_ufunc``)."""
+    d = grid.distance
+    res = xr.apply_ufunc(
+        _gw_block, *_inputs(ctx),
+        kwargs={"distance": d, **ctx.state["quadrature"]},
+        output_core_dims=[["distance", "_variable"]],
+        dask="parallelized",
+        output_dtypes=[float],
+        dask_gufunc_kwargs={"output_sizes": {"distance": d.size, "_variable": len(_VARS)}},
+    )
+    lead = [dim for dim in res.dims if dim not in ("rh", "distance", "_variable")]
+    res = res.transpose(*lead, *(["rh"] if "rh" in res.dims else []), "distance", "_variable")
+    out = {name: res.isel(_variable=i, drop=True) for i, name in enumerate(_VARS)}
+    if ctx.state["apparent_area"] is not None:
+        out["n_contacts"] = out["n_contacts"] * float(ctx.state["apparent_area"])
+    out["summit_density"] = summit_density(ctx.state["moments"])
+    return out
+
+
+def _variable_attrs(ctx):
+    count = ({"long_name": "expected number of contacting summits on the apparent area"}
+             if ctx.state["apparent_area"] is not None else
+             {"units": "m-2", "long_name": "number of contacting summits per unit apparent area"})
+    return {
+        "n_contacts": count,
+        "max_interference": {"long_name": "interference of the highest summit integrated (h_max - d)"},
+        "wet_fraction": {"long_name": "sum of the summits' wetted annuli per apparent area "
+                                      "(menisci not merged; can exceed 1)"},
+        "fit_error": {"comment": "not applicable to Greenwood-Williamson (no asperity fit)"},
+    }
+
+
+def _describe(ctx, grid):
+    o, st = ctx.options, ctx.state
+    k_lo, k_hi = st["curvature_limits"]
+    attrs = dict(
+        sphere_model=o["sphere_model"], curvature_measure=o["curvature_measure"],
+        curvature_limits=np.array([k_lo, k_hi]),
+        height_cutoff=float(o["height_cutoff"]) if o["height_cutoff"] is not None else "none",
+        height_integration_top=st["xi_top"], reduced_modulus=ctx.hertz_modulus * 3.0 / 4.0,
+        n_height=int(o["n_height"]), n_curvature=int(o["n_curvature"]),
+        force_table=st["force_table"])
+    return attrs, (
+        f"gw_curves(sphere_model={o['sphere_model']!r}, curvature_limits=({k_lo}, {k_hi}), "
+        f"height_cutoff={o['height_cutoff']!r}, n_height={o['n_height']}, "
+        f"n_curvature={o['n_curvature']}"
+        + (f", automatic grid of {grid.distance.size} distances)" if grid.automatic else ")"))
+
+
+# --------------------------------------------------------------------------------------------
+# public functions
+
+
 @check_numbers(n_height="count", n_curvature="count", n_distance="count?", qmax="positive?",
                apparent_area="positive?")
-def gw_contact_curves(
+def gw_curves(
     moments,
     *,
     relative_humidity,
@@ -407,141 +561,20 @@ def gw_contact_curves(
     --------
     >>> ds = xr.Dataset({"m0": ((), 15.7, {"units": "nm2"}), "m2": ((), 0.040, {"units": "1"}),
     ...                  "m4": ((), 5.08e-4, {"units": "nm-2"})})
-    >>> c = rs.gw_contact_curves(ds, relative_humidity=[0.3, 0.9],
-    ...                          distance=np.linspace(0, 30e-9, 61))
+    >>> c = rs.contact.gw_curves(ds, relative_humidity=[0.3, 0.9],
+    ...                         distance=np.linspace(0, 30e-9, 61))
     >>> c.pressure.dims
     ('rh', 'distance')
     """
-    if sphere_model not in SPHERE_MODELS:
-        raise ValueError(f"sphere_model must be one of {SPHERE_MODELS}, got {sphere_model!r}.")
-    if curvature_measure not in CURVATURE_MEASURES:
-        raise ValueError(
-            f"curvature_measure must be one of {CURVATURE_MEASURES}, got {curvature_measure!r}."
-        )
-    try:
-        k_lo, k_hi = (float(v) for v in curvature_limits)
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"curvature_limits must be two numbers (units of sqrt(m4)), got {curvature_limits!r}."
-        ) from None
-    if not (np.isfinite(k_lo) and np.isfinite(k_hi) and 0 <= k_lo < k_hi):
-        raise ValueError(
-            f"curvature_limits must satisfy 0 <= low < high < inf (units of sqrt(m4)), got "
-            f"{curvature_limits!r}; the paper uses (0.1, 2.5)."
-        )
-    if height_cutoff is None:
-        xi_top = _XI_TOP
-    else:
-        if not isinstance(height_cutoff, numbers.Real) or not (0 < float(height_cutoff) < np.inf):
-            raise ValueError(
-                f"height_cutoff must be a positive number of standard deviations sqrt(m0) or None, "
-                f"got {height_cutoff!r}; Fig. 9 of the paper uses 2.5 to 6."
-            )
-        xi_top = min(float(height_cutoff), _XI_TOP)
-    for name, n in (("n_height", n_height), ("n_curvature", n_curvature)):
-        if not isinstance(n, numbers.Integral) or n < 2:
-            raise ValueError(f"{name} must be an integer >= 2, got {n!r}.")
-    if force_table is None:
-        force_table = 0 if sphere_model in ("hertz", "modified_dmt") else 256
-    if not isinstance(force_table, numbers.Integral) or (force_table != 0 and force_table < 16):
-        raise ValueError(f"force_table must be 0 (no table) or an integer >= 16, got {force_table!r}.")
-    if apparent_area is not None and not (isinstance(apparent_area, numbers.Real) and apparent_area > 0):
-        raise ValueError(f"apparent_area must be a positive area in m2 or None, got {apparent_area!r}.")
-    automatic = distance is None
-    if automatic:
-        if n_distance is not None and not (isinstance(n_distance, numbers.Integral) and n_distance >= 2):
-            raise ValueError(f"n_distance must be an integer >= 2 or None, got {n_distance!r}.")
-    elif n_distance is not None:
+    if distance is not None and n_distance is not None:
         raise ValueError("n_distance sizes the automatic grid; with distance= given, drop it.")
-    else:
-        d = distance_array(distance)
-
-    ds_in = _as_moments(moments, moment_method, qmax)
-    m0, m2, m4 = moments_si(ds_in)
-    rh = as_relative_humidity(relative_humidity)
-    dP = laplace_pressure(rh)
-    hw = water_height(rh, adsorbed_layer=adsorbed_layer)
-    K = hertz_modulus(material, material2)
-
-    t_nodes, t_weights = _gauss(int(n_curvature))
-    t_nodes = k_lo + (k_hi - k_lo) * t_nodes
-    t_weights = (k_hi - k_lo) * t_weights
-    kw = dict(
-        model=sphere_model, K=K, t_nodes=t_nodes, t_weights=t_weights, xi_top=xi_top,
-        n_height=int(n_height), measure=curvature_measure, table=int(force_table),
-    )
-    if automatic:
-        if any(is_lazy(v) for v in (m0, m2, m4, dP, hw)):
-            raise ValueError(
-                "the automatic distance grid needs eager moments and humidities: pass distance= "
-                "explicitly, e.g. distance=gw_contact_curves(moments.isel(realization=0).compute(), "
-                "relative_humidity=...).distance, or compute the moments first."
-            )
-        d = _gw_auto_distance(*(np.asarray(v.values, dtype=float)
-                                for v in xr.broadcast(m0, m2, m4, dP, hw)), kw, n=n_distance)
-    dist_da = xr.DataArray(d, dims=("distance",), coords={"distance": d})
-    res = xr.apply_ufunc(
-        _gw_block, m0, m2, m4, dP, hw,
-        kwargs={"distance": d, **kw},
-        output_core_dims=[["distance", "_variable"]],
-        dask="parallelized",
-        output_dtypes=[float],
-        dask_gufunc_kwargs={"output_sizes": {"distance": d.size, "_variable": len(_VARS)}},
-    )
-    res = res.assign_coords(distance=dist_da.distance)
-    lead = [dim for dim in res.dims if dim not in ("rh", "distance", "_variable")]
-    order = lead + (["rh"] if "rh" in res.dims else []) + ["distance", "_variable"]
-    res = res.transpose(*order)
-
-    out = xr.Dataset()
-    for i, name in enumerate(_VARS):
-        v = res.isel(_variable=i, drop=True)
-        if name == "n_contacts":
-            if apparent_area is not None:
-                v = set_attrs(v * float(apparent_area), name,
-                              long_name="expected number of contacting summits on the apparent area")
-            else:
-                v = set_attrs(v, name, units="m-2",
-                              long_name="number of contacting summits per unit apparent area")
-        elif name == "max_interference":
-            v = set_attrs(v, name, long_name="interference of the highest summit integrated (h_max - d)")
-        elif name == "wet_fraction":
-            v = set_attrs(v, name, long_name="sum of the summits' wetted annuli per apparent area "
-                          "(menisci not merged; can exceed 1)")
-        else:
-            v = set_attrs(v, name)
-        out[name] = v
-    out["fit_error"] = set_attrs(xr.full_like(out["pressure"], np.nan), "fit_error",
-                                 comment="not applicable to Greenwood-Williamson (no asperity fit)")
-    out["summit_density"] = summit_density(ds_in)
-    out = out[["pressure", "repulsive_pressure", "wet_fraction", "contact_fraction", "n_contacts",
-               "fit_error", "max_interference", "summit_density"]]
-    out.attrs = dataset_attrs(
-        "Greenwood-Williamson rough contact curves (Eq. 14)",
-        references=REFERENCES,
-        contact_model="greenwood_williamson",
-        sphere_model=sphere_model,
-        curvature_measure=curvature_measure,
-        curvature_limits=np.array([k_lo, k_hi]),
-        height_cutoff=float(height_cutoff) if height_cutoff is not None else "none",
-        height_integration_top=xi_top,
-        reduced_modulus=K * 3.0 / 4.0,
-        adsorbed_layer=str(getattr(adsorbed_layer, "__name__", adsorbed_layer)),
-        n_height=int(n_height),
-        n_curvature=int(n_curvature),
-        force_table=int(force_table),
-        distance_grid="automatic" if automatic else "given",
-    )
-    if "rh" in out.coords:
-        out["rh"].attrs = {"units": "1", "long_name": "relative humidity",
-                           "standard_name": "relative_humidity"}
-    append_history(
-        out,
-        f"gw_contact_curves(sphere_model={sphere_model!r}, curvature_limits=({k_lo}, {k_hi}), "
-        f"height_cutoff={height_cutoff!r}, n_height={n_height}, n_curvature={n_curvature}"
-        + (f", automatic grid of {d.size} distances)" if automatic else ")"),
-    )
-    return out
+    return apply(MODEL, moments, relative_humidity=relative_humidity, distance=distance,
+                 material=material, material2=material2, adsorbed_layer=adsorbed_layer,
+                 n_distance=n_distance, sphere_model=sphere_model,
+                 curvature_limits=curvature_limits, height_cutoff=height_cutoff,
+                 curvature_measure=curvature_measure, apparent_area=apparent_area,
+                 n_height=n_height, n_curvature=n_curvature, force_table=force_table,
+                 moment_method=moment_method, qmax=qmax)
 
 
 def gw_cutoff_study(moments, *, height_cutoffs=(2.5, 3.0, 4.0, 5.0, 6.0, 7.0, None), **kwargs) -> xr.Dataset:
@@ -571,10 +604,10 @@ def gw_cutoff_study(moments, *, height_cutoffs=(2.5, 3.0, 4.0, 5.0, 6.0, 7.0, No
     if automatic:  # one grid for all cutoffs: the union of their automatic grids
         n_distance = kwargs.pop("n_distance", None)
         kwargs["distance"] = np.unique(np.concatenate([
-            gw_contact_curves(moments, height_cutoff=c, n_distance=n_distance,
+            gw_curves(moments, height_cutoff=c, n_distance=n_distance,
                               **{k: v for k, v in kwargs.items() if k != "distance"}).distance.values
             for c in cuts]))
-    parts = [gw_contact_curves(moments, height_cutoff=c, **kwargs) for c in cuts]
+    parts = [gw_curves(moments, height_cutoff=c, **kwargs) for c in cuts]
     coord = np.array([np.inf if c is None else float(c) for c in cuts])
     out = xr.concat(parts, dim="height_cutoff", combine_attrs="drop_conflicts",
                     data_vars="all", coords="minimal", compat="override")
@@ -585,3 +618,32 @@ def gw_cutoff_study(moments, *, height_cutoffs=(2.5, 3.0, 4.0, 5.0, 6.0, 7.0, No
     out.attrs["height_cutoff"] = "see coordinate height_cutoff"
     out.attrs["distance_grid"] = "automatic" if automatic else "given"
     return out
+
+
+MODEL = register_model(ContactModel(
+    name="gw",
+    title="Greenwood-Williamson rough contact curves (Eq. 14)",
+    description="Greenwood-Williamson (Eq. 14): spheres on the summits of a Gaussian surface "
+                "with the map's spectral moments",
+    kernel=_gw_block,
+    options=options_of(gw_curves, sphere_model=_check_sphere_model,
+                       curvature_limits=_check_curvature_limits, height_cutoff=_check_height_cutoff,
+                       curvature_measure=_check_curvature_measure, apparent_area=_check_apparent_area,
+                       n_height=_check_nodes("n_height"), n_curvature=_check_nodes("n_curvature"),
+                       force_table=_check_force_table, qmax="positive?"),
+    cost_rank=0.0,
+    default_grid=_default_grid,
+    extra_variables=("summit_density",),
+    references=REFERENCES,
+    checks=(),
+    broadcast_humidity=True,
+    accepts_moments=True,
+    grid_needs_one_map=False,
+    memory="gw",
+    estimate_seconds=lambda shape, curves, points: estimate_model_seconds("gw", shape, curves, points),
+    prepare=_prepare,
+    describe=_describe,
+    variable_attrs=_variable_attrs,
+    run=_run,
+    function=gw_curves,
+))

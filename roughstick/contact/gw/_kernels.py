@@ -13,7 +13,7 @@ import numpy as np
 from scipy import interpolate, special
 
 from ..._core.conventions import CURVE_VARIABLES
-from ..sphere import _kernels as _sphere_kernels
+from ..sphere import force_kernel
 
 __all__: list[str] = []
 
@@ -131,7 +131,7 @@ def _gauss(n: int):
 
 def _sphere_force(model, delta, radius, K, sigma0, h0):
     delta, radius = np.broadcast_arrays(np.asarray(delta, float), np.asarray(radius, float))
-    f = _sphere_kernels.sphere_force_kernel(model, delta.ravel(), radius.ravel(), K, sigma0, h0)
+    f = force_kernel(model, delta.ravel(), radius.ravel(), K, sigma0, h0)
     return np.reshape(f, delta.shape)
 
 

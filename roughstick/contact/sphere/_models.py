@@ -18,14 +18,15 @@ import warnings
 import numpy as np
 import xarray as xr
 
+from ..._core.api import renamed_keywords
 from ..._core.conventions import ATTRS, dataset_attrs, set_attrs
 from ..._core.materials import POLYSILICON, Material, hertz_modulus
 from ..._core.references import PAPER, cite
 from ..._core.units import require
 from ..._core.validate import ValidityWarning, external_stacklevel, positive
+from ..meniscus import as_relative_humidity, laplace_pressure, water_height
 from . import _energy
 from . import _kernels as K_
-from ..meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = [
     "SPHERE_MODELS",
@@ -35,7 +36,7 @@ __all__ = [
     "transition_parameter",
 ]
 
-#: Names accepted by ``model``.
+#: Names accepted by ``sphere_model``.
 SPHERE_MODELS = K_.MODELS
 
 _REFERENCES = {
@@ -115,7 +116,7 @@ def _adhesion(model, relative_humidity, work_of_adhesion, adhesive_stress, adsor
             return w, 1.0, "given"  # JKR uses only w = sigma0 * h0
         raise ValueError(
             f"model {model!r} needs the Dugdale adhesive stress besides work_of_adhesion: pass "
-            "adhesive_stress [Pa] (the range is w / adhesive_stress), or use model='jkr'."
+            "adhesive_stress [Pa] (the range is w / adhesive_stress), or use sphere_model='jkr'."
         )
     s0 = positive(adhesive_stress, "pressure", "adhesive_stress", "Pass sigma0 in Pa, e.g. 1e8.")
     return s0, w / s0, "given"
@@ -255,10 +256,11 @@ def transition_parameter(
     return set_attrs(out.rename("transition_parameter"), "transition_parameter")
 
 
+@renamed_keywords(model="sphere_model")
 def sphere_contact(
     interference,
     *,
-    model: str,
+    sphere_model: str,
     radius,
     relative_humidity=None,
     work_of_adhesion=None,
@@ -278,6 +280,7 @@ def sphere_contact(
     ``transition_parameter`` :math:`\lambda`, ``work_of_adhesion`` [J m-2] and the model
     parameters in its attributes.
     """
+    model = sphere_model
     if branch not in K_.BRANCHES:
         raise ValueError(f"branch must be one of {K_.BRANCHES}, got {branch!r}.")
     if dmt_outer not in ("sphere", "paraboloid"):
@@ -319,10 +322,11 @@ def sphere_contact(
     return ds
 
 
+@renamed_keywords(model="sphere_model")
 def sphere_force(
     interference,
     *,
-    model: str,
+    sphere_model: str,
     radius,
     relative_humidity=None,
     work_of_adhesion=None,
@@ -342,7 +346,7 @@ def sphere_force(
     interference : float, sequence or xarray.DataArray
         :math:`\delta` [m]: > 0 overlap of the undeformed profiles, < 0 gap. A 1-D sequence
         becomes dimension ``interference``; any order, NaN gives NaN, empty gives empty.
-    model : {"hertz", "jkr", "dmt", "maugis", "modified_dmt"}
+    sphere_model : {"hertz", "jkr", "dmt", "maugis", "modified_dmt"}
         ``"hertz"`` (no adhesion, Eqs. 10-11), ``"jkr"``, ``"dmt"`` (Hertz plus the Dugdale
         stress on the Hertz-deformed gap), ``"maugis"`` (Maugis-Dugdale with Kim's non-contact
         branch) or ``"modified_dmt"`` (Eqs. 8-11).
@@ -408,13 +412,14 @@ def sphere_force(
 
     Examples
     --------
-    >>> f = rs.sphere_force([-1e-9, 0.0, 1e-9], model="modified_dmt", radius=100e-9,
+    >>> f = rs.contact.sphere_force([-1e-9, 0.0, 1e-9], sphere_model="modified_dmt", radius=100e-9,
     ...                     relative_humidity=0.5)
     >>> (f * 1e9).round(1).values  # nN
     array([ -31.9,  -91.6, 1033.9])
     """
+    model = sphere_model
     ds = sphere_contact(
-        interference, model=model, radius=radius, relative_humidity=relative_humidity,
+        interference, sphere_model=model, radius=radius, relative_humidity=relative_humidity,
         work_of_adhesion=work_of_adhesion, adhesive_stress=adhesive_stress, material=material,
         material2=material2, reduced_modulus=reduced_modulus, adsorbed_layer=adsorbed_layer,
         branch=branch, dmt_outer=dmt_outer, **meniscus_kwargs,
@@ -424,12 +429,13 @@ def sphere_force(
 
 
 def _energy_block(R, Kmod, s0, h0, *, model, dmt_outer):
-    return _sphere_energy.adhesive_energy_kernel(model, R, Kmod, s0, h0, dmt_outer=dmt_outer)
+    return _energy.adhesive_energy_kernel(model, R, Kmod, s0, h0, dmt_outer=dmt_outer)
 
 
+@renamed_keywords(model="sphere_model")
 def sphere_adhesive_energy(
     *,
-    model: str,
+    sphere_model: str,
     radius,
     relative_humidity=None,
     work_of_adhesion=None,
@@ -453,7 +459,7 @@ def sphere_adhesive_energy(
 
     Parameters
     ----------
-    model, radius, relative_humidity, work_of_adhesion, adhesive_stress, material, material2, reduced_modulus, adsorbed_layer, dmt_outer, **meniscus_kwargs
+    sphere_model, radius, relative_humidity, work_of_adhesion, adhesive_stress, material, material2, reduced_modulus, adsorbed_layer, dmt_outer, **meniscus_kwargs
         As in :func:`sphere_force`.
 
     Returns
@@ -469,12 +475,13 @@ def sphere_adhesive_energy(
 
     Examples
     --------
-    >>> W = rs.sphere_adhesive_energy(model="modified_dmt", radius=[100e-9, 800e-9],
+    >>> W = rs.contact.sphere_adhesive_energy(sphere_model="modified_dmt", radius=[100e-9, 800e-9],
     ...                               relative_humidity=[0.3, 0.5, 0.7])
     >>> (W * 1e17).round(2).values
     array([[  5.17,   8.09,  37.01],
            [ 52.25,  74.63, 319.96]])
     """
+    model = sphere_model
     _check_model(model)
     R, Kmod, s0, h0, kind = _prepare(
         model, radius, relative_humidity, work_of_adhesion, adhesive_stress, material, material2,

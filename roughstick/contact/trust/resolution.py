@@ -18,8 +18,8 @@ from ..._core.conventions import append_history
 from ..._core.validate import height_in_si
 from ...surface.generate import generate_surfaces
 from ...testing import make_topography
-from ..adhesion import adhesion_summary
-from .._pipeline import rough_contact_curves
+from .._pipeline import curves
+from ..adhesion import summary
 
 __all__ = ["resolution_study", "resample_pixels"]
 
@@ -132,12 +132,12 @@ def resolution_study(
         Pixel sizes relative to the native one: integers (coarser) or inverses of integers
         (finer). 1 is added if absent (the reference of the relative changes).
     model : str, default "fft_bem"
-        Any model of :func:`roughstick.rough_contact_curves`; the FFT boundary-element model
+        Any model of :func:`roughstick.contact.curves`; the FFT boundary-element model
         is valid where the modified DMT is not, and costs a second or two per 512² map.
     shape, spacing, seed
         With ``psd``: native map shape (pixels), native pixel size [m] and the seed.
     material, adsorbed_layer, **model_kwargs
-        Passed to :func:`roughstick.rough_contact_curves`.
+        Passed to :func:`roughstick.contact.curves`.
 
     Returns
     -------
@@ -180,9 +180,9 @@ def resolution_study(
         kw["material"] = material
     rows = []
     for f in factors:
-        c = rough_contact_curves(maps[f], relative_humidity=relative_humidity, model=model,
+        c = curves(maps[f], relative_humidity=relative_humidity, model=model,
                                  adsorbed_layer=adsorbed_layer, **kw)
-        s = adhesion_summary(c)[list(_SUMMARIES)]
+        s = summary(c)[list(_SUMMARIES)]
         rows.append(s.expand_dims(pixel_size=[float(maps[f].x[1] - maps[f].x[0])]))
     ds = xr.concat(rows, dim="pixel_size", combine_attrs="drop_conflicts")
     native = float(maps[1.0].x[1] - maps[1.0].x[0])

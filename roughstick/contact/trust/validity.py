@@ -37,6 +37,7 @@ import numba as nb
 import numpy as np
 import xarray as xr
 
+from ..._core.api import renamed_keywords
 from ..._core.arguments import check_numbers
 from ..._core.materials import POLYSILICON, Material, reduced_modulus
 from ..._core.remedy import spell
@@ -51,6 +52,7 @@ from ..._core.validate import (
 )
 from ...datasets import validity_map_path
 from ...surface.generate import surface_filter
+from .._model import MODELS, model_names
 from ..meniscus import as_relative_humidity, laplace_pressure, water_height
 
 __all__ = [
@@ -63,14 +65,10 @@ __all__ = [
     "select_model",
     "warn_if_outside_validity",
     "VALIDITY_BOUND",
-    "MODEL_COST_ORDER",
-    "GROUP_FEATURES",
 ]
 
 #: Default accepted relative error (the issue's 10 %).
 VALIDITY_BOUND = 0.10
-#: Models from the cheapest to the costliest (median time per 256² curve, docs/accuracy.md).
-MODEL_COST_ORDER = ("gw", "modified_dmt", "fft_bem", "bem")
 #: Groups that locate a surface in the validity table (log10, scaled by their spread there).
 GROUP_FEATURES = ("pressure_ratio", "maugis_lambda", "hw_over_sigma")
 #: Nearest measured cases whose largest error bounds a new case: for exchangeable cases the
@@ -466,11 +464,11 @@ def model_error(method: str, groups, *, quantity: str = "adhesive_energy") -> Er
         ``median`` and ``upper`` relative errors of the neighbours, their number ``n`` and a
         ``reason`` quoting the cases used.
     """
-    if method not in MODEL_COST_ORDER:
-        raise ValueError(f"method must be one of {MODEL_COST_ORDER}, got {method!r}.")
+    if method not in MODELS:
+        raise ValueError(f"method must be one of {model_names()}, got {method!r}.")
     if quantity not in (*_QUANTITIES, "all"):
         raise ValueError(f"quantity must be one of {(*_QUANTITIES, 'all')}, got {quantity!r}.")
-    if method == "bem":
+    if MODELS[method].reference:
         return ErrorBound(0.0, 0.0, 0, "the boundary-element reference itself")
     try:
         tab = _table_for(method)
@@ -512,27 +510,29 @@ def _group_points(height, relative_humidity, material, material2, adsorbed_layer
             for j, r in enumerate(rh_values)]
 
 
-class NoModelMeetsTolerance(ValueError):
-    """No model allowed to :func:`select_model` meets the tolerance on this surface."""
+class NoModelMeetsAccuracy(ValueError):
+    """No model allowed to :func:`select_model` meets the accuracy on this surface."""
 
 
-@check_numbers(tolerance="positive")
+@renamed_keywords(tolerance="accuracy")
+@check_numbers(accuracy="positive")
 def select_model(
     height: xr.DataArray,
     *,
     relative_humidity,
-    tolerance: float = VALIDITY_BOUND,
+    accuracy: float = VALIDITY_BOUND,
     material: Material = POLYSILICON,
     material2: Material | None = None,
     adsorbed_layer="paper",
     quantity: str = "adhesive_energy",
-    candidates=MODEL_COST_ORDER,
+    candidates=None,
     groups: xr.Dataset | None = None,
 ) -> tuple[str, str]:
-    """Cheapest model whose measured error bound at this surface meets ``tolerance``.
+    """Cheapest model whose measured error bound at this surface meets ``accuracy``.
 
-    Candidates go from the cheapest (:data:`MODEL_COST_ORDER`); each humidity and each map of
-    a stack must pass; the reference (``"bem"``) always does.
+    Candidates go from the cheapest (the cost ranks of the contact-model registry,
+    :data:`roughstick.contact.MODELS`); each humidity and each map of a stack must pass; the
+    reference (``"bem"``) always does.
 
     Parameters
     ----------
@@ -540,14 +540,14 @@ def select_model(
         The surface (its groups are computed, :func:`surface_groups`); ``None`` with ``groups``.
     relative_humidity : float or sequence
         RH fractions in (0, 1).
-    tolerance : float, default 0.10
+    accuracy : float, default 0.10
         Accepted relative error of ``quantity`` against the BEM, > 0.
     material, material2, adsorbed_layer
-        As in :func:`roughstick.rough_contact_curves`.
+        As in :func:`roughstick.contact.curves`.
     quantity : {"adhesive_energy", "pull_off_pressure", "equilibrium_distance", "all"}
-        Summary the tolerance applies to.
-    candidates : sequence of str
-        Models allowed, in cost order.
+        Summary the accuracy applies to.
+    candidates : sequence of str, optional
+        Models allowed (default: every registered model with a cost rank).
     groups : xarray.Dataset, optional
         Precomputed groups (e.g. :func:`expected_surface_groups` of a PSD, to choose once for an
         ensemble) instead of those of ``height``.
@@ -557,11 +557,13 @@ def select_model(
     (str, str)
         The model and the reason (its bound, and why the cheaper ones failed).
     """
-    if not tolerance > 0:
-        raise ValueError(f"tolerance must be a positive relative error, got {tolerance!r}.")
+    if not accuracy > 0:
+        raise ValueError(f"accuracy must be a positive relative error, got {accuracy!r}.")
+    ranked = [m for m in model_names() if MODELS[m].cost_rank is not None]
+    candidates = tuple(ranked if candidates is None else candidates)
     points = _group_points(height, relative_humidity, material, material2, adsorbed_layer, groups)
     notes = []
-    for method in [m for m in MODEL_COST_ORDER if m in candidates]:
+    for method in [m for m in ranked if m in candidates]:
         worst = None
         for r, maps in points:
             for gr in maps:
@@ -569,32 +571,29 @@ def select_model(
                 if worst is None or not (b.upper <= worst[1].upper):
                     worst = (r, b)
         r, b = worst
-        if b.upper <= tolerance:
+        if b.upper <= accuracy:
             return method, (
-                f"{method}: upper bound of the {quantity} error {b.upper:.1%} <= tolerance "
-                f"{tolerance:.0%} at RH {r:.2f} ({b.reason})"
+                f"{method}: upper bound of the {quantity} error {b.upper:.1%} <= accuracy "
+                f"{accuracy:.0%} at RH {r:.2f} ({b.reason})"
                 + ("; rejected: " + "; ".join(notes) if notes else "")
             )
         notes.append(f"{method} bound "
                      f"{'unbounded' if np.isinf(b.upper) else format(b.upper, '.1%')} at RH {r:.2f}")
-    if "bem" not in candidates:
-        raise NoModelMeetsTolerance(
-            f"no allowed model ({', '.join(candidates)}) meets the tolerance {tolerance:.0%} on "
-            "this surface: " + "; ".join(notes) + ". Raise the tolerance or allow the "
-            "boundary-element models."
-        )
-    return "bem", "no cheaper model meets the tolerance: " + "; ".join(notes)
+    raise NoModelMeetsAccuracy(
+        f"no allowed model ({', '.join(candidates)}) meets the accuracy {accuracy:.0%} on "
+        "this surface: " + "; ".join(notes) + ". Raise the accuracy or allow the "
+        "boundary-element models."
+    )
 
 
-
-
-@check_numbers(tolerance="positive")
+@renamed_keywords(tolerance="accuracy")
+@check_numbers(accuracy="positive")
 def warn_if_outside_validity(
     height: xr.DataArray,
     *,
     relative_humidity,
     model: str = "modified_dmt",
-    tolerance: float = VALIDITY_BOUND,
+    accuracy: float = VALIDITY_BOUND,
     material: Material = POLYSILICON,
     material2: Material | None = None,
     adsorbed_layer="paper",
@@ -602,14 +601,14 @@ def warn_if_outside_validity(
     stacklevel: int | None = None,
     groups: xr.Dataset | None = None,
 ) -> bool:
-    """Warn if the measured error bound of ``model`` at this surface exceeds ``tolerance``.
+    """Warn if the measured error bound of ``model`` at this surface exceeds ``accuracy``.
 
     ``groups`` (e.g. :func:`expected_surface_groups` of an ensemble's PSD) replaces the groups of
     ``height``, which may then be None.
 
-    The warning names the remedy that exists, ``model="auto"`` with the tolerance, spelled where
+    The warning names the remedy that exists, ``model="auto"`` with the accuracy, spelled where
     the user is (:mod:`roughstick._core.remedy`: the argument of the function called from
-    Python, ``--model auto --tolerance ...`` in ``roughstick curves``, the ``contact_model``
+    Python, ``--model auto --accuracy ...`` in ``roughstick curves``, the ``contact_model``
     key of a configuration file); it points at the first frame outside roughstick (and outside
     dask/xarray), i.e. the user's line. Python's default filter shows it once per line and
     message.
@@ -617,7 +616,7 @@ def warn_if_outside_validity(
     Returns
     -------
     bool
-        True when the bound exceeds the tolerance (warned).
+        True when the bound exceeds the accuracy (warned).
     """
     points = _group_points(height, relative_humidity, material, material2, adsorbed_layer,
                            groups=groups)
@@ -627,21 +626,20 @@ def warn_if_outside_validity(
             b = model_error(model, gr, quantity=quantity)
             if worst is None or not (b.upper <= worst[1].upper):
                 worst = (r, b)
-    if worst is None or worst[1].upper <= tolerance:
+    if worst is None or worst[1].upper <= accuracy:
         return False
     r, b = worst
     bound = ("an amount the measurements cannot bound" if np.isinf(b.upper)
              else f"up to {b.upper:.0%}")
-    better = "bem"
-    for m in MODEL_COST_ORDER[MODEL_COST_ORDER.index(model) + 1:]:
-        if all(model_error(m, gr, quantity=quantity).upper <= tolerance
-               for _, maps in points for gr in maps):
-            better = m
-            break
+    ranked = [m for m in model_names() if MODELS[m].cost_rank is not None]
+    costlier = ranked[ranked.index(model) + 1:] if model in ranked else ranked
+    better = next((m for m in costlier if all(model_error(m, gr, quantity=quantity).upper <= accuracy
+                                              for _, maps in points for gr in maps)),
+                  next((m for m in ranked if MODELS[m].reference), "bem"))
     warnings.warn(
-        f"{model} may be off by {bound} (> tolerance {tolerance:.0%}) on the {quantity} of this "
-        f"surface at RH {r:.2f}: {b.reason}. Remedy: {spell('contact_model', 'auto', tolerance=tolerance)} "
-        f"picks the cheapest model measured within the tolerance (here {spell('contact_model', better)}). "
+        f"{model} may be off by {bound} (> accuracy {accuracy:.0%}) on the {quantity} of this "
+        f"surface at RH {r:.2f}: {b.reason}. Remedy: {spell('contact_model', 'auto', accuracy=accuracy)} "
+        f"picks the cheapest model measured within the accuracy (here {spell('contact_model', better)}). "
         "See docs/accuracy.md.",
         ValidityWarning,
         stacklevel=external_stacklevel() if stacklevel is None else stacklevel,

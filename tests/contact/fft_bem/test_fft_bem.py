@@ -34,7 +34,7 @@ def test_hertz_sphere_within_one_percent():
     h = paraboloid(n, dx, R)
     zmax = float(h.max())
     d = zmax - np.array([0.1e-9, 0.2e-9, 0.4e-9])
-    ds = rs.fft_bem_contact_curves(h, relative_humidity=0.3, distance=d, tolerance=1e-6,
+    ds = rs.contact.fft_bem_curves(h, relative_humidity=0.3, distance=d, solver_tolerance=1e-6,
                                    precision="double", adhesion=False)
     area = (n * dx) ** 2
     force = ds.pressure.values * area
@@ -52,28 +52,28 @@ def test_loose_tolerance_keeps_hertz_within_one_percent():
     R, n, dx = 500e-9, 96, 1.33e-9
     h = paraboloid(n, dx, R)
     d = float(h.max()) - np.array([0.1e-9, 0.2e-9, 0.4e-9])
-    ds = rs.fft_bem_contact_curves(h, relative_humidity=0.3, distance=d, adhesion=False)
+    ds = rs.contact.fft_bem_curves(h, relative_humidity=0.3, distance=d, adhesion=False)
     force = ds.pressure.values * (n * dx) ** 2
     K = rs.hertz_modulus()
     np.testing.assert_allclose(force, K * np.sqrt(R) * ds.max_interference.values**1.5, rtol=0.01)
 
 
 def test_maugis_dugdale_sphere_pull_off_and_attached_branch():
-    """lambda = 0.5 sphere against the Maugis-Dugdale curve of roughstick.sphere_force."""
+    """lambda = 0.5 sphere against the Maugis-Dugdale curve of roughstick.contact.sphere_force."""
     R, n, dx, rh = 200e-9, 96, 1.5e-9, 0.5
     mat = rs.Material(youngs_modulus=7.05e9, poisson_ratio=0.23)
-    lam = float(rs.transition_parameter(radius=R, relative_humidity=rh, material=mat))
+    lam = float(rs.contact.transition_parameter(radius=R, relative_humidity=rh, material=mat))
     assert 0.45 < lam < 0.55
     h = paraboloid(n, dx, R)
     zmax = float(h.max())
     d = zmax + np.linspace(-0.6e-9, 1.2e-9, 19)
-    ds = rs.fft_bem_contact_curves(h, relative_humidity=rh, distance=d, material=mat,
-                                   tolerance=1e-5, precision="double")
+    ds = rs.contact.fft_bem_curves(h, relative_humidity=rh, distance=d, material=mat,
+                                   solver_tolerance=1e-5, precision="double")
     force = ds.pressure.values * (n * dx) ** 2
-    md = rs.sphere_force(np.linspace(-2e-9, 1e-9, 3001), model="maugis", radius=R,
+    md = rs.contact.sphere_force(np.linspace(-2e-9, 1e-9, 3001), sphere_model="maugis", radius=R,
                          relative_humidity=rh, material=mat)
     assert -force.min() == pytest.approx(-float(md.min()), rel=0.03)
-    md_at = rs.sphere_force(ds.max_interference, model="maugis", radius=R,
+    md_at = rs.contact.sphere_force(ds.max_interference, sphere_model="maugis", radius=R,
                             relative_humidity=rh, material=mat)
     attached = ds.contact_fraction.values > 0
     assert attached.sum() >= 10
@@ -86,9 +86,9 @@ def test_noncontact_states_are_dugdale_on_the_undeformed_gap_for_a_stiff_surface
     z = np.random.default_rng(0).normal(size=(32, 48)) * 2e-9
     h = make_topography(z, spacing=5e-9, periodic=True)
     d = z.max() + np.array([0.2e-9, 0.5e-9, 0.8e-9, 3e-9])
-    ds = rs.fft_bem_contact_curves(h, relative_humidity=[0.3, 0.5], distance=d)
-    dp = rs.laplace_pressure([0.3, 0.5]).values
-    hw = rs.water_height([0.3, 0.5]).values
+    ds = rs.contact.fft_bem_curves(h, relative_humidity=[0.3, 0.5], distance=d)
+    dp = rs.contact.laplace_pressure([0.3, 0.5]).values
+    hw = rs.contact.water_height([0.3, 0.5]).values
     for i in range(2):
         wet = np.array([(z >= dd - hw[i]).mean() for dd in ds.distance.values])
         np.testing.assert_allclose(ds.wet_fraction.values[i], wet, atol=1.5 / z.size)
@@ -101,7 +101,7 @@ def test_layout_matches_the_reference_and_eq16_decomposition():
     h = rough_map()
     z = h.values
     d = z.max() + np.linspace(-2.5e-9, 1.5e-9, 12)
-    ds = rs.fft_bem_contact_curves(h, relative_humidity=[0.3, 0.7], distance=d)
+    ds = rs.contact.fft_bem_curves(h, relative_humidity=[0.3, 0.7], distance=d)
     for name in ("pressure", "repulsive_pressure", "wet_fraction", "contact_fraction",
                  "n_contacts", "fit_error", "max_interference", "distance_offset",
                  "solver_residual", "solved"):
@@ -109,7 +109,7 @@ def test_layout_matches_the_reference_and_eq16_decomposition():
     rs.testing.assert_units(ds.pressure, "Pa")
     assert ds.attrs["contact_model"] == "fft_bem"
     assert ds.fit_error.isnull().all()
-    dp = rs.laplace_pressure([0.3, 0.7]).values[:, None]
+    dp = rs.contact.laplace_pressure([0.3, 0.7]).values[:, None]
     np.testing.assert_allclose(ds.pressure, ds.repulsive_pressure + dp * ds.wet_fraction,
                                rtol=1e-6, atol=1e-3 * abs(dp).max())
     assert np.all(np.diff(ds.contact_fraction.values, axis=1) <= 1e-12)
@@ -120,27 +120,27 @@ def test_layout_matches_the_reference_and_eq16_decomposition():
 def test_odd_and_non_square_map_and_stack():
     h = rough_map(shape=(27, 40))
     d = float(h.max()) + np.linspace(-2e-9, 1e-9, 6)
-    one = rs.fft_bem_contact_curves(h, relative_humidity=0.7, distance=d)
+    one = rs.contact.fft_bem_curves(h, relative_humidity=0.7, distance=d)
     stack = xr.concat([h, h], dim="realization")
-    two = rs.fft_bem_contact_curves(stack, relative_humidity=0.7, distance=d)
+    two = rs.contact.fft_bem_curves(stack, relative_humidity=0.7, distance=d)
     assert two.pressure.dims == ("realization", "distance")
     np.testing.assert_array_equal(two.pressure.isel(realization=1), one.pressure)
-    lazy = rs.fft_bem_contact_curves(stack.chunk(realization=1), relative_humidity=0.7, distance=d)
+    lazy = rs.contact.fft_bem_curves(stack.chunk(realization=1), relative_humidity=0.7, distance=d)
     assert lazy.pressure.chunks is not None
     np.testing.assert_array_equal(lazy.pressure.compute().values, two.pressure.values)
 
 
 def test_automatic_grid_brackets_the_equilibrium_and_marks_solved_points():
     h = rough_map(64)
-    ds = rs.fft_bem_contact_curves(h, relative_humidity=[0.3, 0.9])
-    s = rs.adhesion_summary(ds)
+    ds = rs.contact.fft_bem_curves(h, relative_humidity=[0.3, 0.9])
+    s = rs.contact.summary(ds)
     assert np.all(np.isfinite(s.equilibrium_distance))
     assert np.all(s.adhesive_energy > 0)
     # each humidity's own points are solved; merged grid: some interpolated points
     assert ds.solved.sum() < ds.solved.size
     # the same summaries as the humidity solved alone (interpolation keeps Eq. 13 exact)
     for i, rh in enumerate((0.3, 0.9)):
-        alone = rs.adhesion_summary(rs.fft_bem_contact_curves(h, relative_humidity=rh))
+        alone = rs.contact.summary(rs.contact.fft_bem_curves(h, relative_humidity=rh))
         for q in ("adhesive_energy", "pull_off_pressure", "equilibrium_distance"):
             assert float(s[q][i]) == pytest.approx(float(alone[q]), rel=1e-9)
 
@@ -149,10 +149,10 @@ def test_automatic_grid_matches_a_fine_uniform_grid():
     """Gamma, pull-off and d_eq of the automatic grid within 3 % of a 200-point grid."""
     h = rough_map(64, seed=5)
     z = h.values
-    auto = rs.adhesion_summary(rs.fft_bem_contact_curves(h, relative_humidity=0.7))
+    auto = rs.contact.summary(rs.contact.fft_bem_curves(h, relative_humidity=0.7))
     deq = float(auto.equilibrium_distance)
-    fine = np.linspace(deq - 1e-9, z.max() + float(rs.water_height(0.7)), 200)
-    ref = rs.adhesion_summary(rs.fft_bem_contact_curves(h, relative_humidity=0.7, distance=fine))
+    fine = np.linspace(deq - 1e-9, z.max() + float(rs.contact.water_height(0.7)), 200)
+    ref = rs.contact.summary(rs.contact.fft_bem_curves(h, relative_humidity=0.7, distance=fine))
     for q in ("adhesive_energy", "pull_off_pressure", "equilibrium_distance"):
         assert float(auto[q]) == pytest.approx(float(ref[q]), rel=0.03), q
 
@@ -160,23 +160,23 @@ def test_automatic_grid_matches_a_fine_uniform_grid():
 def test_bad_input():
     h = rough_map()
     with pytest.raises(ValueError, match="mean plane"):
-        rs.fft_bem_contact_curves(h, relative_humidity=0.5, distance=[-1e-9, 1e-9])
+        rs.contact.fft_bem_curves(h, relative_humidity=0.5, distance=[-1e-9, 1e-9])
     with pytest.raises(ValueError, match="path"):
-        rs.fft_bem_contact_curves(h, relative_humidity=0.5, path="sideways")
+        rs.contact.fft_bem_curves(h, relative_humidity=0.5, path="sideways")
     with pytest.raises(ValueError, match="precision"):
-        rs.fft_bem_contact_curves(h, relative_humidity=0.5, precision="half")
+        rs.contact.fft_bem_curves(h, relative_humidity=0.5, precision="half")
     bad = h.copy()
     bad[3, 4] = np.nan
     with pytest.raises(ValueError, match="NaN"):
-        rs.fft_bem_contact_curves(bad, relative_humidity=0.5, distance=[3e-9, 4e-9])
+        rs.contact.fft_bem_curves(bad, relative_humidity=0.5, distance=[3e-9, 4e-9])
     with pytest.raises(TypeError, match="DataArray"):
-        rs.fft_bem_contact_curves(h.values, relative_humidity=0.5)
+        rs.contact.fft_bem_curves(h.values, relative_humidity=0.5)
     stack = xr.concat([h, h], "realization")
     with pytest.raises(ValueError, match=r"eager.*e\.g\. the automatic grid of one map"):
-        rs.fft_bem_contact_curves(stack, relative_humidity=0.5)
+        rs.contact.fft_bem_curves(stack, relative_humidity=0.5)
     # the fix the message names works on that stack
-    grid = rs.fft_bem_contact_curves(stack.isel(realization=0), relative_humidity=0.5).distance.values
-    both = rs.fft_bem_contact_curves(stack, relative_humidity=0.5, distance=grid)
+    grid = rs.contact.fft_bem_curves(stack.isel(realization=0), relative_humidity=0.5).distance.values
+    both = rs.contact.fft_bem_curves(stack, relative_humidity=0.5, distance=grid)
     assert both.pressure.sizes["realization"] == 2
 
 
@@ -192,13 +192,13 @@ def test_agrees_with_tamaas_on_a_rough_surface(material):
     z = h.values
     d = z.max() + np.linspace(-3e-9, 4.8e-9, 24)
     d = d[d > z.mean() + 0.5e-9]
-    ref = rs.bem_contact_curves(h, relative_humidity=[0.5, 0.7], distance=d, material=material)
-    new = rs.fft_bem_contact_curves(h, relative_humidity=[0.5, 0.7], distance=d, material=material)
-    a, b = rs.adhesion_summary(new), rs.adhesion_summary(ref)
+    ref = rs.contact.bem_curves(h, relative_humidity=[0.5, 0.7], distance=d, material=material)
+    new = rs.contact.fft_bem_curves(h, relative_humidity=[0.5, 0.7], distance=d, material=material)
+    a, b = rs.contact.summary(new), rs.contact.summary(ref)
     for q, rtol in (("adhesive_energy", 0.03), ("pull_off_pressure", 0.03),
                     ("equilibrium_distance", 0.01)):
         np.testing.assert_allclose(a[q].values, b[q].values, rtol=rtol, err_msg=q)
-    two_pixels = 2 * np.abs(rs.laplace_pressure([0.5, 0.7]).values[:, None]) / z.size
+    two_pixels = 2 * np.abs(rs.contact.laplace_pressure([0.5, 0.7]).values[:, None]) / z.size
     assert np.all(np.abs(new.pressure - ref.pressure)
                   <= two_pixels + 0.01 * float(abs(ref.pressure).max()))
 
@@ -208,12 +208,12 @@ def test_n_distance_sets_the_size_of_the_automatic_grid():
     ignored: 46-50 points whatever n), and a finer grid moves Γ by little (S1 64², RH 0.3)."""
     h = rs.datasets.surface_family("S1", shape=(64, 64), seed=1)
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", rs.ValidityWarning)
-        coarse = rs.rough_contact_curves(h, relative_humidity=[0.3], model="fft_bem")
-        fine = rs.rough_contact_curves(h, relative_humidity=[0.3], model="fft_bem", n_distance=200)
+        warnings.simplefilter("ignore", rs.contact.ValidityWarning)
+        coarse = rs.contact.curves(h, relative_humidity=[0.3], model="fft_bem")
+        fine = rs.contact.curves(h, relative_humidity=[0.3], model="fft_bem", n_distance=200)
     assert coarse.attrs["distance_grid"] == fine.attrs["distance_grid"] == "automatic"
     assert fine.sizes["distance"] >= 200 > 2 * coarse.sizes["distance"]
-    g = [float(rs.adhesion_summary(c).adhesive_energy.squeeze()) for c in (coarse, fine)]
+    g = [float(rs.contact.summary(c).adhesive_energy.squeeze()) for c in (coarse, fine)]
     assert abs(g[0] / g[1] - 1) < 0.05
 
 
@@ -222,11 +222,11 @@ def test_unconverged_states_are_flagged_on_a_soft_material():
     with the fix, instead of only counted in attrs; polysilicon leaves none."""
     h = rs.datasets.surface_family("S1", shape=(64, 64), seed=1)
     with warnings.catch_warnings():
-        warnings.simplefilter("error", rs.ValidityWarning)
-        stiff = rs.fft_bem_contact_curves(h, relative_humidity=[0.3])
+        warnings.simplefilter("error", rs.contact.ValidityWarning)
+        stiff = rs.contact.fft_bem_curves(h, relative_humidity=[0.3])
     assert stiff.attrs["unconverged"] == 0
-    with pytest.warns(rs.ValidityWarning, match="did not converge.*hit max_iterations=500.*raise max_iterations"):
-        soft = rs.fft_bem_contact_curves(h, relative_humidity=[0.3],
+    with pytest.warns(rs.contact.ValidityWarning, match="did not converge.*hit max_iterations=500.*raise max_iterations"):
+        soft = rs.contact.fft_bem_curves(h, relative_humidity=[0.3],
                                          material=rs.Material(youngs_modulus=1e9, poisson_ratio=0.3))
     assert soft.attrs["unconverged"] > 0
 
@@ -236,12 +236,12 @@ def test_automatic_grid_at_very_low_humidity_is_small_and_complete(family, rh):
     # before: 3,945 states on S1 at RH 1e-4 (1e-5 nm steps along a one-pixel neck), and the grid
     # stopped at max z + h_water while the neck still held: Table 4 at RH 1e-6 lost 46 % of Γ
     h = rs.datasets.surface_family(family, shape=(64, 64), seed=1)
-    c = rs.fft_bem_contact_curves(h, relative_humidity=rh)
+    c = rs.contact.fft_bem_curves(h, relative_humidity=rh)
     assert c.sizes["distance"] <= 500
     d = c.distance.values
     dense = np.linspace(d.min(), d.max() + 1e-9, 1500)  # reaching 1 nm beyond the automatic grid
-    ref = rs.fft_bem_contact_curves(h, relative_humidity=rh, distance=dense)
-    g, g_ref = (float(rs.adhesion_summary(x).adhesive_energy) for x in (c, ref))
+    ref = rs.contact.fft_bem_curves(h, relative_humidity=rh, distance=dense)
+    g, g_ref = (float(rs.contact.summary(x).adhesive_energy) for x in (c, ref))
     assert g == pytest.approx(g_ref, rel=0.05)  # measured -1.5 % and +0.7 %
 
 
@@ -251,13 +251,13 @@ def test_pull_off_of_the_automatic_grid_is_resolved_at_low_humidity():
     retraction on the automatic grid plus 200 uniform points across the four intervals around its
     most tensile point."""
     h = rs.datasets.surface_family("table4", shape=(64, 64), seed=2)
-    auto = rs.fft_bem_contact_curves(h, relative_humidity=1e-4)
+    auto = rs.contact.fft_bem_curves(h, relative_humidity=1e-4)
     solved = auto.solved.values.ravel() > 0
     d, p = auto.distance.values[solved], auto.pressure.values.ravel()[solved]
     j = int(np.argmin(p))
     local = np.linspace(d[max(j - 2, 0)], d[min(j + 2, d.size - 1)], 200)
-    ref = rs.fft_bem_contact_curves(h, relative_humidity=1e-4, distance=np.union1d(d, local))
-    po, po_ref = (float(rs.adhesion_summary(x).pull_off_pressure) for x in (auto, ref))
+    ref = rs.contact.fft_bem_curves(h, relative_humidity=1e-4, distance=np.union1d(d, local))
+    po, po_ref = (float(rs.contact.summary(x).pull_off_pressure) for x in (auto, ref))
     assert po == pytest.approx(po_ref, rel=7e-3)
 
 
@@ -271,11 +271,11 @@ def test_a_neck_is_not_dropped_by_a_large_retraction_step():
     h = rs.datasets.surface_family("rough", shape=(32, 32), seed=0)
     h = ((h - h.mean()) * (30e-9 / float(h.std()))).assign_attrs(units="m")
     soft = rs.Material(youngs_modulus=10e9)
-    auto = rs.fft_bem_contact_curves(h, relative_humidity=1e-3, material=soft)
-    d, zmax, hw = auto.distance.values, float(h.max()), float(rs.water_height(1e-3))
+    auto = rs.contact.fft_bem_curves(h, relative_humidity=1e-3, material=soft)
+    d, zmax, hw = auto.distance.values, float(h.max()), float(rs.contact.water_height(1e-3))
     fine = np.linspace(d[0], zmax + max(6 * hw, 1.5 * (d[-1] - zmax)), 1600)
-    ref = rs.fft_bem_contact_curves(h, relative_humidity=1e-3, material=soft, distance=fine)
-    g, g_ref = (float(rs.adhesion_summary(x).adhesive_energy) for x in (auto, ref))
+    ref = rs.contact.fft_bem_curves(h, relative_humidity=1e-3, material=soft, distance=fine)
+    g, g_ref = (float(rs.contact.summary(x).adhesive_energy) for x in (auto, ref))
     assert g == pytest.approx(g_ref, rel=0.03)  # measured -0.1 %; 0.31 x before
     assert auto.sizes["distance"] <= 150
 
@@ -283,8 +283,8 @@ def test_a_neck_is_not_dropped_by_a_large_retraction_step():
 @pytest.mark.parametrize("kw, said", [
     ({"max_iterations": 0}, r"max_iterations=0: must be an integer >= 1; pass e\.g\. max_iterations=500"),
     ({"max_iterations": 2.5}, r"max_iterations=2\.5: must be an integer >= 1"),
-    ({"tolerance": float("nan")}, r"tolerance=nan: must be a finite number > 0"),
-    ({"tolerance": float("inf")}, r"tolerance=inf: must be a finite number > 0"),
+    ({"solver_tolerance": float("nan")}, r"solver_tolerance=nan: must be a finite number > 0"),
+    ({"solver_tolerance": float("inf")}, r"solver_tolerance=inf: must be a finite number > 0"),
     ({"n_contact": 0}, r"n_contact=0: must be an integer >= 1"),
     ({"refine": -1}, r"refine=-1: must be an integer >= 0"),
 ])
@@ -293,13 +293,13 @@ def test_solver_settings_are_refused_before_any_work(kw, said):
     unconverged) with only a warning blaming the distance grid."""
     h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
     with pytest.raises(ValueError, match=said):
-        rs.fft_bem_contact_curves(h, relative_humidity=0.5, **kw)
+        rs.contact.fft_bem_curves(h, relative_humidity=0.5, **kw)
 
 
 def test_an_unconverged_solve_says_which_argument_to_raise():
     h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
-    with pytest.warns(rs.ValidityWarning, match=r"of \d+ contact states did not converge .*\d+ hit "
+    with pytest.warns(rs.contact.ValidityWarning, match=r"of \d+ contact states did not converge .*\d+ hit "
                                                 r"max_iterations=1 .*raise max_iterations") as rec:
-        ds = rs.fft_bem_contact_curves(h, relative_humidity=0.5, max_iterations=1)
+        ds = rs.contact.fft_bem_curves(h, relative_humidity=0.5, max_iterations=1)
     assert ds.attrs["unconverged"] > 0
     assert rec[0].filename == __file__  # the user's line, not the argument check's wrapper

@@ -49,7 +49,7 @@ def grid_density(alpha, measure, xi, t):
     ds = moments(1.0, 1.0, alpha)  # m0 = 1 nm2, m2 = 1, m4 = alpha nm-2 -> bandwidth alpha
     h = xr.DataArray(xi * NM, dims="xi", attrs={"units": "m"})
     k = xr.DataArray(t * np.sqrt(alpha) / NM, dims="t")
-    rho = rs.summit_joint_density(h, k, moments=ds, curvature_measure=measure)
+    rho = rs.contact.summit_joint_density(h, k, moments=ds, curvature_measure=measure)
     return rho.values * NM * np.sqrt(alpha) / NM  # dimensionless density in (xi, t)
 
 
@@ -150,12 +150,12 @@ def test_monte_carlo_force_sum_matches_quadrature(monte_carlo):
     t = 1 / R / np.sqrt(float(m["m4"]))
     sel = (t > 0.1) & (t < 2.5)
     K = rs.hertz_modulus()
-    dP, hw = abs(float(rs.laplace_pressure(0.9))), float(rs.water_height(0.9))
+    dP, hw = abs(float(rs.contact.laplace_pressure(0.9))), float(rs.contact.water_height(0.9))
     d = np.linspace(0, 25 * NM, 26)
     direct = np.array(
         [sphere_force_kernel("modified_dmt", H[sel] - di, R[sel], K, dP, hw).sum() / area for di in d]
     )
-    p = rs.gw_contact_curves(m, relative_humidity=0.9, distance=d).pressure.values
+    p = rs.contact.gw_curves(m, relative_humidity=0.9, distance=d).pressure.values
     rep = direct > 1e8  # tens of summits or more in contact
     np.testing.assert_allclose(p[rep], direct[rep], rtol=0.06)
     assert p.min() == pytest.approx(direct.min(), rel=0.15)
@@ -180,7 +180,7 @@ def test_hertz_equals_classical_gw_integral():
     ds = moments(m0, m2, m4)
     sigma = 3.0 * NM
     d = np.array([-1.0, 0.0, 1.0, 2.0, 3.0, 4.0]) * sigma
-    out = rs.gw_contact_curves(ds, relative_humidity=0.5, distance=d, sphere_model="hertz")
+    out = rs.contact.gw_curves(ds, relative_humidity=0.5, distance=d, sphere_model="hertz")
     N = float(rs.summit_density(ds))
     K = rs.hertz_modulus()
 
@@ -206,7 +206,7 @@ def test_quadrature_converges():
     d = np.linspace(-2, 30, 97) * NM
     res = {}
     for nh, nk in [(8, 6), (16, 12), (32, 24), (128, 96)]:
-        c = rs.gw_contact_curves(S1, relative_humidity=[0.3, 0.9], distance=d, height_cutoff=2.5,
+        c = rs.contact.gw_curves(S1, relative_humidity=[0.3, 0.9], distance=d, height_cutoff=2.5,
                                  n_height=nh, n_curvature=nk)
         res[nh] = (gamma(c.pressure), c.pressure.values)
     g_ref, p_ref = res[128]
@@ -215,14 +215,14 @@ def test_quadrature_converges():
     assert np.max(np.abs(res[32][0] / g_ref - 1)) < 1e-7  # the defaults
     scale = np.abs(p_ref).max(axis=-1, keepdims=True)
     assert np.max(np.abs(res[32][1] - p_ref) / scale) < 1e-7
-    default = rs.gw_contact_curves(S1, relative_humidity=[0.3, 0.9], distance=d, height_cutoff=2.5)
+    default = rs.contact.gw_curves(S1, relative_humidity=[0.3, 0.9], distance=d, height_cutoff=2.5)
     np.testing.assert_array_equal(default.pressure.values, res[32][1])
 
 
 def test_integration_top_is_beyond_the_density():
     d = np.linspace(0, 30, 61) * NM
-    a = rs.gw_contact_curves(S1, relative_humidity=0.9, distance=d)
-    b = rs.gw_contact_curves(S1, relative_humidity=0.9, distance=d, height_cutoff=9.0)
+    a = rs.contact.gw_curves(S1, relative_humidity=0.9, distance=d)
+    b = rs.contact.gw_curves(S1, relative_humidity=0.9, distance=d, height_cutoff=9.0)
     np.testing.assert_allclose(a.pressure, b.pressure, rtol=1e-9, atol=1e-9 * float(abs(a.pressure).max()))
 
 
@@ -234,7 +234,7 @@ def test_integration_top_is_beyond_the_density():
 @pytest.fixture(scope="module")
 def cutoff_study():
     d = np.linspace(-5, 40, 181) * NM
-    return rs.gw_cutoff_study(S1, relative_humidity=[0.3, 0.9], distance=d,
+    return rs.contact.gw_cutoff_study(S1, relative_humidity=[0.3, 0.9], distance=d,
                               height_cutoffs=[2.5, 3, 4, 5, 6, 7, None])
 
 
@@ -264,20 +264,20 @@ def test_no_saturation_in_gw():
     and the cutoff of ref. [1] it exceeds |ΔP|. See docs/greenwood_williamson.md.
     """
     d = np.linspace(-5, 40, 451) * NM
-    dP = abs(float(rs.laplace_pressure(0.9)))
+    dP = abs(float(rs.contact.laplace_pressure(0.9)))
     assert dP == pytest.approx(14.6e6, rel=2e-3)
     for ds in (S1, S2):
-        c = rs.gw_contact_curves(ds, relative_humidity=0.9, distance=d)
+        c = rs.contact.gw_curves(ds, relative_humidity=0.9, distance=d)
         assert float(c.wet_fraction.max()) > 1.0  # a merged meniscus can cover at most 1
-    c = rs.gw_contact_curves(S2, relative_humidity=0.9, distance=d, height_cutoff=2.5)
+    c = rs.contact.gw_curves(S2, relative_humidity=0.9, distance=d, height_cutoff=2.5)
     assert -float(c.pressure.min()) > dP
 
 
 def test_modified_dmt_decomposition():
     """pressure = Hertz part + ΔP × wetted fraction, exactly, for the modified DMT (Eq. 9)."""
     d = np.linspace(-3, 30, 67) * NM
-    c = rs.gw_contact_curves(S2, relative_humidity=RH6, distance=d)
-    dP = rs.laplace_pressure(RH6)
+    c = rs.contact.gw_curves(S2, relative_humidity=RH6, distance=d)
+    dP = rs.contact.laplace_pressure(RH6)
     np.testing.assert_allclose(
         c.pressure, c.repulsive_pressure + dP * c.wet_fraction, rtol=1e-10,
         atol=1e-10 * float(abs(c.pressure).max()),
@@ -294,7 +294,7 @@ def test_sphere_models_agree_for_stiff_polysilicon():
     d = np.linspace(-2, 30, 129) * NM
     g = {}
     for model in ("modified_dmt", "dmt", "maugis"):
-        c = rs.gw_contact_curves(S1, relative_humidity=[0.3, 0.7, 0.9], distance=d,
+        c = rs.contact.gw_curves(S1, relative_humidity=[0.3, 0.7, 0.9], distance=d,
                                  sphere_model=model, height_cutoff=2.5)
         g[model] = gamma(c.pressure)
     np.testing.assert_allclose(g["dmt"], g["modified_dmt"], rtol=0.05)
@@ -304,8 +304,8 @@ def test_sphere_models_agree_for_stiff_polysilicon():
 def test_force_table_matches_direct_kernel():
     d = np.linspace(-2, 30, 81) * NM
     kw = dict(relative_humidity=[0.3, 0.9], distance=d, height_cutoff=3.0)
-    direct = rs.gw_contact_curves(S1, force_table=0, **kw)
-    table = rs.gw_contact_curves(S1, force_table=256, **kw)
+    direct = rs.contact.gw_curves(S1, force_table=0, **kw)
+    table = rs.contact.gw_curves(S1, force_table=256, **kw)
     scale = float(abs(direct.pressure).max())
     np.testing.assert_allclose(table.pressure, direct.pressure, atol=1e-6 * scale)
     np.testing.assert_allclose(gamma(table.pressure), gamma(direct.pressure), rtol=1e-5)
@@ -313,12 +313,12 @@ def test_force_table_matches_direct_kernel():
 
 def test_extreme_humidity_and_no_layer():
     d = np.linspace(-5, 60, 131) * NM
-    c = rs.gw_contact_curves(S1, relative_humidity=[0.01, 0.999], distance=d)
+    c = rs.contact.gw_curves(S1, relative_humidity=[0.01, 0.999], distance=d)
     assert np.all(np.isfinite(c.pressure))
     # RH 0.01: water height ~0.1 nm -> tension far below the RH 99.9 % one
     assert gamma(c.pressure)[0] < 1e-3 * gamma(c.pressure)[1]
-    none = rs.gw_contact_curves(S1, relative_humidity=0.9, distance=d, adsorbed_layer="none")
-    paper = rs.gw_contact_curves(S1, relative_humidity=0.9, distance=d)
+    none = rs.contact.gw_curves(S1, relative_humidity=0.9, distance=d, adsorbed_layer="none")
+    paper = rs.contact.gw_curves(S1, relative_humidity=0.9, distance=d)
     assert gamma(none.pressure) < gamma(paper.pressure)
 
 
@@ -330,7 +330,7 @@ def test_extreme_humidity_and_no_layer():
 def test_layout_and_metadata():
     d = np.linspace(30, -2, 40) * NM  # descending on input, stored ascending
     ens = moments([15.7, 4.32], [0.040, 0.021], [5.08e-4, 3.99e-4], dims=("realization",))
-    c = rs.gw_contact_curves(ens, relative_humidity=[0.3, 0.9], distance=d, apparent_area=(5.12e-6) ** 2)
+    c = rs.contact.gw_curves(ens, relative_humidity=[0.3, 0.9], distance=d, apparent_area=(5.12e-6) ** 2)
     for v in ("pressure", "repulsive_pressure", "wet_fraction", "contact_fraction", "n_contacts",
               "fit_error", "max_interference"):
         assert c[v].dims == ("realization", "rh", "distance"), v
@@ -339,16 +339,16 @@ def test_layout_and_metadata():
     assert c.n_contacts.attrs["units"] == "1"
     assert c.distance.attrs["units"] == "m" and c.rh.attrs["units"] == "1"
     assert c.fit_error.isnull().all()
-    assert c.attrs["contact_model"] == "greenwood_williamson"
+    assert c.attrs["contact_model"] == "gw"  # the registry name
     assert "10.1115/1.3451608" in c.attrs["references"]
     assert c.summit_density.dims == ("realization",)
     np.testing.assert_allclose(c.max_interference.isel(rh=0),
                                10 * np.sqrt(ens.m0 * 1e-18) - c.distance)
-    per_area = rs.gw_contact_curves(ens, relative_humidity=[0.3, 0.9], distance=d)
+    per_area = rs.contact.gw_curves(ens, relative_humidity=[0.3, 0.9], distance=d)
     assert per_area.n_contacts.attrs["units"] == "m-2"
     np.testing.assert_allclose(c.n_contacts, per_area.n_contacts * (5.12e-6) ** 2)
     # each realization equals its own single-moment call
-    one = rs.gw_contact_curves(S2, relative_humidity=[0.3, 0.9], distance=d)
+    one = rs.contact.gw_curves(S2, relative_humidity=[0.3, 0.9], distance=d)
     np.testing.assert_allclose(per_area.pressure.isel(realization=1), one.pressure, rtol=1e-12)
 
 
@@ -357,9 +357,9 @@ def test_dask_matches_numpy_and_stays_lazy():
     ens = moments([15.7, 4.32, 9.0], [0.040, 0.021, 0.03], [5.08e-4, 3.99e-4, 4e-4],
                   dims=("realization",))
     rh = xr.DataArray([0.3, 0.6, 0.9], dims="rh", coords={"rh": [0.3, 0.6, 0.9]}, attrs={"units": "1"})
-    eager = rs.gw_contact_curves(ens, relative_humidity=rh, distance=d)
+    eager = rs.contact.gw_curves(ens, relative_humidity=rh, distance=d)
     with raise_if_dask_computes():
-        lazy = rs.gw_contact_curves(ens.chunk({"realization": 1}), relative_humidity=rh.chunk({"rh": 2}),
+        lazy = rs.contact.gw_curves(ens.chunk({"realization": 1}), relative_humidity=rh.chunk({"rh": 2}),
                                     distance=d)
     assert isinstance(lazy.pressure.data, type(ens.chunk().m0.data))
     xr.testing.assert_allclose(lazy.compute(), eager, rtol=1e-12)
@@ -372,17 +372,17 @@ def test_height_map_input():
     m = rs.roughness_moments(h, method="spectral")
     assert float(m.m0) == pytest.approx(z.var(), rel=1e-12)  # Parseval
     d = np.linspace(0, 20, 21) * NM
-    a = rs.gw_contact_curves(h, relative_humidity=0.7, distance=d, moment_method="spectral")
-    b = rs.gw_contact_curves(m, relative_humidity=0.7, distance=d)
+    a = rs.contact.gw_curves(h, relative_humidity=0.7, distance=d, moment_method="spectral")
+    b = rs.contact.gw_curves(m, relative_humidity=0.7, distance=d)
     xr.testing.assert_allclose(a.pressure, b.pressure)
     # the default estimator of a map's moments is the paper's (Table 2 cubic splines)
-    c = rs.gw_contact_curves(h, relative_humidity=0.7, distance=d)
-    e = rs.gw_contact_curves(rs.roughness_moments(h, method="spline"), relative_humidity=0.7, distance=d)
+    c = rs.contact.gw_curves(h, relative_humidity=0.7, distance=d)
+    e = rs.contact.gw_curves(rs.roughness_moments(h, method="spline"), relative_humidity=0.7, distance=d)
     xr.testing.assert_allclose(c.pressure, e.pressure)
     bad = h.copy()
     bad[3, 4] = np.nan
     with pytest.raises(ValueError, match="(?i)nan"):
-        rs.gw_contact_curves(bad, relative_humidity=0.7, distance=d)
+        rs.contact.gw_curves(bad, relative_humidity=0.7, distance=d)
 
 
 # --------------------------------------------------------------------------------------------
@@ -401,12 +401,12 @@ def test_height_map_input():
 )
 def test_bad_moments(ds, match):
     with pytest.raises(ValueError, match=match):
-        rs.gw_contact_curves(ds, relative_humidity=0.5, distance=[0.0, 1e-9])
+        rs.contact.gw_curves(ds, relative_humidity=0.5, distance=[0.0, 1e-9])
 
 
 def test_bad_moments_lazy_raise_at_compute():
     ds = moments([15.7, -1.0], [0.04, 0.04], [5e-4, 5e-4], dims=("realization",)).chunk({"realization": 1})
-    out = rs.gw_contact_curves(ds, relative_humidity=0.5, distance=[0.0, 1e-9])
+    out = rs.contact.gw_curves(ds, relative_humidity=0.5, distance=[0.0, 1e-9])
     with pytest.raises(ValueError, match="m0 must be positive"):
         out.pressure.compute()
 
@@ -437,22 +437,22 @@ def test_bad_arguments(kwargs, match):
     args = dict(relative_humidity=0.5, distance=[0.0, 1e-9])
     args.update(kwargs)
     with pytest.raises(ValueError, match=match):
-        rs.gw_contact_curves(S1, **args)
+        rs.contact.gw_curves(S1, **args)
 
 
 def test_bad_moment_containers():
     with pytest.raises(ValueError, match="'m4' is missing"):
-        rs.gw_contact_curves(S1.drop_vars("m4"), relative_humidity=0.5, distance=[0.0])
+        rs.contact.gw_curves(S1.drop_vars("m4"), relative_humidity=0.5, distance=[0.0])
     no_units = S1.copy()
     no_units["m0"].attrs = {}
     with pytest.raises(ValueError, match="no 'units'"):
-        rs.gw_contact_curves(no_units, relative_humidity=0.5, distance=[0.0])
+        rs.contact.gw_curves(no_units, relative_humidity=0.5, distance=[0.0])
     wrong = S1.copy()
     wrong["m4"].attrs = {"units": "m"}
     with pytest.raises(ValueError, match="units 'm'"):
-        rs.gw_contact_curves(wrong, relative_humidity=0.5, distance=[0.0])
+        rs.contact.gw_curves(wrong, relative_humidity=0.5, distance=[0.0])
     with pytest.raises(TypeError, match="moments must be"):
-        rs.gw_contact_curves({"m0": 1.0}, relative_humidity=0.5, distance=[0.0])
+        rs.contact.gw_curves({"m0": 1.0}, relative_humidity=0.5, distance=[0.0])
 
 
 def test_plot_gw_cutoff_study(cutoff_study):
@@ -490,9 +490,9 @@ def test_automatic_grid_spans_onset_to_repulsion(family, rms, rh):
     h = _map(family, rms)
     area = h.size * 25e-18
     with warnings.catch_warnings():
-        warnings.simplefilter("error", rs.CurveGridWarning)
-        c = rs.gw_contact_curves(h, relative_humidity=rh, apparent_area=area)
-        s = rs.adhesion_summary(c)
+        warnings.simplefilter("error", rs.contact.CurveGridWarning)
+        c = rs.contact.gw_curves(h, relative_humidity=rh, apparent_area=area)
+        s = rs.contact.summary(c)
     assert c.attrs["distance_grid"] == "automatic"
     d = c.distance.values
     assert np.all(np.diff(d) > 0)
@@ -505,8 +505,8 @@ def test_automatic_grid_spans_onset_to_repulsion(family, rms, rh):
     assert np.all(p[:, 0] > 0) and np.all(s.equilibrium_distance.values > d[0])
     # the same as a dense grid spanning everything from all summits in contact to dry
     sigma = float(np.sqrt(rs.roughness_moments(h).m0))
-    top = 10.5 * sigma + float(rs.water_height(max(rh)))
-    ref = rs.adhesion_summary(rs.gw_contact_curves(
+    top = 10.5 * sigma + float(rs.contact.water_height(max(rh)))
+    ref = rs.contact.summary(rs.contact.gw_curves(
         h, relative_humidity=rh, apparent_area=area,
         distance=np.linspace(min(d[0], -2 * sigma), top, 4000)))
     np.testing.assert_allclose(s.adhesive_energy, ref.adhesive_energy, rtol=1e-2)
@@ -518,33 +518,33 @@ def test_automatic_grid_spans_onset_to_repulsion(family, rms, rh):
                                     dict(sphere_model="hertz")])
 def test_automatic_grid_other_models_and_cutoff(kwargs):
     h = _map("S1")
-    c = rs.gw_contact_curves(h, relative_humidity=[0.3, 0.9], n_distance=300, **kwargs)
+    c = rs.contact.gw_curves(h, relative_humidity=[0.3, 0.9], n_distance=300, **kwargs)
     d, p = c.distance.values, c.pressure.transpose("rh", "distance").values
     assert d.size >= 300 and np.all(np.diff(d) > 0)
     assert np.all(p[:, -1] == pytest.approx(0.0, abs=1e-4 * np.abs(p).max()))
     assert np.all(p[:, 0] > 0)  # reaches contact
     if kwargs.get("height_cutoff"):  # nothing above the cutoff summits and their water
         sigma = float(np.sqrt(rs.roughness_moments(h).m0))
-        assert d[-1] <= 2.5 * sigma + float(rs.water_height(0.9)) + 1e-12
+        assert d[-1] <= 2.5 * sigma + float(rs.contact.water_height(0.9)) + 1e-12
 
 
 def test_automatic_grid_needs_eager_moments():
     lazy = moments([15.7, 16.0], [0.04, 0.04], [5e-4, 5e-4], dims=("realization",)).chunk(
         {"realization": 1})
     with pytest.raises(ValueError, match="eager"):
-        rs.gw_contact_curves(lazy, relative_humidity=0.5)
-    both = rs.gw_contact_curves(lazy.compute(), relative_humidity=[0.5, 0.8])
+        rs.contact.gw_curves(lazy, relative_humidity=0.5)
+    both = rs.contact.gw_curves(lazy.compute(), relative_humidity=[0.5, 0.8])
     assert both.pressure.dims == ("realization", "rh", "distance")
-    assert bool(np.isfinite(rs.adhesion_summary(both).equilibrium_distance).all())
+    assert bool(np.isfinite(rs.contact.summary(both).equilibrium_distance).all())
 
 
 def test_cutoff_study_on_one_automatic_grid():
     # every cutoff's curve on one shared grid (the union of their automatic grids)
     h = _map("S1")
     with warnings.catch_warnings():
-        warnings.simplefilter("error", rs.CurveGridWarning)
-        st = rs.gw_cutoff_study(h, relative_humidity=[0.3, 0.9], height_cutoffs=(2.5, None))
-        s = rs.adhesion_summary(st)
+        warnings.simplefilter("error", rs.contact.CurveGridWarning)
+        st = rs.contact.gw_cutoff_study(h, relative_humidity=[0.3, 0.9], height_cutoffs=(2.5, None))
+        s = rs.contact.summary(st)
     assert bool(np.isfinite(st.pressure).all()) and st.attrs["distance_grid"] == "automatic"
     assert bool((s.adhesive_energy > 0).all()) and bool(np.isfinite(s.equilibrium_distance).all())
     # a lower cutoff removes the highest summits: the equilibrium comes closer to the mean plane
@@ -558,12 +558,12 @@ def test_rough_contact_curves_gw_uses_the_summit_grid(rms, rh):
     # repulsion below GW's equilibrium: Γ = 0 and a NaN equilibrium, without a warning
     h = _map("S1", rms)
     with warnings.catch_warnings():
-        warnings.simplefilter("error", rs.CurveGridWarning)
-        c = rs.rough_contact_curves(h, relative_humidity=rh, model="gw")
-        s = rs.adhesion_summary(c)
+        warnings.simplefilter("error", rs.contact.CurveGridWarning)
+        c = rs.contact.curves(h, relative_humidity=rh, model="gw")
+        s = rs.contact.summary(c)
     assert c.attrs["distance_grid"] == "automatic"
     assert np.all(s.adhesive_energy.values > 0)
     assert np.all(np.isfinite(s.equilibrium_distance.values))
-    direct = rs.adhesion_summary(rs.gw_contact_curves(h, relative_humidity=rh,
+    direct = rs.contact.summary(rs.contact.gw_curves(h, relative_humidity=rh,
                                                       apparent_area=h.size * 25e-18))
     np.testing.assert_allclose(s.adhesive_energy, direct.adhesive_energy, rtol=1e-12)

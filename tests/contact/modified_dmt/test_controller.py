@@ -12,12 +12,13 @@ import xarray as xr
 from scipy import ndimage
 
 import roughstick as rs
-from roughstick import hertz_modulus, laplace_pressure, water_height
+from roughstick import hertz_modulus
+from roughstick.contact import laplace_pressure, water_height
+from roughstick.contact.adhesion import summary_kernel as _summary_kernel
 from roughstick.contact.modified_dmt import _controller as rk
 from roughstick.contact.modified_dmt import _tail as _rough_tail
-from roughstick.contact.adhesion import adhesion_summary_kernel as _summary_kernel
 
-DATA = pathlib.Path(__file__).resolve().parents[2] / "data_samples"
+DATA = pathlib.Path(__file__).resolve().parents[3] / "data_samples"
 
 K = hertz_modulus()
 RH = np.array([0.3, 0.5, 0.6, 0.7, 0.8, 0.9])

@@ -18,12 +18,18 @@ import warnings
 
 import numpy as np
 import pytest
+from eq21_reference import fit_asperity, footprints, reference_curves
 from scipy import ndimage
 
-from roughstick import datasets, hertz_modulus, laplace_pressure, water_height
+from roughstick import datasets, hertz_modulus
+from roughstick.contact import laplace_pressure, water_height
+from roughstick.contact.modified_dmt._controller import (
+    curves,
+    curves_kernel,
+    hertz_levels,
+    prepare_heights,
+)
 from roughstick.contact.modified_dmt._fit import fit_footprint
-from roughstick.contact.modified_dmt._controller import curves, curves_kernel, hertz_levels, prepare_heights
-from eq21_reference import fit_asperity, footprints, reference_curves
 
 K = hertz_modulus()
 RH = np.array([0.3, 0.7, 0.9])

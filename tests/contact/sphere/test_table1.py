@@ -21,7 +21,7 @@ CELLS = [
 
 @pytest.mark.parametrize(("model", "rh", "radius", "printed"), CELLS)
 def test_table1_cell(model, rh, radius, printed):
-    W = rs.sphere_adhesive_energy(model=model, radius=radius, relative_humidity=rh)
+    W = rs.contact.sphere_adhesive_energy(sphere_model=model, radius=radius, relative_humidity=rh)
     assert W.attrs["units"] == "J"
     assert float(W) == pytest.approx(printed, rel=TOLERANCE[model])
 
@@ -29,7 +29,7 @@ def test_table1_cell(model, rh, radius, printed):
 def test_table1_whole_table_broadcasts():
     """One call per model over (radius, rh) gives the same cells as the scalar calls."""
     for model, row in TABLE1.items():
-        W = rs.sphere_adhesive_energy(model=model, radius=[100e-9, 800e-9], relative_humidity=[0.3, 0.5, 0.7])
+        W = rs.contact.sphere_adhesive_energy(sphere_model=model, radius=[100e-9, 800e-9], relative_humidity=[0.3, 0.5, 0.7])
         assert W.dims == ("radius", "rh")
         for i, (rh, radius) in enumerate(COLUMNS):
             assert float(W.sel(rh=rh, radius=radius)) == pytest.approx(row[i], rel=TOLERANCE[model])

@@ -2,7 +2,7 @@
 
 Each cached curve records its surface family, seed, pixel size, humidity and modulus; the map is
 regenerated from them (bit-identical: :func:`roughstick.datasets.surface_family`) and
-``rough_contact_curves(..., model="auto", tolerance=0.1)`` is run on the reference's own distance
+``roughstick.contact.curves(..., model="auto", accuracy=0.1)`` is run on the reference's own distance
 grid, so only the model differs. No boundary-element solve runs here: the reference is the cache.
 """
 
@@ -18,7 +18,7 @@ import xarray as xr
 
 import roughstick as rs
 
-CACHE = pathlib.Path(__file__).resolve().parents[2] / "benchmarks" / "bem_cache"
+CACHE = pathlib.Path(__file__).resolve().parents[3] / "benchmarks" / "bem_cache"
 
 
 def _cases():
@@ -51,7 +51,7 @@ def _gamma(pressure, distance):
     ds = xr.Dataset({"pressure": ("distance", np.asarray(pressure, dtype=float)),
                      "wet_fraction": ("distance", np.zeros(len(distance)))},
                     coords={"distance": np.asarray(distance, dtype=float)})
-    return float(rs.adhesion_summary(ds).adhesive_energy)
+    return float(rs.contact.summary(ds).adhesive_energy)
 
 
 def _check(rec):
@@ -62,15 +62,15 @@ def _check(rec):
     ok = ~(np.asarray(rec["solver_residual"], dtype=float) > 1e-5)
     reference = _gamma(np.asarray(rec["pressure"])[ok], d[ok])
     with warnings.catch_warnings():
-        warnings.simplefilter("error", rs.ValidityWarning)  # auto never warns about its choice
+        warnings.simplefilter("error", rs.contact.ValidityWarning)  # auto never warns about its choice
         # (whether the pixel resolves the water necks is another question, for any model)
-        warnings.simplefilter("ignore", rs.PixelResolutionWarning)
-        ds = rs.rough_contact_curves(h, relative_humidity=rec["rh"], distance=d, model="auto",
-                                     tolerance=0.1, material=_material(rec["reduced_modulus"]))
+        warnings.simplefilter("ignore", rs.contact.PixelResolutionWarning)
+        ds = rs.contact.curves(h, relative_humidity=rec["rh"], distance=d, model="auto",
+                                     accuracy=0.1, material=_material(rec["reduced_modulus"]))
     chosen = ds.attrs["contact_model"]
     assert ds.attrs["model_selection"].startswith(f"auto -> {chosen}:")
     assert chosen != "bem"  # the point of auto: a cheaper model meets 10 % on these surfaces
-    got = float(rs.adhesion_summary(ds).adhesive_energy)
+    got = float(rs.contact.summary(ds).adhesive_energy)
     assert abs(got - reference) <= 0.1 * abs(reference), (chosen, got, reference)
     return rec["family"], rec["reduced_modulus"]
 
