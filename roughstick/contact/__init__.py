@@ -72,3 +72,10 @@ def __getattr__(name: str):
                       "removed", DeprecationWarning, stacklevel=2)
         return obj
     raise AttributeError(f"module 'roughstick.contact' has no attribute {name!r}")
+
+# the public names say where users reach them (pickles and the API page follow), as numpy does
+for _name in __all__:
+    _obj = globals()[_name]
+    if callable(_obj) and getattr(_obj, "__module__", "").startswith(__name__ + "."):
+        _obj.__module__ = __name__
+del _name, _obj

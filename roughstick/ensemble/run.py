@@ -72,7 +72,7 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, curves_kwargs
     model = curves_kwargs.get("model", "modified_dmt")
     if model not in model_names(auto=True):
         raise ValueError(f"curves_kwargs['model'] must be one of {model_names(auto=True)}, got {model!r}.")
-    tolerance = curves_kwargs.get("tolerance", VALIDITY_BOUND)
+    tolerance = curves_kwargs.get("accuracy", curves_kwargs.get("tolerance", VALIDITY_BOUND))
     quantity = curves_kwargs.get("quantity", "adhesive_energy")
     if not (isinstance(tolerance, (int, float)) and tolerance > 0):
         raise ValueError(f"curves_kwargs['tolerance'] must be a positive relative error (e.g. 0.1 "
@@ -284,6 +284,8 @@ def run_ensemble(
     rh = relative_humidity_array(relative_humidity)
     material = POLYSILICON if material is None else as_material(material)
     curves_kwargs = dict(curves_kwargs or {})
+    if curves is None and "tolerance" in curves_kwargs:  # roughstick.contact.curves: accuracy=
+        curves_kwargs["accuracy"] = curves_kwargs.pop("tolerance")
     model = selection = None
     if curves is None:
         # the model every realization runs ("auto" resolved once): one template, one variable set
@@ -374,7 +376,7 @@ def _select_for_sizes(psd, shapes, spacing, rh, kwargs):
                                                     material=material,
                                                     adsorbed_layer=kwargs.get("adsorbed_layer", "paper"))
                             for s in shapes], dim="size")
-    tolerance = ck.get("tolerance", VALIDITY_BOUND)
+    tolerance = ck.get("accuracy", ck.get("tolerance", VALIDITY_BOUND))
     chosen, reason = select_model(None, relative_humidity=rh, accuracy=tolerance,
                                   quantity=ck.get("quantity", "adhesive_energy"), groups=groups)
     ck["model"] = chosen

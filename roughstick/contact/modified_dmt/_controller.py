@@ -1,13 +1,17 @@
 """Compiled kernels of the rough-surface modified DMT (Eqs. 16-23): the one-pass adaptive grid.
 
 :func:`auto_pass` visits distance levels in one pass over the top tail of the height
-distribution (:mod:`._rough_tail`): it walks down from the first water contact, refines where a
-curve turns, bisects the zero crossings of the mean pressure (equilibrium), the pull-off
-extremum and the wetting events, and stops once every humidity's curve is past its outermost
-stable crossing. Each level's asperities are fitted with Eq. 21 (:mod:`._rough_fit`); water
-areas come from the height buckets. With ``fixed`` levels it evaluates just those (any order).
+distribution (:mod:`._tail`, :mod:`._unionfind`): each controller (one per humidity, or one for
+all) walks down from the first water contact, refines where its curve turns (:func:`_descent`),
+bisects the zero crossings of the mean pressure (equilibrium), then refines the pull-off extremum
+and the wetting events next to it (:func:`_pull_round`), and stops once its humidities' curves are
+past their outermost stable crossing. Each level's asperities are fitted with Eq. 21
+(:mod:`._fit`); water areas come from the height buckets. With ``fixed`` levels it evaluates just
+those (any order). Its settings are a :class:`._policy.GridPolicy`; its state is named: the
+:class:`Levels` evaluated, the :class:`Controllers`, the :class:`Workspace` of arrays reused from
+call to call.
 
-Conventions shared with :mod:`roughstick.contact._rough_reference` (the literal slow implementation):
+Conventions shared with the literal Eq. 21 reference (``tests/contact/modified_dmt/eq21_reference.py``):
 
 * heights are referred to their mean over the valid (non-NaN) pixels: ``d`` is the distance from
   the flat to the mean plane; NaN pixels are never part of an asperity nor of the wetted area,
@@ -31,174 +35,586 @@ Conventions shared with :mod:`roughstick.contact._rough_reference` (the literal 
 from __future__ import annotations
 
 import threading
+from typing import NamedTuple
 
 import numba as nb
 import numpy as np
 
 from ..._core.conventions import CURVE_VARIABLES
+from ._policy import DEFAULT_POLICY, policy_for
 from ._search import GRID_KEEP
 from ._tail import (
-    _NEXTB,
-    _NJ,
-    _NSORTED,
-    _contact_event_above,
-    _find,
-    _grow1,
-    _grow2,
-    _n_above,
-    _seek,
-    _sort_until,
-    _wet_event_above,
+    TAIL_STATE,
+    Tail,
     bucket_sort,
-    count_ge,
-    eval_level,
+    contact_event_above,
     max_tie_bound,
+    n_above,
     prepare_heights,
+    sort_until,
+    wet_count,
+    wet_event_above,
+)
+from ._unionfind import (
+    COMPONENT,
+    LOG_ENTRY,
+    NEIGHBOUR,
+    PIXEL,
+    UNION_FIND_STATE,
+    FitScratch,
+    Geometry,
+    Pool,
+    UnionFind,
+    eval_level,
+    seek,
 )
 
-__all__ = ["OUTPUTS", "DEFAULT_PARAMS", "auto_pass", "curves", "curves_kernel", "hertz_levels", "prepare_heights", "grid_params"]
+__all__ = ["OUTPUTS", "LEVEL_SUMS", "auto_pass", "curves", "curves_kernel", "hertz_levels",
+           "prepare_heights", "workspace"]
 
 OUTPUTS = CURVE_VARIABLES
+_NJ = dict(cache=True, nogil=True, error_model="numpy")
+# no reference counting in the steps that never allocate: with it, every access to a field of
+# the named state (an array) is an atomic incref/decref, twice the cost of a 256² map's pass
+_NJ0 = dict(_NJ, _nrt=False)
 
-# parameters (index in the params array)
-EPS, ETA, FINE, ZERO_BAND, PULL_BAND, PULL_STOP, MARGIN, WFLOOR_REL, MAXP, DEQ_TOL, PULL_FINE, PULL_SMOOTH, TIE, ZCAP, DEQ_EST, DEQ_MAXW = range(16)
-DEFAULT_PARAMS = np.array([0.02, 0.02, 0.1, 0.03, 0.003, 0.0, 0.03, 1e-5, 4000.0, 0.004, 2.0, 0.002, 1.0, 3.0, 0.25, 2.0])
+#: The Hertz sums of one level over its asperities (:func:`._unionfind.eval_level`).
+LEVEL_SUMS = np.dtype([(f, np.float64) for f in ("force", "hertz_area", "foot_area", "err2_area",
+                                                 "n_comp", "n_wrap")], align=True)
+#: Depth of each controller's stack of intervals (depth <= log2(span / floor width) < 256).
+_STACK = 256
+#: Pull-off rounds per humidity at most.
+_ROUNDS = 40
+
+
+class Workspace(NamedTuple):
+    """Every array the kernel needs, sized for the whole map (:func:`workspace`)."""
+
+    start: np.ndarray
+    idx: np.ndarray
+    zb: np.ndarray
+    pos: np.ndarray
+    order: np.ndarray
+    ztail: np.ndarray
+    tail_state: np.ndarray
+    pixels: np.ndarray
+    components: np.ndarray
+    live: np.ndarray
+    logstart: np.ndarray
+    pooltop: np.ndarray
+    log: np.ndarray
+    pool_index: np.ndarray
+    pool_x: np.ndarray
+    pool_y: np.ndarray
+    pool_z: np.ndarray
+    union_find_state: np.ndarray
+    xs: np.ndarray
+    ys: np.ndarray
+    hs: np.ndarray
+    wt: np.ndarray
+
+
+class Humidities(NamedTuple):
+    """Per humidity: h_water [m] and Delta P [Pa]; ``mask[c, j]``: controller c serves humidity j."""
+
+    water_height: np.ndarray
+    laplace_pressure: np.ndarray
+    mask: np.ndarray
+
+
+class Levels(NamedTuple):
+    """The levels evaluated so far, in evaluation order (``order``: sorted by distance)."""
+
+    distance: np.ndarray
+    sums: np.ndarray  # LEVEL_SUMS per level
+    wet: np.ndarray  # wet pixels per (level, humidity)
+    member: np.ndarray  # (level, controller): part of that controller's grid
+    order: np.ndarray
+    depth: np.ndarray  # (level, humidity): depth of the chain of event snaps that placed it
+    source: np.ndarray  # (level, humidity): already the source of its snaps
+    phase: np.ndarray  # 0: placed by the descent, 1: by the pull-off refinement
+
+
+class Controllers(NamedTuple):
+    """The state of each controller c (and of its humidities j)."""
+
+    phase: np.ndarray  # 0: descent, 1: pull-off refinement, 3: done
+    top: np.ndarray  # its first level, above the first wetting of its humidities
+    current: np.ndarray  # top of the descent step being tested
+    step: np.ndarray  # width of the next descent step
+    next: np.ndarray  # bottom of the descent step being tested
+    stop: np.ndarray  # where the descent stops (NaN until every crossing is known)
+    stack: np.ndarray  # (c, depth, 2): intervals still to test, ends (a, b)
+    depth: np.ndarray  # stack depth
+    accepted: np.ndarray  # intervals accepted in this step
+    last_width: np.ndarray
+    scale: np.ndarray  # (c, j): largest |p| so far, at least the water term at first contact
+    crossed: np.ndarray  # (c, j): outermost stable zero crossing (NaN: not found yet)
+    lowest: np.ndarray  # (c, j): most tensile pressure met above the crossing
+    humidity: np.ndarray  # pull-off refinement: the humidity j being refined
+    rounds: np.ndarray  # its rounds so far
+    best: np.ndarray  # its most tensile pressure at the start of the round
+    requests: np.ndarray  # (c, level): the levels asked for by the round
+    request_depth: np.ndarray  # (c, level): their snap depth
+    n_requests: np.ndarray
+
+
+class Constants(NamedTuple):
+    """Numbers of one map that every step of the controllers uses."""
+
+    pix: float  # pixel area [m2]
+    apparent: float  # area of the valid pixels [m2]
+    sigma: float  # rms height [m]
+    wfloor: float  # narrowest interval split [m]
+    dfloor: float  # lowest level [m]
+    dtop: np.ndarray  # per humidity: first wetting z_max + h_water [m]
+
+
+@nb.njit(**_NJ0)
+def _find(levels, n, d):  # pragma: no cover - compiled
+    """Index (into the level arrays) of level d, or -1; ``levels.order[:n]`` sorts them by d."""
+    D, order = levels.distance, levels.order
+    lo = 0
+    hi = n
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if D[order[mid]] < d:
+            lo = mid + 1
+        else:
+            hi = mid
+    if lo < n and D[order[lo]] == d:
+        return order[lo]
+    return -1
+
+
+@nb.njit(**_NJ0)
+def _pressure(levels, i, j, dp, k):  # pragma: no cover - compiled
+    """Mean pressure of level i at humidity j (Eq. 16): Hertz + Delta P (wet - contact area)."""
+    s = levels.sums[i]
+    return (s.force + dp[j] * (levels.wet[i, j] * k.pix - s.hertz_area)) / k.apparent
 
 
 @nb.njit(**_NJ)
-def _level(d, li, Dv, HZ, WET, hw, start, idx, zb, zmin, scale, scal, order, ztail, pos, P, Cc, live, LOG,
-           logstart, pooltop, pi, px, py, pz, nx, ny, periodic, connectivity, nbuf, dx, dy, K, xs, ys, hs, wt,
-           M):  # pragma: no cover - compiled
+def _grow_log(a, n):  # pragma: no cover - compiled
+    b = np.empty(n, a.dtype)
+    b[: a.size] = a
+    return b
+
+
+@nb.njit(**_NJ)
+def _grow(a, n):  # pragma: no cover - compiled
+    b = np.empty(n, a.dtype)
+    b[: a.size] = a
+    return b
+
+
+@nb.njit(**_NJ)
+def _level(d, li, levels, tail, uf, pool, geo, fit, nbuf, hw):  # pragma: no cover - compiled
     """Move the union-find to level d (growing the log and pixel pool as needed), evaluate it
-    into slot li; returns the (possibly grown) log and pool arrays."""
-    _sort_until(start, idx, zb, zmin, scale, scal, order, ztail, pos, d)
-    k = _n_above(ztail, scal[_NSORTED], d)
+    into slot li; returns the (possibly grown) union-find and pool."""
+    sort_until(tail, d)
+    k = n_above(tail, d)
     while True:
-        r = _seek(k, P, Cc, live, scal, LOG, logstart, pooltop, order, ztail, pos, pi, px, py, pz, nx, ny,
-                  periodic, connectivity, nbuf)
+        r = seek(k, uf, pool, tail, geo, nbuf)
         if r == 0:
             break
         if r == 1:
-            LOG = _grow2(LOG, 2 * LOG.shape[0])
+            uf = UnionFind(uf.pixels, uf.components, uf.live, _grow_log(uf.log, 2 * uf.log.shape[0]),
+                           uf.logstart, uf.pooltop, uf.state)
         else:
-            n2 = 2 * pi.size
-            pi, px, py, pz = _grow1(pi, n2), _grow1(px, n2), _grow1(py, n2), _grow1(pz, n2)
-    f, ha, fa, e2, nc, nw = eval_level(Cc, live, scal, px, py, pz, d, dx, dy, K, xs, ys, hs, wt, M)
-    Dv[li] = d
-    HZ[li, 0], HZ[li, 1], HZ[li, 2], HZ[li, 3], HZ[li, 4], HZ[li, 5] = f, ha, fa, e2, nc, nw
+            n2 = 2 * pool.index.size
+            pool = Pool(_grow(pool.index, n2), _grow(pool.x, n2), _grow(pool.y, n2), _grow(pool.z, n2))
+    f, ha, fa, e2, nc, nw = eval_level(uf, pool, d, geo, fit)
+    levels.distance[li] = d
+    s = levels.sums[li]
+    s.force, s.hertz_area, s.foot_area, s.err2_area, s.n_comp, s.n_wrap = f, ha, fa, e2, nc, nw
     for j in range(hw.size):
-        WET[li, j] = count_ge(start, zb, zmin, scale, d - hw[j])
-    return LOG, pi, px, py, pz
+        levels.wet[li, j] = wet_count(tail, d - hw[j])
+    return uf, pool
+
+
+@nb.njit(**_NJ0)
+def _descent(c, ctl, levels, nlev, hum, pol, k, full):  # pragma: no cover - compiled
+    """One step of controller c's descent: ``(True, -inf)`` when it moved on by itself, else
+    ``(False, d)`` with the level d it needs next."""
+    hw, dp, mask = hum
+    R = hw.size
+    sp = ctl.depth
+    stk = ctl.stack
+    crossed = ctl.crossed
+    if sp[c] == 0:
+        # interval done: next step of the descent, or stop
+        ctl.current[c] = ctl.next[c]
+        if ctl.accepted[c] > 1:
+            ctl.step[c] = 2.0 * ctl.last_width[c]
+        else:
+            ctl.step[c] = 2.0 * ctl.step[c]
+        ctl.accepted[c] = 0
+        allx = True
+        lowest = np.inf
+        for j in range(R):
+            if mask[c, j]:
+                if np.isnan(crossed[c, j]):
+                    allx = False
+                else:
+                    lowest = min(lowest, crossed[c, j])
+        if allx and np.isnan(ctl.stop[c]):
+            ctl.stop[c] = lowest - pol.margin * k.sigma
+        if (allx and ctl.current[c] <= ctl.stop[c]) or ctl.current[c] <= k.dfloor or full:
+            ctl.phase[c] = 1
+            ctl.humidity[c] = -1
+            ctl.n_requests[c] = 0
+            return True, -np.inf
+        ctl.next[c] = max(ctl.current[c] - ctl.step[c], k.dfloor)
+        stk[c, 0, 0] = ctl.next[c]
+        stk[c, 0, 1] = ctl.current[c]
+        sp[c] = 1
+    a = stk[c, sp[c] - 1, 0]
+    b = stk[c, sp[c] - 1, 1]
+    m = 0.5 * (a + b)
+    below = True  # wholly below every humidity's crossing: nothing to test there
+    for j in range(R):
+        if mask[c, j] and (np.isnan(crossed[c, j]) or b > crossed[c, j]):
+            below = False
+    if below and _find(levels, nlev, a) >= 0 and _find(levels, nlev, b) >= 0:
+        sp[c] -= 1
+        return True, -np.inf
+    ia = _find(levels, nlev, a)
+    ib = _find(levels, nlev, b)
+    im = _find(levels, nlev, m)
+    if ib < 0:
+        return False, b
+    if im < 0:
+        return False, m
+    if ia < 0:
+        return False, a
+    MEM = levels.member
+    MEM[ia, c] = True
+    MEM[ib, c] = True
+    MEM[im, c] = True
+    # the midpoint test: accept, or split (upper half first)
+    w = b - a
+    ok = True
+    if w > 2 * k.wfloor and not full:
+        for j in range(R):
+            if not mask[c, j]:
+                continue
+            if not (np.isnan(crossed[c, j]) or b > crossed[c, j]):
+                continue
+            va = _pressure(levels, ia, j, dp, k)
+            vb = _pressure(levels, ib, j, dp, k)
+            vm = _pressure(levels, im, j, dp, k)
+            err = abs(vm - 0.5 * (va + vb))
+            lo3 = min(min(va, vb), vm)
+            hi3 = max(max(va, vb), vm)
+            f = 1.0
+            cap = pol.eta * k.sigma
+            if np.isnan(crossed[c, j]):
+                if hi3 > 0.0 and lo3 < 0.0:
+                    # the crossing: a finer grid moves d_eq within its interval only; wider
+                    # intervals pass when the root of the chord and that of the half holding the
+                    # (stable) crossing agree
+                    tol_d = pol.deq_tol * max(abs(a), k.sigma)
+                    if w > tol_d:
+                        if not (w <= pol.deq_maxw * tol_d and va >= 0.0 and vb < 0.0):
+                            ok = False
+                            break
+                        r_ab = a + w * va / (va - vb)
+                        if vm >= 0.0:
+                            r_h = m + 0.5 * w * vm / (vm - vb)
+                        else:
+                            r_h = a + 0.5 * w * va / (va - vm)
+                        if not (abs(r_ab - r_h) <= pol.deq_est * tol_d):
+                            ok = False
+                            break
+                    continue
+                if min(min(abs(va), abs(vb)), abs(vm)) <= pol.zero_band * ctl.scale[c, j]:
+                    f = pol.fine
+                    cap = pol.zcap * pol.eta * k.sigma
+            fl = min(pol.eta * max(k.dtop[j] - a, 0.0), cap)
+            if not (err <= f * pol.eps * ctl.scale[c, j] or w <= f * fl):
+                ok = False
+                break
+    if ok:
+        sp[c] -= 1
+        _accept(c, ctl, levels, ia, ib, im, a, b, m, hum, k)
+        ctl.accepted[c] += 1
+        ctl.last_width[c] = w
+    elif sp[c] + 2 > _STACK:
+        sp[c] -= 1  # (cannot happen: depth <= log2(span / wfloor))
+    else:
+        stk[c, sp[c] - 1, 0] = a
+        stk[c, sp[c] - 1, 1] = m
+        stk[c, sp[c], 0] = m
+        stk[c, sp[c], 1] = b
+        sp[c] += 1
+    return True, -np.inf
+
+
+@nb.njit(**_NJ0)
+def _accept(c, ctl, levels, ia, ib, im, a, b, m, hum, k):  # pragma: no cover - compiled
+    """Advance controller c over an accepted interval, (b, m) then (m, a): its curves' scale,
+    most tensile pressure and the crossing where the pressure turns attractive going up."""
+    hw, dp, mask = hum
+    crossed = ctl.crossed
+    for half in range(2):
+        if half == 0:
+            ih = ib
+            il = im
+            dh = b
+            dl = m
+        else:
+            ih = im
+            il = ia
+            dh = m
+            dl = a
+        for j in range(hw.size):
+            if not mask[c, j]:
+                continue
+            ph = _pressure(levels, ih, j, dp, k)
+            pl = _pressure(levels, il, j, dp, k)
+            ctl.scale[c, j] = max(ctl.scale[c, j], max(abs(ph), abs(pl)))
+            if np.isnan(crossed[c, j]):
+                if pl < ctl.lowest[c, j]:
+                    ctl.lowest[c, j] = pl
+                if pl >= 0.0 and ph < 0.0:
+                    crossed[c, j] = dh - (dh - dl) * ph / (ph - pl)
+
+
+@nb.njit(**_NJ0)
+def _pull_pending(c, ctl, levels, nlev, hum, pol, k):  # pragma: no cover - compiled
+    """Controller c's pull-off round waits for its requested levels: ``(False, d)`` with the
+    highest missing one, else ``(True, -inf)`` once their results are recorded."""
+    dp = hum.laplace_pressure
+    REQ = ctl.requests
+    want = -np.inf
+    missing = False
+    for q in range(ctl.n_requests[c]):
+        if _find(levels, nlev, REQ[c, q]) < 0:
+            want = max(want, REQ[c, q])
+            missing = True
+    if missing:
+        return False, want
+    after = np.inf
+    j = ctl.humidity[c]
+    for q in range(ctl.n_requests[c]):
+        il = _find(levels, nlev, REQ[c, q])
+        levels.member[il, c] = True
+        if ctl.request_depth[c, q] > 0 and levels.depth[il, j] == 0:
+            levels.depth[il, j] = ctl.request_depth[c, q]
+        after = min(after, _pressure(levels, il, j, dp, k))
+    ctl.n_requests[c] = 0
+    if pol.pull_stop > 0.0 and not (after < ctl.best[c] * (1.0 + pol.pull_stop)):
+        ctl.rounds[c] = 99  # no improvement: next humidity
+    return True, -np.inf
 
 
 @nb.njit(**_NJ)
-def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, params, fixed, ws_start, ws_idx, ws_zb,
-              ws_pos, P, Cc, live, order, ztail, logstart, pooltop, LOG, pi, px, py, pz, xs, ys, hs, wt):  # pragma: no cover
-    """Evaluate the levels of the adaptive grids (or the ``fixed`` levels if given, any order).
-
-    Returns ``(D, HZ, WET, MEM, n, crossed)``: level distances, Hertz sums per level
-    ``(force, hertz_area, foot_area, err2_area, n_comp, n_wrap)``, wet pixel counts per humidity,
-    membership of each level in each controller's grid, the number of levels, and each
-    controller's outermost stable crossing per humidity (NaN: none found).
-    """
+def _pull_round(c, ctl, levels, nlev, tail, hum, pol, k):  # pragma: no cover - compiled
+    """The next pull-off round of controller c: the intervals of its grid that may hide a more
+    tensile point than its best, bisected, or snapped to the wetting and contact events in them
+    once resolved. Always moves on by itself."""
+    hw, dp, mask = hum
     R = hw.size
-    C = mask.shape[0]
-    start = ws_start
-    idx = ws_idx
-    zb = ws_zb
-    nbuck = start.size - 1
-    zmin, zmax, scale, nvalid, sigma = bucket_sort(zflat, start, idx, zb)
-    span = max(zmax - zmin, 1e-300)
-    pix = dx * dy
-    apparent = nvalid * pix
-    # union-find state (capacities: every valid pixel; pages never touched cost nothing)
-    pos = ws_pos
-    pos[:] = -1
-    scal = np.zeros(8, np.int64)
-    scal[_NEXTB] = nbuck - 1
-    nbuf = np.empty((4, 8), np.int64)
-    M = np.zeros((4, GRID_KEEP))  # the sphere fits' work array
-    # levels
-    maxp = int(params[MAXP]) if fixed.size == 0 else fixed.size
-    Dv = np.empty(maxp)
-    HZ = np.empty((maxp, 6))
-    WET = np.empty((maxp, R), np.int64)
-    MEM = np.zeros((maxp, C), np.bool_)
-    ordd = np.empty(maxp, np.int64)
-    nlev = 0
+    # the fields used in the loops, once (an access to a field is a reference count here)
+    D, member, order, wet = levels.distance, levels.member, levels.order, levels.wet
+    depth, source = levels.depth, levels.source
+    maxp = D.size
+    if ctl.humidity[c] < 0 or ctl.rounds[c] >= _ROUNDS:
+        ctl.humidity[c] += 1
+        while ctl.humidity[c] < R and not mask[c, ctl.humidity[c]]:
+            ctl.humidity[c] += 1
+        ctl.rounds[c] = 0
+        if ctl.humidity[c] >= R:
+            ctl.phase[c] = 3
+            return
+    j = ctl.humidity[c]
+    # this controller's grid, sorted
+    cnt = 0
+    for q in range(nlev):
+        if member[order[q], c]:
+            cnt += 1
+    gl = np.empty(cnt, np.int64)
+    cnt = 0
+    for q in range(nlev):
+        if member[order[q], c]:
+            gl[cnt] = order[q]
+            cnt += 1
+    xc = ctl.crossed[c, j] if not np.isnan(ctl.crossed[c, j]) else -np.inf
+    bi = -1
+    bv = 0.0
+    for q in range(cnt):
+        if D[gl[q]] >= xc:
+            v = _pressure(levels, gl[q], j, dp, k)
+            if v < bv:
+                bv = v
+                bi = q
+    if bi < 0:
+        ctl.rounds[c] = 99
+        return
+    ctl.best[c] = bv
+    ctl.rounds[c] += 1
+    REQ, SREQ = ctl.requests, ctl.request_depth
+    nr = 0
+    for q in range(cnt - 1):
+        d0 = D[gl[q]]
+        d1 = D[gl[q + 1]]
+        if d0 < xc:
+            continue
+        v0 = _pressure(levels, gl[q], j, dp, k)
+        v1 = _pressure(levels, gl[q + 1], j, dp, k)
+        # a tooth can hide inside the interval: the pixels drying at one height in it (at most
+        # the fullest bucket, at most those drying in it) drop the curve by up to their water
+        # term below its ends
+        ndry = wet[gl[q], j] - wet[gl[q + 1], j]
+        tie = 0.0
+        if ndry > 0:
+            tie = abs(dp[j]) * k.pix / k.apparent * min(
+                ndry, max_tie_bound(tail, d0 - hw[j], d1 - hw[j]))
+        if not (min(v0, v1 - pol.tie * tie) <= bv * (1.0 - pol.pull_band)):
+            continue
+        L = min(max(k.dtop[j] - d0, 0.0), k.sigma)
+        if d1 - d0 <= max(pol.pull_fine * pol.eta * L, 2 * k.wfloor):
+            # resolved: once, the most tensile points of the teeth just above d0 (the wetting
+            # and the contact event there: water and Hertz jumps) (each point is the source of
+            # these snaps once, and snapped points up to depth 2: the chain of events stops)
+            src = gl[q]
+            if source[src, j] or depth[src, j] >= 2:
+                continue
+            source[src, j] = True
+            de = wet_event_above(tail, d0, hw[j])
+            if d0 < de < d1 and nr < maxp:
+                REQ[c, nr] = de
+                SREQ[c, nr] = depth[src, j] + 1
+                nr += 1
+            dcx = contact_event_above(tail, d0)
+            if d0 < dcx < d1 and dcx != de and nr < maxp:
+                REQ[c, nr] = dcx
+                SREQ[c, nr] = depth[src, j] + 1
+                nr += 1
+            continue
+        # smooth here (each end on the chord of its neighbours within pull_smooth): a finer grid
+        # finds nothing deeper, no need to bisect (neighbours at least half the interval away:
+        # not the other point of a snapped pair)
+        qa = q - 1
+        while qa >= 0 and d0 - D[gl[qa]] < 0.5 * (d1 - d0):
+            qa -= 1
+        qb = q + 2
+        while qb < cnt and D[gl[qb]] - d1 < 0.5 * (d1 - d0):
+            qb += 1
+        if qa >= 0 and qb < cnt:
+            vm1 = _pressure(levels, gl[qa], j, dp, k)
+            v2 = _pressure(levels, gl[qb], j, dp, k)
+            dm1 = D[gl[qa]]
+            d2 = D[gl[qb]]
+            e0 = abs(v0 - (vm1 + (v1 - vm1) * (d0 - dm1) / (d1 - dm1)))
+            e1 = abs(v1 - (v0 + (v2 - v0) * (d1 - d0) / (d2 - d0)))
+            if max(e0, e1) <= pol.pull_smooth * abs(bv) and tie <= pol.pull_smooth * abs(bv):
+                continue
+        m = 0.5 * (d0 + d1)
+        if nr < maxp:
+            REQ[c, nr] = m
+            SREQ[c, nr] = 0
+            nr += 1
+        de = wet_event_above(tail, m, hw[j])
+        if m < de < d1 and nr < maxp:
+            REQ[c, nr] = de
+            SREQ[c, nr] = 0
+            nr += 1
+    if nr == 0 or nlev + nr > maxp:
+        ctl.rounds[c] = 99
+    else:
+        ctl.n_requests[c] = nr
 
-    if fixed.size > 0:
-        desc = np.argsort(-fixed)
-        for t in range(fixed.size):
-            d = fixed[desc[t]]
-            LOG, pi, px, py, pz = _level(d, desc[t], Dv, HZ, WET, hw, start, idx, zb, zmin, scale, scal, order,
-                                         ztail, pos, P, Cc, live, LOG, logstart, pooltop, pi, px, py, pz, nx,
-                                         ny, periodic, connectivity, nbuf, dx, dy, K, xs, ys, hs, wt, M)
-        return Dv, HZ, WET, MEM, fixed.size, np.full((C, R), np.nan), LOG, pi, px, py, pz, scal, np.zeros(maxp, np.int64)
 
-    eps = params[EPS]
-    eta = params[ETA]
-    fine = params[FINE]
-    deq_tol = params[DEQ_TOL]
-    pull_fine = params[PULL_FINE]
-    pull_smooth = params[PULL_SMOOTH]
-    tie_factor = params[TIE]
-    zcap = params[ZCAP]
-    deq_est = params[DEQ_EST]
-    deq_maxw = params[DEQ_MAXW]
-    zero_band = params[ZERO_BAND]
-    pull_band = params[PULL_BAND]
-    pull_stop = params[PULL_STOP]
-    margin = params[MARGIN]
-    wfloor = params[WFLOOR_REL] * span
-    # each controller's grid starts above the first wetting of its own humidities
-    topc = np.empty(C)
+@nb.njit(**_NJ)
+def _controllers(hum, tail, zmax, span, k, maxp):  # pragma: no cover - compiled
+    """Each controller's start: its grid begins above the first wetting of its humidities, and
+    tests [top - w, top] first."""
+    hw, dp, mask = hum
+    C, R = mask.shape
+    top = np.empty(C)
     for c in range(C):
         hwmax = 0.0
         for j in range(R):
             if mask[c, j]:
                 hwmax = max(hwmax, hw[j])
-        topc[c] = zmax + hwmax + 1e-4 * span
-    dfloor = zmin - 1e-3 * span
+        top[c] = zmax + hwmax + 1e-4 * span
+    scale = np.zeros((C, R))
+    # the pull-off is at least the water term just above the first contact (no Hertz there)
+    for j in range(R):
+        w0 = wet_count(tail, np.nextafter(zmax, np.inf) - hw[j])
+        for c in range(C):
+            scale[c, j] = abs(dp[j]) * w0 * k.pix / k.apparent
+    ctl = Controllers(
+        phase=np.zeros(C, np.int64), top=top, current=top.copy(), step=(top - zmax) / 4,
+        next=np.zeros(C), stop=np.full(C, np.nan), stack=np.empty((C, _STACK, 2)),
+        depth=np.zeros(C, np.int64), accepted=np.zeros(C, np.int64), last_width=np.zeros(C),
+        scale=scale, crossed=np.full((C, R), np.nan), lowest=np.zeros((C, R)),
+        humidity=np.zeros(C, np.int64), rounds=np.zeros(C, np.int64), best=np.zeros(C),
+        requests=np.empty((C, maxp)), request_depth=np.zeros((C, maxp), np.int64),
+        n_requests=np.zeros(C, np.int64))
+    for c in range(C):
+        ctl.next[c] = max(top[c] - ctl.step[c], k.dfloor)
+        ctl.stack[c, 0, 0] = ctl.next[c]
+        ctl.stack[c, 0, 1] = top[c]
+        ctl.depth[c] = 1
+    return ctl
+
+
+@nb.njit(**_NJ)
+def auto_pass(zflat, geo, hum, pol, fixed, ws):  # pragma: no cover - compiled
+    """Evaluate the levels of the adaptive grids (or the ``fixed`` levels if given, any order).
+
+    ``geo``: the map's :class:`._unionfind.Geometry`; ``hum``: :class:`Humidities`; ``pol``: a
+    :class:`._policy.GridPolicy`; ``ws``: a :class:`Workspace`. Returns ``(levels, n, crossed,
+    ws)``: the :class:`Levels` (their first ``n``), each controller's outermost stable crossing
+    per humidity (NaN: none found) and the workspace (its log and pool possibly grown).
+    """
+    hw, dp, mask = hum
+    R = hw.size
+    C = mask.shape[0]
+    nbuck = ws.start.size - 1
+    zmin, zmax, scale, nvalid, sigma = bucket_sort(zflat, ws.start, ws.idx, ws.zb)
+    span = max(zmax - zmin, 1e-300)
+    pix = geo.dx * geo.dy
+    # the tail and the union-find (capacities: every valid pixel; pages never touched cost nothing)
+    ws.pos[:] = -1
+    ts = ws.tail_state[0]
+    ts.nsorted = 0
+    ts.nextb = nbuck - 1
+    us = ws.union_find_state[0]
+    us.k = 0
+    us.nlive = 0
+    us.log = 0
+    us.pool = 0
+    us.added = 0
+    tail = Tail(ws.start, ws.idx, ws.zb, zmin, scale, ws.order, ws.ztail, ws.pos, ws.tail_state)
+    uf = UnionFind(ws.pixels, ws.components, ws.live, ws.log, ws.logstart, ws.pooltop,
+                   ws.union_find_state)
+    pool = Pool(ws.pool_index, ws.pool_x, ws.pool_y, ws.pool_z)
+    fit = FitScratch(ws.xs, ws.ys, ws.hs, ws.wt, np.zeros((4, GRID_KEEP)))
+    nbuf = np.empty(8, NEIGHBOUR)
+    # levels
+    maxp = pol.max_points if fixed.size == 0 else fixed.size
+    levels = Levels(np.empty(maxp), np.empty(maxp, LEVEL_SUMS), np.empty((maxp, R), np.int64),
+                    np.zeros((maxp, C), np.bool_), np.empty(maxp, np.int64),
+                    np.zeros((maxp, R), np.int64), np.zeros((maxp, R), np.bool_),
+                    np.zeros(maxp, np.int64))
+    if fixed.size > 0:
+        desc = np.argsort(-fixed)
+        for t in range(fixed.size):
+            uf, pool = _level(fixed[desc[t]], desc[t], levels, tail, uf, pool, geo, fit, nbuf, hw)
+        return levels, fixed.size, np.full((C, R), np.nan), _workspace(ws, uf, pool)
+
     dtop = np.empty(R)
     for j in range(R):
         dtop[j] = zmax + hw[j]
-    # controllers
-    S = np.zeros((C, R))
-    # the pull-off is at least the water term just above the first contact (no Hertz there)
-    for j in range(R):
-        w0 = count_ge(start, zb, zmin, scale, np.nextafter(zmax, np.inf) - hw[j])
-        for c in range(C):
-            S[c, j] = abs(dp[j]) * w0 * pix / apparent
-    crossed = np.full((C, R), np.nan)
-    pmin = np.zeros((C, R))
-    phase = np.zeros(C, np.int64)
-    dcur = topc.copy()
-    wstep = (topc - zmax) / 4
-    stopat = np.full(C, np.nan)
-    SD = 256
-    stk = np.empty((C, SD, 2))
-    sp = np.zeros(C, np.int64)
-    nacc = np.zeros(C, np.int64)
-    lastw = np.zeros(C)
-    dnext = np.zeros(C)
-    # pull refinement state
-    jj = np.zeros(C, np.int64)
-    rnd = np.zeros(C, np.int64)
-    best = np.zeros(C)
-    REQ = np.empty((C, maxp))
-    SREQ = np.zeros((C, maxp), np.int64)
-    SDEPTH = np.zeros((maxp, R), np.int64)
-    SRC = np.zeros((maxp, R), np.bool_)
-    PH = np.zeros(maxp, np.int64)
+    k = Constants(pix, nvalid * pix, sigma, pol.wfloor_rel * span, zmin - 1e-3 * span, dtop)
+    ctl = _controllers(hum, tail, zmax, span, k, maxp)
+    phase, n_requests, order, distance = ctl.phase, ctl.n_requests, levels.order, levels.distance
+    nlev = 0
     wantph = 0
-    nreq = np.zeros(C, np.int64)
-    # start: each controller tests [top - w, top]
-    for c in range(C):
-        dnext[c] = max(topc[c] - wstep[c], dfloor)
-        stk[c, 0, 0] = dnext[c]
-        stk[c, 0, 1] = topc[c]
-        sp[c] = 1
     full = False
     while True:
         # ---- collect each controller's next request; progress controllers that need none
@@ -214,284 +630,19 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
                     continue
                 alldone = False
                 if phase[c] == 0:
-                    if sp[c] == 0:
-                        # interval done: next step of the descent, or stop
-                        dcur[c] = dnext[c]
-                        if nacc[c] > 1:
-                            wstep[c] = 2.0 * lastw[c]
-                        else:
-                            wstep[c] = 2.0 * wstep[c]
-                        nacc[c] = 0
-                        allx = True
-                        lowest = np.inf
-                        for j in range(R):
-                            if mask[c, j]:
-                                if np.isnan(crossed[c, j]):
-                                    allx = False
-                                else:
-                                    lowest = min(lowest, crossed[c, j])
-                        if allx and np.isnan(stopat[c]):
-                            stopat[c] = lowest - margin * sigma
-                        if (allx and dcur[c] <= stopat[c]) or dcur[c] <= dfloor or full:
-                            phase[c] = 1
-                            jj[c] = -1
-                            nreq[c] = 0
-                            progressed = True
-                            continue
-                        dnext[c] = max(dcur[c] - wstep[c], dfloor)
-                        stk[c, 0, 0] = dnext[c]
-                        stk[c, 0, 1] = dcur[c]
-                        sp[c] = 1
-                    a = stk[c, sp[c] - 1, 0]
-                    b = stk[c, sp[c] - 1, 1]
-                    m = 0.5 * (a + b)
-                    below = True  # wholly below every humidity's crossing: nothing to test there
-                    for j in range(R):
-                        if mask[c, j] and (np.isnan(crossed[c, j]) or b > crossed[c, j]):
-                            below = False
-                    if below and _find(Dv, ordd, nlev, a) >= 0 and _find(Dv, ordd, nlev, b) >= 0:
-                        sp[c] -= 1
-                        progressed = True
-                        continue
-                    ia = _find(Dv, ordd, nlev, a)
-                    ib = _find(Dv, ordd, nlev, b)
-                    im = _find(Dv, ordd, nlev, m)
-                    if ib < 0:
-                        if b > want:
-                            want = b
-                            wantph = 0
-                        continue
-                    if im < 0:
-                        if m > want:
-                            want = m
-                            wantph = 0
-                        continue
-                    if ia < 0:
-                        if a > want:
-                            want = a
-                            wantph = 0
-                        continue
-                    MEM[ia, c] = True
-                    MEM[ib, c] = True
-                    MEM[im, c] = True
-                    # the midpoint test (see auto_proto): accept, or split (upper half first)
-                    w = b - a
-                    ok = True
-                    if w > 2 * wfloor and not full:
-                        for j in range(R):
-                            if not mask[c, j]:
-                                continue
-                            if not (np.isnan(crossed[c, j]) or b > crossed[c, j]):
-                                continue
-                            va = (HZ[ia, 0] + dp[j] * (WET[ia, j] * pix - HZ[ia, 1])) / apparent
-                            vb = (HZ[ib, 0] + dp[j] * (WET[ib, j] * pix - HZ[ib, 1])) / apparent
-                            vm = (HZ[im, 0] + dp[j] * (WET[im, j] * pix - HZ[im, 1])) / apparent
-                            err = abs(vm - 0.5 * (va + vb))
-                            lo3 = min(min(va, vb), vm)
-                            hi3 = max(max(va, vb), vm)
-                            f = 1.0
-                            cap = eta * sigma
-                            if np.isnan(crossed[c, j]):
-                                if hi3 > 0.0 and lo3 < 0.0:
-                                    # the crossing: a finer grid moves d_eq within its interval only;
-                                    # wider intervals pass when the root of the chord and that of
-                                    # the half holding the (stable) crossing agree
-                                    tol_d = deq_tol * max(abs(a), sigma)
-                                    if w > tol_d:
-                                        if not (w <= deq_maxw * tol_d and va >= 0.0 and vb < 0.0):
-                                            ok = False
-                                            break
-                                        r_ab = a + w * va / (va - vb)
-                                        if vm >= 0.0:
-                                            r_h = m + 0.5 * w * vm / (vm - vb)
-                                        else:
-                                            r_h = a + 0.5 * w * va / (va - vm)
-                                        if not (abs(r_ab - r_h) <= deq_est * tol_d):
-                                            ok = False
-                                            break
-                                    continue
-                                if min(min(abs(va), abs(vb)), abs(vm)) <= zero_band * S[c, j]:
-                                    f = fine
-                                    cap = zcap * eta * sigma
-                            fl = min(eta * max(dtop[j] - a, 0.0), cap)
-                            if not (err <= f * eps * S[c, j] or w <= f * fl):
-                                ok = False
-                                break
-                    if ok:
-                        sp[c] -= 1
-                        # advance over (b, m) then (m, a)
-                        for half in range(2):
-                            if half == 0:
-                                ih = ib
-                                il = im
-                                dh = b
-                                dl = m
-                            else:
-                                ih = im
-                                il = ia
-                                dh = m
-                                dl = a
-                            for j in range(R):
-                                if not mask[c, j]:
-                                    continue
-                                ph = (HZ[ih, 0] + dp[j] * (WET[ih, j] * pix - HZ[ih, 1])) / apparent
-                                pl = (HZ[il, 0] + dp[j] * (WET[il, j] * pix - HZ[il, 1])) / apparent
-                                S[c, j] = max(S[c, j], max(abs(ph), abs(pl)))
-                                if np.isnan(crossed[c, j]):
-                                    if pl < pmin[c, j]:
-                                        pmin[c, j] = pl
-                                    if pl >= 0.0 and ph < 0.0:
-                                        crossed[c, j] = dh - (dh - dl) * ph / (ph - pl)
-                        nacc[c] += 1
-                        lastw[c] = w
-                    else:
-                        if sp[c] + 2 > SD:
-                            sp[c] -= 1  # (cannot happen: depth <= log2(span / wfloor))
-                        else:
-                            stk[c, sp[c] - 1, 0] = a
-                            stk[c, sp[c] - 1, 1] = m
-                            stk[c, sp[c], 0] = m
-                            stk[c, sp[c], 1] = b
-                            sp[c] += 1
+                    moved, request = _descent(c, ctl, levels, nlev, hum, pol, k, full)
+                    ph = 0
+                elif n_requests[c] > 0:
+                    moved, request = _pull_pending(c, ctl, levels, nlev, hum, pol, k)
+                    ph = 1
+                else:
+                    _pull_round(c, ctl, levels, nlev, tail, hum, pol, k)
+                    moved, request, ph = True, -np.inf, 1
+                if moved:
                     progressed = True
-                    continue
-                # ---- phase 1: pull-off refinement, one humidity of the mask after the other
-                if phase[c] == 1 and nreq[c] > 0:
-                    # requests pending: the highest missing one
-                    missing = False
-                    for q in range(nreq[c]):
-                        if _find(Dv, ordd, nlev, REQ[c, q]) < 0:
-                            if REQ[c, q] > want:
-                                want = REQ[c, q]
-                                wantph = 1
-                            missing = True
-                    if missing:
-                        continue
-                    after = np.inf
-                    j = jj[c]
-                    for q in range(nreq[c]):
-                        il = _find(Dv, ordd, nlev, REQ[c, q])
-                        MEM[il, c] = True
-                        if SREQ[c, q] > 0 and SDEPTH[il, j] == 0:
-                            SDEPTH[il, j] = SREQ[c, q]
-                        after = min(after, (HZ[il, 0] + dp[j] * (WET[il, j] * pix - HZ[il, 1])) / apparent)
-                    nreq[c] = 0
-                    if pull_stop > 0.0 and not (after < best[c] * (1.0 + pull_stop)):
-                        rnd[c] = 99  # no improvement: next humidity
-                    progressed = True
-                    continue
-                if phase[c] == 1:
-                    # next round for humidity jj (or the next humidity)
-                    if jj[c] < 0 or rnd[c] >= 40:
-                        jj[c] += 1
-                        while jj[c] < R and not mask[c, jj[c]]:
-                            jj[c] += 1
-                        rnd[c] = 0
-                        if jj[c] >= R:
-                            phase[c] = 3
-                            progressed = True
-                            continue
-                    j = jj[c]
-                    # this controller's grid, sorted
-                    cnt = 0
-                    for q in range(nlev):
-                        if MEM[ordd[q], c]:
-                            cnt += 1
-                    gl = np.empty(cnt, np.int64)
-                    cnt = 0
-                    for q in range(nlev):
-                        if MEM[ordd[q], c]:
-                            gl[cnt] = ordd[q]
-                            cnt += 1
-                    xc = crossed[c, j] if not np.isnan(crossed[c, j]) else -np.inf
-                    bi = -1
-                    bv = 0.0
-                    for q in range(cnt):
-                        if Dv[gl[q]] >= xc:
-                            v = (HZ[gl[q], 0] + dp[j] * (WET[gl[q], j] * pix - HZ[gl[q], 1])) / apparent
-                            if v < bv:
-                                bv = v
-                                bi = q
-                    if bi < 0:
-                        rnd[c] = 99
-                        progressed = True
-                        continue
-                    best[c] = bv
-                    rnd[c] += 1
-                    nr = 0
-                    for q in range(cnt - 1):
-                        d0 = Dv[gl[q]]
-                        d1 = Dv[gl[q + 1]]
-                        if d0 < xc:
-                            continue
-                        v0 = (HZ[gl[q], 0] + dp[j] * (WET[gl[q], j] * pix - HZ[gl[q], 1])) / apparent
-                        v1 = (HZ[gl[q + 1], 0] + dp[j] * (WET[gl[q + 1], j] * pix - HZ[gl[q + 1], 1])) / apparent
-                        # a tooth can hide inside the interval: the pixels drying at one height
-                        # in it (at most the fullest bucket, at most those drying in it) drop
-                        # the curve by up to their water term below its ends
-                        ndry = WET[gl[q], j] - WET[gl[q + 1], j]
-                        tie = 0.0
-                        if ndry > 0:
-                            tie = abs(dp[j]) * pix / apparent * min(
-                                ndry, max_tie_bound(start, zmin, scale, d0 - hw[j], d1 - hw[j]))
-                        if not (min(v0, v1 - tie_factor * tie) <= bv * (1.0 - pull_band)):
-                            continue
-                        L = min(max(dtop[j] - d0, 0.0), sigma)
-                        if d1 - d0 <= max(pull_fine * eta * L, 2 * wfloor):
-                            # resolved: once, the most tensile points of the teeth just above d0
-                            # (the wetting and the contact event there: water and Hertz jumps)
-                            # (each point is the source of these snaps once, and snapped points
-                            # up to depth 2: the chain of events stops)
-                            src = gl[q]
-                            if SRC[src, j] or SDEPTH[src, j] >= 2:
-                                continue
-                            SRC[src, j] = True
-                            de = _wet_event_above(d0, hw[j], start, zb, zmin, scale)
-                            if d0 < de < d1 and nr < maxp:
-                                REQ[c, nr] = de
-                                SREQ[c, nr] = SDEPTH[src, j] + 1
-                                nr += 1
-                            dcx = _contact_event_above(d0, ztail, scal[_NSORTED])
-                            if d0 < dcx < d1 and dcx != de and nr < maxp:
-                                REQ[c, nr] = dcx
-                                SREQ[c, nr] = SDEPTH[src, j] + 1
-                                nr += 1
-                            continue
-                        # smooth here (each end on the chord of its neighbours within
-                        # pull_smooth): a finer grid finds nothing deeper, no need to bisect
-                        # (neighbours at least half the interval away: not the other point of
-                        # a snapped pair)
-                        qa = q - 1
-                        while qa >= 0 and d0 - Dv[gl[qa]] < 0.5 * (d1 - d0):
-                            qa -= 1
-                        qb = q + 2
-                        while qb < cnt and Dv[gl[qb]] - d1 < 0.5 * (d1 - d0):
-                            qb += 1
-                        if qa >= 0 and qb < cnt:
-                            vm1 = (HZ[gl[qa], 0] + dp[j] * (WET[gl[qa], j] * pix - HZ[gl[qa], 1])) / apparent
-                            v2 = (HZ[gl[qb], 0] + dp[j] * (WET[gl[qb], j] * pix - HZ[gl[qb], 1])) / apparent
-                            dm1 = Dv[gl[qa]]
-                            d2 = Dv[gl[qb]]
-                            e0 = abs(v0 - (vm1 + (v1 - vm1) * (d0 - dm1) / (d1 - dm1)))
-                            e1 = abs(v1 - (v0 + (v2 - v0) * (d1 - d0) / (d2 - d0)))
-                            if max(e0, e1) <= pull_smooth * abs(bv) and tie <= pull_smooth * abs(bv):
-                                continue
-                        m = 0.5 * (d0 + d1)
-                        if nr < maxp:
-                            REQ[c, nr] = m
-                            SREQ[c, nr] = 0
-                            nr += 1
-                        de = _wet_event_above(m, hw[j], start, zb, zmin, scale)
-                        if m < de < d1 and nr < maxp:
-                            REQ[c, nr] = de
-                            SREQ[c, nr] = 0
-                            nr += 1
-                    if nr == 0 or nlev + nr > maxp:
-                        rnd[c] = 99
-                    else:
-                        nreq[c] = nr
-                    progressed = True
-                    continue
+                elif request > want:
+                    want = request
+                    wantph = ph
         if alldone:
             break
         if want == -np.inf:
@@ -504,31 +655,35 @@ def auto_pass(zflat, ny, nx, periodic, connectivity, dx, dy, K, hw, dp, mask, pa
             for c in range(C):
                 if phase[c] == 0:
                     phase[c] = 1
-                    jj[c] = -1
-                    nreq[c] = 0
+                    ctl.humidity[c] = -1
+                    n_requests[c] = 0
                 elif phase[c] == 1:
-                    nreq[c] = 0
-                    rnd[c] = 99
-                    jj[c] = R
+                    n_requests[c] = 0
+                    ctl.rounds[c] = 99
+                    ctl.humidity[c] = R
             continue
         li = nlev
-        PH[li] = wantph
-        LOG, pi, px, py, pz = _level(d, li, Dv, HZ, WET, hw, start, idx, zb, zmin, scale, scal, order, ztail, pos,
-                                     P, Cc, live, LOG, logstart, pooltop, pi, px, py, pz, nx, ny, periodic,
-                                     connectivity, nbuf, dx, dy, K, xs, ys, hs, wt, M)
+        levels.phase[li] = wantph
+        uf, pool = _level(d, li, levels, tail, uf, pool, geo, fit, nbuf, hw)
         # insert into the sorted order
         q = nlev
-        while q > 0 and Dv[ordd[q - 1]] > d:
-            ordd[q] = ordd[q - 1]
+        while q > 0 and distance[order[q - 1]] > d:
+            order[q] = order[q - 1]
             q -= 1
-        ordd[q] = li
+        order[q] = li
         nlev += 1
-    return Dv, HZ, WET, MEM, nlev, crossed, LOG, pi, px, py, pz, scal, PH
+    return levels, nlev, ctl.crossed, _workspace(ws, uf, pool)
 
+
+@nb.njit(**_NJ)
+def _workspace(ws, uf, pool):  # pragma: no cover - compiled
+    """The workspace with the (possibly grown) log and pool."""
+    return Workspace(ws.start, ws.idx, ws.zb, ws.pos, ws.order, ws.ztail, ws.tail_state, ws.pixels,
+                     ws.components, ws.live, ws.logstart, ws.pooltop, uf.log, pool.index, pool.x,
+                     pool.y, pool.z, ws.union_find_state, ws.xs, ws.ys, ws.hs, ws.wt)
 
 
 _WS = threading.local()
-LAST_STATS = np.zeros(8, np.int64)  # counters of the last call in this process (benchmarks only)
 
 
 def workspace(n):
@@ -539,72 +694,60 @@ def workspace(n):
     the development machine) and ensembles call the kernel thousands of times per thread.
     """
     ws = getattr(_WS, "arrays", None)
-    if ws is None or ws["n"] != n:
+    if ws is None or getattr(_WS, "n", None) != n:
         nbuck = max(1024, n // 8)
         cap = n + 1
-        ws = dict(
-            n=n,
+        ws = Workspace(
             start=np.empty(nbuck + 1, np.int64), idx=np.empty(n, np.int32), zb=np.empty(n),
-            pos=np.empty(n, np.int32), P=np.empty((cap, 3), np.int32), C=np.empty((cap, 8), np.int64),
-            live=np.empty(cap, np.int32), order=np.empty(cap, np.int64), ztail=np.empty(cap),
+            pos=np.empty(n, np.int32), order=np.empty(cap, np.int64), ztail=np.empty(cap),
+            tail_state=np.zeros(1, TAIL_STATE), pixels=np.empty(cap, PIXEL),
+            components=np.empty(cap, COMPONENT), live=np.empty(cap, np.int32),
             logstart=np.empty(cap + 1, np.int64), pooltop=np.empty(cap + 1, np.int64),
-            LOG=np.empty((1024, 10), np.int64), pi=np.empty(4096, np.int32), px=np.empty(4096, np.int32),
-            py=np.empty(4096, np.int32), pz=np.empty(4096), xs=np.empty(cap + 8), ys=np.empty(cap + 8),
-            hs=np.empty(cap + 8), wt=np.empty(cap + 8),
+            log=np.empty(1024, LOG_ENTRY), pool_index=np.empty(4096, np.int32),
+            pool_x=np.empty(4096, np.int32), pool_y=np.empty(4096, np.int32),
+            pool_z=np.empty(4096), union_find_state=np.zeros(1, UNION_FIND_STATE),
+            xs=np.empty(cap + 8), ys=np.empty(cap + 8), hs=np.empty(cap + 8), wt=np.empty(cap + 8),
         )
-        _WS.arrays = ws
+        _WS.arrays, _WS.n = ws, n
     return ws
 
 
-_WS_ORDER = ("start", "idx", "zb", "pos", "P", "C", "live", "order", "ztail", "logstart", "pooltop", "LOG", "pi",
-             "px", "py", "pz", "xs", "ys", "hs", "wt")
-
-
-def grid_params(npix):
-    """Controller parameters for a map of ``npix`` pixels: the tolerances on the curves' shape
-    scale with sqrt(npix / 1024^2) between 0.25 and 1. Small maps have few contacting pixels, so
-    their curves are staircases of large jumps that need a finer grid, and each level is cheap."""
-    p = DEFAULT_PARAMS.copy()
-    f = min(1.0, max(0.25, (npix / 1024.0**2) ** 0.5))
-    p[EPS] *= f
-    p[ETA] *= f
-    p[PULL_SMOOTH] *= f
-    return p
+def _pass(zflat, ny, nx, dx, dy, K, periodic, connectivity, hw, dp, mask, policy, fixed):
+    ws = workspace(zflat.size)
+    geo = Geometry(int(ny), int(nx), float(dx), float(dy), float(K), bool(periodic), int(connectivity))
+    levels, n, crossed, _WS.arrays = auto_pass(zflat, geo, Humidities(hw, dp, mask), policy, fixed, ws)
+    return levels, n, crossed
 
 
 def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_rh=False, params=None):
     """Curves (CURVE_VARIABLES order, over (rh, distance) ascending) on an automatic or given grid.
     ``per_rh``: one controller per humidity (its levels do not depend on the other humidities):
-    a list of per-humidity tuples; ``"union"``: all humidities on the union, and the membership."""
+    a list of per-humidity tuples; ``"union"``: all humidities on the union, and the membership.
+    ``params``: a :class:`._policy.GridPolicy` (default: :func:`._policy.policy_for` the map)."""
     zc, nvalid = prepare_heights(z)
     ny, nx = zc.shape
     zflat = zc.ravel()
     hw = np.atleast_1d(np.asarray(hw, float))
     dp = np.atleast_1d(np.asarray(dp, float))
     R = hw.size
-    p = grid_params(zflat.size) if params is None else np.asarray(params, float)
+    policy = policy_for(zflat.size) if params is None else params
     if distance is None and not np.nanmax(zflat) > np.nanmin(zflat):
         # a flat map has no height scale: a uniform grid over the water range (contact at d <= 0)
         distance = np.linspace(0.0, 1.05 * max(float(np.max(hw)), 1e-10), 65)
         per_rh = False
     fixed = np.empty(0) if distance is None else np.asarray(distance, float)
     mask = np.eye(R, dtype=bool) if per_rh else np.ones((1, R), bool)
-    ws = workspace(zflat.size)
-    out = auto_pass(zflat, ny, nx, bool(periodic), int(connectivity), float(dx), float(dy), float(K), hw, dp,
-                    mask, p, fixed, *(ws[k] for k in _WS_ORDER))
-    Dv, HZ, WET, MEM, n, crossed = out[:6]
-    ws["LOG"], ws["pi"], ws["px"], ws["py"], ws["pz"] = out[6:11]
-    LAST_STATS[:] = out[11]
-    Dv, HZ, WET, MEM = Dv[:n], HZ[:n], WET[:n], MEM[:n]
+    levels, n, _ = _pass(zflat, ny, nx, dx, dy, K, periodic, connectivity, hw, dp, mask, policy, fixed)
+    Dv, sums, WET, MEM = levels.distance[:n], levels.sums[:n], levels.wet[:n], levels.member[:n]
     zmax = float(np.nanmax(zflat))
     apparent = nvalid * dx * dy
 
     def build(sel, rows):
         o = np.argsort(Dv[sel], kind="stable")
         d = Dv[sel][o]
-        hz = HZ[sel][o]
+        hz = sums[sel][o]
         wet = WET[sel][o][:, rows].T * (dx * dy)
-        f, ha, fa, e2, nc = hz[:, 0], hz[:, 1], hz[:, 2], hz[:, 3], hz[:, 4]
+        f, ha, fa, e2, nc = hz["force"], hz["hertz_area"], hz["foot_area"], hz["err2_area"], hz["n_comp"]
         net = (wet - ha[None, :]) / apparent
         rep = f / apparent
         pres = rep[None, :] + dp[rows][:, None] * net
@@ -630,14 +773,11 @@ def hertz_levels(z, distance, *, dx, dy, K, periodic, connectivity):
     n_comp, n_wrap), in the order of ``distance``."""
     zc, _ = prepare_heights(z)
     ny, nx = zc.shape
-    zflat = zc.ravel()
     fixed = np.asarray(distance, float)
-    ws = workspace(zflat.size)
-    out = auto_pass(zflat, ny, nx, bool(periodic), int(connectivity), float(dx), float(dy), float(K),
-                    np.zeros(1), np.zeros(1), np.ones((1, 1), bool), DEFAULT_PARAMS, fixed,
-                    *(ws[k] for k in _WS_ORDER))
-    ws["LOG"], ws["pi"], ws["px"], ws["py"], ws["pz"] = out[6:11]
-    return out[1][: fixed.size]
+    levels, n, _ = _pass(zc.ravel(), ny, nx, dx, dy, K, periodic, connectivity, np.zeros(1),
+                         np.zeros(1), np.ones((1, 1), bool), DEFAULT_POLICY, fixed)
+    sums = levels.sums[:n]
+    return np.column_stack([sums[f] for f in LEVEL_SUMS.names])
 
 
 def curves_kernel(z, distance, water_height, laplace_pressure, *, dx, dy, K, periodic, connectivity):
