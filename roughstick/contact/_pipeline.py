@@ -424,7 +424,7 @@ def curves(
     accuracy : float, default 0.10
         Accepted relative error of ``quantity`` against the boundary-element reference:
         ``model="auto"`` picks a model that meets it; a model with the ``"validity"`` check (the
-        modified DMT) warns (:class:`roughstick.ValidityWarning`) where its bound exceeds it.
+        modified DMT) warns (:class:`roughstick.contact.ValidityWarning`) where its bound exceeds it.
     quantity : {"adhesive_energy", "pull_off_pressure", "equilibrium_distance", "all"}
         The summary the accuracy applies to.
     check_validity : bool, default True

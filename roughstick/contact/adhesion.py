@@ -1,6 +1,6 @@
 """Reduce force-distance curves of rough surfaces to what decides stiction (Eq. 13).
 
-:func:`adhesion_summary` takes the Dataset of :func:`roughstick.rough_contact_curves` (or of the
+:func:`summary` takes the Dataset of :func:`roughstick.contact.curves` (or of the
 Greenwood-Williamson model, same layout) and returns, per humidity and any leading dimension
 (e.g. ``realization``), the apparent adhesive energy, the pull-off pressure, the equilibrium
 distance and the wetted fraction there.
@@ -30,8 +30,7 @@ def equilibrium_crossings(p: np.ndarray) -> np.ndarray:
 
     A zero counts as repulsive only where the last non-zero pressure below it is repulsive (or
     there is none): a state that lost all contact and water has exactly zero pressure, and a
-    neck caught again just above it is not an equilibrium (on a 128² S2 map at RH 1e-4 it was
-    taken for one, and Γ came out at 0.75 % of the curve's).
+    neck caught again just above it is not an equilibrium.
 
     >>> equilibrium_crossings(np.array([1.0, 0.0, -1.0, 0.0, -2.0, 0.0])).tolist()
     [False, True, False, False, False]
@@ -247,7 +246,7 @@ def summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     Parameters
     ----------
     curves : xarray.Dataset
-        Output of :func:`roughstick.rough_contact_curves` (or GW): ``pressure`` [Pa] and
+        Output of :func:`roughstick.contact.curves` (or GW): ``pressure`` [Pa] and
         ``wet_fraction`` over ``(..., distance)``; ``distance`` a single dask chunk.
     from_equilibrium : bool, default True
         Integrate Eq. 13 along the separation path only, from the equilibrium distance
@@ -303,7 +302,7 @@ def summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     if "pressure" not in curves or "distance" not in curves["pressure"].dims:
         raise ValueError(
             "curves must hold 'pressure' over a 'distance' dimension, as returned by "
-            "roughstick.rough_contact_curves."
+            "roughstick.contact.curves."
         )
     p = curves["pressure"]
     check_core_not_chunked(p, ["distance"])

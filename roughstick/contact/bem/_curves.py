@@ -1,11 +1,5 @@
-"""Boundary-element reference for humid rough contact (optional, via Tamaas).
-
-:func:`bem_contact_curves` solves the full elastic contact of a rough surface against a rigid flat
-with Dugdale (Maugis) capillary adhesion, on a periodic FFT boundary-element grid, with the
-Polonsky-Keer solver of Tamaas [1]_ [2]_. It returns the same curves layout as the modified DMT
-(Eq. 16, :func:`roughstick.rough_contact_curves`), so the two can be compared number by number.
-
-Tamaas is an optional dependency: ``pip install roughstick[bem]``.
+"""The boundary-element reference, registered as the contact model ``"bem"``: its entry and
+:func:`bem_curves`. The solver is :mod:`._tamaas`; the default grid is fft_bem's automatic one.
 """
 
 from __future__ import annotations
@@ -33,12 +27,10 @@ _REFERENCES = cite("frerot2020", "polonsky1999", "rey2017", "maugis1992")
 
 def _automatic_grids(height, rh_values, *, material, material2, adsorbed_layer, adhesion,
                      n_distance) -> tuple[list[np.ndarray], int]:
-    """Per humidity, the distances [m] that fft_bem's automatic grid solves on this map: from a
-    quarter step below the equilibrium, through the water range and on while a neck holds,
-    refined around the pull-off (docs/fft_bem.md). A fixed span misses all of that on a rough,
-    stiff map at low humidity, where the water range is a fraction of a nanometre at max z.
-    Also the number of those states in contact in fft_bem, the Tamaas solves to expect (states
-    above the highest summit held by a water neck included)."""
+    """Per humidity, the distances [m] that fft_bem's automatic grid solves on this map (from
+    just below the equilibrium, through the water range and on while a neck holds, refined at
+    the pull-off: docs/fft_bem.md), and the number of those states in contact in fft_bem: the
+    Tamaas solves to expect (states above the highest summit held by a neck included)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # about fft_bem's own values, not about its grid
         f = fft_bem_curves(height, relative_humidity=list(rh_values), material=material,
@@ -172,115 +164,70 @@ def bem_curves(
 ) -> xr.Dataset:
     r"""Humid adhesive contact of a rough surface and a flat by the boundary-element method.
 
-    The reference for the modified DMT (Eq. 16): the full elastic contact of the rough surface with
-    a rigid flat, with the capillary adhesion modelled as a Dugdale (Maugis) cohesive zone of
-    strength :math:`\sigma_0 = |\Delta P|` (Eq. 2) and range :math:`h_{water}` (Eq. 6), solved on
-    the pixel grid by an FFT boundary-element method (Polonsky-Keer with Maugis adhesion,
-    Tamaas [1]_ [2]_ [3]_). Unlike Eq. 16 it keeps the deformation caused by the adhesive
-    tension, the elastic interaction between asperities and the exact contact shapes; it does
-    not fit spheres, so ``fit_error`` is NaN.
+    The reference the other models are measured against: the full elastic contact of the rough
+    surface with a rigid flat, the capillary adhesion a Dugdale (Maugis) zone of strength
+    :math:`\sigma_0 = |\Delta P|` (Eq. 2) and range :math:`h_{water}` (Eq. 6), solved on the
+    periodic pixel grid by Tamaas' Polonsky-Keer solver [1]_ [2]_ [3]_ [4]_. Unlike Eq. 16 it
+    keeps the deformation caused by the tension, the elastic interaction of the asperities and
+    the exact contact shapes; it fits no spheres (``fit_error`` is NaN). Tamaas is optional:
+    ``pip install roughstick[bem]``.
 
     Parameters
     ----------
     height : xarray.DataArray
-        Topography, dims ``(..., y, x)``, at least 8 x 8 pixels, units length (converted to m),
-        uniform spacing. Treated
-        as periodic (the FFT solver wraps it around): for a measured map (``periodic=0``) the
-        wrap-around step is part of the solved geometry.
+        Topography, dims ``(..., y, x)``, at least 8 x 8 pixels, units length, uniform spacing;
+        treated as periodic (a measured map's wrap-around step is part of the geometry).
     relative_humidity : float, sequence or xarray.DataArray
         RH as a fraction in (0, 1); a sequence gives dimension ``rh``.
     distance : array_like, optional
-        Positions :math:`d` of the flat above the mean plane [m] (see Notes for the convention),
-        all above the mean plane of every map. Default (one eager (y, x) map): per humidity,
-        the grid that :func:`roughstick.fft_bem_contact_curves`' automatic march solves on the
-        same map (from just below the equilibrium through the water range and on while a neck
-        holds, refined at the pull-off; on the maps of benchmarks/untuned_surfaces.py that
-        call took 0.6-5 % of the BEM's time, 63-82 % on soft maps at RH 1e-3). Several
-        humidities are then reported on the union of their grids, as fft_bem does (linear
-        interpolation between a humidity's own points, NaN below its first, dry above its
-        last; ``solved`` marks the computed points). A fixed span from ``max(z) - 0.5 std(z)``,
-        as before, missed the whole adhesive range of a rough, stiff map at low humidity
-        (σ 28 nm, RH 0.05: Γ = 0 against 8.6e-6 J/m² on this grid).
+        Flat positions :math:`d` [m] (Notes), above the mean plane of every map. Default (one
+        eager map): per humidity, the distances :func:`roughstick.contact.fft_bem_curves`'
+        automatic grid solves on the same map, reported on their union (``solved`` marks each
+        humidity's own points; linear in between, NaN below its first, dry above its last).
     material, material2 : Material
-        The two bodies (``material2=None``: same as ``material``); only
-        :math:`E^* = [(1-\nu_1^2)/E_1 + (1-\nu_2^2)/E_2]^{-1}` enters (86.6 GPa for poly-Si).
+        The two bodies; only :math:`E^*` enters (86.6 GPa for poly-Si).
     adsorbed_layer : {"paper", "none"} or callable
-        Adsorbed-layer model of :func:`roughstick.water_height`.
-    tolerance : float, default 1e-6
+        Adsorbed-layer model of :func:`roughstick.contact.water_height`.
+    solver_tolerance : float, default 1e-6
         Relative tolerance of the Polonsky-Keer iterations.
     max_iterations : int, default 1000
         Iteration cap per solve.
     path : {"retract", "approach"}
-        Order in which the distances are marched (the solver is warm-started from the previous
-        distance, and adhesive contact is path dependent): ``"retract"`` (default) starts from
-        the closest distance and pulls the flat away, the branch that decides stiction;
-        ``"approach"`` comes in from far.
+        March order (states are warm-started, and adhesive contact is path dependent):
+        ``"retract"`` pulls the flat away from the closest distance, the branch of stiction.
     retries : int, default 1
-        A solve whose residual stays above ``10 * tolerance`` is retried this many times from a
-        fresh solver; the best residual is kept and reported in ``solver_residual``.
-    n_distances : int, optional
-        About this many points per humidity on the default grid (as ``n_distance`` of
-        :func:`roughstick.rough_contact_curves` for fft_bem); None: fft_bem's defaults.
+        Fresh-solver retries of a solve whose residual stays above ``10 * solver_tolerance``.
+    n_distance : int, optional
+        About this many points per humidity on the default grid (fft_bem's).
     adhesion : bool, default True
-        ``False`` switches the capillary tension off (dry Hertz-type contact, used for
-        validation); ``wet_fraction`` is then zero.
+        ``False``: dry contact (validation against Hertz).
     progress : bool or None, default None
-        Before it starts, the run logs (logger ``roughstick``, INFO) its size, the Tamaas solves
-        to expect (on the default grid: the states fft_bem found in contact, those above the
-        highest summit held by a water neck included) and an estimate of its time
-        (:mod:`roughstick._core.progress`, within a factor ~3); runs estimated at 5 s or more
-        then show their progress in solves, the cost, as a bar (terminal; a widget in Jupyter
-        with ipywidgets) or INFO lines every 30 s (no terminal), the time left at the measured
-        rate; a run measured outside a factor 3 of its estimate says so once, and shows its
-        progress from then on. ``True`` always shows it, ``False`` never.
+        The size, Tamaas solves and estimated time are logged (logger ``roughstick``, INFO)
+        before the run; runs estimated at 5 s or more show their progress in solves.
+        ``True`` always, ``False`` never.
 
     Returns
     -------
     xarray.Dataset
-        Over ``(..., rh, distance)`` (``rh`` dropped for a scalar humidity, as in
-        :func:`roughstick.rough_contact_curves`), coordinates ``water_height`` and
-        ``laplace_pressure`` along ``rh``: ``pressure`` (mean pressure, Pa, + repulsive),
-        ``repulsive_pressure`` (Pa, the traction carried by the contact area),
-        ``wet_fraction`` (adhesive zone: gap below :math:`h_{water}` and not in contact),
-        ``contact_fraction``, ``n_contacts`` (periodic 4-connected contact clusters),
-        ``fit_error`` (NaN), ``max_interference`` (:math:`\max z - d_{local}`),
-        ``distance_offset`` (:math:`d_{local} - d`, m), ``solver_residual`` and ``solved`` (1
-        where this humidity was solved; 0 where interpolated: on the default grid's union, or
-        where Tamaas stalled, residual above 10 × ``tolerance`` after the retries, counted in
-        the attribute ``bem_unconverged``).
-        Attributes record the model, ``max_noncontact_deflection`` (m) and solver statistics.
-
-    Raises
-    ------
-    ImportError
-        If Tamaas is not installed (``pip install roughstick[bem]``).
-    ValueError
-        If a distance lies at or below the mean plane, the map has NaN, or ``path`` is unknown.
+        The curves layout over ``(..., rh, distance)`` plus ``distance_offset``
+        (:math:`d_{local} - d`, m), ``solver_residual`` and ``solved`` (0 where interpolated,
+        or where Tamaas stalled after the retries: counted in ``attrs["bem_unconverged"]``);
+        attributes ``max_noncontact_deflection`` [m] and the solver statistics.
 
     Notes
     -----
-    *Distance convention.* The solver imposes the mean gap :math:`\bar g`; the output coordinate
-    is :math:`d = \bar g + \bar z`, the flat position in the periodic convention where the
-    elastic displacement has zero mean. Eq. 16 measures :math:`d` with no displacement away from
-    the contacts; for a periodic cell of area :math:`A` the two differ by
-    :math:`d_{local} - d = \bar p A Z/(\pi E^*)` (:func:`periodic_offset_coefficient`,
-    :math:`\approx -1.24\,\bar p L/E^*` for a square of side :math:`L`), stored as
-    ``distance_offset``; with it a single sphere follows Hertz (tested). The offset is
-    proportional to :math:`\bar p`, so it vanishes at the equilibrium distance and
-    :math:`\oint \bar p\, d\bar p = 0` along the adhesive branch: the apparent adhesive energy
-    (Eq. 13), the pull-off pressure and the equilibrium distance are the same in either
-    convention.
+    *Distance convention.* The solver imposes the mean gap :math:`\bar g`; ``distance`` is
+    :math:`d = \bar g + \bar z`, the periodic convention where the elastic displacement has
+    zero mean. Eq. 16's isolated-contact convention differs by
+    :math:`d_{local} - d = \bar p A Z/(\pi E^*)` (``periodic_offset_coefficient`` of
+    :mod:`roughstick.contact.fft_bem`), stored as ``distance_offset``; it vanishes at the
+    equilibrium and :math:`\oint \bar p\, d\bar p = 0`, so Eq. 13, the pull-off pressure and the
+    equilibrium distance are the same in either convention.
 
-    *States with water but no hard contact* (:math:`d \ge \max z`) are not passed to the solver
-    (its relative error is 0/0 there and it runs to the iteration cap). They are evaluated as a
-    Dugdale tension :math:`\Delta P` on :math:`\{z \ge d_{local} - h_{water}\}` of the undeformed
-    surface: the adhesive deflection is neglected, as in Eq. 16. The largest deflection this
-    tension would cause is reported in the attribute ``max_noncontact_deflection``; it is a few
-    pm for poly-silicon, but it is not small for soft materials, where jump-in to contact is
-    missed.
-
-    Costs (DESIGN.md §7): about 28 s per curve of 40 separations at 256², 4.5 min at 512² on one
-    core, tolerance 1e-6. Tamaas is serial; dask input parallelises over the leading dimensions.
+    *States with water but no hard contact* (:math:`d \ge \max z`) are evaluated as a Dugdale
+    tension on the undeformed surface (the adhesive deflection neglected, as in Eq. 16; its
+    largest value is ``attrs["max_noncontact_deflection"]``). Tamaas is serial: maps are solved
+    one at a time per process (dask processes parallelise a stack).
 
     References
     ----------

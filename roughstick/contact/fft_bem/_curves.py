@@ -1,21 +1,14 @@
-"""A fast boundary-element model of humid rough contact, for where the modified DMT fails.
+"""A fast boundary-element model of humid rough contact, registered as ``"fft_bem"``.
 
-:func:`fft_bem_contact_curves` solves the same problem as the Tamaas reference
-(:func:`roughstick.bem_contact_curves`): the full elastic contact of a rough surface with a flat,
+:func:`fft_bem_curves` solves the problem of the Tamaas reference
+(:func:`roughstick.contact.bem_curves`): the full elastic contact of a rough surface with a flat,
 capillary adhesion as a Dugdale zone of strength :math:`|\\Delta P|` (Eq. 2) and range
-:math:`h_{water}` (Eq. 6), on the periodic FFT grid of the map. It keeps what Eq. 16 neglects
-(the deformation caused by the capillary tension, the elastic interaction of the contacts, the
-exact contact shapes) and is 114-320 times cheaper than the reference (256² and 512², default
-grids, one process, docs/accuracy.md) because it
-
-- solves the non-adhesive contact problem with the capillary tension on the wet set as a known
-  load (Polonsky-Keer conjugate gradient, displacement control) and updates the wet set from the
-  deformed gap (kernels in :mod:`._fft_bem_kernels`);
-- stops at a loose tolerance (1e-3 of the rms height on the gap: against 1e-4, Γ within 0.6 %,
-  pull-off within 0.9 % and d_eq within 0.5 % over the 320 cases of docs/accuracy.md), in single
-  precision;
-- with ``distance=None``, solves few states, where the apparent adhesive energy (Eq. 13), the
-  pull-off pressure and the equilibrium distance are decided.
+:math:`h_{water}` (Eq. 6), on the periodic FFT grid of the map. It solves the non-adhesive
+contact problem with the capillary tension on the wet set as a known load (Polonsky-Keer
+conjugate gradient, displacement control) and updates the wet set from the deformed gap
+(:mod:`._kernels`), at a loose tolerance in single precision, and with ``distance=None`` on few
+states, where Eq. 13, the pull-off pressure and the equilibrium distance are decided. Its cost
+and accuracy against the reference: docs/accuracy.md.
 """
 
 from __future__ import annotations
@@ -126,10 +119,7 @@ def _fft_bem_kernel(z, *, spacing, distances, sigma0s, h_waters, e_star, toleran
 
 def _warn_unconverged(stats, max_iterations, tolerance, e_star) -> None:
     """Warn when states stopped unconverged (residual at or over 10 x the tolerance), saying how
-    many hit ``max_iterations`` and how many stalled before it: none on 64² maps of the five
-    families on polysilicon; at E = 1 GPa 6-151 of 133-242 states of three humidities, with
-    residuals of 8-27 (S1, S2, Table 4); on 16² zones the odd state stalls (the search direction
-    vanished with pixels still interpenetrating)."""
+    many hit ``max_iterations`` and how many stalled before it (no descent direction left)."""
     n, total, capped = stats["unconverged"], stats["states"], stats["capped"]
     if n:
         how = []
@@ -150,7 +140,7 @@ def _warn_unconverged(stats, max_iterations, tolerance, e_star) -> None:
 def automatic_grid_counts(n_distance: int) -> dict:
     """``n_contact`` and ``n_free`` of the automatic grid for about ``n_distance`` points (a
     third below the first water contact, the rest across the water range; the refinement adds
-    its own): how ``rough_contact_curves(n_distance=)`` and the BEM's default grid size it."""
+    its own)."""
     n_contact = max(4, -(-int(n_distance) // 3))
     return {"n_contact": n_contact, "n_free": max(4, int(n_distance) - n_contact)}
 
@@ -232,7 +222,7 @@ def _kernel(z, distance, ctx):
 
 def _default_grid(z, ctx):
     kw = ctx.state["kw"]
-    # the automatic grid solved 44-48 states per curve with n_contact=12, n_free=24
+    # about 1.3 states per point of n_contact + n_free (docs/fft_bem.md)
     with _bar(ctx, int(1.3 * (kw["n_contact"] + kw["n_free"]))) as bar:
         dist, res = _fft_bem_kernel(z, distances=None, on_curve=bar.update, **kw)
     return Grid(dist, curves=res)
@@ -296,14 +286,13 @@ def fft_bem_curves(
 ) -> xr.Dataset:
     r"""Humid adhesive contact of a rough surface and a flat: fast FFT boundary-element model.
 
-    The same problem as :func:`roughstick.bem_contact_curves` (elastic half-space of contact
-    modulus :math:`E^*` against the rigid rough profile on the periodic pixel grid; capillary
-    adhesion as a Dugdale zone, tension :math:`\sigma_0 = |\Delta P|` (Eq. 2) wherever the gap is
-    below :math:`h_{water}` (Eq. 6)), solved by our own conjugate-gradient solver at a loose
-    tolerance instead of Tamaas. Unlike Eq. 16 it keeps the deformation caused by the capillary
-    tension, the elastic interaction of the contacts and the exact contact shapes, so it stays
-    valid on smooth surfaces in deep contact and on soft materials where the modified DMT fails
-    (docs/accuracy.md). It needs no optional dependency and is thread-safe.
+    The problem of :func:`roughstick.contact.bem_curves` (elastic half-space of contact modulus
+    :math:`E^*` against the rigid rough profile on the periodic pixel grid; capillary adhesion
+    as a Dugdale zone, tension :math:`\sigma_0 = |\Delta P|` (Eq. 2) wherever the gap is below
+    :math:`h_{water}` (Eq. 6)), solved by our own conjugate-gradient solver at a loose tolerance.
+    Unlike Eq. 16 it keeps the deformation caused by the tension, the elastic interaction of the
+    contacts and the exact contact shapes, so it stays valid on smooth surfaces in deep contact
+    and on soft materials (docs/accuracy.md). No optional dependency; thread-safe.
 
     Parameters
     ----------
@@ -314,17 +303,16 @@ def fft_bem_curves(
         RH fractions in (0, 1); a sequence gives dimension ``rh``.
     distance : array_like, optional
         Flat positions :math:`d` [m] (mean gap + mean height, the reference's convention; see
-        :func:`roughstick.bem_contact_curves`), all above the mean plane. Default: an automatic
+        :func:`roughstick.contact.bem_curves`), all above the mean plane. Default: an automatic
         grid per humidity, concentrated where Eq. 13, the pull-off and the equilibrium are
         decided (eager single map only); the humidities' grids are merged, see ``solved``.
     material, material2 : Material
         The two bodies; only :math:`E^*` enters.
     adsorbed_layer : {"paper", "none"} or callable
-        Adsorbed-layer model of :func:`roughstick.water_height`.
-    tolerance : float, default 1e-3
+        Adsorbed-layer model of :func:`roughstick.contact.water_height`.
+    solver_tolerance : float, default 1e-3
         Conjugate-gradient tolerance: rms gap on the contact set (and of any interpenetration)
-        over the rms height. Against 1e-4, 1e-3 moves Γ by < 0.6 %, the pull-off by < 0.9 %
-        and d_eq by < 0.5 % (320 cases, docs/accuracy.md).
+        over the rms height (its effect on Γ, pull-off and d_eq: docs/accuracy.md).
     max_iterations : int, default 500
         Conjugate-gradient iterations per wet-set update.
     path : {"retract", "approach"}
@@ -332,28 +320,28 @@ def fft_bem_curves(
         ``"retract"`` (default) pulls the flat away from the closest distance, like the reference.
     precision : {"single", "double"}
         FFT precision; single is twice as fast and resolves gaps to ~1e-6 of the heights.
-    n_contact, n_free, refine : int
-        Automatic grid: uniform retraction steps in contact, points over the water range without
-        contact, and bisection rounds around the pull-off and the equilibrium (then, if
-        ``refine`` > 0, four more around the pull-off: docs/fft_bem.md). The retraction
-        starts just below the zero-load equilibrium, so Γ is the work of separation from a contact
-        under no load. On stiff bodies that is also the work from a loaded contact (64² S1, RH
-        0.5: the same Γ within 1 % when retracting from 0.3 of the way from the mean plane to
-        d_eq, for polysilicon and at E = 20 GPa); on soft ones it is not (adhesion hysteresis: 1.17 x at
-        E = 3 GPa, and 4 x at RH 0.3 retracting from 0.2 nm): for a preloaded contact pass
-        ``distance=`` starting at the preload.
+    n_contact, n_free : int, optional
+        Automatic grid: uniform retraction steps in contact (default 12) and points over the
+        water range without contact (default 24); with ``n_distance``, a third and two thirds
+        of it.
+    refine : int, default 2
+        Bisection rounds around the pull-off and the equilibrium (then, if > 0, four more around
+        the pull-off: docs/fft_bem.md). The retraction starts just below the zero-load
+        equilibrium, so Γ is the work of separation from a contact under no load (on soft bodies
+        that differs from a loaded contact's: pass ``distance=`` starting at the preload).
     adhesion : bool, default True
         ``False``: dry contact (validation against Hertz).
     progress : bool or None, default None
-        As in :func:`roughstick.bem_contact_curves`: the size and estimated time are logged
-        (INFO) before the run; runs estimated at 5 s or more show a progress bar (terminal,
-        Jupyter widget with ipywidgets) or INFO lines (no terminal), one step per humidity and
-        map. ``True`` always shows it, ``False`` never.
+        The size and estimated time are logged (INFO) before the run; runs estimated at 5 s or
+        more show their progress, one step per humidity and map. ``True`` always, ``False``
+        never.
+    n_distance : int, optional
+        About this many points of the automatic grid (sets ``n_contact`` and ``n_free``).
 
     Returns
     -------
     xarray.Dataset
-        The layout of :func:`roughstick.bem_contact_curves` over ``(..., rh, distance)``:
+        The layout of :func:`roughstick.contact.bem_curves` over ``(..., rh, distance)``:
         ``pressure``, ``repulsive_pressure``, ``wet_fraction``, ``contact_fraction``,
         ``n_contacts``, ``fit_error`` (NaN), ``max_interference``, ``distance_offset``,
         ``solver_residual``, plus ``solved`` (1 where this humidity was solved; with
@@ -365,7 +353,7 @@ def fft_bem_curves(
     ------
     ValueError
         A distance at or below the mean plane, NaN heights, ``distance=None`` for a stack or a
-        dask map, unknown ``path``/``precision``, a tolerance that is not finite and > 0, a
+        dask map, unknown ``path``/``precision``, a solver_tolerance not finite and > 0, a
         ``max_iterations``, ``n_contact`` or ``n_free`` that is not an integer >= 1.
 
     Warns
@@ -377,8 +365,8 @@ def fft_bem_curves(
     Notes
     -----
     The reference and this model share the physics, the grid and the distance convention, so
-    on the same distances they differ only by the solver tolerance (measured: median 0.0x %,
-    docs/accuracy.md). Like the reference, a state with water but no hard contact starts from
+    on the same distances they differ only by the solver tolerance (docs/accuracy.md). Like the
+    reference, a state with water but no hard contact starts from
     the undeformed wet set :math:`\{d - z < h_{water}\}` and iterates the adhesive deflection to a
     fixed point.
 

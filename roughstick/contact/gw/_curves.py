@@ -15,10 +15,10 @@ Functions
     :math:`N` from a moments Dataset (in :mod:`roughstick.surface.moments`).
 :func:`summit_joint_density`
     The joint density :math:`\rho(h, \kappa)` of summit height and curvature.
-:func:`gw_contact_curves`
+:func:`gw_curves`
     Force–distance curves over ``(..., rh, distance)`` in the layout of the rough-surface
-    modified DMT (:func:`roughstick.rough_contact_curves`), so both plot side by side and
-    :func:`roughstick.adhesion_summary` applies to either.
+    modified DMT (:func:`roughstick.contact.curves`), so both plot side by side and
+    :func:`roughstick.contact.summary` applies to either.
 :func:`gw_cutoff_study`
     The same curves for a list of height cutoffs (the paper's Fig. 9).
 
@@ -65,7 +65,7 @@ __all__ = ["summit_joint_density", "gw_curves", "gw_cutoff_study", "MODEL"]
 
 REFERENCES = cite("nayak1971", "greenwood1966", "greenwood2006", (PAPER, "Eq. 14"))
 
-#: Sphere models accepted per summit (``roughstick.contact._sphere_kernels.sphere_force_kernel``).
+#: Sphere models accepted per summit (``force_kernel`` of :mod:`roughstick.contact.sphere`).
 SPHERE_MODELS = ("modified_dmt", "dmt", "maugis", "hertz")
 
 
@@ -464,7 +464,7 @@ def gw_curves(
         Dataset with ``m0`` (m2), ``m2`` (1), ``m4`` (m-2), any leading dims (e.g.
         ``realization``), numpy or dask; or a ``height`` DataArray ``(..., y, x)`` whose moments
         are measured by ``roughness_moments(height, method=moment_method, qmax=qmax)``
-        (one-direction moments averaged over x and y). :func:`roughstick.rough_contact_curves`
+        (one-direction moments averaged over x and y). :func:`roughstick.contact.curves`
         with ``model="gw"`` does the same, so both entry points give the same curves.
     relative_humidity : float, sequence or xarray.DataArray
         RH as a fraction in (0, 1); a sequence becomes the ``rh`` dimension.
@@ -477,7 +477,7 @@ def gw_curves(
         equilibrium, chord-refined where Eq. 13, the pull-off and the equilibrium are decided
         (eager moments only; ``attrs["distance_grid"]`` is ``"automatic"``, else ``"given"``).
     sphere_model : {"modified_dmt", "dmt", "maugis", "hertz"}, default "modified_dmt"
-        Force of one summit (``roughstick.contact._sphere_kernels.sphere_force_kernel``, retraction
+        Force of one summit (``roughstick.contact.sphere.force_kernel``, retraction
         branch) with the Laplace pressure :math:`\sigma_0 = |\Delta P|` acting over the water
         height :math:`h_0 = h_{water}`. ``"hertz"`` ignores the water. (JKR is not offered: it
         has no adhesion outside the contact, so it misses every meniscus that does not touch.)
@@ -492,7 +492,7 @@ def gw_curves(
         The two bodies (``material2=None``: same as ``material``); the summits use
         :math:`K = \tfrac43 E^*`.
     adsorbed_layer : {"paper", "none"} or callable
-        Adsorbed-layer model of :func:`roughstick.water_height`.
+        Adsorbed-layer model of :func:`roughstick.contact.water_height`.
     curvature_measure : {"geometric", "mean"}, default "geometric"
         Summit radius :math:`1/\sqrt{\kappa_1\kappa_2}` (Greenwood 2006, the paper) or
         :math:`2/(\kappa_1+\kappa_2)` (Nayak's mean curvature).
@@ -501,16 +501,15 @@ def gw_curves(
         summits on it (units 1, comparable with the count of the modified DMT on a map of that
         size); otherwise it is their number per unit area (m-2).
     n_height, n_curvature : int
-        Gauss–Legendre nodes per height sub-interval and over the curvature range. The defaults
-        put the pressure within 3e-9 of its maximum (relative) of a 256 x 192 reference on the
-        S1 moments, well below the error of any distance grid (``benchmarks/bench_gw.py``).
+        Gauss–Legendre nodes per height sub-interval and over the curvature range (the defaults'
+        error, far below a distance grid's: docs/greenwood_williamson.md).
     force_table : int or None
         Number of points of a per-curvature table of the summit force (cubic spline in
         :math:`\sqrt\delta` on the contact side, in :math:`\delta` on the meniscus side) used
         instead of calling the sphere kernel at every quadrature node; 0 calls the kernel
         directly. None: direct for the closed forms ("hertz", "modified_dmt"), 256 for the
-        models that solve equations per point ("dmt", "maugis"), 20 to 50 times faster for
-        them at a relative error of about 1e-4 in the adhesive energy.
+        models that solve equations per point ("dmt", "maugis"), at a relative error of about
+        1e-4 in the adhesive energy.
     moment_method : {"spline", "spectral"}, default "spline"
         Estimator of the moments of a height map (:func:`roughstick.roughness_moments`):
         ``"spline"``, the variances of cubic-spline derivatives of the paper's Table 2, which its
@@ -519,8 +518,7 @@ def gw_curves(
     qmax : float, optional
         With ``moment_method="spectral"``: cutoff wave number [rad m-1] of the periodogram (Table 3
         uses 289 rad/µm). Without a cutoff the periodogram of a non-periodic map carries the
-        edge discontinuity up to the Nyquist wave number, which inflates m4 (3x on a 256² crop of
-        S1A).
+        edge discontinuity up to the Nyquist wave number, which inflates m4.
     n_distance : int, optional
         With ``distance=None``: at least this many distances (the widest intervals are split).
 

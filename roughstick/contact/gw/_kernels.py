@@ -2,7 +2,7 @@ r"""The quadrature kernels of Greenwood-Williamson (Eq. 14): plain numpy on SI f
 
 The joint density of summit height and curvature (:func:`_log_density`, derived in
 docs/greenwood_williamson.md) and the vectorised quadrature over (distance x height x curvature)
-that :func:`roughstick.gw_contact_curves` wraps with one ``xarray.apply_ufunc``.
+that :func:`roughstick.contact.gw_curves` wraps with one ``xarray.apply_ufunc``.
 """
 
 from __future__ import annotations

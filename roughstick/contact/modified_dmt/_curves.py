@@ -8,11 +8,9 @@ Hertz (Eqs. 10-11) gives its repulsive force and contact area; the water term us
 the whole map above ``d - h_water``, so merged menisci (saturation) come out naturally (Eq. 16).
 
 All distances are done in one pass over the heights sorted in descending order, with a
-union-find (:mod:`roughstick.contact._rough_kernels`); a literal slow implementation that relabels
-the map at every distance and fits each asperity with a generic optimiser lives in
-:mod:`roughstick.contact._rough_reference` and the tests hold the two together. The public entry
-that chooses between this model, Greenwood-Williamson and the BEM is
-:func:`roughstick.rough_contact_curves` (:mod:`roughstick.contact.curves`). See
+union-find (:mod:`._controller`); the tests hold it to a literal slow implementation that
+relabels the map at every distance and fits each asperity with a generic optimiser. This module
+registers the model (``"modified_dmt"``) and holds its public functions. See
 ``docs/rough_contact.md`` for the algorithm, its cost and the accuracy evidence.
 """
 
@@ -64,7 +62,7 @@ def kernel(z, distance, *, water_height, laplace_pressure, spacing, hertz_modulu
         Distances [m] from the flat to the mean plane, 1-D, any order.
     water_height, laplace_pressure : numpy.ndarray
         :math:`h_{water}` [m] and :math:`\Delta P` [Pa] per RH, 1-D of equal size
-        (:func:`roughstick.water_height`, :func:`roughstick.laplace_pressure`).
+        (:func:`roughstick.contact.water_height`, :func:`roughstick.contact.laplace_pressure`).
     spacing : tuple of float
         Pixel sizes ``(dy, dx)`` [m].
     hertz_modulus : float
@@ -143,9 +141,7 @@ def _warn_if_not_hard(ds, ctx):
     Eq. 16 sums Hertz forces of hard, independent asperities. When the capillary tension pulls
     the flat past the mean plane of the roughness (the equilibrium distance d_eq < 0, or still
     attractive at some d <= 0 with no equilibrium above), most of the map would be flattened:
-    the body is too soft for the model. Measured on a 64² S1 map (docs/rough_contact.md): there
-    Γ exceeded the FFT boundary-element model's by 1.7× to 10^5× (E* 0.55-5.5 GPa); on
-    poly-silicon the five families keep d_eq > 0 at every humidity.
+    the body is too soft for the model (docs/rough_contact.md).
     """
     p = np.asarray(ds["pressure"].transpose(..., "distance").values, dtype=float)
     d = np.asarray(ds["distance"].values, dtype=float)
@@ -226,7 +222,7 @@ def modified_dmt_curves(
         The two bodies (``material2=None``: same as ``material``); poly-silicon by default,
         :math:`K = \tfrac43 E^* = 115.4` GPa.
     adsorbed_layer : {"paper", "none"} or callable
-        Adsorbed-water model of :func:`roughstick.water_height` (0.9 nm per surface above 65 %
+        Adsorbed-water model of :func:`roughstick.contact.water_height` (0.9 nm per surface above 65 %
         RH by default).
     connectivity : {4, 8}, default 4
         Pixels of one asperity share an edge (4) or an edge or a corner (8). 4 is the paper's
@@ -247,7 +243,7 @@ def modified_dmt_curves(
         ``fit_error`` [m] (:math:`E^S` of Eq. 23; NaN without contact) and
         ``max_interference`` [m] (:math:`\delta_{max} = \max z - d`, negative before contact).
         Coordinates ``water_height`` and ``laplace_pressure`` along ``rh``. ``attrs["distance_grid"]``
-        is ``"automatic"`` (``distance=None``) or ``"given"``; :func:`roughstick.adhesion_summary`
+        is ``"automatic"`` (``distance=None``) or ``"given"``; :func:`roughstick.contact.summary`
         words its grid warnings by it.
 
     Raises
@@ -271,8 +267,8 @@ def modified_dmt_curves(
     undeformed surface (valid for poly-silicon; not for soft materials); non-interacting
     asperities. Conventions of the fit (centre kept in the footprint's bounding box, one- and
     two-pixel footprints, plateaus, NaN pixels) are listed in
-    :mod:`roughstick.contact._rough_kernels`. This function does not warn outside the measured
-    validity regime: :func:`roughstick.rough_contact_curves` does (docs/accuracy.md).
+    :mod:`._controller`. This function does not warn outside the measured validity regime:
+    :func:`roughstick.contact.curves` does (docs/accuracy.md).
     An asperity that wraps all the way round a periodic map (far past equilibrium) is fitted in
     the coordinates of its union-find tree; its sphere has no meaning.
 
@@ -306,7 +302,8 @@ def contact_distance_grid(
 ) -> xr.DataArray:
     """Automatic distance grid of :func:`modified_dmt_curves` for one eager map.
 
-    One pass of the compiled controller :func:`roughstick.contact._rough_kernels.auto_pass`:
+    One pass of the compiled controller (``auto_pass`` of :mod:`._controller`, settings
+    :class:`._policy.GridPolicy`):
     from just above the first water contact (``d = max z + h_water`` of the wettest humidity) it
     walks down, halving an interval until its midpoint lies on the chord of its ends (pressure
     within a tolerance of the curve's scale), bisects the sign changes of the mean pressure and
@@ -319,12 +316,7 @@ def contact_distance_grid(
     (its levels do not depend on the other humidities requested), and its own levels are then
     refined until the trapezoid of Γ is resolved (``GAMMA_TOLERANCE``); the grid is the union.
     So Γ of one humidity is nearly the same whichever other humidities are requested, and close
-    to a dense uniform grid: on one map of each of the five families, six humidities, five other
-    sets (``benchmarks/grid_refinement_tradeoff.py``, docs/rough_contact.md), the spread over
-    the sets is ≤ 0.54 % at 128², ≤ 1.6 % at 512² (rough family; ≤ 0.5 % on the others), ≤ 0.35 %
-    at 1024², and Γ is within 0.52 %, 1.4 % and 0.40 % of 8,000 uniform distances (without the
-    refinement: up to 4.3 % spread and 3.9 % error, at 1.5-4 × less time). Pull-off and d_eq
-    agree within 0.5 % with a 4× finer grid (``tests/contact/test_rough_kernels.py``).
+    to a dense uniform grid (docs/rough_contact.md).
 
     Parameters
     ----------

@@ -1,26 +1,20 @@
 """Sphere fit of Eq. 21 for one asperity footprint: the compiled core of the rough-surface DMT.
 
-Unknowns ``(x0, y0, t)``, ``t = delta / a_f`` in ``[0, 1]`` (see :mod:`._rough_kernels` for the
-conventions shared with :mod:`._rough_reference`). A projected Levenberg-Marquardt iteration with
-the exact Hessian (:mod:`._rough_lm`) from the reference's starts: the centroid with twice the
-mean height, the least-squares paraboloid of the footprint (five pixels or more), keeping the
-better, and the h-weighted centroid (:func:`plateau_escape`) where the fit stopped on the plateau
-``t = 0`` (or below ``t = 1e-6``, where the cost cannot tell them apart; without it 2.0e-2
-relative pressure differences on S2A crops, issue 12) or is steeper than ``t = 0.3``.
+Unknowns ``(x0, y0, t)``, ``t = delta / a_f`` in ``[0, 1]`` (see :mod:`._controller` for the
+conventions shared with the literal reference of the tests). A projected Levenberg-Marquardt
+iteration with the exact Hessian (:mod:`._lm`) from the reference's starts: the centroid with
+twice the mean height, the least-squares paraboloid of the footprint (five pixels or more),
+keeping the better, and the h-weighted centroid (:func:`plateau_escape`) where the fit stopped on
+the plateau ``t = 0`` (or below ``t = 1e-6``, where the cost cannot tell them apart) or is
+steeper than ``t = 0.3``.
 
 Where a fit from a start leaves pixels outside its sphere, has one on its rim or ends with its
-centre on the bound (:func:`._rough_search.awry`), Eq. 21's cost is not smooth and has several
+centre on the bound (:func:`._search.awry`), Eq. 21's cost is not smooth and has several
 local minima, and the literal reference's ``least_squares`` can end in a lower one than LM from
 the same start. There every awry fit is searched on from by compass steps, and three grids of
 centres and caps (the reference's 7 x 7 x 8 and finer 11 x 11 x 12 and 15 x 15 x 16) are
-polished the same way (:mod:`._rough_search`). Measured (Eq. 23 residuals per asperity, the
-reference's footprints): no asperity worse than the reference on the five families
-(``pytest -m slow -k families_sweep``) and the hard cases of the tests; on steep measured maps
-of 1.2-4 px correlation (``python benchmarks/bench_rough_fits.py``) 2 of 8,301 (main: 58). On
-the 1024^2 default calls the searches run for 6 of 35,471 fits of S2A, 5 of 49,247 of smooth,
-none on S1A and Table 4; S2A's default call costs 4.7 % more than main's (A/B in one process),
-smooth's 0.7 %. The
-plateau is always a candidate. Per-pixel sums are vectorised over blocks of ``_SIMD`` pixels
+polished the same way (:mod:`._search`); how often, and against the reference:
+docs/rough_contact.md. The plateau is always a candidate. Per-pixel sums are vectorised over blocks of ``_SIMD`` pixels
 (the footprint arrays are zero-padded with zero weight to a multiple of it).
 """
 
@@ -291,7 +285,7 @@ def fit_sphere(xs, ys, hs, wt, n, hx, hy, M):  # pragma: no cover - compiled
 def fit_footprint(x, y, z, d, dx, dy):
     """The fast fit of one footprint in physical units, as the kernel fits it (tests, benchmarks).
 
-    Same contract as :func:`roughstick.contact._rough_reference.fit_asperity`: ``x, y`` unwrapped
+    Same contract as ``fit_asperity`` of the literal reference (tests/contact/modified_dmt): ``x, y`` unwrapped
     pixel centres [m], ``z`` heights [m] (all ``>= d``), ``d`` the level, ``dx, dy`` the pixel
     size; returns ``(R, E)`` [m] (radius, inf for the plateau, and Eq. 23's rms fit error).
     """

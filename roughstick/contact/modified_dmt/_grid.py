@@ -15,9 +15,8 @@ from . import _controller as _k
 
 __all__ = ["GAMMA_TOLERANCE", "auto_curves", "refine_gamma", "allowed"]
 
-#: Error of Γ allowed per interval, relative (:func:`allowed`); realised against 8,000 uniform
-#: distances on the five families: ≤ 0.52 % at 128², ≤ 1.4 % at 512², ≤ 0.40 % at 1024²
-#: (benchmarks/grid_refinement_tradeoff.py, docs/rough_contact.md).
+#: Error of Γ allowed per interval, relative (:func:`allowed`; what it achieves:
+#: docs/rough_contact.md).
 GAMMA_TOLERANCE = 1e-2
 _MAX_ROUNDS = 20
 
@@ -32,8 +31,7 @@ def refine_gamma(z, d, out, mem, hw, dp, kw):
     """Refine each humidity's own grid until the trapezoid of Eq. 13 (Γ) is resolved.
 
     The controller's midpoint test bounds the pressure's deviation from a chord, which a
-    staircase curve (few contacting pixels on small maps) can pass by chance: Γ was then off by
-    up to 4 % on a 128² S1 map. Here, per humidity and on that humidity's own levels only (so
+    staircase curve (few contacting pixels on small maps) can pass by chance. Here, per humidity and on that humidity's own levels only (so
     its grid, and its Γ, do not depend on the other humidities requested), every attractive
     interval above the equilibrium whose ends differ enough to matter gets its midpoint; an
     interval whose two-half trapezoid differs from its one-interval trapezoid by more than

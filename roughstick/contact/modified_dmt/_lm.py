@@ -1,11 +1,11 @@
 """The cost of Eq. 21 for one asperity footprint and its local minimiser (compiled).
 
-Unknowns ``(x0, y0, t)``, ``t = delta / a_f`` in ``[0, 1]`` (see :mod:`._rough_kernels` for the
-conventions shared with :mod:`._rough_reference`). :func:`lm` is a projected Levenberg-Marquardt
+Unknowns ``(x0, y0, t)``, ``t = delta / a_f`` in ``[0, 1]`` (see :mod:`._controller` for the
+conventions shared with the literal reference of the tests). :func:`lm` is a projected Levenberg-Marquardt
 iteration (damped Newton with the exact Hessian: the residuals of Eq. 21 are not small, so
 Gauss-Newton's ``J^T J`` misses a large ``sum r grad^2 H`` term and crawls), bounds by an active
-set. The starts and the search between local minima are in :mod:`._rough_fit` and
-:mod:`._rough_search`. Per-pixel sums are vectorised over blocks of SIMD pixels (the footprint
+set. The starts and the search between local minima are in :mod:`._fit` and
+:mod:`._search`. Per-pixel sums are vectorised over blocks of SIMD pixels (the footprint
 arrays are zero-padded with zero weight to a multiple of the width).
 """
 

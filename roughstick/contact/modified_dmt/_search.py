@@ -3,10 +3,10 @@
 Where a fit leaves pixels outside its sphere, has one on its rim or ends with its centre on the
 bound (:func:`awry`), the cost of Eq. 21 is not smooth (a pixel entering the sphere's projection
 meets its vertical tangent) and has several local minima, typically on steep asperities cut by
-the edge of a measured map; the local iteration (:func:`._rough_lm.lm`) from the documented
+the edge of a measured map; the local iteration (:func:`._lm.lm`) from the documented
 starts can stop in a poorer one than the reference's ``least_squares``. The compass search
 (:func:`pattern_search`) and the grids (:func:`grid_search`) search on from there; see
-:func:`._rough_fit.fit_sphere` for when, and docs/rough_contact.md for what it was measured on.
+:func:`._fit.fit_sphere` for when, and docs/rough_contact.md for what it was measured on.
 """
 
 from __future__ import annotations

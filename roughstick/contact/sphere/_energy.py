@@ -1,8 +1,7 @@
 r"""Plain-numpy SI kernels of the work to separate a sphere from a flat (Table 1), no xarray.
 
 The integral of the attractive force along the retraction path of each model of
-:mod:`roughstick.contact._sphere_kernels` (same conventions and dimensionless variables; split out
-of it only to keep modules under 600 lines, the code is unchanged).
+:mod:`._kernels` (same conventions and dimensionless variables).
 """
 
 from __future__ import annotations

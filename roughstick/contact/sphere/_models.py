@@ -1,6 +1,6 @@
 r"""Sphere-on-flat contact models: Hertz, JKR, DMT, Maugis-Dugdale (+ Kim) and modified DMT.
 
-Public xarray layer over the numpy kernels of :mod:`roughstick.contact._sphere_kernels` (paper §2.2,
+Public xarray layer over the numpy kernels of :mod:`._kernels` (paper §2.2,
 Eqs. 7-11, Table 1, Fig. 3). Adhesion is either capillary (``relative_humidity``: Dugdale
 stress :math:`\sigma_0 = |\Delta P|` over the range :math:`h_0 = h_{water}`, Eqs. 2 and 6,
 :math:`w = \sigma_0 h_0`) or given directly (``work_of_adhesion`` and, for the Dugdale models,
@@ -227,9 +227,9 @@ def transition_parameter(
     reduced_modulus : float or xarray.DataArray, optional
         :math:`E^*` [Pa], overrides the materials (:math:`K = 4E^*/3`).
     adsorbed_layer : {"paper", "none"} or callable
-        Adsorbed-layer model of :func:`roughstick.water_height`.
+        Adsorbed-layer model of :func:`roughstick.contact.water_height`.
     **meniscus_kwargs
-        Passed to :func:`roughstick.water_height` (``temperature``, contact angles, ...).
+        Passed to :func:`roughstick.contact.water_height` (``temperature``, contact angles, ...).
 
     Returns
     -------
@@ -365,7 +365,7 @@ def sphere_force(
     reduced_modulus : float or xarray.DataArray, optional
         :math:`E^*` [Pa], overrides ``material``/``material2``.
     adsorbed_layer : {"paper", "none"} or callable
-        Adsorbed-layer model (:func:`roughstick.water_height`).
+        Adsorbed-layer model (:func:`roughstick.contact.water_height`).
     branch : {"retraction", "approach"}
         Displacement-controlled branch for "jkr" and "maugis" (the others are single-valued).
         ``"retraction"`` (default; the path of the work to separate): the sphere stays attached
@@ -375,7 +375,7 @@ def sphere_force(
     dmt_outer : {"sphere", "paraboloid"}
         Profile of the undeformed sphere used for the DMT water radius out of contact.
     **meniscus_kwargs
-        Passed to :func:`roughstick.water_height` (``temperature``, ``kelvin_length``,
+        Passed to :func:`roughstick.contact.water_height` (``temperature``, ``kelvin_length``,
         ``contact_angle_1`` ...).
 
     Returns
@@ -454,8 +454,7 @@ def sphere_adhesive_energy(
     along the displacement-controlled retraction path: from the equilibrium interference
     (:math:`F = 0`) out to the last attached state (:math:`\delta = -h_{water}` for DMT and the
     modified DMT, the jump-off point for JKR and Maugis); 0 for Hertz. This definition
-    reproduces all 18 cells of Table 1 (modified DMT within 0.7 %, DMT within 3.5 %, Maugis
-    within 3.3 %; ``python benchmarks/table1.py``).
+    reproduces the 18 cells of Table 1 (docs/sphere_models.md).
 
     Parameters
     ----------

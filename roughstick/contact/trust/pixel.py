@@ -4,9 +4,9 @@ Below about 60 % RH the adhesive energy (Eq. 13) is carried by water necks aroun
 summits: the ring where the gap is below the water height :math:`h_{water}` (Eq. 6). Around a
 summit of mean curvature :math:`\\kappa` its radius is :math:`\\sqrt{2 h_{water}/\\kappa}`; the
 map's groups give it in pixels for the rms curvature (``neck_pixels`` of
-:func:`roughstick.surface_groups`). Where that radius spans fewer than
+:func:`roughstick.contact.surface_groups`). Where that radius spans fewer than
 :data:`RESOLVED_NECK_PIXELS` pixels the pixel, not the surface, sets Γ.
-:func:`roughstick.resolution_study` measures how much; this module only warns, at the cost of one
+:func:`roughstick.contact.resolution_study` measures how much; this module only warns, at the cost of one
 pass over the map. docs/accuracy.md ("Is the pixel fine enough?") gives the measurement behind
 the threshold.
 """
@@ -25,10 +25,8 @@ from .validity import _centred_moments_kernel, _maps, _neck_radius
 
 __all__ = ["RESOLVED_NECK_PIXELS", "FINE_PIXEL", "PixelResolutionWarning", "warn_if_unresolved"]
 
-#: Wetted-neck radius, in pixels, below which Γ depends on the pixel. Fixed on 76 maps (60
-#: untuned self-affine maps and the four families' 64² maps at four RH), checked on 60 more
-#: (docs/accuracy.md): of 75 maps whose fft_bem Γ moved by more than 10 % at half the pixel,
-#: 74 had a neck below 3 pixels.
+#: Wetted-neck radius, in pixels, below which Γ depends on the pixel (docs/accuracy.md, "Is the
+#: pixel fine enough?").
 RESOLVED_NECK_PIXELS = 3.0
 #: About 1 nm: the pixel of the finest topography maps of such films. At or below it the warning
 #: does not ask for finer data but for the pixel's cost to be measured and quoted.
@@ -56,7 +54,7 @@ def warn_if_unresolved(
     (:mod:`roughstick._core.remedy`): for generated surfaces a finer ``spacing`` (the value that
     makes the neck span :data:`RESOLVED_NECK_PIXELS` pixels); for a measured map, or a pixel
     already at or below :data:`FINE_PIXEL`, measuring what the pixel costs
-    (:func:`roughstick.resolution_study`, ``roughstick curves --resolution``) and quoting Γ with
+    (:func:`roughstick.contact.resolution_study`, ``roughstick curves --resolution``) and quoting Γ with
     that change, since finer data may not exist.
 
     Parameters
@@ -67,10 +65,10 @@ def warn_if_unresolved(
     relative_humidity : float or sequence
         RH fractions in (0, 1) (with ``height``).
     adsorbed_layer : {"paper", "none"} or callable
-        Water-height model of :func:`roughstick.water_height`.
+        Water-height model of :func:`roughstick.contact.water_height`.
     groups : xarray.Dataset, optional
-        Groups with ``neck_pixels`` (:func:`roughstick.surface_groups`, or
-        :func:`roughstick.expected_surface_groups` of an ensemble's PSD) instead of ``height``.
+        Groups with ``neck_pixels`` (:func:`roughstick.contact.surface_groups`, or
+        :func:`roughstick.contact.expected_surface_groups` of an ensemble's PSD) instead of ``height``.
     spacing : float, optional
         Pixel size [m] of the surfaces ``groups`` describe (with ``height``: its own).
     generated : bool, optional

@@ -3,7 +3,7 @@
 The pipeline (:func:`roughstick.contact.curves`) fills it once per call with :func:`assess` and
 stores it in the curves' attributes: why ``model="auto"`` chose the model, whether the model's
 measured error bound at this surface meets the accuracy (:mod:`.validity`), whether the pixel
-resolves the water necks (:mod:`.pixel`). Each check warns (:class:`roughstick.ValidityWarning`)
+resolves the water necks (:mod:`.pixel`). Each check warns (:class:`roughstick.contact.ValidityWarning`)
 where it fails, once, at the user's line.
 """
 

@@ -1,8 +1,7 @@
 """Does the pixel resolve the answer? Summaries of the contact curves versus the pixel size.
 
 At low humidity the apparent adhesive energy (Eq. 13) is set by a few asperities touching over a
-handful of pixels, and the pixel moves it as much as the model does (docs/accuracy.md: 5 -> 10 nm
-pixels moves the boundary-element reference's own energy by 40-150 % on S1/S2-like maps).
+handful of pixels, and the pixel moves it as much as the model does (docs/accuracy.md).
 :func:`resolution_study` recomputes the energy, the pull-off pressure and the equilibrium distance
 at coarser and finer pixels of the same surface, so a user can see whether an AFM pixel is fine
 enough.

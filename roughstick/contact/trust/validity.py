@@ -1,12 +1,10 @@
 """Measured validity of the rough-surface models, per surface, from dimensionless groups.
 
-The paper validates the modified DMT (Eq. 16) on a single sphere only (Table 1). The validity
-study of ``benchmarks/bench_accuracy.py`` measures the relative error of every model
-(Greenwood-Williamson, Eq. 14; modified DMT, Eq. 16; the FFT boundary-element model
-:func:`roughstick.fft_bem_contact_curves`) against the boundary-element reference (Tamaas,
-:func:`roughstick.bem_contact_curves`) on independent seeded maps of five surface families
-(S1, S2, Table 4, smooth and rough self-affine), two contact moduli and four humidities, and
-writes the table ``roughstick/data/validity_map.csv`` (docs/accuracy.md: command, date, machine).
+The paper validates the modified DMT (Eq. 16) on a single sphere only (Table 1). The table
+``roughstick/data/validity_map.csv`` holds the relative error of the models (Greenwood-Williamson,
+Eq. 14; modified DMT, Eq. 16; the FFT boundary-element model) against the boundary-element
+reference on seeded maps of five surface families, two contact moduli and four humidities
+(docs/accuracy.md: how it was measured, and its command).
 
 A surface is placed in that table by its dimensionless groups (:func:`surface_groups`). The
 study found (docs/accuracy.md) that the modified DMT's error is decided by
@@ -20,10 +18,9 @@ study found (docs/accuracy.md) that the modified DMT's error is decided by
 - the water height over the rms roughness, :math:`h_{water}/\\sigma`.
 
 :func:`model_error` bounds a model's error at a surface by its measured errors at the nearest
-measured cases in those groups; :func:`select_model` picks the cheapest model whose bound meets a
-tolerance; :func:`warn_if_outside_validity` warns where the modified DMT's bound exceeds it. The
-dispatcher :func:`roughstick.rough_contact_curves` uses all three; the models do not import this
-module.
+measured cases in those groups; :func:`select_model` picks the cheapest registered model whose
+bound meets an accuracy; :func:`warn_if_outside_validity` warns where a model's bound exceeds it.
+The pipeline (:func:`roughstick.contact.curves`, :mod:`.report`) uses them; the models do not.
 """
 
 from __future__ import annotations
@@ -67,7 +64,7 @@ __all__ = [
     "VALIDITY_BOUND",
 ]
 
-#: Default accepted relative error (the issue's 10 %).
+#: Default accepted relative error (10 %).
 VALIDITY_BOUND = 0.10
 #: Groups that locate a surface in the validity table (log10, scaled by their spread there).
 GROUP_FEATURES = ("pressure_ratio", "maugis_lambda", "hw_over_sigma")
@@ -203,7 +200,7 @@ def surface_groups(
     material, material2 : Material
         The two bodies (:math:`E^*`, :math:`K = 4E^*/3`).
     adsorbed_layer : {"paper", "none"} or callable
-        Water-height model of :func:`roughstick.water_height`.
+        Water-height model of :func:`roughstick.contact.water_height`.
 
     Returns
     -------
@@ -216,8 +213,8 @@ def surface_groups(
         :math:`R = 3\sqrt{\pi}/(8\sqrt{m_4})` as in Table 4), ``neck_pixels`` (the radius
         :math:`\sqrt{2 h_{water}/\kappa}` wetted around a summit of the rms mean curvature
         :math:`\kappa = \sqrt{2 m_4/3}`, in pixels of the larger side; below
-        :data:`roughstick.RESOLVED_NECK_PIXELS` the pixel does not resolve Γ,
-        :func:`roughstick.warn_if_unresolved`) and ``sigma`` [m].
+        :data:`roughstick.contact.RESOLVED_NECK_PIXELS` the pixel does not resolve Γ,
+        :func:`roughstick.contact.warn_if_unresolved`) and ``sigma`` [m].
 
     Examples
     --------
