@@ -53,7 +53,7 @@ QUANT = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
 
 
 def _validity_module():
-    from roughstick.contact import validity
+    from roughstick.contact.trust import validity
 
     return validity
 
@@ -169,8 +169,8 @@ def run_bem(job, *, verbose=True):
                     return run_bem(job, verbose=verbose)
             fft0 = ifft_seconds()
             t0, c0 = time.perf_counter(), time.process_time()
-            ds = rs.bem_contact_curves(h, relative_humidity=rh, distance=d,
-                                       material=material_for(E), tolerance=TOL)
+            ds = rs.contact.bem_curves(h, relative_humidity=rh, distance=d,
+                                       material=material_for(E), solver_tolerance=TOL)
             wall, cpu = time.perf_counter() - t0, time.process_time() - c0
             meta = dict(family=job["family"], seed=job["seed"], map_index=job["map_index"],
                         pixels=job["shape"], spacing=SPACING, rh=rh, reduced_modulus=E,
@@ -183,7 +183,7 @@ def run_bem(job, *, verbose=True):
             if verbose:
                 print(f"BEM {job['family']:7s} E*={E / 1e9:5.1f} RH={rh} seed={job['seed']} "
                       f"{job['shape']}²: {wall:.0f} s wall, {cpu:.0f} s cpu", flush=True)
-        s = rs.adhesion_summary(ds[["pressure", "wet_fraction"]])
+        s = rs.contact.summary(ds[["pressure", "wet_fraction"]])
         if np.isfinite(float(s.equilibrium_distance)) or d[0] <= z.mean() + 0.25 * z.std() + 1e-15:
             return path
     return path
@@ -198,7 +198,7 @@ def summ(p, d, wet=None, contact=None):
                      "wet_fraction": (("distance",), np.zeros(len(d)) if wet is None
                                       else np.asarray(wet, dtype=float))},
                     coords={"distance": np.asarray(d, dtype=float)})
-    s = rs.adhesion_summary(ds)
+    s = rs.contact.summary(ds)
     out = {q: float(s[q]) for q in QUANT}
     if contact is not None and np.isfinite(out["equilibrium_distance"]):
         out["contact_at_eq"] = float(np.interp(out["equilibrium_distance"], d, contact))
@@ -228,11 +228,11 @@ def model_rows(h, rh, E, d, ref, base, *, reference, defaults=True):
     mat = material_for(E)
     kw = dict(relative_humidity=rh, material=mat)
     runs = [
-        ("modified_dmt", lambda: rs.rough_contact_curves(h, distance=d, model="modified_dmt", **kw)),
-        ("gw", lambda: rs.rough_contact_curves(h, distance=d, model="gw", **kw)),
-        ("fft_bem", lambda: rs.fft_bem_contact_curves(h, distance=d, **kw)),
-        ("modified_dmt_default", lambda: rs.rough_contact_curves(h, model="modified_dmt", **kw)),
-        ("fft_bem_default", lambda: rs.fft_bem_contact_curves(h, **kw)),
+        ("modified_dmt", lambda: rs.contact.curves(h, distance=d, model="modified_dmt", **kw)),
+        ("gw", lambda: rs.contact.curves(h, distance=d, model="gw", **kw)),
+        ("fft_bem", lambda: rs.contact.fft_bem_curves(h, distance=d, **kw)),
+        ("modified_dmt_default", lambda: rs.contact.curves(h, model="modified_dmt", **kw)),
+        ("fft_bem_default", lambda: rs.contact.fft_bem_curves(h, **kw)),
     ]
     if not defaults:
         runs = [r for r in runs if not r[0].endswith("_default")]
@@ -357,8 +357,8 @@ def cmd_auto(args):
                     map_index=m["map_index"], pixels=m["pixels"], reduced_modulus=E, rh=rh,
                     bem_dropped=int((~ok).sum()), **groups(h, rh, E))
         c0 = time.process_time()
-        s, sec, c = _run(lambda h=h, rh=rh, d=d, E=E: rs.rough_contact_curves(
-            h, relative_humidity=rh, distance=d, model="auto", tolerance=0.1,
+        s, sec, c = _run(lambda h=h, rh=rh, d=d, E=E: rs.contact.curves(
+            h, relative_humidity=rh, distance=d, model="auto", accuracy=0.1,
             material=material_for(E)))
         row = dict(base, method="auto", reference="bem", seconds=sec,
                    cpu_seconds=time.process_time() - c0, chosen=c.attrs["contact_model"], **s)
@@ -389,8 +389,8 @@ def cmd_extend(args):
                     for extend in range(4):
                         d = reference_grid(z, hw, E, extend)
                         t0 = time.perf_counter()
-                        o = rs.fft_bem_contact_curves(h, relative_humidity=rh, distance=d,
-                                                      material=material_for(E), tolerance=1e-4)
+                        o = rs.contact.fft_bem_curves(h, relative_humidity=rh, distance=d,
+                                                      material=material_for(E), solver_tolerance=1e-4)
                         sec = time.perf_counter() - t0
                         ref = summ(o.pressure.values, d, o.wet_fraction.values,
                                    o.contact_fraction.values)
@@ -403,8 +403,8 @@ def cmd_extend(args):
                     if k <= args.fine_maps:
                         dx4 = np.concatenate([np.linspace(a, b, 5)[:-1]
                                               for a, b in zip(d[:-1], d[1:])] + [d[-1:]])
-                        o4 = rs.fft_bem_contact_curves(h, relative_humidity=rh, distance=dx4,
-                                                       material=material_for(E), tolerance=1e-4)
+                        o4 = rs.contact.fft_bem_curves(h, relative_humidity=rh, distance=dx4,
+                                                       material=material_for(E), solver_tolerance=1e-4)
                         ref4 = summ(o4.pressure.values, dx4)
                     base = dict(family=fam, seed=seed_of(fam, k), map_index=k, pixels=256,
                                 reduced_modulus=float(E), rh=float(rh), **groups(h, rh, E),
@@ -436,8 +436,8 @@ def cmd_timing(args):
     done = done_keys(out, ["family", "pixels", "reduced_modulus", "rh"])
     rh = 0.7
     warm = surface(dict(family="S2", seed=1, shape=32))
-    rs.rough_contact_curves(warm, relative_humidity=0.5)
-    rs.fft_bem_contact_curves(warm, relative_humidity=0.5)
+    rs.contact.curves(warm, relative_humidity=0.5)
+    rs.contact.fft_bem_curves(warm, relative_humidity=0.5)
     for fam, n, e in TIMING_CASES:
         if n not in args.pixels:
             continue
@@ -448,10 +448,10 @@ def cmd_timing(args):
         mat = material_for(E)
         kw = dict(relative_humidity=rh, material=mat)
         calls = [
-            ("modified_dmt", lambda h=h, kw=kw: rs.rough_contact_curves(h, model="modified_dmt",
+            ("modified_dmt", lambda h=h, kw=kw: rs.contact.curves(h, model="modified_dmt",
                                                                         **kw)),
-            ("fft_bem", lambda h=h, kw=kw: rs.fft_bem_contact_curves(h, **kw)),
-            ("auto", lambda h=h, kw=kw: rs.rough_contact_curves(h, model="auto", tolerance=0.1,
+            ("fft_bem", lambda h=h, kw=kw: rs.contact.fft_bem_curves(h, **kw)),
+            ("auto", lambda h=h, kw=kw: rs.contact.curves(h, model="auto", accuracy=0.1,
                                                                 **kw)),
         ]
         fft = ifft_seconds()
@@ -466,7 +466,7 @@ def cmd_timing(args):
                 b = best.get(name, (np.inf, np.inf, ""))
                 best[name] = (min(b[0], w), min(b[1], cp), c.attrs.get("contact_model", ""))
         t0, c0 = time.perf_counter(), time.process_time()
-        rs.bem_contact_curves(h, **kw)
+        rs.contact.bem_curves(h, **kw)
         bem = (time.perf_counter() - t0, time.process_time() - c0)
         fft = min(fft, ifft_seconds())
         rows = [dict(family=fam, pixels=n, reduced_modulus=float(E), rh=rh, method="bem",
@@ -508,7 +508,7 @@ def cmd_resolution(args):
             path = CACHE / f"{key}.json"
             if not path.exists():
                 t0, c0 = time.perf_counter(), time.process_time()
-                ds = rs.bem_contact_curves(hc, relative_humidity=rh, distance=d, tolerance=TOL)
+                ds = rs.contact.bem_curves(hc, relative_humidity=rh, distance=d, solver_tolerance=TOL)
                 save_curve(path, ds, dict(family=fam, seed=job["seed"], map_index=1, pixels=128,
                                           spacing=2 * SPACING, rh=rh, reduced_modulus=E,
                                           grid_extend=0, cache_key=key,

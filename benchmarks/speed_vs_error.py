@@ -73,7 +73,7 @@ def distance_grid(h, rh, n, reduced_modulus):
 def summary(curves):
     """Eq. 13 energy, pull-off pressure, equilibrium distance (roughstick.adhesion_summary)."""
     if "adhesion_summary" in rs.__all__:
-        s = rs.adhesion_summary(curves[["pressure", "wet_fraction"]])
+        s = rs.contact.summary(curves[["pressure", "wet_fraction"]])
         return {
             "adhesive_energy": s["adhesive_energy"].values,
             "pull_off_pressure": s["pull_off_pressure"].values,
@@ -110,7 +110,7 @@ def bem_curves(h, rh, d, material, cache, key, reuse):
     if reuse and path.exists():
         ds = xr.open_dataset(path).load()
         return ds, float(ds.attrs["wall_seconds"])
-    ds, sec = timed(rs.bem_contact_curves, h, relative_humidity=rh, distance=d, material=material)
+    ds, sec = timed(rs.contact.bem_curves, h, relative_humidity=rh, distance=d, material=material)
     ds.attrs["wall_seconds"] = sec
     cache.mkdir(parents=True, exist_ok=True)
     ds.to_netcdf(path)
@@ -167,7 +167,7 @@ def compare(name, h, rh, n_dist, material, cache, reuse, *, settings=True, tag="
         runs.append(("modified_dmt", "10 nm pixels", downsample(h, 2), d))
     for method, setting, hh, dd in runs:
         cur, sec = timed(
-            rs.rough_contact_curves, hh, relative_humidity=rh, distance=dd, material=material
+            rs.contact.curves, hh, relative_humidity=rh, distance=dd, material=material
         )
         rows.append(
             dict(
@@ -180,7 +180,7 @@ def compare(name, h, rh, n_dist, material, cache, reuse, *, settings=True, tag="
     gw_cut = (None, 3.0, 4.0) if settings else (None,)
     for cut in gw_cut:
         cur, sec = timed(
-            rs.gw_contact_curves,
+            rs.contact.gw_curves,
             hh_moments(h),
             relative_humidity=rh,
             distance=d,
@@ -382,10 +382,10 @@ def main(argv=None):
 
     # warm-up: numba compilation of the modified-DMT kernels is not part of a curve's cost
     warm = make_surface("S2", 32)
-    rs.rough_contact_curves(
+    rs.contact.curves(
         warm, relative_humidity=0.5, distance=distance_grid(warm, 0.5, 4, 86.6e9)
     )
-    rs.gw_contact_curves(hh_moments(warm), relative_humidity=0.5, distance=[1e-9, 2e-9])
+    rs.contact.gw_curves(hh_moments(warm), relative_humidity=0.5, distance=[1e-9, 2e-9])
     rows = []
     for n in args.pixels:
         for name in ("S1", "S2"):

@@ -67,8 +67,8 @@ def call(h, rh, mat, model):
     with warnings.catch_warnings(record=True) as w:
         warnings.simplefilter("always")
         t = time.perf_counter()
-        c = rs.rough_contact_curves(h, relative_humidity=rh, model=model, material=mat)
-        g = float(rs.adhesion_summary(c).adhesive_energy)
+        c = rs.contact.curves(h, relative_humidity=rh, model=model, material=mat)
+        g = float(rs.contact.summary(c).adhesive_energy)
         dt = time.perf_counter() - t
     return g, c.attrs.get("contact_model", model), dt, sorted({x.category.__name__ for x in w})
 
@@ -78,14 +78,14 @@ def extended(h, rh, mat):
     hw, zmax = float(rs.water_height(rh)), float(h.max())
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        d = rs.fft_bem_contact_curves(h, relative_humidity=rh, material=mat).distance.values
+        d = rs.contact.fft_bem_curves(h, relative_humidity=rh, material=mat).distance.values
         ext = np.linspace(d[0], zmax + max(6 * hw, 1.5 * (d[-1] - zmax)), 400)
         out, gammas = [], []
-        for name, fn in (("fft_bem", rs.fft_bem_contact_curves), ("bem", rs.bem_contact_curves)):
+        for name, fn in (("fft_bem", rs.contact.fft_bem_curves), ("bem", rs.contact.bem_curves)):
             c = fn(h, relative_humidity=rh, material=mat, distance=ext)
             att = np.flatnonzero(c.pressure.values < 0)
             top = (float(c.distance[att[-1]]) - zmax) / hw if att.size else np.nan
-            gammas.append(float(rs.adhesion_summary(c).adhesive_energy))
+            gammas.append(float(rs.contact.summary(c).adhesive_energy))
             out.append(f"{name} Γ {gammas[-1]:.3e} (attractive up to {top:.2f} h_water)")
     return (f"fine grid (automatic grid top {(d[-1] - zmax) / hw:.2f} h_water above max z): "
             + "; ".join(out)), gammas[0]
@@ -105,8 +105,8 @@ def families():
                 for name, kw in (("fft_bem", dict(model="fft_bem")), ("bem old grid", dict(model="bem", distance=old)),
                                  ("bem default", dict(model="bem"))):
                     t = time.perf_counter()
-                    c = rs.rough_contact_curves(h, relative_humidity=rh, **kw)
-                    out[name] = (float(rs.adhesion_summary(c).adhesive_energy), time.perf_counter() - t)
+                    c = rs.contact.curves(h, relative_humidity=rh, **kw)
+                    out[name] = (float(rs.contact.summary(c).adhesive_energy), time.perf_counter() - t)
             g0 = out["fft_bem"][0]
             print(f"{fam:7s} RH {rh}: fft_bem Γ {g0:.4e} J/m2 ({out['fft_bem'][1]:.2f} s) | "
                   + " | ".join(f"{k}: Γ/Γ_fft_bem - 1 = {v[0] / g0 - 1:+.4f} ({v[1]:.2f} s)"
@@ -133,7 +133,7 @@ def resolution(cases, model="fft_bem"):
         neck = float(rs.surface_groups(h, relative_humidity=rh).neck_pixels)
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
-            rs.rough_contact_curves(h, relative_humidity=rh, material=mat, model=model)
+            rs.contact.curves(h, relative_humidity=rh, material=mat, model=model)
             warned = any(issubclass(x.category, rs.ValidityWarning) and "water necks" in str(x.message)
                          for x in w)
             r = rs.resolution_study(h, relative_humidity=rh, material=mat, model=model)

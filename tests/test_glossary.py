@@ -38,17 +38,6 @@ NAMESPACES = ("io", "surface", "contact", "ensemble", "stiction", "beam", "relia
 #: Signatures not yet in the glossary: (function, keyword). Shrinks to empty as the API moves to
 #: its namespaces; an entry that no longer applies fails the test, so the list stays true.
 NOT_YET = {
-    ('adsorbed_layer', 'model'),
-    ('bem_contact_curves', 'n_distances'),
-    ('bem_contact_curves', 'tolerance'),
-    ('fft_bem_contact_curves', 'tolerance'),
-    ('no_adsorbed_layer', 'rh'),
-    ('rough_contact_curves', 'tolerance'),
-    ('select_model', 'tolerance'),
-    ('sphere_adhesive_energy', 'model'),
-    ('sphere_contact', 'model'),
-    ('sphere_force', 'model'),
-    ('warn_if_outside_validity', 'tolerance'),
 }
 
 

@@ -23,7 +23,7 @@
   :func:`check_plausible_value` here;
 - figures: :func:`figure_format` and :func:`figure_dpi` (what a saved figure may be);
 - :class:`ValidityWarning`, the warning of a model used outside its validity (declared here so
-  that the models and :mod:`roughstick.contact.validity` share it).
+  that the models and :mod:`roughstick.contact.trust.validity` share it).
 
 Every error names the problem and the fix.
 """

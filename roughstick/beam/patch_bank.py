@@ -29,12 +29,12 @@ from .._core.remedy import argument, spell, spelled
 from .._core.validate import as_length, external_stacklevel, relative_humidity_array
 from ..contact import (
     ValidityWarning,
-    adhesion_summary,
     contact_distance_grid,
     expected_surface_groups,
-    rough_contact_curves,
     warn_if_outside_validity,
 )
+from ..contact import curves as contact_curves
+from ..contact import summary as adhesion_summary
 from ..io.netcdf import publish
 from ..surface import generate_surfaces
 
@@ -72,8 +72,8 @@ def _law_energies(psd, laws, rh, shape, spacing, seed, model, material=POLYSILIC
                              seed=seed).compute(scheduler="sync")
     values = np.empty((len(laws), len(rh)))
     for k in range(len(laws)):
-        curves = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh),
-                                      model=model, material=material, check_validity=False)
+        curves = contact_curves(surf.isel(realization=k), relative_humidity=list(rh),
+                                model=model, material=material, check_validity=False)
         values[k] = adhesion_summary(curves)["adhesive_energy"].transpose("rh").values
     return values
 
@@ -368,7 +368,7 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
     gap = np.linspace(lo, hi, int(n_gap))
     out = np.empty((int(n), len(rh), gap.size))
     for k in range(int(n)):
-        c = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh), distance=gap,
+        c = contact_curves(surf.isel(realization=k), relative_humidity=list(rh), distance=gap,
                                  model=model)
         out[k] = c["pressure"].transpose("rh", "distance").values
     bank = xr.DataArray(out, {"law": np.arange(int(n)), "rh": rh, "gap": gap},

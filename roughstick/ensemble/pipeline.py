@@ -31,8 +31,9 @@ from .._core.conventions import ATTRS, dataset_attrs
 from .._core.references import PAPER, cite
 from .._core.validate import relative_humidity_array
 from .._core.version import __version__
-from ..contact.adhesion import adhesion_summary, equilibrium_crossings
-from ..contact.curves import rough_contact_curves
+from ..contact import curves as contact_curves
+from ..contact import summary as contact_summary
+from ..contact.adhesion import equilibrium_crossings
 from ..contact.meniscus import as_relative_humidity, water_height
 from ..surface.generate import extrapolation_said_once
 from ..surface.moments import psd_moments
@@ -323,7 +324,7 @@ def _own_grid_capable(spec: Spec) -> bool:
     """Summaries on each map's own grid: asked for (no ``distance=`` given) and possible (the
     default contact stage, rough_contact_curves, builds its own grid from ``distance=None``)."""
     f = spec.curves
-    return spec.own_grid and isinstance(f, functools.partial) and f.func is rough_contact_curves
+    return spec.own_grid and isinstance(f, functools.partial) and f.func is contact_curves
 
 
 def _own_grid_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dataset:
@@ -334,7 +335,7 @@ def _own_grid_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dat
                         adsorbed_layer=spec.adsorbed_layer, **spec.curves_kwargs)
         # the automatic grid reaches the lowest pixel: a curve that is attractive there has no
         # equilibrium (equilibrium_distance NaN, Γ a lower bound), which the grid cannot fix
-        s = spec.summary(c, check_grid=False) if spec.summary is adhesion_summary else spec.summary(c)
+        s = spec.summary(c, check_grid=False) if spec.summary is contact_summary else spec.summary(c)
         parts.append(s.drop_vars([v for v in s.coords if v != "rh"], errors="ignore"))
     return parts[0] if len(parts) == 1 else xr.concat(parts, "rh", combine_attrs="drop_conflicts")
 

@@ -37,15 +37,16 @@ from .._core.validate import (
     relative_humidity_array,
     surface_shape,
 )
-from ..contact.adhesion import adhesion_summary
-from ..contact.curves import CONTACT_MODELS, rough_contact_curves
-from ..contact.pixel import warn_if_unresolved
-from ..contact.validity import (
+from ..contact import (
     VALIDITY_BOUND,
     expected_surface_groups,
+    model_names,
     select_model,
     warn_if_outside_validity,
+    warn_if_unresolved,
 )
+from ..contact import curves as contact_curves
+from ..contact import summary as contact_summary
 from ..surface.generate import ExtrapolatedPSDWarning, generate_surfaces
 from .execute import auto_ensemble, stream
 from .pipeline import Spec, _attrs, _hash_params, _water_heights, distance_grid, lazy_ensemble
@@ -89,8 +90,8 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, model, accura
     without warnings.
     """
     model = DEFAULT_MODEL if model is None else model
-    if model not in CONTACT_MODELS:
-        raise ValueError(f"model must be one of {CONTACT_MODELS}, got {model!r}.")
+    if model not in model_names(auto=True):
+        raise ValueError(f"model must be one of {model_names(auto=True)}, got {model!r}.")
     tolerance = VALIDITY_BOUND if accuracy is None else accuracy
     if not (isinstance(tolerance, (int, float)) and not isinstance(tolerance, bool) and tolerance > 0):
         raise ValueError(f"accuracy must be a positive relative error (e.g. 0.1 for 10 %), got "
@@ -104,7 +105,7 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, model, accura
                                          material=material, adsorbed_layer=adsorbed_layer)
     selection = None
     if model == "auto":
-        model, reason = select_model(None, relative_humidity=rh, tolerance=tolerance,
+        model, reason = select_model(None, relative_humidity=rh, accuracy=tolerance,
                                      quantity=quantity, groups=groups)
         selection = (
             f"auto -> {model} for every realization, chosen once for the ensemble from the "
@@ -117,7 +118,7 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, model, accura
             f"(within a factor ~3); {reason}")
     with spelled(**PYTHON_SPELLING):  # the remedies named in run's arguments
         if selection is None and warn and model != "bem":  # "auto"'s choice meets the tolerance
-            warn_if_outside_validity(None, relative_humidity=rh, model=model, tolerance=tolerance,
+            warn_if_outside_validity(None, relative_humidity=rh, model=model, accuracy=tolerance,
                                      quantity=quantity, material=material,
                                      adsorbed_layer=adsorbed_layer, groups=groups)
         if warn and model != "gw":  # the pixel models: does the pixel resolve the water necks?
@@ -303,9 +304,9 @@ def run(
     generate = generate_surfaces if generate is None else generate
     # the per-surface validity check would warn once per realization from inside dask: the run is
     # checked once above, before any graph is built
-    curves = (functools.partial(rough_contact_curves, check_validity=False) if curves is None
+    curves = (functools.partial(contact_curves, check_validity=False) if curves is None
               else curves)
-    summary = adhesion_summary if summary is None else summary
+    summary = contact_summary if summary is None else summary
     root = as_seed_sequence(seed)
     if distance is None:
         dist = np.asarray(distance_grid(psd, shape=shp, n=n_total, relative_humidity=rh,
@@ -399,8 +400,8 @@ def _chunks(chunks, shape, n_rh) -> tuple[int, int]:
 
 def _select_for_sizes(psd, shapes, spacing, rh, accuracy, kwargs):
     """``model="auto"`` resolved once for all ``shapes`` (each size and each humidity must meet
-    ``accuracy``: :func:`roughstick.select_model` on the stacked groups expected from the PSD), and
-    the reason."""
+    ``accuracy``: :func:`roughstick.contact.select_model` on the stacked groups expected from the
+    PSD), and the reason."""
     material = as_material(kwargs.get("material") or POLYSILICON)
     with warnings.catch_warnings():
         if kwargs.get("generate") is not None:  # the PSD filter of generate_surfaces is not used
@@ -411,7 +412,7 @@ def _select_for_sizes(psd, shapes, spacing, rh, accuracy, kwargs):
                             for s in shapes], dim="size")
     quantity = (kwargs.get("curves_kwargs") or {}).get("quantity", "adhesive_energy")
     chosen, reason = select_model(None, relative_humidity=rh,
-                                  tolerance=VALIDITY_BOUND if accuracy is None else accuracy,
+                                  accuracy=VALIDITY_BOUND if accuracy is None else accuracy,
                                   quantity=quantity, groups=groups)
     return chosen, (f"auto -> {chosen} for every size and realization, chosen once from the surface "
                     f"groups expected from the PSD at shapes {[tuple(s) for s in shapes]}: {reason}")

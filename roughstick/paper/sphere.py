@@ -37,7 +37,7 @@ def table1() -> xr.Dataset:
     radius = xr.DataArray(RADII, dims="radius", coords={"radius": RADII}, attrs={"units": "m"})
     rh = xr.DataArray(RHS, dims="rh", coords={"rh": RHS}, attrs={"units": "1"})
     computed = xr.concat(
-        [rs.sphere_adhesive_energy(model=m, radius=radius, relative_humidity=rh) for m in MODELS],
+        [rs.contact.sphere_adhesive_energy(sphere_model=m, radius=radius, relative_humidity=rh) for m in MODELS],
         dim=_coord("model", MODELS, "1", "sphere contact model"),
     )
     computed.attrs = {"units": "J", "long_name": "adhesive energy computed by roughstick"}
@@ -61,7 +61,7 @@ def curves(n: int = 1401) -> xr.Dataset:
     h_max = float(rs.water_height(max(RHS)))
     d = np.linspace(-1.3 * h_max, 2.5e-9, n)
     force = xr.concat(
-        [rs.sphere_force(d, model=m, radius=RADII, relative_humidity=RHS) for m in MODELS],
+        [rs.contact.sphere_force(d, sphere_model=m, radius=RADII, relative_humidity=RHS) for m in MODELS],
         dim=_coord("model", MODELS, "1", "sphere contact model"),
     )
     ds = force.to_dataset(name="force")

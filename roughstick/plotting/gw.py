@@ -5,15 +5,15 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ..contact.adhesion import adhesion_summary
+from ..contact import summary as contact_summary
 from ._legend import legend_beside
 
 __all__ = ["plot_gw_cutoff_study"]
 
 
 def _adhesive_energy(pressure: xr.DataArray) -> xr.DataArray:
-    """Eq. 13 per curve (:func:`roughstick.adhesion_summary`)."""
-    return adhesion_summary(pressure.to_dataset(name="pressure"))["adhesive_energy"]
+    """Eq. 13 per curve (:func:`roughstick.contact.summary`)."""
+    return contact_summary(pressure.to_dataset(name="pressure"))["adhesive_energy"]
 
 
 def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):

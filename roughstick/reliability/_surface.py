@@ -17,19 +17,15 @@ import scipy.fft
 import xarray as xr
 
 from roughstick._core.intervals import median_interval
+from roughstick.contact import summary as adhesion_summary
+from roughstick.contact.adhesion import summary_kernel as adhesion_summary_kernel
+from roughstick.contact.modified_dmt import kernel as modified_dmt_kernel
 
 from .._core.conventions import CURVE_VARIABLES
 from .._core.materials import POLYSILICON, hertz_modulus
 from .._core.remedy import argument, spell, spelled
 from .._core.validate import external_stacklevel
-from ..contact import (
-    ValidityWarning,
-    adhesion_summary,
-    adhesion_summary_kernel,
-    fft_bem_contact_curves,
-    laplace_pressure,
-    modified_dmt_kernel,
-)
+from ..contact import ValidityWarning, fft_bem_curves, laplace_pressure
 from ..surface import surface_filter
 
 __all__: list[str] = []
@@ -138,8 +134,8 @@ class SurfaceResponse:
         return out[_PRESSURE][0], out[_WET][0]  # at the one RH
 
     def _bem_response(self, zc) -> float:
-        c = fft_bem_contact_curves(self.to_surface.height_array(zc), relative_humidity=self.rh,
-                                   progress=False, **self.bem_kw)
+        c = fft_bem_curves(self.to_surface.height_array(zc), relative_humidity=self.rh,
+                           progress=False, **self.bem_kw)
         return float(adhesion_summary(c, check_grid=False)[self.quantity])
 
     def map_response(self, z, *, periodic) -> float:
