@@ -103,7 +103,7 @@ def test_the_accessor_and_the_command_line_read_the_registry(registered, height,
     args = build_parser().parse_args(["curves", "m.npy", "--rh", "0.6", "--out", "x.nc", "--model", "toy"])
     assert args.model == "toy"
     for schema in (SCHEMAS["run"]["ensemble"], SCHEMAS["risk"]["risk"], SCHEMAS["beam"]["bank"]):
-        assert "toy" in schema["contact_model"].choices
+        assert "toy" in schema["model"].choices
     np.save(tmp_path / "m.npy", height.values * 1e9)
     out = tmp_path / "toy.nc"
     assert main(["curves", str(tmp_path / "m.npy"), "--spacing", "5 nm", "--units", "nm", "--rh", "0.6",
