@@ -43,7 +43,7 @@ CACHE = pathlib.Path(os.environ.get("ROUGHSTICK_BEM_CACHE", ROOT / "benchmarks" 
 RESULTS = pathlib.Path(os.environ.get("ROUGHSTICK_VALIDITY_RESULTS",
                                      ROOT / "benchmarks" / "validity_results"))
 FAMILY_LIST = ("S1", "S2", "table4", "smooth", "rough")
-MODULI = (rs.reduced_modulus(), 10e9)
+MODULI = (rs.materials.reduced_modulus(), 10e9)
 RHS = (0.3, 0.5, 0.7, 0.9)
 SPACING = 5e-9
 TOL = 1e-6
@@ -89,7 +89,7 @@ def jobs(blocks="abcde"):
 
 
 def material_for(E):
-    if np.isclose(E, rs.reduced_modulus(), rtol=1e-9):
+    if np.isclose(E, rs.materials.reduced_modulus(), rtol=1e-9):
         return rs.POLYSILICON
     nu = rs.POLYSILICON.poisson_ratio
     return rs.Material(youngs_modulus=2 * (1 - nu**2) * E, poisson_ratio=nu,
@@ -147,7 +147,7 @@ def run_bem(job, *, verbose=True):
     h = surface(job)
     z = h.values
     E, rh = job["reduced_modulus"], job["rh"]
-    hw = float(rs.water_height(rh))
+    hw = float(rs.contact.water_height(rh))
     for extend in range(4):
         d = reference_grid(z, hw, E, extend)
         key = cache_key(z, SPACING, rh, E, d)
@@ -208,7 +208,7 @@ def summ(p, d, wet=None, contact=None):
 
 
 def groups(h, rh, E):
-    g = rs.surface_groups(h, relative_humidity=rh, material=material_for(E))
+    g = rs.contact.surface_groups(h, relative_humidity=rh, material=material_for(E))
     return {k: float(g[k]) for k in g.data_vars}
 
 
@@ -385,7 +385,7 @@ def cmd_extend(args):
                         continue
                     h = surface(dict(family=fam, seed=seed_of(fam, k), shape=256))
                     z = h.values
-                    hw = float(rs.water_height(rh))
+                    hw = float(rs.contact.water_height(rh))
                     for extend in range(4):
                         d = reference_grid(z, hw, E, extend)
                         t0 = time.perf_counter()
@@ -487,7 +487,7 @@ def cmd_timing(args):
 
 
 def cmd_resolution(args):
-    """BEM at 5 and 10 nm pixels (block averages) against rs.resolution_study (fft_bem)."""
+    """BEM at 5 and 10 nm pixels (block averages) against rs.contact.resolution_study (fft_bem)."""
     out = RESULTS / "resolution.csv"
     done = done_keys(out, ["family", "rh"])
     for fam in FAMILY_LIST:
@@ -502,8 +502,8 @@ def cmd_resolution(args):
             ok = ~(ds5.solver_residual.values > 10 * TOL)
             b5 = summ(ds5.pressure.values[ok], ds5.distance.values[ok])
             h = surface(job)
-            hc = rs.resample_pixels(h, 2)
-            d = reference_grid(hc.values, float(rs.water_height(rh)), E)
+            hc = rs.contact.resample_pixels(h, 2)
+            d = reference_grid(hc.values, float(rs.contact.water_height(rh)), E)
             key = cache_key(hc.values, 2 * SPACING, rh, E, d)
             path = CACHE / f"{key}.json"
             if not path.exists():
@@ -523,7 +523,7 @@ def cmd_resolution(args):
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 t0 = time.process_time()
-                r = rs.resolution_study(h, relative_humidity=rh, factors=(0.5, 1, 2),
+                r = rs.contact.resolution_study(h, relative_humidity=rh, factors=(0.5, 1, 2),
                                         model="fft_bem")
                 sec = time.process_time() - t0
             row = dict(family=fam, rh=rh, reduced_modulus=E, cpu_seconds=sec)
@@ -748,7 +748,7 @@ def paper_default_warnings():
             warnings.simplefilter("always")
             v.warn_if_outside_validity(h, relative_humidity=[0.3, 0.5, 0.6, 0.7, 0.8, 0.9])
         hits = [w for w in rec if issubclass(w.category, v.ValidityWarning)]
-        g = rs.surface_groups(h, relative_humidity=[0.3, 0.5, 0.6, 0.7, 0.8, 0.9])
+        g = rs.contact.surface_groups(h, relative_humidity=[0.3, 0.5, 0.6, 0.7, 0.8, 0.9])
         worst = []
         for r in g.rh.values:
             gr = {f: float(g[f].sel(rh=r)) for f in v.GROUP_FEATURES}

@@ -101,7 +101,7 @@ def paper_tables():
     d = np.arange(-5, 45.0001, 0.02) * NM
     print("\n## Fig. 9: Gamma (mJ m-2) vs height cutoff h_max/sqrt(m0), S1, d step 0.02 nm")
     cuts = [2.0, 2.5, 3.0, 3.5, 4.0, 4.5, 5.0, 5.5, 6.0, 6.5, 7.0, None]
-    st = rs.gw_cutoff_study(S1, relative_humidity=[0.3, 0.9], distance=d, height_cutoffs=cuts)
+    st = rs.contact.gw_cutoff_study(S1, relative_humidity=[0.3, 0.9], distance=d, height_cutoffs=cuts)
     g = gamma(st.pressure)
     pmin = st.pressure.min("distance").values / 1e6
     print(f"{'h_max':>8} {'Gamma RH30':>12} {'Gamma RH90':>12} {'p_min RH30 [MPa]':>17} {'p_min RH90':>11}")
@@ -120,7 +120,7 @@ def paper_tables():
             print(f"{'':>18}  -pmin " + " ".join(f"{x:10.4g}" for x in pm))
             print(f"{'':>18}  wetmx " + " ".join(f"{x:10.4g}" for x in wf))
     print("   (RH columns:", ", ".join(f"{int(r * 100)} %" for r in RH6), ";",
-          "|dP| [MPa]:", ", ".join(f"{abs(float(rs.laplace_pressure(r))) / 1e6:.1f}" for r in RH6), ")")
+          "|dP| [MPa]:", ", ".join(f"{abs(float(rs.contact.laplace_pressure(r))) / 1e6:.1f}" for r in RH6), ")")
 
 
 def main():

@@ -54,7 +54,7 @@ def case(height, rh):
     dx = float(height.x[1] - height.x[0])
     hw = rs.contact.water_height(rh).values
     dp = rs.contact.laplace_pressure(rh).values
-    return z, hw, dp, dict(dx=dx, dy=dx, K=rs.hertz_modulus(), periodic=False, connectivity=4, n=None)
+    return z, hw, dp, dict(dx=dx, dy=dx, K=rs.materials.hertz_modulus(), periodic=False, connectivity=4, n=None)
 
 
 def main(argv=None):

@@ -61,7 +61,7 @@ def main():
     from roughstick.reliability._surface import NoiseToSurface, SurfaceResponse
 
     f = NoiseToSurface(psd, shape=shape, spacing=SPACING)
-    model = SurfaceResponse(f, relative_humidity=args.rh, water_height=float(rs.water_height(args.rh).values))
+    model = SurfaceResponse(f, relative_humidity=args.rh, water_height=float(rs.contact.water_height(args.rh).values))
     for w in typical:
         print(f"typical  Eq.16 {model(w) * 1e3:6.2f}  FFT-BEM {bem_gamma(w, psd, shape, args.rh) * 1e3:6.2f} mJ/m2")
     for name, states in (("highest 16 Eq. 16 states", [noise[i].reshape(shape) for i in order[:16]]),

@@ -51,7 +51,7 @@ def family_surface(name, *, shape, seed):
         a = xr.open_dataset(DATA / f"{name}A.nc").attrs
         p = dict(s0=a["psd_s0"], s1=a["psd_s1"], q0=a["psd_q0"], qmax=a["psd_qmax"])
     elif name == "table4":
-        c = rs.cantilever_psd()
+        c = rs.stiction.cantilever_psd()
         p = dict(s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
     else:
         rms, hurst, q0, qmax = (2e-9, 0.8, 2e7, 289e6) if name == "smooth" else (8e-9, 0.5, 5e7, 289e6)
@@ -63,9 +63,9 @@ def family_surface(name, *, shape, seed):
     return ens.isel(realization=0).compute()
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
-HW = rs.water_height(RH).values
-DP = rs.laplace_pressure(RH).values
-K = rs.hertz_modulus()
+HW = rs.contact.water_height(RH).values
+DP = rs.contact.laplace_pressure(RH).values
+K = rs.materials.hertz_modulus()
 SPEC = np.fft.fft2(np.random.default_rng(0).standard_normal((1024, 1024)))
 
 

@@ -39,7 +39,7 @@ def default_call(h, halvings):
 def fine_gamma(h, curves, i, rh):
     """Γ of the retraction along a fine uniform grid spanning humidity i's automatic grid."""
     d = curves.distance.values[curves.solved.values[i] > 0]
-    zmax, hw = float(h.max()), float(rs.water_height(rh))
+    zmax, hw = float(h.max()), float(rs.contact.water_height(rh))
     fine = np.linspace(d[0], zmax + max(6 * hw, 1.5 * (d[-1] - zmax)), 1600)
     ref = rs.contact.fft_bem_curves(h, relative_humidity=rh, distance=fine)
     return float(rs.contact.summary(ref).adhesive_energy)

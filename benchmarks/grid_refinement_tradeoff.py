@@ -24,7 +24,7 @@ HUMIDITIES = [0.1, 0.3, 0.5, 0.66, 0.7, 0.9]
 
 
 def gamma(h, rh, **kw):
-    return rs.contact.summary(rs.rough_contact_curves(h, relative_humidity=rh, check_validity=False,
+    return rs.contact.summary(rs.contact.curves(h, relative_humidity=rh, check_validity=False,
                                                        **kw)).adhesive_energy.values
 
 

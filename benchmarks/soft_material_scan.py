@@ -23,8 +23,8 @@ def main(families, moduli, n=64):
         h = rs.datasets.surface_family(fam, shape=(n, n), seed=1)
         for E in moduli:
             m = rs.Material(youngs_modulus=E, poisson_ratio=0.3, name="x")
-            g = rs.surface_groups(h, relative_humidity=RH, material=m)
-            sm = rs.contact.summary(rs.rough_contact_curves(
+            g = rs.contact.surface_groups(h, relative_humidity=RH, material=m)
+            sm = rs.contact.summary(rs.contact.curves(
                 h, relative_humidity=RH, model="modified_dmt", material=m, check_validity=False))
             with warnings.catch_warnings(record=True) as w:
                 warnings.simplefilter("always")

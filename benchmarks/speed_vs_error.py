@@ -64,7 +64,7 @@ def downsample(h, factor):
 def distance_grid(h, rh, n, reduced_modulus):
     """Uniform grid from first water contact down past the equilibrium distance."""
     z = h.values
-    hw = float(rs.water_height(rh))
+    hw = float(rs.contact.water_height(rh))
     depth = (1e-9 + 0.5 * hw) * (86.6e9 / reduced_modulus) ** (2 / 3)
     bottom = max(z.max() - depth, z.mean() + 0.25 * z.std())
     return np.linspace(bottom, z.max() + hw, n)
@@ -118,7 +118,7 @@ def bem_curves(h, rh, d, material, cache, key, reuse):
 
 
 def material_for(reduced_modulus):
-    if np.isclose(reduced_modulus, rs.reduced_modulus(), rtol=1e-9):
+    if np.isclose(reduced_modulus, rs.materials.reduced_modulus(), rtol=1e-9):
         return rs.POLYSILICON
     nu = rs.POLYSILICON.poisson_ratio
     return rs.Material(
@@ -134,7 +134,7 @@ def rel(a, b):
 
 def compare(name, h, rh, n_dist, material, cache, reuse, *, settings=True, tag=""):
     """All methods on one (surface, RH): list of result rows."""
-    E = rs.reduced_modulus(material)
+    E = rs.materials.reduced_modulus(material)
     d = distance_grid(h, rh, n_dist, E)
     key = f"{name}_{h.sizes['x']}_{rh:.2f}_{E / 1e9:.4g}{tag}"
     bem, t_bem = bem_curves(h, rh, d, material, cache, key, reuse)
@@ -336,7 +336,7 @@ def main(argv=None):
         "--moduli",
         type=float,
         nargs="+",
-        default=[rs.reduced_modulus(), 20e9, 5e9, 1e9],
+        default=[rs.materials.reduced_modulus(), 20e9, 5e9, 1e9],
         help="contact moduli E* [Pa] of the sweep (default: poly-Si 86.58 GPa, 20, 5, 1 GPa)",
     )
     ap.add_argument("--validity-rh", type=float, nargs="+", default=[0.3, 0.7, 0.9])
@@ -362,7 +362,7 @@ def main(argv=None):
             ]
         for name, n, mat, rh in jobs:
             h = make_surface(name, n)
-            E = rs.reduced_modulus(mat)
+            E = rs.materials.reduced_modulus(mat)
             key = f"{name}_{n}_{rh:.2f}_{E / 1e9:.4g}"
             ds, sec = bem_curves(
                 h, rh, distance_grid(h, rh, args.n_distances, E), mat, cache, key, True

@@ -28,7 +28,7 @@ LABEL = {"maugis": "Maugis", "dmt": "DMT", "modified_dmt": "Modified DMT"}
 
 def literal(model, rh, radius, n=200_001):
     """Slow reference: trapezoid of -F 1(F<0) over a dense interference grid."""
-    h = float(rs.water_height(rh))
+    h = float(rs.contact.water_height(rh))
     d = np.linspace(-1.5 * h, 3e-9, n)
     f = rs.contact.sphere_force(d, sphere_model=model, radius=radius, relative_humidity=rh).values
     return trapezoid(np.where(f < 0, -f, 0.0), d)
@@ -48,7 +48,7 @@ def main(argv):
         print(f"{'  printed':14s}| " + " | ".join(f"{p:11.3e}" for p in row))
         print(f"{'  rel. diff':14s}| " + " | ".join(f"{x:+11.2%}" for x in rel))
         print(f"{'  literal-1':14s}| " + " | ".join(f"{lt / c - 1:+11.1e}" for lt, c in zip(lit, comp, strict=True)))
-    lam = [float(rs.transition_parameter(radius=r, relative_humidity=rh)) for rh, r in COLUMNS]
+    lam = [float(rs.contact.transition_parameter(radius=r, relative_humidity=rh)) for rh, r in COLUMNS]
     print(f"{'lambda (Eq. 7)':14s}| " + " | ".join(f"{x:11.4f}" for x in lam))
     print("largest |relative difference|: " + ", ".join(f"{LABEL[m]} {v:.2%}" for m, v in worst.items()))
 
@@ -57,7 +57,7 @@ def main(argv):
         n = 200_000
         d = rng.uniform(-3e-9, 3e-9, n)
         R = rng.uniform(20e-9, 500e-9, n)
-        K = rs.hertz_modulus()
+        K = rs.materials.hertz_modulus()
         print(f"\nforce kernel throughput, {n} random (delta, R) pairs at RH 50 %:")
         for model in _kernels.MODELS:
             _kernels.sphere_force_kernel(model, d[:1000], R[:1000], K, 96.05e6, 1.529e-9)

@@ -11,9 +11,9 @@ on the grid it had before (40 points from max z - max(h_water, 0.5 σ) to max z 
 on its default now (fft_bem's automatic grid), each against the fft_bem default call, with times.
 
 ``resolution``: on the same N untuned surfaces, how much fft_bem's Γ moves with the pixel
-(``rs.resolution_study(h, factors=(0.5, 1, 2))``: block averages of 2 x 2 pixels, and a
+(``rs.contact.resolution_study(h, factors=(0.5, 1, 2))``: block averages of 2 x 2 pixels, and a
 band-limited Fourier interpolation onto pixels half as large), against the wetted-neck radius in
-pixels (``neck_pixels`` of ``rs.surface_groups``) and whether ``rough_contact_curves(h,
+pixels (``neck_pixels`` of ``rs.contact.surface_groups``) and whether ``rough_contact_curves(h,
 model=MODEL)`` (default "fft_bem") warned that the pixel does not resolve the water necks; a
 summary per RH and over all maps. ``resolution families``: the same on the 64² maps
 (seed 0) of S1, S2, Table 4 and the smooth family at RH 1e-3, 0.05, 0.5 and 0.9 on poly-Si.
@@ -75,7 +75,7 @@ def call(h, rh, mat, model):
 
 def extended(h, rh, mat):
     """fft_bem and bem on a fine uniform grid across fft_bem's automatic grid and beyond."""
-    hw, zmax = float(rs.water_height(rh)), float(h.max())
+    hw, zmax = float(rs.contact.water_height(rh)), float(h.max())
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         d = rs.contact.fft_bem_curves(h, relative_humidity=rh, material=mat).distance.values
@@ -96,7 +96,7 @@ def families():
         h = rs.datasets.surface_family(fam, shape=(64, 64), seed=0, n=1).isel(realization=0).compute()
         z = h.values
         for rh in (0.05, 0.5, 0.9):
-            hw = float(rs.water_height(rh))
+            hw = float(rs.contact.water_height(rh))
             old = np.linspace(max(z.max() - max(hw, 0.5 * z.std()), z.mean() + 0.5 * z.std()),
                               z.max() + hw, 40)
             out = {}
@@ -130,13 +130,13 @@ def family_cases():
 def resolution(cases, model="fft_bem"):
     rows = []
     for h, rh, mat, desc in cases:
-        neck = float(rs.surface_groups(h, relative_humidity=rh).neck_pixels)
+        neck = float(rs.contact.surface_groups(h, relative_humidity=rh).neck_pixels)
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
             rs.contact.curves(h, relative_humidity=rh, material=mat, model=model)
             warned = any(issubclass(x.category, rs.ValidityWarning) and "water necks" in str(x.message)
                          for x in w)
-            r = rs.resolution_study(h, relative_humidity=rh, material=mat, model=model)
+            r = rs.contact.resolution_study(h, relative_humidity=rh, material=mat, model=model)
         ch = r.relative_change_adhesive_energy.values.ravel()  # pixel sizes ascending: finer, native, coarser
         rows.append((rh, ch[0], ch[2], warned, neck))
         print(f"{desc} | neck {neck:.2f} px | Γ change: pixels / 2 (Fourier) {ch[0]:+.3f}, pixels x 2 "
@@ -151,7 +151,7 @@ def resolution(cases, model="fft_bem"):
               f"{sum(r[3] for r, m in zip(sel, moved) if m)} warned by the default call")
     fine = np.abs([r[1] for r in rows]) > 0.1
     warned = np.array([r[3] for r in rows])
-    print(f"{model}: warned (neck < {rs.RESOLVED_NECK_PIXELS:g} px) {int(warned.sum())} of {len(rows)} maps, "
+    print(f"{model}: warned (neck < {rs.contact.RESOLVED_NECK_PIXELS:g} px) {int(warned.sum())} of {len(rows)} maps, "
           f"{int((fine & warned).sum())} of them moved > 10 % at half the pixel; not warned "
           f"{int((~warned).sum())}, {int((fine & ~warned).sum())} of them moved")
 

@@ -52,7 +52,7 @@ cells = [
     ),
     nbf.v4.new_code_cell(
         "R, w = 1e-6, 0.05\n"
-        "K = rs.hertz_modulus()\n"
+        "K = rs.materials.hertz_modulus()\n"
         "fig, ax = plt.subplots(figsize=(6, 4))\n"
         "for lam in [0.01, 0.3, 1.0, 3.0, 100.0]:\n"
         "    s0 = lam / 2 * np.cbrt(np.pi * w * K**2 / R)\n"

@@ -44,6 +44,9 @@ RENAMED.update({
     "roughness_statistics": "surface.roughness_statistics",
     "psd_summary": "surface.psd_summary",
     "moments_si": "_core.validate.moments_si",  # plumbing: checks a moments Dataset
+    "reduced_modulus": "materials.reduced_modulus",
+    "hertz_modulus": "materials.hertz_modulus",
+    "as_relative_humidity": "contact.as_relative_humidity",
 })
 
 

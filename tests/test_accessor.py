@@ -38,7 +38,7 @@ def test_every_method_forwards_to_the_public_function_of_its_table(cls):
 
 def test_forwarding_gives_the_same_objects():
     rh = xr.DataArray([0.3, 0.5], dims="rh", coords={"rh": [0.3, 0.5]}, attrs={"units": "1"})
-    rs.testing.assert_same_result(rh.rough.water_height(), rs.water_height(rh))
+    rs.testing.assert_same_result(rh.rough.water_height(), rs.contact.water_height(rh))
     h = rs.testing.make_topography(np.random.default_rng(0).normal(size=(16, 12)) * 1e-9)
     rs.testing.assert_same_result(h.rough.power_spectrum(window="hann"), rs.surface.power_spectrum(h, window="hann"))
     m = h.rough.roughness_moments()

@@ -205,7 +205,7 @@ def test_every_map_entry_point_refuses_a_dtype_a_height_cannot_have(h, dtype, wh
              lambda m: rs.contact.curves(m, relative_humidity=0.5),
              lambda m: rs.contact.curves(m, relative_humidity=0.5, model="gw"),
              lambda m: rs.contact.fft_bem_curves(m, relative_humidity=0.5),
-             lambda m: rs.surface_groups(m, relative_humidity=0.5)]
+             lambda m: rs.contact.surface_groups(m, relative_humidity=0.5)]
     for f in calls:
         with pytest.raises(TypeError, match=f"dtype .*{what}.*a height map holds real numbers"):
             f(bad)

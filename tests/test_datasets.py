@@ -59,7 +59,7 @@ def test_paper_tables():
     assert float(t1.adhesive_energy.sel(model="modified_dmt", rh=0.3, radius=800e-9)) == 5.22e-16
     t4 = datasets.paper_table(4)
     assert float(np.sqrt((t4.roughness**2).sum())) == pytest.approx(3.54e-9, rel=2e-3)
-    assert rs.TABLE4["asperity_density"] == float(t4.asperity_density)
+    assert rs.stiction.TABLE4["asperity_density"] == float(t4.asperity_density)
     with pytest.raises(ValueError, match="1, 3 and 4"):
         datasets.paper_table(2)
 

@@ -345,7 +345,7 @@ def as_relative_humidity(relative_humidity) -> xr.DataArray:
 
     Examples
     --------
-    >>> rs.as_relative_humidity([0.3, 0.7]).rh.values
+    >>> rs.contact.as_relative_humidity([0.3, 0.7]).rh.values
     array([0.3, 0.7])
     """
     percent = False

@@ -222,7 +222,7 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
     Examples
     --------
     >>> import numpy as np
-    >>> psd = rs.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
+    >>> psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
     >>> bank = rs.beam.build_patch_bank(psd, relative_humidity=[0.5, 0.7], n=2, shape=(32, 32),
     ...                                 spacing=20e-9, check_tail=0)
     >>> bank.dims, (bank.values * 1e3).round(2)  # mJ m-2 over (law, rh)
@@ -342,7 +342,7 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
     Examples
     --------
     >>> import numpy as np
-    >>> psd = rs.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
+    >>> psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
     >>> bank = rs.beam.pressure_law_bank(psd, relative_humidity=[0.5], n=2, shape=(32, 32),
     ...                                  spacing=20e-9, n_gap=50)
     >>> bank.dims, bank.shape

@@ -73,7 +73,7 @@ def kelvin_radius(
 
     Examples
     --------
-    >>> float(rs.kelvin_radius(0.5)) * 1e9
+    >>> float(rs.contact.kelvin_radius(0.5)) * 1e9
     -0.7646...
     """
     rh = as_relative_humidity(relative_humidity)
@@ -110,7 +110,7 @@ def laplace_pressure(
 
     Examples
     --------
-    >>> float(rs.laplace_pressure(0.3)) / 1e6
+    >>> float(rs.contact.laplace_pressure(0.3)) / 1e6
     -166.8...
     """
     rh = as_relative_humidity(relative_humidity)
@@ -262,7 +262,7 @@ def water_height(
 
     Examples
     --------
-    >>> rs.water_height([0.3, 0.5, 0.7]).values * 1e9
+    >>> rs.contact.water_height([0.3, 0.5, 0.7]).values * 1e9
     array([0.880..., 1.529..., 4.772...])
     """
     h_men = meniscus_height(

@@ -104,7 +104,7 @@ def cantilever_psd(
     xarray.Dataset
         The Eq. 37 parameters ``q0``, ``s0``, ``s1``, ``qmax``, ``exponent`` and the fit residuals
         (:func:`roughstick.fit_self_affine`), plus the target moments ``m0``, ``m2``, ``m4``.
-        Evaluate the PSD with ``rs.self_affine_psd(q, s0=ds.s0, s1=ds.s1, q0=ds.q0, qmax=ds.qmax)``.
+        Evaluate the PSD with ``rs.surface.self_affine_psd(q, s0=ds.s0, s1=ds.s1, q0=ds.q0, qmax=ds.qmax)``.
 
     Notes
     -----

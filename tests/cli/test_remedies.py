@@ -119,7 +119,7 @@ def test_material_is_set_from_every_command_and_recorded(tmp_path, capsys):
 def _pixel_message(h, rh=0.05):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        rs.warn_if_unresolved(h, relative_humidity=rh)
+        rs.contact.warn_if_unresolved(h, relative_humidity=rh)
     (w,) = [w for w in caught if issubclass(w.category, rs.PixelResolutionWarning)]
     return str(w.message)
 
@@ -137,8 +137,8 @@ def test_the_pixel_warning_asks_for_finer_data_only_where_they_can_be_had(tmp_pa
     msg = _pixel_message(coarse)
     assert "a scan with finer pixels is the remedy" in msg and "where none can be made" in msg
     msg = _pixel_message(gen)  # generated: the spacing that makes the neck 3 pixels wide
-    neck = float(rs.surface_groups(gen, relative_humidity=0.05).neck_pixels)
-    assert f"spacing={neck * 5e-9 / rs.RESOLVED_NECK_PIXELS:.2g} or finer" in msg
+    neck = float(rs.contact.surface_groups(gen, relative_humidity=0.05).neck_pixels)
+    assert f"spacing={neck * 5e-9 / rs.contact.RESOLVED_NECK_PIXELS:.2g} or finer" in msg
     # from `roughstick curves` the same check is its --resolution flag
     rs.io.netcdf.write(fine.to_dataset(name="height"), tmp_path / "afm.nc", compute=True)
     assert main(["curves", str(tmp_path / "afm.nc"), "--rh", "0.05", "--model", "fft_bem",

@@ -60,7 +60,7 @@ def test_sphere_adhesive_energy_matches_integral_of_eq9():
     h = sphere_topography(R, n=121, spacing=dx)
     hw = float(rs.contact.water_height(rh))
     dp = float(rs.contact.laplace_pressure(rh))
-    K = rs.hertz_modulus()
+    K = rs.materials.hertz_modulus()
     top = float(h.max() - h.mean())
     d = top - np.linspace(-hw - 0.2e-9, 0.3e-9, 400)
     c = rs.contact.curves(h, relative_humidity=rh, distance=d)

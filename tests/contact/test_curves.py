@@ -16,7 +16,7 @@ import roughstick as rs
 def s1a_crop():
     """A 256² crop of the bundled S1A map (5 nm pixels), levelled."""
     h = rs.datasets.load_sample("S1A").isel(x=slice(0, 256), y=slice(0, 256))
-    return rs.level(h, method="plane")
+    return rs.surface.level(h, method="plane")
 
 
 def test_gw_same_result_whichever_entry_point(s1a_crop):
@@ -31,7 +31,7 @@ def test_gw_same_result_whichever_entry_point(s1a_crop):
     direct = rs.contact.gw_curves(s1a_crop, relative_humidity=rh, distance=d, apparent_area=area)
     xr.testing.assert_identical(via_dispatch.pressure, direct.pressure)
     # the default estimator is the paper's Table 2 one (cubic splines), which §3.4.2 feeds to GW
-    from_moments = rs.contact.gw_curves(rs.roughness_moments(s1a_crop, method="spline"),
+    from_moments = rs.contact.gw_curves(rs.surface.roughness_moments(s1a_crop, method="spline"),
                                         relative_humidity=rh, distance=d, apparent_area=area)
     xr.testing.assert_identical(direct.pressure, from_moments.pressure)
     gamma = rs.contact.summary(direct).adhesive_energy
@@ -48,9 +48,9 @@ def test_spectral_moments_with_the_paper_cutoff_match_the_spline_ones(s1a_crop):
     # without the cutoff the periodogram of a non-periodic map inflates m4 (edge discontinuity)
     # (the paper's periodogram has no window: window=None; the default Hann window needs no
     # cutoff: tests/surface/test_spectrum.py::test_default_window_for_measured_scans)
-    spline = rs.roughness_moments(s1a_crop, method="spline")
-    cut = rs.roughness_moments(s1a_crop, method="spectral", qmax=289e6, window=None)
-    raw = rs.roughness_moments(s1a_crop, method="spectral", window=None)
+    spline = rs.surface.roughness_moments(s1a_crop, method="spline")
+    cut = rs.surface.roughness_moments(s1a_crop, method="spectral", qmax=289e6, window=None)
+    raw = rs.surface.roughness_moments(s1a_crop, method="spectral", window=None)
     assert float(cut.m0) == pytest.approx(float(spline.m0), rel=0.01)
     assert float(cut.m2) == pytest.approx(float(spline.m2), rel=0.08)
     assert float(cut.m4) == pytest.approx(float(spline.m4), rel=0.03)
@@ -59,8 +59,8 @@ def test_spectral_moments_with_the_paper_cutoff_match_the_spline_ones(s1a_crop):
 
 def test_map_moments_refuse_cutoff_with_splines_and_options_with_a_dataset(s1a_crop):
     with pytest.raises(ValueError, match="method='spectral' only"):
-        rs.roughness_moments(s1a_crop, qmax=289e6)
-    m = rs.roughness_moments(s1a_crop)
+        rs.surface.roughness_moments(s1a_crop, qmax=289e6)
+    m = rs.surface.roughness_moments(s1a_crop)
     with pytest.raises(ValueError, match="moments were given as a Dataset"):
         rs.contact.gw_curves(m, relative_humidity=0.5, distance=[0.0, 1e-9], moment_method="spectral")
 

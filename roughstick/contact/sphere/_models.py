@@ -238,7 +238,7 @@ def transition_parameter(
 
     Examples
     --------
-    >>> lam = rs.transition_parameter(radius=[100e-9, 800e-9], relative_humidity=[0.3, 0.5, 0.7])
+    >>> lam = rs.contact.transition_parameter(radius=[100e-9, 800e-9], relative_humidity=[0.3, 0.5, 0.7])
     >>> lam.round(3).values
     array([[0.085, 0.049, 0.021],
            [0.169, 0.097, 0.043]])

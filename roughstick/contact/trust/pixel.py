@@ -86,12 +86,12 @@ def warn_if_unresolved(
     Examples
     --------
     >>> h = rs.datasets.surface_family("S1", shape=(64, 64), seed=0, n=1).isel(realization=0)
-    >>> rs.surface_groups(h, relative_humidity=[0.05, 0.9]).neck_pixels.round(1).values
+    >>> rs.contact.surface_groups(h, relative_humidity=[0.05, 0.9]).neck_pixels.round(1).values
     array([1.3, 7.5])
     >>> import warnings
     >>> with warnings.catch_warnings(record=True) as w:
     ...     warnings.simplefilter("always")
-    ...     rs.warn_if_unresolved(h, relative_humidity=0.05), len(w)
+    ...     rs.contact.warn_if_unresolved(h, relative_humidity=0.05), len(w)
     (True, 1)
     """
     if groups is None:

@@ -148,7 +148,7 @@ def resolution_study(
     Examples
     --------
     >>> h = rs.generate_surfaces(rs.datasets.family_psd("table4"), n=1, shape=64, spacing=5e-9, seed=1)
-    >>> r = rs.resolution_study(h.isel(realization=0).compute(), relative_humidity=0.9)
+    >>> r = rs.contact.resolution_study(h.isel(realization=0).compute(), relative_humidity=0.9)
     >>> r.pixel_size.values * 1e9
     array([ 2.5,  5. , 10. ])
     """

@@ -219,7 +219,7 @@ def surface_groups(
     Examples
     --------
     >>> h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
-    >>> g = rs.surface_groups(h, relative_humidity=[0.3, 0.9])
+    >>> g = rs.contact.surface_groups(h, relative_humidity=[0.3, 0.9])
     >>> sorted(g.data_vars)[:3]
     ['corr_over_L', 'dp_over_E', 'hw_over_sigma']
     """

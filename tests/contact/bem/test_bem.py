@@ -45,7 +45,7 @@ def test_hertz_sphere_within_one_percent():
     area = (n * dx) ** 2
     force = ds.pressure.values * area
     delta = ds.max_interference.values
-    K = rs.hertz_modulus()
+    K = rs.materials.hertz_modulus()
     np.testing.assert_allclose(force, K * np.sqrt(R) * delta**1.5, rtol=0.01)
     # contact radius a^2 = R delta (pixelated: a is 5-12 pixels here)
     a = np.sqrt(ds.contact_fraction.values * area / np.pi)

@@ -39,7 +39,7 @@ def test_hertz_sphere_within_one_percent():
     area = (n * dx) ** 2
     force = ds.pressure.values * area
     delta = ds.max_interference.values
-    K = rs.hertz_modulus()
+    K = rs.materials.hertz_modulus()
     np.testing.assert_allclose(force, K * np.sqrt(R) * delta**1.5, rtol=0.01)
     a = np.sqrt(ds.contact_fraction.values * area / np.pi)
     np.testing.assert_allclose(a, np.sqrt(R * delta), rtol=0.04)
@@ -54,7 +54,7 @@ def test_loose_tolerance_keeps_hertz_within_one_percent():
     d = float(h.max()) - np.array([0.1e-9, 0.2e-9, 0.4e-9])
     ds = rs.contact.fft_bem_curves(h, relative_humidity=0.3, distance=d, adhesion=False)
     force = ds.pressure.values * (n * dx) ** 2
-    K = rs.hertz_modulus()
+    K = rs.materials.hertz_modulus()
     np.testing.assert_allclose(force, K * np.sqrt(R) * ds.max_interference.values**1.5, rtol=0.01)
 
 

@@ -78,8 +78,8 @@ def test_joint_density_normalised_and_nayak_moments(alpha, measure):
 
 def test_summit_density_value():
     # N = m4 / (6 pi sqrt(3) m2) = 5.08e-4 / (6 pi sqrt 3 * 0.040) nm-2
-    assert float(rs.summit_density(S1)) == pytest.approx(5.08e-4 / (6 * np.pi * np.sqrt(3) * 0.04) * 1e18)
-    assert rs.summit_density(S1).attrs["units"] == "m-2"
+    assert float(rs.surface.summit_density(S1)) == pytest.approx(5.08e-4 / (6 * np.pi * np.sqrt(3) * 0.04) * 1e18)
+    assert rs.surface.summit_density(S1).attrs["units"] == "m-2"
 
 
 def gaussian_field(rng, n, dx, q0, sigma):
@@ -126,7 +126,7 @@ def monte_carlo():
         H.append(h)
         R.append(r)
         h_map = rs.testing.make_topography(z, spacing=dx, periodic=True)
-        mom.append(rs.roughness_moments(h_map, method="spectral"))
+        mom.append(rs.surface.roughness_moments(h_map, method="spectral"))
     m = xr.concat(mom, "r").mean("r")
     for k in m:
         m[k].attrs = mom[0][k].attrs
@@ -138,7 +138,7 @@ def test_monte_carlo_summits_match_nayak(monte_carlo):
     m0, m2, m4 = (float(m[k]) for k in ("m0", "m2", "m4"))
     alpha = m0 * m4 / m2**2
     assert alpha == pytest.approx(3.0, rel=0.02)  # Gaussian PSD: alpha = 3
-    count = float(rs.summit_density(m)) * area
+    count = float(rs.surface.summit_density(m)) * area
     assert H.size == pytest.approx(count, rel=0.04)  # ~4300 summits
     assert H.mean() / np.sqrt(m0) == pytest.approx(4 / np.sqrt(np.pi * alpha), abs=0.04)
     assert H.var() / m0 == pytest.approx(1 - 0.8968 / alpha, abs=0.04)
@@ -149,7 +149,7 @@ def test_monte_carlo_force_sum_matches_quadrature(monte_carlo):
     H, R, m, area = monte_carlo
     t = 1 / R / np.sqrt(float(m["m4"]))
     sel = (t > 0.1) & (t < 2.5)
-    K = rs.hertz_modulus()
+    K = rs.materials.hertz_modulus()
     dP, hw = abs(float(rs.contact.laplace_pressure(0.9))), float(rs.contact.water_height(0.9))
     d = np.linspace(0, 25 * NM, 26)
     direct = np.array(
@@ -181,8 +181,8 @@ def test_hertz_equals_classical_gw_integral():
     sigma = 3.0 * NM
     d = np.array([-1.0, 0.0, 1.0, 2.0, 3.0, 4.0]) * sigma
     out = rs.contact.gw_curves(ds, relative_humidity=0.5, distance=d, sphere_model="hertz")
-    N = float(rs.summit_density(ds))
-    K = rs.hertz_modulus()
+    N = float(rs.surface.summit_density(ds))
+    K = rs.materials.hertz_modulus()
 
     def rho_t(t):
         return 4.5 * t**3 * np.exp(-0.75 * t**2) * special.erfcx(1.5 * t)
@@ -369,7 +369,7 @@ def test_height_map_input():
     rng = np.random.default_rng(0)
     z, _, _ = gaussian_field(rng, 128, 5 * NM, q0=0.2 / (5 * NM), sigma=3 * NM)
     h = rs.testing.make_topography(z, spacing=5 * NM, periodic=True)
-    m = rs.roughness_moments(h, method="spectral")
+    m = rs.surface.roughness_moments(h, method="spectral")
     assert float(m.m0) == pytest.approx(z.var(), rel=1e-12)  # Parseval
     d = np.linspace(0, 20, 21) * NM
     a = rs.contact.gw_curves(h, relative_humidity=0.7, distance=d, moment_method="spectral")
@@ -377,7 +377,7 @@ def test_height_map_input():
     xr.testing.assert_allclose(a.pressure, b.pressure)
     # the default estimator of a map's moments is the paper's (Table 2 cubic splines)
     c = rs.contact.gw_curves(h, relative_humidity=0.7, distance=d)
-    e = rs.contact.gw_curves(rs.roughness_moments(h, method="spline"), relative_humidity=0.7, distance=d)
+    e = rs.contact.gw_curves(rs.surface.roughness_moments(h, method="spline"), relative_humidity=0.7, distance=d)
     xr.testing.assert_allclose(c.pressure, e.pressure)
     bad = h.copy()
     bad[3, 4] = np.nan
@@ -504,7 +504,7 @@ def test_automatic_grid_spans_onset_to_repulsion(family, rms, rh):
     assert np.all(np.abs(p[:, -1]) <= 1e-4 * pull)
     assert np.all(p[:, 0] > 0) and np.all(s.equilibrium_distance.values > d[0])
     # the same as a dense grid spanning everything from all summits in contact to dry
-    sigma = float(np.sqrt(rs.roughness_moments(h).m0))
+    sigma = float(np.sqrt(rs.surface.roughness_moments(h).m0))
     top = 10.5 * sigma + float(rs.contact.water_height(max(rh)))
     ref = rs.contact.summary(rs.contact.gw_curves(
         h, relative_humidity=rh, apparent_area=area,
@@ -524,7 +524,7 @@ def test_automatic_grid_other_models_and_cutoff(kwargs):
     assert np.all(p[:, -1] == pytest.approx(0.0, abs=1e-4 * np.abs(p).max()))
     assert np.all(p[:, 0] > 0)  # reaches contact
     if kwargs.get("height_cutoff"):  # nothing above the cutoff summits and their water
-        sigma = float(np.sqrt(rs.roughness_moments(h).m0))
+        sigma = float(np.sqrt(rs.surface.roughness_moments(h).m0))
         assert d[-1] <= 2.5 * sigma + float(rs.contact.water_height(0.9)) + 1e-12
 
 

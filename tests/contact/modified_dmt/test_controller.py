@@ -41,15 +41,15 @@ def family_surface(name, *, shape, seed):
         a = xr.open_dataset(DATA / f"{name}A.nc").attrs
         p = dict(s0=a["psd_s0"], s1=a["psd_s1"], q0=a["psd_q0"], qmax=a["psd_qmax"])
     elif name == "table4":
-        c = rs.cantilever_psd()
+        c = rs.stiction.cantilever_psd()
         p = dict(s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
     else:
         qmax, q0, hurst = 289e6, 2e7, 0.8
         ratio = (qmax / q0) ** (-2.0 * (1.0 + hurst))
-        m0 = float(rs.self_affine_moments(s0=1.0, s1=ratio, q0=q0, qmax=qmax).m0)
+        m0 = float(rs.surface.self_affine_moments(s0=1.0, s1=ratio, q0=q0, qmax=qmax).m0)
         s0 = (2e-9) ** 2 / m0
         p = dict(s0=s0, s1=s0 * ratio, q0=q0, qmax=qmax)
-    ens = rs.generate_surfaces(lambda q: rs.self_affine_psd(q, **p), n=1, shape=shape,
+    ens = rs.generate_surfaces(lambda q: rs.surface.self_affine_psd(q, **p), n=1, shape=shape,
                                spacing=5e-9, seed=seed)
     return ens.isel(realization=0).compute()
 

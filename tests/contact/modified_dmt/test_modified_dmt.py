@@ -31,7 +31,7 @@ def sphere_mdmt(delta, R, K, hw, dp):
 def test_single_sphere_reproduces_sphere_modified_dmt():
     R, dx = 500e-9, 1e-9
     h = sphere_topography(R, n=141, spacing=dx)
-    K = rs.hertz_modulus()
+    K = rs.materials.hertz_modulus()
     top = float(h.max() - h.mean())
     d = top - np.linspace(-1.0e-9, 2.5e-9, 15)
     ds = rs.contact.curves(h, relative_humidity=[0.5, 0.7], distance=d)

@@ -59,8 +59,8 @@ def _curves(h, model):
 
 
 _ENTRY_POINTS = {
-    "power_spectrum": lambda h: rs.power_spectrum(h),
-    "roughness_moments": lambda h: rs.roughness_moments(h),
+    "power_spectrum": lambda h: rs.surface.power_spectrum(h),
+    "roughness_moments": lambda h: rs.surface.roughness_moments(h),
     "surface_groups": lambda h: rs.contact.surface_groups(h, relative_humidity=0.5),
     "modified_dmt_curves": lambda h: rs.contact.modified_dmt_curves(h, relative_humidity=0.5),
     **{f"rough_contact_curves[{m}]": functools.partial(_curves, model=m)

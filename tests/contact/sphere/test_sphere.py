@@ -9,7 +9,7 @@ import roughstick as rs
 from roughstick.contact.sphere import _kernels as k
 from roughstick.testing import assert_units, raise_if_dask_computes
 
-KPS = rs.hertz_modulus()  # 115.4 GPa
+KPS = rs.materials.hertz_modulus()  # 115.4 GPa
 MODELS = ["hertz", "jkr", "dmt", "maugis", "modified_dmt"]
 ADHESIVE = ["jkr", "dmt", "maugis", "modified_dmt"]
 
@@ -282,7 +282,7 @@ def test_units_are_converted():
     a = rs.contact.sphere_force(1e-9, sphere_model="hertz", radius=100e-9)
     b = rs.contact.sphere_force(
         xr.DataArray(1.0, attrs={"units": "nm"}), sphere_model="hertz", radius=xr.DataArray(0.1, attrs={"units": "um"}),
-        reduced_modulus=xr.DataArray(rs.reduced_modulus() / 1e9, attrs={"units": "GPa"}),
+        reduced_modulus=xr.DataArray(rs.materials.reduced_modulus() / 1e9, attrs={"units": "GPa"}),
     )
     assert float(b) == pytest.approx(float(a), rel=1e-12)
 

@@ -41,7 +41,7 @@ CASES = _cases()
 
 
 def _material(e_star):
-    if np.isclose(e_star, rs.reduced_modulus(), rtol=1e-9):
+    if np.isclose(e_star, rs.materials.reduced_modulus(), rtol=1e-9):
         return rs.POLYSILICON
     nu = rs.POLYSILICON.poisson_ratio
     return rs.Material(youngs_modulus=2 * (1 - nu**2) * e_star, poisson_ratio=nu, name="soft")

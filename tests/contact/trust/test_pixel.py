@@ -95,7 +95,7 @@ def test_a_stack_is_judged_by_its_worst_map_and_a_lazy_one_is_not_computed():
 
 
 def test_an_ensemble_is_warned_once_before_its_graph_from_the_psd():
-    psd = rs.self_affine_psd(np.geomspace(1e5, 1e10, 2000), **rs.datasets.family_parameters("S1"))
+    psd = rs.surface.self_affine_psd(np.geomspace(1e5, 1e10, 2000), **rs.datasets.family_parameters("S1"))
     ds, said = _pixel_warnings(rs.ensemble.run, psd, n=2, shape=(32, 32), spacing=5e-9,
                                relative_humidity=[0.05, 0.9])
     expected = rs.contact.expected_surface_groups(psd, shape=(32, 32), spacing=5e-9, relative_humidity=[0.05, 0.9])

@@ -35,7 +35,7 @@ def test_surface_groups_of_a_sinusoid_match_closed_forms():
     slope = a * q * np.sinc(q * dx / (2 * np.pi)) / np.sqrt(2)
     assert float(g.rms_slope) == pytest.approx(slope, rel=2 / n)
     hw, dp = float(rs.contact.water_height(0.7)), abs(float(rs.contact.laplace_pressure(0.7)))
-    e_star = rs.reduced_modulus()
+    e_star = rs.materials.reduced_modulus()
     assert float(g.hw_over_sigma) == pytest.approx(hw / sigma, rel=1e-9)
     assert float(g.dp_over_E) == pytest.approx(dp / e_star, rel=1e-12)
     assert float(g.pressure_ratio) == pytest.approx(dp / (e_star * slope), rel=2 / n)
