@@ -13,7 +13,7 @@ a wheel install runs the demo on the same data as a checkout.
   families the accuracy and speed of the contact models are measured on (below;
   docs/accuracy.md);
 - :func:`validity_map_path`: the measured model-error table read by
-  :func:`roughstick.validity_map`;
+  :func:`roughstick.contact.validity_map`;
 - :func:`example_configs`: the example TOML configurations of ``roughstick run``, ``risk`` and
   ``beam`` (``examples/*.toml`` of the repository; ``roughstick examples --out DIR`` copies them).
 

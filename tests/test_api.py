@@ -104,3 +104,19 @@ def test_every_name_of_the_flat_api_still_works_or_names_its_new_home():
         with pytest.warns(DeprecationWarning, match=r"is now roughstick\." + RENAMED[name].replace(".", r"\.")):
             obj = getattr(rs, name)
         assert obj is not None
+
+
+def test_readme_docs_and_notebooks_use_only_the_new_names():
+    """What a newcomer reads calls the namespaced API, not an old name that only forwards."""
+    import pathlib
+    import re
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    forwarded = sorted((n for n in RENAMED if n not in vars(rs)), key=len, reverse=True)
+    pattern = re.compile(r"\brs\.(" + "|".join(forwarded) + r")\b")
+    places = [root / "README.md", *sorted((root / "docs").rglob("*.md")),
+              *sorted((root / "notebooks").glob("_build_*.py")), *sorted((root / "examples").glob("*.py"))]
+    found = [f"{p.relative_to(root)}:{i}: rs.{m.group(1)}"
+             for p in places if "_build" not in p.parent.name
+             for i, line in enumerate(p.read_text().splitlines(), 1) for m in pattern.finditer(line)]
+    assert not found, "old names (use the new home, roughstick/_renamed.py):\n" + "\n".join(found)

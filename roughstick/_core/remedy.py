@@ -81,7 +81,7 @@ def _default(setting: str) -> Callable:
     if setting == "spacing":
         return argument("spacing", fmt=lambda v: f"{v:.2g}")
     if setting == "resolution":
-        return lambda value=None, **kw: ("roughstick.resolution_study(height, relative_humidity=...) "
+        return lambda value=None, **kw: ("roughstick.contact.resolution_study(height, relative_humidity=...) "
                                          "(the same map at half and twice the pixel)")
     raise KeyError(f"no remedy setting {setting!r}; known: {sorted(SETTINGS)}")
 

@@ -790,7 +790,7 @@ def adhesive_energy_values(energy, *, name: str = "bank", units_fix: str = "") -
     values = np.asarray(getattr(energy, "values", energy), dtype=float)
     if values.size == 0:
         raise ValueError(f"{name} holds no adhesive energy (size 0); build it with "
-                         "roughstick.build_patch_bank(..., n_law=1000).")
+                         "roughstick.beam.build_patch_bank(..., n_law=1000).")
     if np.isnan(values).any():
         raise ValueError(f"{name} has NaN adhesive energies: drop those laws ({name}.dropna('law'))")
     if np.isinf(values).any() or (values < 0).any():

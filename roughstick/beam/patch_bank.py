@@ -237,7 +237,7 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
     check = int(check_tail) if model == "modified_dmt" else 0
     spacing = as_length(spacing, name="spacing")
     if not isinstance(psd, xr.DataArray):
-        raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.self_affine_psd(q, ...)) "
+        raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.surface.self_affine_psd(q, ...)) "
                         f"so the cache can key on its values, got {type(psd).__name__}")
     shape = tuple(int(v) for v in shape)
     material = POLYSILICON if material is None else material

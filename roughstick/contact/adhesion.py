@@ -186,7 +186,7 @@ def adhesive_energy_kernel(pressure, distance):
 
 def summary_kernel(p, wet, d, from_equilibrium=True):
     """:func:`summary` on numpy arrays, without checks (for callers that evaluate
-    thousands of curves, e.g. :func:`roughstick.failure_probability`).
+    thousands of curves, e.g. :func:`roughstick.reliability.failure_probability`).
 
     Parameters
     ----------

@@ -101,7 +101,7 @@ def distance_grid(
     relative_humidity : sequence of float
         Humidities (fractions) of the run.
     adsorbed_layer : {"paper", "none"} or callable
-        Adsorbed-layer model (:func:`roughstick.water_height`).
+        Adsorbed-layer model (:func:`roughstick.contact.water_height`).
     m0 : float, optional
         Height variance [m2], instead of ``psd``.
     n_distance : int, optional
@@ -273,7 +273,7 @@ def _curves_self_extending(spec, hk, rh, grid, top, bottom, *, extend=True):
     up to it (Γ of Eq. 13 integrates the attraction from there). Below: if a humidity's curve has
     no stable zero crossing (repulsive below, attractive above) on the grid, levels are added down
     to the lowest pixel. Equilibrium and Γ are then decided on the separation path (the outermost
-    stable crossing, :func:`roughstick.adhesion_summary`); a curve attractive again deep in
+    stable crossing, :func:`roughstick.contact.summary`); a curve attractive again deep in
     contact is reported (``attractive_at_floor``), not an error; so is a curve that never turns
     repulsive even at the lowest pixel (the surfaces would collapse into full contact: no
     equilibrium, ``equilibrium_distance`` NaN, Γ a lower bound). With ``extend=False`` (summaries
@@ -315,7 +315,7 @@ def _curves_self_extending(spec, hk, rh, grid, top, bottom, *, extend=True):
 OWN_GRID_NOTE = (
     "adhesive_energy, pull_off_pressure, equilibrium_distance and the other summaries of each "
     "(realization, rh) come from that map's own automatic distance grid at that humidity alone "
-    "(roughstick.contact_distance_grid), so they do not depend on the other humidities, on n or "
+    "(roughstick.contact.contact_distance_grid), so they do not depend on the other humidities, on n or "
     "on the chunks; the stored curves are on the common distance grid (extended per realization "
     "where it fell short: grid_extension)")
 

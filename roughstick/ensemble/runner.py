@@ -79,14 +79,14 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, model, accura
                 warn=True):
     """Choose and check the contact model once per run, before the graph and without computing a
     surface. Returns ``(model, model_selection)``: the model every realization runs (``"auto"``
-    resolved by :func:`roughstick.select_model` on the groups expected from the PSD) and, for
+    resolved by :func:`roughstick.contact.select_model` on the groups expected from the PSD) and, for
     ``"auto"``, why.
 
     With ``warn`` (the default surfaces): generated surfaces larger than the PSD's scan
     (ExtrapolatedPSDWarning) and the measured validity of the model actually used at the groups
     expected from the PSD (ValidityWarning, docs/accuracy.md; none for the reference ``"bem"``
     nor for ``"auto"``, whose choice meets the accuracy), and whether the pixel resolves the
-    water necks (:func:`roughstick.warn_if_unresolved`; not for ``"gw"``). Blocks then compute
+    water necks (:func:`roughstick.contact.warn_if_unresolved`; not for ``"gw"``). Blocks then compute
     without warnings.
     """
     model = DEFAULT_MODEL if model is None else model
@@ -110,7 +110,7 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, model, accura
         selection = (
             f"auto -> {model} for every realization, chosen once for the ensemble from the "
             f"surface groups expected from the PSD at shape {tuple(shape)} "
-            f"(roughstick.expected_surface_groups), not per map: {reason}")
+            f"(roughstick.contact.expected_surface_groups), not per map: {reason}")
         # said before any surface is computed, with what one surface will cost
         logging.getLogger("roughstick").info(
             f"{selection.split(': ', 1)[0]}: estimated "
@@ -132,7 +132,7 @@ PYTHON_SPELLING = {
         f"model={v!r}" + ("" if (accuracy if accuracy is not None else tolerance) is None
                           else f", accuracy={accuracy if accuracy is not None else tolerance!r}")),
     "spacing": argument("spacing", fmt=lambda v: f"{v:.2g}"),
-    "resolution": lambda v=None, **kw: ("roughstick.resolution_study(psd=psd, shape=shape, spacing=spacing, "
+    "resolution": lambda v=None, **kw: ("roughstick.contact.resolution_study(psd=psd, shape=shape, spacing=spacing, "
                                         "relative_humidity=...) (a generated surface at half and twice the pixel)"),
 }
 
@@ -199,7 +199,7 @@ def run(
         The contact model every realization runs (default ``"modified_dmt"``; ``"bem"`` needs the
         Tamaas extra). ``"auto"`` is resolved once for the whole ensemble, before the graph is
         built, as the cheapest model whose measured error bound at the surface groups expected
-        from the PSD (:func:`roughstick.expected_surface_groups`) meets ``accuracy`` at every
+        from the PSD (:func:`roughstick.contact.expected_surface_groups`) meets ``accuracy`` at every
         humidity. The model run is ``attrs["contact_model"]``; for ``"auto"`` the reason is
         ``attrs["model_selection"]``.
     accuracy : float, optional

@@ -33,7 +33,7 @@ def _coord(name, values, units, long_name):
 
 
 def table1() -> xr.Dataset:
-    """Table 1 computed by :func:`roughstick.sphere_adhesive_energy` next to the printed values."""
+    """Table 1 computed by :func:`roughstick.contact.sphere_adhesive_energy` next to the printed values."""
     radius = xr.DataArray(RADII, dims="radius", coords={"radius": RADII}, attrs={"units": "m"})
     rh = xr.DataArray(RHS, dims="rh", coords={"rh": RHS}, attrs={"units": "1"})
     computed = xr.concat(

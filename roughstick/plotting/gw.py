@@ -22,7 +22,7 @@ def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
     Parameters
     ----------
     study : xarray.Dataset
-        Output of :func:`roughstick.gw_cutoff_study`: ``pressure`` over
+        Output of :func:`roughstick.contact.gw_cutoff_study`: ``pressure`` over
         ``(height_cutoff, rh, distance)`` (``height_cutoff`` in units of √m0, ``inf`` = none).
     rh : sequence of float, optional
         Humidities to draw curves for (one panel each); default: the lowest and highest.
@@ -43,7 +43,7 @@ def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
 
     p = study["pressure"]
     if "height_cutoff" not in p.dims:
-        raise ValueError("study must have a 'height_cutoff' dimension: use roughstick.gw_cutoff_study.")
+        raise ValueError("study must have a 'height_cutoff' dimension: use roughstick.contact.gw_cutoff_study.")
     if "rh" not in p.dims:
         p = p.expand_dims(rh=[np.nan])
     rh_all = p["rh"].values

@@ -45,7 +45,7 @@ class NoiseToSurface:
     r"""Map a standard-normal field ``w`` of shape ``(ny, nx)`` to a surface with the PSD.
 
     :math:`z = \mathcal F^{-1}[\sqrt{P(\mathbf q)}\,\mathcal F_{\rm ortho}[w]]` with ``P`` the
-    power of each mode of :func:`roughstick.surface_filter` (its sum is the height variance) and
+    power of each mode of :func:`roughstick.surface.surface_filter` (its sum is the height variance) and
     the mean mode removed: a circulant (periodic) Gaussian field with exactly the PSD of
     Eqs. 33-34, whose random input is the white noise ``w`` itself. A pCN move on ``w`` keeps
     ``w`` standard normal, hence the surface's law. (Equal in law to ``generate_surfaces``, not
@@ -84,13 +84,13 @@ class SurfaceResponse:
     down by ``h_water / points_per_water_height`` to ``lower * sqrt(m0)``, then by blocks of
     ``extend * sqrt(m0)`` until the curve has an equilibrium (or the flat is below every pixel).
     A conditioned (rare) surface never falls off a grid made for typical ones. Γ and the
-    pull-off are taken from the equilibrium outwards (:func:`roughstick.adhesion_summary`).
+    pull-off are taken from the equilibrium outwards (:func:`roughstick.contact.summary`).
     ``patches > 1`` cuts the surface into that many strips along ``y`` evaluated alone (not
     periodic) and returns the largest response: a weakest-link structure simulated directly.
     ``model="fft_bem"`` evaluates the periodic zone with
-    :func:`roughstick.fft_bem_contact_curves` on its own automatic grid instead (docs/rare_events.md
+    :func:`roughstick.contact.fft_bem_curves` on its own automatic grid instead (docs/rare_events.md
     for its cost). ``water_height`` is :math:`h_{water}` at this RH with
-    this ``adsorbed_layer`` (:func:`roughstick.water_height`): Eq. 16 takes it as given.
+    this ``adsorbed_layer`` (:func:`roughstick.contact.water_height`): Eq. 16 takes it as given.
     """
 
     def __init__(self, to_surface, *, relative_humidity, quantity="adhesive_energy",

@@ -11,7 +11,7 @@ and the summit forces are summed with the joint density of summit height and cur
 
 Functions
 ---------
-:func:`roughstick.summit_density`
+:func:`roughstick.surface.summit_density`
     :math:`N` from a moments Dataset (in :mod:`roughstick.surface.moments`).
 :func:`summit_joint_density`
     The joint density :math:`\rho(h, \kappa)` of summit height and curvature.
@@ -274,7 +274,7 @@ def _as_moments(moments, moment_method, qmax) -> xr.Dataset:
             )
         return moments
     raise TypeError(
-        "moments must be an xarray.Dataset with m0, m2, m4 (e.g. from roughstick.fit_self_affine) "
+        "moments must be an xarray.Dataset with m0, m2, m4 (e.g. from roughstick.surface.fit_self_affine) "
         f"or a height DataArray (y, x); got {type(moments).__name__}."
     )
 
@@ -511,7 +511,7 @@ def gw_curves(
         models that solve equations per point ("dmt", "maugis"), at a relative error of about
         1e-4 in the adhesive energy.
     moment_method : {"spline", "spectral"}, default "spline"
-        Estimator of the moments of a height map (:func:`roughstick.roughness_moments`):
+        Estimator of the moments of a height map (:func:`roughstick.surface.roughness_moments`):
         ``"spline"``, the variances of cubic-spline derivatives of the paper's Table 2, which its
         §3.4.2 feeds to GW (Fig. 10); or ``"spectral"``, the periodogram moments of Table 3.
         A moments Dataset takes neither this nor ``qmax`` (``ValueError``).

@@ -50,7 +50,7 @@ def kernel(z, distance, *, water_height, laplace_pressure, spacing, hertz_modulu
            connectivity=4):
     r""":func:`modified_dmt_curves` (Eq. 16) of one eager map on numpy arrays, without checks.
 
-    For callers that evaluate thousands of maps (:func:`roughstick.failure_probability`): the
+    For callers that evaluate thousands of maps (:func:`roughstick.reliability.failure_probability`): the
     same compiled kernel and the same numbers as :func:`modified_dmt_curves`, without building
     a Dataset per map (which costs several times the kernel on a 128 x 128 map).
 
@@ -66,7 +66,7 @@ def kernel(z, distance, *, water_height, laplace_pressure, spacing, hertz_modulu
     spacing : tuple of float
         Pixel sizes ``(dy, dx)`` [m].
     hertz_modulus : float
-        :math:`K` [Pa] (:func:`roughstick.hertz_modulus`).
+        :math:`K` [Pa] (:func:`roughstick.materials.hertz_modulus`).
     periodic : bool
         Asperities connect across the map edges.
     connectivity : {4, 8}, default 4

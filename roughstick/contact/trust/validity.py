@@ -294,14 +294,14 @@ def expected_surface_groups(
 ) -> xr.Dataset:
     r"""The groups of :func:`surface_groups` expected over surfaces generated from a PSD.
 
-    No surface is generated: the PSD on the target grid (:func:`roughstick.surface_filter`,
+    No surface is generated: the PSD on the target grid (:func:`roughstick.surface.surface_filter`,
     Eqs. 33-34) gives each estimator's expectation, with the forward-difference transfer
     functions the map estimators use: :math:`\sigma^2 = \sum w`,
     :math:`\langle|\nabla z|^2\rangle = \sum w\,(k_x^2 + k_y^2)`,
     :math:`m_4 = \tfrac12\sum w\,(k_x^4 + k_y^4)` with
     :math:`k = 2\sin(q\Delta/2)/\Delta` and :math:`w` the variance of each mode; the 1/e
     correlation length from :math:`\sum w\cos(q_x\ell)`. This is how an ensemble is checked
-    once, before its graph is built (:func:`roughstick.run_ensemble`).
+    once, before its graph is built (:func:`roughstick.ensemble.run`).
 
     Parameters
     ----------
