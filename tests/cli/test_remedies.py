@@ -55,6 +55,22 @@ def test_run_takes_the_contact_model_its_warnings_name_and_says_it_in_config_key
     assert "It is now 'model': write model = ... instead" in capsys.readouterr().err
 
 
+def test_the_console_script_spells_the_remedies_as_config_keys_too(tmp_path):
+    """Run as a program the command computes in its own thread (so that Ctrl-C ends it at once);
+    its warnings still name the configuration keys, not the Python arguments."""
+    import os
+    import subprocess
+    import sys
+
+    cfg = _run_cfg(tmp_path, "plain")
+    res = subprocess.run([sys.executable, "-m", "roughstick.cli", "run", str(cfg)], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=300,
+                         env={**os.environ, "CI": "true", "MPLBACKEND": "Agg"})
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert 'Remedy: [ensemble] model = "auto" picks the cheapest model' in res.stderr
+    assert "model='" not in res.stderr and "spacing=" not in res.stderr
+
+
 def test_python_callers_get_their_own_arguments_named():
     """The same warnings from Python name the argument of the function called."""
     psd = rs.surface.self_affine_psd(np.geomspace(1e5, 3e9, 300), s0=1e-36, s1=1e-37, q0=1e7, qmax=2.9e8)
