@@ -128,3 +128,16 @@ def test_configuration_page_lists_every_key_of_the_schema():
         for table, fields in tables.items():
             for key in fields:
                 assert f"| `{key}` |" in text, (command, table, key)
+
+
+def test_the_readme_python_block_runs_on_the_current_api(capsys):
+    """The README's "From Python" example runs as printed, with no name that only forwards."""
+    import warnings
+
+    text = (ROOT / "README.md").read_text()
+    code = re.search(r"## From Python\n\n```python\n(.*?)```", text, flags=re.S).group(1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        warnings.simplefilter("error", DeprecationWarning)
+        exec(compile(code, "README.md", "exec"), {})
+    assert "95% band" in capsys.readouterr().out
