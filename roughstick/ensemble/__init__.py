@@ -7,10 +7,12 @@ and :func:`ecdf` reduce a sample with its own uncertainty.
 
 Modules: :mod:`.pipeline` (one block, the lazy layout, :func:`distance_grid`), :mod:`.store`
 (the ensemble folder), :mod:`.execute` (threads or a cluster, auto-n), :mod:`.runner`
-(:func:`run`, :func:`surface_size_study`), :mod:`.statistics` and :mod:`.distributions`.
+(:func:`run`, :func:`surface_size_study`), :mod:`.statistics` and :mod:`.distributions`, :mod:`.multifidelity` (a cheap model on every
+realization corrected by an accurate one on a seeded subset).
 """
 
 from .distributions import ecdf, histogram
+from .multifidelity import accurate_subset, accurate_subset_size, multifidelity_band
 from .pipeline import distance_grid
 from .runner import run, surface_size_study
 from .statistics import (
@@ -34,4 +36,7 @@ __all__ = [
     "binomial_interval",
     "histogram",
     "ecdf",
+    "multifidelity_band",
+    "accurate_subset",
+    "accurate_subset_size",
 ]

@@ -14,7 +14,9 @@ Willcox & Gunzburger 2018). For the accurate model's CDF at a threshold :math:`t
 where :math:`\tilde F_j` is the predicted distribution of realization :math:`j`'s accurate value
 from its cheap one (a line in log-log space fitted on the other folds of the subset, with their
 residuals), :math:`S_k` one fold of the accurate subset and :math:`P` the realizations outside
-the fitting folds. Each fold's estimate is unbiased whatever the predictor (cross-fitting: the
+the fitting folds; the fitting folds' own realizations enter with their accurate values (weight
+:math:`1 - |P|/N`, the formula above weight :math:`|P|/N`), so that exact predictions give
+exactly the distribution of the N accurate values. Each fold's estimate is unbiased whatever the predictor (cross-fitting: the
 predictor never sees the fold it is corrected on); the predictor only sets the variance. The
 estimate is averaged over folds; its variance is the two-phase one,
 
@@ -43,6 +45,10 @@ from .._core.references import cite
 
 __all__ = ["accurate_subset", "multifidelity_band", "accurate_subset_size"]
 
+#: Factor on the corrections' variance expected from a pilot: it leaves out the error of the
+#: fitted line and of the cross-fitting (measured on synthetic log-normal ensembles: with 1 the
+#: band edges were within the accuracy in 70-90 % of 40 seeds, with 2 in 90-100 %).
+PILOT_MARGIN = 2.0
 #: Spawn key of the subset's generator (apart from the realizations' own streams).
 _SUBSET_KEY = 0x6D66  # "mf"
 _REFERENCES = cite("peherstorfer2018", "sarndal1992", "woodruff1952")
@@ -124,7 +130,13 @@ def _cdf(x, z, parts, grid):
         bern += (cj * (1 - cj)).mean(axis=0)
         pred_fold = np.sort((a + b * x[members])[:, None] + e[None, :], axis=None)
         hi_fold = np.sort(z[members])
-        F += _ecdf(pooled, grid) + _ecdf(hi_fold, grid) - _ecdf(pred_fold, grid)
+        # the training members count with their own accurate values, the others with their
+        # predictions corrected by the fold: exact when the predictions are (no subsample of the
+        # realizations stands in for all of them)
+        w = pop.sum() / pop.size
+        train = np.sort(z[~pop])
+        F += (1 - w) * _ecdf(train, grid) + w * (_ecdf(pooled, grid) + _ecdf(hi_fold, grid)
+                                                 - _ecdf(pred_fold, grid))
         # each member's correction 1[z_i <= t] - F~_i(t)
         shift = grid[None, :] - (a + b * x[members])[:, None]
         Fi = np.searchsorted(e, shift, side="right") / e.size
@@ -149,7 +161,8 @@ def _mean(x, y, parts, logged: bool):
                 return a + b * v
         r = y[members] - predict(x[members])
         pred = predict(x[pop])
-        est += pred.mean() + r.mean()
+        w = pop.sum() / pop.size  # the training members count with their own accurate values
+        est += (1 - w) * y[~pop].mean() + w * (pred.mean() + r.mean())
         spread += pred.var(ddof=1) + r.var(ddof=1)
         resid.append(r)
     return est / len(parts), np.concatenate(resid), spread / len(parts)
@@ -303,37 +316,63 @@ def multifidelity_band(cheap: xr.DataArray, accurate: xr.DataArray, *, dim: str 
     return append_history(ds, f"multifidelity_band(confidence={confidence}, folds={folds})")
 
 
-def accurate_subset_size(cheap, accurate, *, accuracy: float, probabilities=(0.025, 0.5, 0.975),
-                         confidence: float = 0.95, folds: int = 5) -> int:
-    """How many accurate evaluations make the model correction of every quantile lie within
-    ``accuracy`` (relative, at ``confidence``), from a pilot subset (numpy arrays as in
-    :func:`multifidelity_kernel`). Capped at the number of realizations (then every one is run
-    with the accurate model)."""
+@check_numbers(n_total="count", accuracy="positive", confidence="fraction", folds="count")
+def accurate_subset_size(cheap, accurate, *, n_total: int, accuracy: float,
+                         probabilities=(0.025, 0.5, 0.975), confidence: float = 0.95,
+                         folds: int = 5) -> int:
+    """How many of ``n_total`` realizations must run the accurate model for the model correction
+    of every quantile to lie within ``accuracy`` (relative, at ``confidence``).
+
+    ``cheap``, ``accurate``: a pilot, both models on the same realizations (numpy, 1-D). The
+    spread of the corrections and the density at each quantile come from the pilot; the result is
+    at least the pilot's size and at most ``n_total`` (then every realization runs the accurate
+    model).
+
+    Examples
+    --------
+    >>> from roughstick.ensemble.multifidelity import accurate_subset_size
+    >>> rng = np.random.default_rng(0)
+    >>> lo = rng.lognormal(size=40)
+    >>> hi = lo * np.exp(0.02 * rng.normal(size=40))
+    >>> accurate_subset_size(lo, hi, n_total=3000, accuracy=0.05) < 3000
+    True
+    """
     lo = np.asarray(cheap, dtype=float)
     hi = np.asarray(accurate, dtype=float)
-    sub = np.flatnonzero(np.isfinite(hi))
-    N = lo.size
-    if sub.size < 4:
-        return min(N, 4 * max(folds, 2))
+    ok = np.isfinite(lo) & np.isfinite(hi)
+    lo, hi = lo[ok], hi[ok]
+    N = int(n_total)
+    if lo.size < 2 * max(int(folds), 2):
+        return N  # too small a pilot to learn the relation: run everything accurately
     x, z, inverse = _transform(lo, hi)
-    parts = _fold_parts(x, z, sub, folds)
-    grid = _grid(x, z, sub, parts, 1500)
-    F, d, floor = _cdf(x, z, parts, grid)
+    parts = _fold_parts(x, z, np.arange(lo.size), folds)
+    grid = _grid(x, z, np.arange(lo.size), parts, 1500)
+    F, _, _ = _cdf(x, z, parts, grid)
     Fm = np.clip(np.maximum.accumulate(np.sort(F)), 0.0, 1.0)
-    s2d = np.maximum(d.var(axis=0, ddof=1), floor)
+    # the corrections' variance at t expected under the fitted line, smooth in t (in a tail a few
+    # pilot values show it only as 0 or 1/n): density of the central predictions at t x residual
+    # spread / sqrt(pi) (Gaussian residuals); the final intervals use the corrections' own spread
+    a, b, e = _line(x, z)
+    spread = float(e.std(ddof=2)) if e.size > 2 else 0.0
+    pred = a + b * x
+    model_var = (stats.gaussian_kde(pred)(grid) * spread / np.sqrt(np.pi)
+                 if spread > 0 and np.ptp(pred) > 0 else np.zeros(grid.size))
+    s2d = PILOT_MARGIN * model_var
     zq = stats.norm.ppf(0.5 + confidence / 2.0)
-    need = sub.size
+    need = lo.size
+    logged = inverse is np.exp
     for p in np.asarray(probabilities, dtype=float):
         i = min(int(np.searchsorted(Fm, p)), grid.size - 1)
-        q = inverse(grid[i])
-        # dF/dq at the quantile from the rearranged CDF, over +-2 % of probability
-        j0 = min(int(np.searchsorted(Fm, max(p - 0.02, 0.0))), grid.size - 1)
-        j1 = min(int(np.searchsorted(Fm, min(p + 0.02, 1.0))), grid.size - 1)
-        dq = abs(inverse(grid[j1]) - inverse(grid[j0]))
-        density = (Fm[j1] - Fm[j0]) / dq if dq > 0 else np.inf
-        allowed = (accuracy * abs(q) * density / zq) ** 2  # variance of F^ the target allows
-        if s2d[i] <= 0 or not np.isfinite(allowed):
+        # the density of the transformed values at the quantile (log Γ: a relative error is an
+        # error in log), from the rearranged CDF over +-5 % of probability inside (0, 1)
+        lo_p, hi_p = max(p - 0.05, Fm[0] + 1e-9), min(p + 0.05, 1.0)
+        j0 = min(int(np.searchsorted(Fm, lo_p)), grid.size - 1)
+        j1 = min(int(np.searchsorted(Fm, hi_p)), grid.size - 1)
+        dz = grid[j1] - grid[j0]
+        density = (Fm[j1] - Fm[j0]) / dz if dz > 0 else np.inf
+        scale = 1.0 if logged else abs(float(grid[i]))  # relative error of the quantile
+        allowed = (accuracy * scale * density / zq) ** 2  # variance of F^ the target allows
+        if not (s2d[i] > 0 and np.isfinite(allowed) and allowed > 0):
             continue
-        n_p = 1.0 / (allowed / s2d[i] + 1.0 / N)
-        need = max(need, int(np.ceil(n_p)))
+        need = max(need, int(np.ceil(1.0 / (allowed / s2d[i] + 1.0 / N))))
     return int(min(need, N))

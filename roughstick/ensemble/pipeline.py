@@ -172,6 +172,8 @@ class Spec:
     water_max: float
     token: str
     own_grid: bool = False  # summaries on each map's own automatic grid (distance=None)
+    # multi-fidelity: (accurate model, frozenset of the realizations it runs on); () when not used
+    accurate: tuple = ()
 
     def rh_blocks(self):
         r = self.rh.size
@@ -216,6 +218,10 @@ def _hash_params(spec_fields: dict) -> str:
         for k in ("shape", "spacing", "chunk", "rh_chunk", "seed_entropy", "seed_spawn_key")
     }
     rest["own_grid"] = bool(spec_fields.get("own_grid", False))
+    if spec_fields.get("accurate"):  # absent from single-model runs: their hash is unchanged
+        model, members = spec_fields["accurate"]
+        digest = hashlib.sha256(np.asarray(sorted(members), dtype=np.int64).tobytes()).hexdigest()
+        rest["accurate"] = [str(model), digest]
     rest["version"] = __version__
     rest["adsorbed_layer"] = (
         spec_fields["adsorbed_layer"]
@@ -340,6 +346,40 @@ def _own_grid_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dat
     return parts[0] if len(parts) == 1 else xr.concat(parts, "rh", combine_attrs="drop_conflicts")
 
 
+#: The summaries the accurate model adds on its subset of a multi-fidelity ensemble.
+ACCURATE_VARIABLES = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
+
+
+def accurate_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dataset:
+    """The accurate model's summaries of one map (``<name>_accurate``), each humidity alone on
+    the model's own automatic grid (so they do not depend on the humidity blocks)."""
+    model = spec.accurate[0]
+    parts = []
+    for r in np.atleast_1d(rh.values):
+        c = contact_curves(h2d, relative_humidity=[float(r)], model=model, material=spec.material,
+                           adsorbed_layer=spec.adsorbed_layer, check_validity=False)
+        s = contact_summary(c, check_grid=False)[list(ACCURATE_VARIABLES)]
+        parts.append(s.drop_vars([v for v in s.coords if v != "rh"], errors="ignore"))
+    s = parts[0] if len(parts) == 1 else xr.concat(parts, "rh", combine_attrs="drop_conflicts")
+    return _accurate_names(s, model)
+
+
+def _accurate_names(s: xr.Dataset, model: str) -> xr.Dataset:
+    out = s.rename({v: f"{v}_accurate" for v in ACCURATE_VARIABLES})
+    for v in ACCURATE_VARIABLES:
+        a = s[v].attrs
+        out[f"{v}_accurate"].attrs = {**a, "long_name": f"{a.get('long_name', v)} by the accurate "
+                                      f"model ({model}) on the seeded subset (NaN elsewhere)",
+                                      "contact_model": model}
+    return out
+
+
+def _no_accurate(summary: xr.Dataset, model: str) -> xr.Dataset:
+    """NaN ``<name>_accurate`` variables shaped like ``summary``'s (a realization off the subset)."""
+    s = xr.Dataset({v: xr.full_like(summary[v], np.nan, dtype=float) for v in ACCURATE_VARIABLES})
+    return _accurate_names(s, model)
+
+
 def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> xr.Dataset:
     """Compute realizations [start, stop) at humidities rh[rh_lo:rh_hi] (numpy in, numpy out)."""
     h = _surfaces(spec, start, stop)
@@ -363,6 +403,12 @@ def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> 
                 "realization", ...)
         else:
             summary = spec.summary(curves)
+        if spec.accurate:  # multi-fidelity: the accurate model on its seeded subset only
+            member = start + k in spec.accurate[1]
+            acc = (accurate_summary(spec, h.isel(realization=k, drop=True), rh).expand_dims(
+                       realization=hk["realization"].values).transpose("realization", ...)
+                   if member else _no_accurate(summary, spec.accurate[0]))
+            summary = xr.merge([summary, acc], compat="override", combine_attrs="drop_conflicts")
         if flag:  # the summary saw the extended grid; the stored curves stay on the common grid
             keep = np.isin(curves.distance.values, grid)
             curves = curves.isel(distance=np.flatnonzero(keep))
@@ -483,4 +529,16 @@ def _attrs(spec: Spec, n) -> dict:
         summary_grid=(OWN_GRID_NOTE if _own_grid_capable(spec) else
                       "summaries on the common distance grid (given distances or a custom "
                       "contact function)"),
+        **({} if not spec.accurate else {
+            "accurate_model": spec.accurate[0], "n_accurate": len(spec.accurate[1]),
+            "multifidelity": MULTIFIDELITY_NOTE.format(model=spec.accurate[0],
+                                                       n=len(spec.accurate[1]), total=int(n))}),
     )
+
+
+MULTIFIDELITY_NOTE = (
+    "every realization runs the cheap contact model (contact_function); the {n} of {total} "
+    "realizations of a permutation drawn from the seed alone also run the accurate model "
+    "({model}): <name>_accurate, NaN elsewhere. roughstick.ensemble.confidence_band combines them "
+    "into the accurate model's band (cross-fitted two-phase difference estimator, "
+    "roughstick.ensemble.multifidelity)")

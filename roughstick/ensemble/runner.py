@@ -11,6 +11,7 @@ several surface sizes on one distance grid.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import logging
@@ -49,7 +50,16 @@ from ..contact import curves as contact_curves
 from ..contact import summary as contact_summary
 from ..surface.generate import ExtrapolatedPSDWarning, generate_surfaces
 from .execute import auto_ensemble, stream
-from .pipeline import Spec, _attrs, _hash_params, _water_heights, distance_grid, lazy_ensemble
+from .multifidelity import accurate_subset, accurate_subset_size
+from .pipeline import (
+    Spec,
+    _attrs,
+    _hash_params,
+    _water_heights,
+    compute_block,
+    distance_grid,
+    lazy_ensemble,
+)
 from .store import open_ensemble
 
 __all__ = ["run", "surface_size_study"]
@@ -170,6 +180,8 @@ def run(
     summary: Callable | None = None,
     generate_kwargs: dict | None = None,
     curves_kwargs: dict | None = None,
+    accurate_model: str | None = None,
+    n_accurate="auto",
 ) -> xr.Dataset:
     r"""Monte Carlo ensemble of rough-surface humid adhesion from a PSD (paper §4.3).
 
@@ -241,6 +253,18 @@ def run(
     generate_kwargs, curves_kwargs : dict, optional
         Extra keyword arguments for ``generate`` and for the contact model (e.g. ``quantity``,
         whose measured error ``accuracy`` bounds).
+    accurate_model : str, optional
+        Multi-fidelity: every realization runs ``model`` (the cheap one), and a subset drawn from
+        the seed alone (:func:`roughstick.ensemble.multifidelity.accurate_subset`) also runs this
+        registered contact model (e.g. ``"fft_bem"``), adding ``adhesive_energy_accurate``,
+        ``pull_off_pressure_accurate`` and ``equilibrium_distance_accurate`` (NaN off the
+        subset). :func:`confidence_band` combines them into the accurate model's band, with an
+        interval that holds the sampling and the model correction together.
+    n_accurate : int or "auto", default "auto"
+        How many realizations run ``accurate_model``; ``"auto"``: from a pilot of
+        ``PILOT_SIZE`` realizations run with both models (computed before the graph is built),
+        as many as make the model correction of Γ's median and band edges lie within
+        ``accuracy`` (:func:`roughstick.ensemble.multifidelity.accurate_subset_size`), at most n.
 
     Returns
     -------
@@ -333,6 +357,9 @@ def run(
         water_max=float(np.max(_water_heights(rh, adsorbed_layer))), token=_hash_params(fields),
         own_grid=fields["own_grid"],
     )
+    if accurate_model is not None:
+        spec = _with_accurate_subset(spec, accurate_model, n_accurate, n_total, auto=auto,
+                                     accuracy=VALIDITY_BOUND if accuracy is None else accuracy)
     attrs = _attrs(spec, n_total)
     if chosen is not None:
         attrs["contact_model"] = chosen
@@ -356,6 +383,53 @@ def run(
     ds.attrs = attrs
     return append_history(ds, f"ensemble.run(n={n_total}, shape={shp}, rh={rh.tolist()}); "
                               f"{ds.attrs.get('summary_grid', '')}")
+
+
+#: Realizations a multi-fidelity pilot runs with both models (``n_accurate="auto"``).
+PILOT_SIZE = 40
+
+
+def _with_accurate_subset(spec: Spec, model: str, n_accurate, n_total: int, *, auto: bool,
+                          accuracy: float) -> Spec:
+    """``spec`` with its multi-fidelity subset: the first ``n_accurate`` realizations of the
+    seed's permutation (``"auto"``: sized from a pilot run with both models)."""
+    if model not in model_names():
+        raise ValueError(f"accurate_model must be a registered contact model {model_names()}, got "
+                         f"{model!r}.")
+    if auto:
+        raise ValueError("n='auto' with accurate_model= is not supported: give n (the number of "
+                         "realizations), e.g. n=1000.")
+    if n_accurate == "auto":
+        pilot = accurate_subset(n_total, min(PILOT_SIZE, n_total), seed=spec.seed)
+        probe = dataclasses.replace(spec, accurate=(model, frozenset(int(k) for k in pilot)))
+        parts = [compute_block(probe, int(k), int(k) + 1, 0, spec.rh.size) for k in pilot]
+        both = xr.concat([p[["adhesive_energy", "adhesive_energy_accurate"]] for p in parts],
+                         "realization")
+        n_accurate = max(
+            accurate_subset_size(both["adhesive_energy"].sel(rh=r).values,
+                                 both["adhesive_energy_accurate"].sel(rh=r).values,
+                                 n_total=n_total, accuracy=accuracy)
+            for r in spec.rh)
+        logging.getLogger("roughstick").info(
+            f"multi-fidelity: a pilot of {pilot.size} realizations run with both models asks for "
+            f"{n_accurate} of {n_total} with {model} (accuracy {accuracy:g} on Γ's median and band "
+            "edges)")
+    elif not (isinstance(n_accurate, (int, np.integer)) and 1 <= n_accurate <= n_total):
+        raise ValueError(f"n_accurate must be 'auto' or an integer from 1 to n={n_total}, got "
+                         f"{n_accurate!r}.")
+    members = frozenset(int(k) for k in accurate_subset(n_total, int(n_accurate), seed=spec.seed))
+    return dataclasses.replace(spec, accurate=(model, members),
+                               token=_hash_params({**_spec_fields(spec), "accurate": (model, members)}))
+
+
+def _spec_fields(spec: Spec) -> dict:
+    """The fields :func:`roughstick.ensemble.pipeline._hash_params` reads, from a Spec."""
+    return dict(psd=spec.psd, shape=spec.shape, spacing=spec.spacing, rh=spec.rh,
+                distance=spec.distance, chunk=spec.chunk, rh_chunk=spec.rh_chunk,
+                adsorbed_layer=spec.adsorbed_layer, material=spec.material, generate=spec.generate,
+                curves=spec.curves, summary=spec.summary, generate_kwargs=spec.generate_kwargs,
+                curves_kwargs=spec.curves_kwargs, seed_entropy=str(spec.seed.entropy),
+                seed_spawn_key=list(spec.seed.spawn_key), own_grid=spec.own_grid)
 
 
 def _realizations(n, n_max) -> tuple[int, bool]:
