@@ -31,6 +31,12 @@ from .adhesion import equilibrium_crossings
 
 __all__ = ["FFTGrid", "pk_solve", "solve_state", "curve_on_grid", "auto_curve"]
 
+# threads of the FFTs and of the direct sums (scipy.fft ``workers``; numba ``prange`` on bands of
+# rows), from THREADS_MIN_PIXELS pixels up. Fixed rather than taken from the machine: scipy's FFT
+# differs in the last bit with the number of workers (the direct sums do not). On the 2-core
+# machine, quiet, an FFT pair is 1.6x faster with two at 1024², 1.15x at 512²
+THREADS = 2
+THREADS_MIN_PIXELS = 512 * 512
 # loaded pixels per log2(pixels) up to which FFTGrid.displacement sums the real-space kernel instead
 # of an FFT pair (break-even measured at about 3.5 log2 N at 512² and 1024², single precision)
 SPARSE_PER_LOG2 = 2.5
@@ -57,9 +63,12 @@ class FFTGrid:
     sparse_max : int, optional
         Most loaded pixels summed directly (default ``SPARSE_PER_LOG2 * log2(ny nx)``; 0: FFTs
         only).
+    workers : int, optional
+        Threads of the FFTs and direct sums (default ``THREADS`` from ``THREADS_MIN_PIXELS``
+        pixels up, else 1); the results are the same bits for any number.
     """
 
-    def __init__(self, shape, spacing, dtype=np.float32, *, sparse_max=None, workers=1):
+    def __init__(self, shape, spacing, dtype=np.float32, *, sparse_max=None, workers=None):
         ny, nx = shape
         dy, dx = spacing
         qy = 2 * np.pi * np.fft.fftfreq(ny, d=dy)
@@ -73,7 +82,9 @@ class FFTGrid:
         self.calls = 0
         self.sparse_calls = 0
         self.sparse_sources = 0
-        self.workers = int(workers)
+        if workers is None:
+            workers = THREADS if ny * nx >= THREADS_MIN_PIXELS else 1
+        self.workers = max(int(workers), 1)
         self._buffers = {}
         if sparse_max is None:
             sparse_max = int(SPARSE_PER_LOG2 * np.log2(ny * nx))
@@ -115,7 +126,11 @@ class FFTGrid:
             self.sparse_calls += 1
             self.sparse_sources += n
             idx = self._idx[:n]
-            _sparse_displacement(idx, traction.ravel()[idx], self._real, out, add)
+            if self.workers > 1:
+                _sparse_displacement_threads(idx, traction.ravel()[idx], self._real, out, add,
+                                             4 * self.workers)
+            else:
+                _sparse_displacement(idx, traction.ravel()[idx], self._real, out, add)
             return out
         self.calls += 1
         spec = sfft.rfft2(traction, workers=self.workers)
@@ -371,21 +386,19 @@ def _sums(p, W):
     return psum, nc, nw, nwc
 
 
-@numba.njit(cache=True, nogil=True, fastmath=True)
-def _sparse_displacement(idx, v, real2, out, add):
-    """out (+)= sum_j v_j G(. - pixel idx_j), G the real-space kernel doubled along x (real2)."""
+def _sparse_rows(y0, y1, iy, ix, v, real2, out, add):
+    """Rows y0..y1-1 of out (+)= sum_j v_j G(. - (iy_j, ix_j)), G the real-space kernel doubled
+    along x (real2): each row's sum in the same order whatever the split into rows."""
     ny, nx = out.shape
-    if not add:
-        out[...] = 0
     m = v.size
-    iy = idx // nx
-    ix = idx - iy * nx
-    j = 0
-    while j < m:  # four loads per sweep of the output
-        k = min(4, m - j)
-        for y in range(ny):
-            orow = out[y]
-            if k == 4:
+    for y in range(y0, y1):
+        orow = out[y]
+        if not add:
+            for x in range(nx):
+                orow[x] = 0
+        j = 0
+        while j < m:  # four loads per sweep of the row
+            if j + 4 <= m:
                 r0 = y - iy[j] + (ny if y < iy[j] else 0)
                 r1 = y - iy[j + 1] + (ny if y < iy[j + 1] else 0)
                 r2 = y - iy[j + 2] + (ny if y < iy[j + 2] else 0)
@@ -397,14 +410,35 @@ def _sparse_displacement(idx, v, real2, out, add):
                 a0, a1, a2, a3 = v[j], v[j + 1], v[j + 2], v[j + 3]
                 for x in range(nx):
                     orow[x] += a0 * k0[x] + a1 * k1[x] + a2 * k2[x] + a3 * k3[x]
+                j += 4
             else:
-                for jj in range(j, j + k):
-                    r0 = y - iy[jj] + (ny if y < iy[jj] else 0)
-                    k0 = real2[r0, nx - ix[jj]:2 * nx - ix[jj]]
-                    a0 = v[jj]
-                    for x in range(nx):
-                        orow[x] += a0 * k0[x]
-        j += k
+                r0 = y - iy[j] + (ny if y < iy[j] else 0)
+                k0 = real2[r0, nx - ix[j]:2 * nx - ix[j]]
+                a0 = v[j]
+                for x in range(nx):
+                    orow[x] += a0 * k0[x]
+                j += 1
+
+
+_sparse_rows_jit = numba.njit(cache=True, nogil=True, fastmath=True)(_sparse_rows)
+
+
+@numba.njit(cache=True, nogil=True, fastmath=True)
+def _sparse_displacement(idx, v, real2, out, add):
+    """out (+)= sum_j v_j G(. - pixel idx_j), one thread."""
+    nx = out.shape[1]
+    iy = idx // nx
+    _sparse_rows_jit(0, out.shape[0], iy, idx - iy * nx, v, real2, out, add)
+
+
+@numba.njit(cache=True, nogil=True, fastmath=True, parallel=True)
+def _sparse_displacement_threads(idx, v, real2, out, add, blocks):
+    """:func:`_sparse_displacement` on ``blocks`` bands of rows in parallel (the same bits)."""
+    ny, nx = out.shape
+    iy = idx // nx
+    ix = idx - iy * nx
+    for b in numba.prange(blocks):
+        _sparse_rows_jit(b * ny // blocks, (b + 1) * ny // blocks, iy, ix, v, real2, out, add)
 
 
 # incremental transforms a state's gap may carry from its predecessors before it is recomputed from
@@ -605,7 +639,7 @@ def solve_state(grid, z, d, sigma0, h0, *, state=None, tolerance=1e-3, max_itera
                and not sigma0 * grid.self_displacement > SEQUENTIAL_WET * h0)
     if predict:
         ratio = (d - state["d"]) / (state["d"] - before["d"])
-        predict = 0 < ratio <= PREDICT_MAX_RATIO
+        predict = ratio != 0 and -1 < ratio <= PREDICT_MAX_RATIO  # (-1, 0): interpolation
     if predict:
         # secant predictor through the two previous states: contact, pressures and wet set
         # extrapolated together (the linear combination of two exact states is exact, so only
@@ -725,14 +759,15 @@ SEQUENTIAL_WET = 0.1
 # states (secant predictor) instead of starting from the last one
 PREDICT_MAX_RATIO = 2.0
 # tolerance of the approach states, in units of the tolerance (step 1 of auto_curve)
-APPROACH_TOLERANCE = 10
+APPROACH_TOLERANCE = 50
 # fraction of the wet pixels whose state may disagree with the gap in an approach state (step 1
 # of auto_curve: it moves the mean pressure by that fraction of the tension at most). Requiring
 # none took 60 of the 70 iterations of the deepest approach state (Table 4, 1024², RH 0.9)
-APPROACH_WET_TOLERANCE = 1e-3
+APPROACH_WET_TOLERANCE = 1e-2
+CURVE_WET_TOLERANCE = 1e-3
 # the approach goes no deeper than this multiple of the depth at which the secant of the last two
 # mean pressures crosses zero (step 1 of auto_curve)
-APPROACH_OVERSHOOT = 0  # off (0): see docs/evidence/_from_fftbem.md
+APPROACH_OVERSHOOT = 1.25
 # halvings of the retraction step, each after a step lost the last hard contact, before a loss is
 # accepted as the neck letting go (step 2 of auto_curve): the break is located to 1/64 of the step
 BREAK_HALVINGS = 6
@@ -764,7 +799,8 @@ def auto_curve(z, spacing, sigma0, h0, *, tolerance=1e-3, n_contact=12, n_free=2
     scale = _scale(z)
     floor = float(np.mean(z)) + 0.05 * scale
     full = {}
-    kw = dict(tolerance=tolerance, max_iterations=max_iterations, scale=scale)
+    kw = dict(tolerance=tolerance, max_iterations=max_iterations, scale=scale,
+              wet_tolerance=CURVE_WET_TOLERANCE)
 
     def solve(d, state, before=None):
         st = solve_state(grid, z, d, sigma0, h0, state=state, before=before, **kw)
