@@ -36,6 +36,9 @@ __all__ = ["FFTGrid", "pk_solve", "solve_state", "curve_on_grid", "auto_curve"]
 # differs in the last bit with the number of workers (the direct sums do not). On the 2-core
 # machine, quiet, an FFT pair is 1.6x faster with two at 1024², 1.15x at 512²
 THREADS = 2
+# threads of the direct sums: numba's parallel loops waited for descheduled threads on the shared
+# machine (512² S1A, six RH: 1.5-2.2 s with one thread, 4.9-6.8 s with two, load 4 on 2 cores)
+SUM_THREADS = 1
 THREADS_MIN_PIXELS = 512 * 512
 # loaded pixels per log2(pixels) up to which FFTGrid.displacement sums the real-space kernel instead
 # of an FFT pair (break-even measured at about 3.5 log2 N at 512² and 1024², single precision)
@@ -85,6 +88,7 @@ class FFTGrid:
         if workers is None:
             workers = THREADS if ny * nx >= THREADS_MIN_PIXELS else 1
         self.workers = max(int(workers), 1)
+        self.sum_threads = SUM_THREADS if ny * nx >= THREADS_MIN_PIXELS else 1
         self._buffers = {}
         if sparse_max is None:
             sparse_max = int(SPARSE_PER_LOG2 * np.log2(ny * nx))
@@ -126,9 +130,9 @@ class FFTGrid:
             self.sparse_calls += 1
             self.sparse_sources += n
             idx = self._idx[:n]
-            if self.workers > 1:
+            if self.sum_threads > 1:
                 _sparse_displacement_threads(idx, traction.ravel()[idx], self._real, out, add,
-                                             4 * self.workers)
+                                             4 * self.sum_threads)
             else:
                 _sparse_displacement(idx, traction.ravel()[idx], self._real, out, add)
             return out
