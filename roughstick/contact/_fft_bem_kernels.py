@@ -122,10 +122,16 @@ class FFTGrid:
         """``out += displacement(traction)`` (in place; no temporary for a sparse traction)."""
         return self.apply(traction, out, add=True)
 
-    def apply(self, traction, out, *, add=False):
-        """``out = displacement(traction)``, or ``out += ...`` with ``add``; returns ``out``."""
+    def apply(self, traction, out, *, add=False, defer=False, loaded=None):
+        """``out = displacement(traction)``, or ``out += ...`` with ``add``; returns ``out``.
+        With ``defer`` (and ``add``), a displacement computed by FFT is returned instead of added
+        (the caller adds it in its next pass), and None when it was added. ``loaded``: the
+        number of non-zero pixels of ``traction``, if known."""
         traction = traction.astype(self.dtype, copy=False)
-        n = _gather(traction, self._idx) if self.sparse_max > 0 else -1
+        if self.sparse_max <= 0 or (loaded is not None and loaded > self.sparse_max):
+            n = -1
+        else:
+            n = _gather(traction, self._idx, -1 if loaded is None else loaded)
         if n >= 0:
             self.sparse_calls += 1
             self.sparse_sources += n
@@ -135,11 +141,13 @@ class FFTGrid:
                                              4 * self.sum_threads)
             else:
                 _sparse_displacement(idx, traction.ravel()[idx], self._real, out, add)
-            return out
+            return None if defer else out
         self.calls += 1
         spec = sfft.rfft2(traction, workers=self.workers)
         spec *= self.kernel
         u = sfft.irfft2(spec, s=self.shape, workers=self.workers, overwrite_x=True)
+        if defer:
+            return u.astype(self.dtype, copy=False)
         if add:
             out += u
         else:
@@ -154,18 +162,26 @@ _JIT = dict(cache=True, nogil=True, fastmath=True)
 
 
 @numba.njit(**_JIT)
-def _gather(a, idx):
+def _gather(a, idx, known):
     """Flat indices of the non-zero entries of ``a`` into ``idx``; their number, or -1 when
-    there are more than ``idx.size``."""
+    there are more than ``idx.size``. ``known``: their number if known (>= 0), else -1."""
     af = a.ravel()
     most = idx.size
     zero = af.dtype.type(0)
     m = af.size
-    n = 0
-    for i in range(m):
-        n += af[i] != zero
+    n = known
+    if n < 0:
+        n = 0
+        for b in range(0, m, 4096):  # count by blocks, stopping as soon as there are too many
+            e = min(b + 4096, m)
+            for i in range(b, e):
+                n += af[i] != zero
+            if n > most:
+                return -1
     if n > most:
         return -1
+    if n == 0:
+        return 0
     n = 0
     for b in range(0, m, 64):  # blocks: skip the empty ones with a vectorised test
         e = min(b + 64, m)
@@ -183,7 +199,8 @@ def _gather(a, idx):
 @numba.njit(**_JIT)
 def _direction(p, g, t, beta, W, h0, sigma0, c, wet):
     """t <- g + beta t on the contact set (0 elsewhere); with ``wet``, also W <- {g < h0} and
-    c <- -sigma0 (change of 1_W). Returns the number of pixels whose wet state changed."""
+    c <- -sigma0 (change of 1_W), else c <- 0. Returns (pixels whose wet state changed, non-zero
+    entries of t)."""
     pf, gf, tf, cf = p.ravel(), g.ravel(), t.ravel(), c.ravel()
     wf = W.view(np.uint8).ravel()
     zero = pf.dtype.type(0)
@@ -191,20 +208,31 @@ def _direction(p, g, t, beta, W, h0, sigma0, c, wet):
     s0 = pf.dtype.type(sigma0)
     hw = pf.dtype.type(h0)
     n = 0
+    nt = 0
     if wet:
         for i in range(pf.size):
             gi = gf[i]
-            tf[i] = gi + b * tf[i] if pf[i] > zero else zero
+            ti = (gi + b * tf[i] if b != zero else gi) if pf[i] > zero else zero
+            tf[i] = ti
+            nt += ti != zero
             wn = np.uint8(gi < hw)
             ch = wn != wf[i]
             cf[i] = (-s0 if wn else s0) if ch else zero
             wf[i] = wn
             n += ch
+    elif b == zero:  # a restart: t is not read (the scratch buffer may hold anything)
+        for i in range(pf.size):
+            ti = gf[i] if pf[i] > zero else zero
+            tf[i] = ti
+            nt += ti != zero
+            cf[i] = zero
     else:
         for i in range(pf.size):
-            tf[i] = gf[i] + b * tf[i] if pf[i] > zero else zero
+            ti = gf[i] + b * tf[i] if pf[i] > zero else zero
+            tf[i] = ti
+            nt += ti != zero
             cf[i] = zero
-    return n
+    return n, nt
 
 
 @numba.njit(**_JIT)
@@ -267,15 +295,18 @@ def _wet_update(g, W, h0, sigma0, c):
 @numba.njit(**_JIT)
 def _residual(p, g, W, h0, adhesive):
     """(sum of g^2 on the contact set, sum of g^2 where g < 0, contact pixels, pixels whose wet
-    state disagrees with the gap)."""
+    state disagrees with the gap, sum of p, wet pixels, wet contact pixels)."""
     pf, gf = p.ravel(), g.ravel()
     wf = W.view(np.uint8).ravel()
     hw = gf.dtype.type(h0)
     zero = gf.dtype.type(0)
     s1 = 0.0
     s2 = 0.0
+    psum = 0.0
     n = 0
     bad = 0
+    nw = 0
+    nwc = 0
     for i in range(pf.size):
         gi = gf[i]
         g2 = np.float64(gi) * np.float64(gi)
@@ -284,7 +315,39 @@ def _residual(p, g, W, h0, adhesive):
         n += c
         s2 += g2 if gi < zero else 0.0
         bad += np.uint8(gi < hw) != wf[i]
-    return s1, s2, n, (bad if adhesive else 0)
+        psum += np.float64(pf[i])
+        nw += wf[i]
+        nwc += c & wf[i]
+    return s1, s2, n, (bad if adhesive else 0), psum, nw, nwc
+
+
+@numba.njit(**_JIT)
+def _add_residual(g, u, p, W, h0, adhesive):
+    """g += u, then :func:`_residual`, in one pass."""
+    pf, gf, uf = p.ravel(), g.ravel(), u.ravel()
+    wf = W.view(np.uint8).ravel()
+    hw = gf.dtype.type(h0)
+    zero = gf.dtype.type(0)
+    s1 = 0.0
+    s2 = 0.0
+    psum = 0.0
+    n = 0
+    bad = 0
+    nw = 0
+    nwc = 0
+    for i in range(pf.size):
+        gi = gf[i] + uf[i]
+        gf[i] = gi
+        g2 = np.float64(gi) * np.float64(gi)
+        c = pf[i] > zero
+        s1 += g2 if c else 0.0
+        n += c
+        s2 += g2 if gi < zero else 0.0
+        bad += np.uint8(gi < hw) != wf[i]
+        psum += np.float64(pf[i])
+        nw += wf[i]
+        nwc += c & wf[i]
+    return s1, s2, n, (bad if adhesive else 0), psum, nw, nwc
 
 
 @numba.njit(**_JIT)
@@ -359,16 +422,25 @@ def _base(z, d, out):
 
 
 @numba.njit(**_JIT)
-def _opened(g, dd, h0, out, W):
-    """out <- g + dd, W <- {out < h0}."""
-    gf, of = g.ravel(), out.ravel()
-    wf = W.view(np.uint8).ravel()
+def _opened(g, dd, h0, out, W, Wr, sigma0, q):
+    """out <- g + dd, W <- {out < h0}, q <- -sigma0 (1_W - 1_Wr); returns the number of pixels
+    whose wet state changed."""
+    gf, of, qf = g.ravel(), out.ravel(), q.ravel()
+    wf, wr = W.view(np.uint8).ravel(), Wr.view(np.uint8).ravel()
     dd = of.dtype.type(dd)
     hw = of.dtype.type(h0)
+    s0 = of.dtype.type(sigma0)
+    zero = of.dtype.type(0)
+    n = 0
     for i in range(gf.size):
         o = gf[i] + dd
         of[i] = o
-        wf[i] = o < hw
+        wn = np.uint8(o < hw)
+        wf[i] = wn
+        ch = wn != wr[i]
+        qf[i] = (-s0 if wn else s0) if ch else zero
+        n += ch
+    return n
 
 
 @numba.njit(**_JIT)
@@ -470,7 +542,7 @@ def _cold_start(grid, base, W, sigma0, h0, hp=None):
             return hp, W, True
         if not changed:
             return hp, W, False
-        grid.add_displacement(q, hp)
+        grid.apply(q, hp, add=True, loaded=changed)
         W, Wn = Wn, (W if W is not Wn else np.empty(grid.shape, bool))
     return hp, W, not np.all(hp > 0)
 
@@ -494,6 +566,14 @@ def _shift(grid, g, p_new, p_ref, W_new, W_ref, sigma0):
 
 def _has_contact(p):
     return p is not None and bool(np.any(p > 0))
+
+
+def _corrected(grid, c, g, p, W, h0, adhesive, loaded=None):
+    """g += G[c], then :func:`_residual` (the addition of an FFT's result fused with it)."""
+    u = grid.apply(c, g, add=True, defer=True, loaded=loaded)
+    if u is None:
+        return _residual(p, g, W, h0, adhesive)
+    return _add_residual(g, u, p, W, h0, adhesive)
 
 
 def pk_solve(grid, base, p0=None, *, wet=None, sigma0=0.0, h0=0.0, tolerance=1e-3,
@@ -522,10 +602,11 @@ def pk_solve(grid, base, p0=None, *, wet=None, sigma0=0.0, h0=0.0, tolerance=1e-
         are both below it and the wet set agrees with the gap.
     scale : float
         Length the residual is measured against (the rms height of the map).
-    start : (gap, p, W), optional
+    start : (gap, p, W) or (gap, p, W, q, n), optional
         A gap known on this ``base`` (overwritten), that of pressure ``p`` (None: zero) and wet
         set ``W``: the start is then that gap plus the displacement of the change of traction
-        (often a few pixels: no FFT) instead of the displacement of the whole traction.
+        (often a few pixels: no FFT) instead of the displacement of the whole traction; ``q``
+        and ``n``: that change and its number of loaded pixels, when known.
     wet_tolerance : float
         Fraction of the wet pixels that may still disagree with the gap at convergence (0: none;
         the approach of :func:`auto_curve`, which needs only the sign of the mean pressure, uses
@@ -535,6 +616,16 @@ def pk_solve(grid, base, p0=None, *, wet=None, sigma0=0.0, h0=0.0, tolerance=1e-
     -------
     (p, g, W, residual, iterations) ; p is None when the gap stays open with no pressure.
     """
+    return _solve(grid, base, p0, wet=wet, sigma0=sigma0, h0=h0, tolerance=tolerance,
+                  max_iterations=max_iterations, scale=scale, start=start,
+                  wet_tolerance=wet_tolerance)[:5]
+
+
+def _solve(grid, base, p0, *, wet, sigma0, h0, tolerance, max_iterations, scale, start,
+           wet_tolerance, warm=None, own_p0=False):
+    """:func:`pk_solve`, plus (sum of p, contact, wet and wet contact pixels) of the result (None
+    when not at hand). ``warm``: whether ``p0`` has contact, if known; ``own_p0``: ``p0`` may be
+    updated in place."""
     dt = grid.dtype
     if base is not None:
         base = base.astype(dt, copy=False)
@@ -545,13 +636,19 @@ def pk_solve(grid, base, p0=None, *, wet=None, sigma0=0.0, h0=0.0, tolerance=1e-
     if not adhesive:
         W = np.zeros(grid.shape, dtype=bool)
     if start is not None:
-        g_ref, p_ref, W_ref = start
+        g_ref, p_ref, W_ref = start[:3]
         g_ref = g_ref.astype(dt, copy=False)
         if not adhesive:
             W_ref = W
-    if _has_contact(p0):
-        p = p0.astype(dt, copy=True)
-        if start is not None:
+    if warm is None:
+        warm = _has_contact(p0)
+    if warm:
+        p = p0 if own_p0 and p0.dtype == dt else p0.astype(dt, copy=True)
+        if start is not None and len(start) > 3:  # the change of traction is known
+            g = g_ref
+            if start[4]:
+                grid.apply(start[3], g, add=True, loaded=start[4])
+        elif start is not None:
             g = _shift(grid, g_ref, p0, p_ref, W, W_ref, sigma0)
         else:
             g = grid.displacement(p - s0 * W if adhesive else p) + base
@@ -562,11 +659,11 @@ def pk_solve(grid, base, p0=None, *, wet=None, sigma0=0.0, h0=0.0, tolerance=1e-
                 hp = _shift(grid, g_ref, None, p_ref, W, W_ref, sigma0)
             hp, W, closed = _cold_start(grid, base, W, sigma0, h0, hp)
             if not closed:
-                return None, hp, W, 0.0, 0
+                return None, hp, W, 0.0, 0, None
         else:
             hp = base
             if np.all(hp > 0):
-                return None, hp, W, 0.0, 0
+                return None, hp, W, 0.0, 0, None
         p = np.where(hp < 0, -1e-3 * hp, 0).astype(dt)  # seed: the interpenetrating pixels
         g = grid.add_displacement(p, hp.copy())
     # Where a wet pixel's own tension can hold it wet (sigma0 G(0) > SEQUENTIAL_WET h0: low
@@ -576,45 +673,45 @@ def pk_solve(grid, base, p0=None, *, wet=None, sigma0=0.0, h0=0.0, tolerance=1e-
     # before issue 33). Elsewhere it follows the exact gap one step later, so that its change and
     # the next clamp share one transform.
     sequential = adhesive and sigma0 * grid.self_displacement > SEQUENTIAL_WET * h0
-    t = grid.buffer("t")
-    t[...] = 0
+    t = grid.buffer("t")  # no need to clear it: the first direction is a restart
     c = grid.buffer("c")
     r = grid.buffer("r")
-    s1, s2, n, bad = _residual(p, g, W, h0, adhesive)
+    s1, s2, n, bad, *sums = _residual(p, g, W, h0, adhesive)
     err = max(np.sqrt(s1 / max(n, 1)), np.sqrt(s2 / max(n, 1))) / scale
     gold = 1.0
     delta = 0.0
     it = 0
     for it in range(1, int(max_iterations) + 1):  # noqa: B007 - the count is returned
         combined = adhesive and not sequential and it > 1
-        moved = _direction(p, g, t, (delta * s1 / gold) if gold > 0 else 0.0, W, h0, sigma0, c,
-                           combined)
+        moved, loaded = _direction(p, g, t, (delta * s1 / gold) if gold > 0 else 0.0, W, h0,
+                                   sigma0, c, combined)
         gold = s1
-        grid.apply(t, r)
+        grid.apply(t, r, loaded=loaded)
         num, den = _step_length(p, g, t, r)
         if not den > 0:  # no direction left: the residual is that of the current state
             if moved:
-                grid.add_displacement(c, g)
-                s1, s2, n, bad = _residual(p, g, W, h0, adhesive)
+                s1, s2, n, bad, *sums = _corrected(grid, c, g, p, W, h0, adhesive, moved)
             err = max(np.sqrt(s1 / max(n, 1)), np.sqrt(s2 / max(n, 1))) / scale
             break
         entered, ncorr = _update(p, g, t, r, num / den, c)
         if ncorr:
-            grid.add_displacement(c, g)
+            s1, s2, n, bad, *sums = _corrected(grid, c, g, p, W, h0, adhesive, ncorr)
+        else:
+            s1, s2, n, bad, *sums = _residual(p, g, W, h0, adhesive)
         moved = 0
         if sequential:
             moved = _wet_update(g, W, h0, sigma0, c)
             if moved:
-                grid.add_displacement(c, g)
-        s1, s2, n, bad = _residual(p, g, W, h0, adhesive)
+                s1, s2, n, bad, *sums = _corrected(grid, c, g, p, W, h0, adhesive, moved)
         # pixels entering the contact restart the conjugate directions; so does a change of the
         # wet set in the sequential order (elsewhere restarting there too cost 15 % more
         # iterations at RH 0.7)
         delta = 0.0 if (entered or moved) else 1.0
         err = max(np.sqrt(s1 / max(n, 1)), np.sqrt(s2 / max(n, 1))) / scale
-        if err < tolerance and not moved and (not bad or bad <= wet_tolerance * _count(W)):
+        if err < tolerance and not moved and (not bad or bad <= wet_tolerance * sums[1]):
             break
-    return p, g, W, float(err), it
+    psum, nw, nwc = sums
+    return p, g, W, float(err), it, (psum, n, nw, nwc)
 
 
 def solve_state(grid, z, d, sigma0, h0, *, state=None, tolerance=1e-3, max_iterations=2000,
@@ -628,8 +725,10 @@ def solve_state(grid, z, d, sigma0, h0, *, state=None, tolerance=1e-3, max_itera
     ``iterations``, ``converged``. ``state``: a neighbour; with hard contact it is the warm
     start (continuation), and in any case its gap is the start of this one's (the change of
     traction costs a transform, often a sparse one, instead of the whole traction).
-    ``detach="warm"``: a warm start that loses the last contact is returned as it is (the caller
-    will not keep it) instead of being solved again from the undeformed wet set.
+    ``before``: the state before ``state`` on the path; with both in contact the start is their
+    secant extrapolation (where the wet set is not bistable). ``detach="warm"``: a warm start
+    that loses the last contact is returned as it is (the caller will not keep it) instead of
+    being solved again from the undeformed wet set. ``wet_tolerance``: see :func:`pk_solve`.
     """
     dt = grid.dtype
     if state is not None and "contact_fraction" in state:
@@ -637,7 +736,8 @@ def solve_state(grid, z, d, sigma0, h0, *, state=None, tolerance=1e-3, max_itera
     else:
         warm = state is not None and _has_contact(state["p"])
     start = None
-    wet = p0 = None
+    wet = p0 = base = None
+    own = False
     predict = (warm and before is not None and before.get("contact_fraction", 0) > 0
                and before["d"] != state["d"] and sigma0 > 0
                and not sigma0 * grid.self_displacement > SEQUENTIAL_WET * h0)
@@ -653,25 +753,28 @@ def solve_state(grid, z, d, sigma0, h0, *, state=None, tolerance=1e-3, max_itera
         p0 = np.empty(grid.shape, dt)
         opened = np.empty(grid.shape, dt)
         wet = np.empty(grid.shape, bool)
-        c = grid.buffer("q")
+        q = grid.buffer("q")
         n = _extrapolate(before["p"], state["p"], before["g"], state["g"], before["W"],
-                         state["W"], ratio, h0, sigma0, p0, opened, wet, c)
-        base = None
+                         state["W"], ratio, h0, sigma0, p0, opened, wet, q)
+        own = True
         if max(state.get("age", MAX_AGE), before.get("age", MAX_AGE)) < MAX_AGE:
-            if n:
-                grid.add_displacement(c, opened)
-            start = (opened, p0, wet)
-            prior = max(state["age"], before["age"]) + 1
+            start = (opened, p0, wet, q, n)
+            prior = max(state["age"], before["age"])
         else:  # the gaps carried too many increments: recomputed from the traction
             base = _rigid_gap(grid, z, d)
-            start = None
     elif state is not None and state.get("age", MAX_AGE) < MAX_AGE:
         # the flat moved by d - d_prev: the neighbour's gaps open by that much before the surface
         # relaxes (exact for its pressure and wet set)
         opened = np.empty(grid.shape, dt)
         wet = np.empty(grid.shape, bool)
-        _opened(state["g"], float(d - state["d"]), h0, opened, wet)
-        start = (opened, state["p"] if warm else None, state["W"])
+        if warm and sigma0 > 0:
+            q = grid.buffer("q")
+            n = _opened(state["g"], float(d - state["d"]), h0, opened, wet, state["W"], sigma0, q)
+            start = (opened, state["p"], state["W"], q, n)
+        else:
+            _opened(state["g"], float(d - state["d"]), h0, opened, wet, state["W"], 0.0,
+                    grid.buffer("q"))
+            start = (opened, state["p"] if warm else None, state["W"])
     elif warm:
         opened = state["g"] + dt.type(d - state["d"])
         wet = opened < dt.type(h0)
@@ -687,24 +790,29 @@ def solve_state(grid, z, d, sigma0, h0, *, state=None, tolerance=1e-3, max_itera
         wet = None  # a state without hard contact starts from the undeformed wet set
         base = _rigid_gap(grid, z, d)
     applied = grid.calls + grid.sparse_calls
-    p, g, W, err, it = pk_solve(grid, base, p0, wet=wet, sigma0=sigma0, h0=h0,
-                                tolerance=tolerance, max_iterations=max_iterations, scale=scale,
-                                start=start, wet_tolerance=wet_tolerance)
+    p, g, W, err, it, sums = _solve(
+        grid, base, p0, wet=wet, sigma0=sigma0, h0=h0, tolerance=tolerance,
+        max_iterations=max_iterations, scale=scale, start=start, wet_tolerance=wet_tolerance,
+        warm=warm, own_p0=own)
     if start is None:
         prior = -1
     elif not predict:
         prior = state["age"]
     age = grid.calls + grid.sparse_calls - applied + prior
-    if warm and detach == "cold" and not _has_contact(p):
+    if sums is None:
+        if p is None:
+            p = np.zeros(grid.shape, dt)
+        sums = _sums(p, W)
+    else:
+        sums = (sums[0], sums[1], sums[2], sums[3])
+    psum, nc, nw, nwc = sums
+    if warm and detach == "cold" and not nc:
         # the neck broke: a state without hard contact is taken from the undeformed wet set, as
         # the reference does (wet pixels can hold themselves by their own deflection: without
         # this the two would differ by a pixel or two of water at low humidity)
         return solve_state(grid, z, d, sigma0, h0, state=dict(p=None, g=g, W=W, d=d, age=age),
                            tolerance=tolerance, max_iterations=max_iterations, scale=scale)
-    if p is None:
-        p = np.zeros(grid.shape, dt)
     N = z.size
-    psum, nc, nw, nwc = _sums(p, W)
     if not sigma0 > 0:
         nw = nwc = 0
     return dict(
