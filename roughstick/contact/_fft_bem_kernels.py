@@ -1,8 +1,9 @@
 """Kernels of the FFT boundary-element model (:mod:`roughstick.contact.fft_bem`).
 
-Numpy/scipy/numba only (no xarray, no Tamaas), thread-safe (each call owns its arrays; the numba
-loops release the GIL). Units inside: lengths in nm, pressures in units of E* (the elastic
-half-space has plane-strain modulus 1), so heights, gaps and tolerances are all of order one.
+Numpy/scipy/numba only (no xarray, no Tamaas), thread-safe (each curve owns its grid and arrays;
+an :class:`FFTGrid` holds scratch buffers, so one grid serves one thread; the numba loops release
+the GIL). Units inside: lengths in nm, pressures in units of E* (the elastic half-space has
+plane-strain modulus 1), so heights, gaps and tolerances are all of order one.
 
 The problem is the one the Tamaas reference solves (:mod:`roughstick.contact.bem`): a rigid rough
 profile ``z`` against an elastic half-space on a periodic grid, the flat at mean gap
@@ -19,6 +20,20 @@ stops changing. A state warm-started from a neighbour (the retraction path) star
 state's pressure and from its gaps opened by the move of the flat; a state whose predecessor had
 no hard contact starts from the undeformed wet set ``{d - z < h0}`` (the Tamaas reference's
 convention for states with water but no contact).
+
+What makes it cheap (issue 33; docs/evidence/_from_fftbem.md):
+
+- every state carries its exact gap g = G[p - sigma0 1_W] + d - z, and the next one starts from
+  it plus the displacement of the change of traction, not of the whole traction;
+- the kernel is applied by an FFT pair only when more than ``SPARSE_PER_LOG2 * log2(N)`` pixels
+  are loaded; fewer (the contact set of a stiff rough map, a clamp, a change of the wet set) are
+  summed from the real-space kernel directly;
+- within a conjugate-gradient step the clamp of the pressure and the change of the wet set are
+  one correction, applied by one transform (except where the wet set is bistable, see
+  ``SEQUENTIAL_WET``);
+- a state whose two predecessors are in contact starts from their secant extrapolation;
+- the approach, which only brackets the equilibrium, goes no deeper than needed and is solved
+  loosely.
 """
 
 from __future__ import annotations
@@ -522,10 +537,6 @@ def _sparse_displacement_threads(idx, v, real2, out, add, blocks):
 MAX_AGE = 256
 
 
-def _count(W):
-    return int(np.count_nonzero(W))
-
-
 def _cold_start(grid, base, W, sigma0, h0, hp=None):
     """Open gap with the Dugdale deflection of the wet set iterated to a fixed point from ``W``
     (``hp``: the gap of ``W`` without contact, if known; updated in place).
@@ -880,6 +891,8 @@ APPROACH_TOLERANCE = 50
 # of auto_curve: it moves the mean pressure by that fraction of the tension at most). Requiring
 # none took 60 of the 70 iterations of the deepest approach state (Table 4, 1024², RH 0.9)
 APPROACH_WET_TOLERANCE = 1e-2
+# fraction of the wet pixels whose state may disagree with the gap in a state of the curve (the
+# mean pressure moves by 0.1 % of the tension at most; the last iterations only flipped those)
 CURVE_WET_TOLERANCE = 1e-3
 # the approach goes no deeper than this multiple of the depth at which the secant of the last two
 # mean pressures crosses zero (step 1 of auto_curve)
@@ -893,8 +906,11 @@ def auto_curve(z, spacing, sigma0, h0, *, tolerance=1e-3, n_contact=12, n_free=2
                dtype=np.float32, max_iterations=2000, keep=lambda st: st):
     """States on an automatic grid concentrated where Eq. 13, the pull-off and d_eq are decided.
 
-    1. approach from max z in growing steps until the mean pressure is repulsive; the zero of
-       the mean pressure, interpolated in that last step, estimates the equilibrium;
+    1. approach from max z in growing steps (each at most ``APPROACH_OVERSHOOT`` x as deep as
+       the zero of the secant through the last two mean pressures) until the mean pressure is
+       repulsive, at ``APPROACH_TOLERANCE`` x the tolerance with ``APPROACH_WET_TOLERANCE`` of
+       the wet pixels undecided (only the sign matters); the zero of the mean pressure,
+       interpolated in that last step, estimates the equilibrium;
     2. retract from a quarter step below that estimate (deeper while the state there is not
        repulsive), ``n_contact`` uniform steps up to max z, going on by the same step while a
        neck stays in contact; a step that loses the last contact is retried from the attached
@@ -903,12 +919,16 @@ def auto_curve(z, spacing, sigma0, h0, *, tolerance=1e-3, n_contact=12, n_free=2
     3. ``n_free`` points from there to just beyond max z + h0 (water, no hard contact: one or
        two FFTs each; the last one is dry);
     4. ``refine`` rounds bisecting the two intervals around the most tensile point and the
-       interval holding the equilibrium, each new state warm-started from its closer neighbour;
+       interval holding the equilibrium, each new state warm-started from its neighbour below;
        then (if ``refine`` > 0) ``EXTRA_PULL_OFF_ROUNDS`` more around the most tensile point.
 
+    A state in contact whose two predecessors on the path are in contact starts from their
+    secant extrapolation (:func:`solve_state`). Curve states may leave ``CURVE_WET_TOLERANCE`` of
+    the wet pixels undecided.
+
     Returns (distances ascending, states, grid). ``keep(state)`` may add derived values to a
-    state (e.g. a cluster count); it must leave ``p``, ``g`` and ``d`` (warm starts of later
-    points).
+    state (e.g. a cluster count); it must leave ``p``, ``g``, ``W``, ``d`` and ``age`` (warm
+    starts of later points).
     """
     grid = FFTGrid(z.shape, spacing, dtype)
     zmax = float(np.max(z))
