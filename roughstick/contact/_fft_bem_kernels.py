@@ -46,15 +46,17 @@ from .adhesion import equilibrium_crossings
 
 __all__ = ["FFTGrid", "pk_solve", "solve_state", "curve_on_grid", "auto_curve"]
 
-# threads of the FFTs and of the direct sums (scipy.fft ``workers``; numba ``prange`` on bands of
-# rows), from THREADS_MIN_PIXELS pixels up. Fixed rather than taken from the machine: scipy's FFT
-# differs in the last bit with the number of workers (the direct sums do not). On the 2-core
-# machine, quiet, an FFT pair is 1.6x faster with two at 1024², 1.15x at 512²
+# threads of the FFTs (scipy.fft ``workers``) from THREADS_MIN_PIXELS pixels up. Fixed rather than
+# taken from the machine: scipy's FFT differs in the last bit with the number of workers. On the
+# 2-core machine, quiet, an FFT pair is 1.6x faster with two at 1024² and 1.15x at 512²; with the
+# other core busy, no faster (and a run of several maps in parallel would oversubscribe): so
+# from 1024² only
 THREADS = 2
-# threads of the direct sums: numba's parallel loops waited for descheduled threads on the shared
-# machine (512² S1A, six RH: 1.5-2.2 s with one thread, 4.9-6.8 s with two, load 4 on 2 cores)
+# threads of the direct sums (numba ``prange`` on bands of rows; the same bits for any number):
+# one, because the parallel loops waited for descheduled threads on the shared machine (512² S1A,
+# six RH: 1.5-2.2 s with one thread, 4.9-6.8 s with two, load 4 on 2 cores)
 SUM_THREADS = 1
-THREADS_MIN_PIXELS = 512 * 512
+THREADS_MIN_PIXELS = 1024 * 1024
 # loaded pixels per log2(pixels) up to which FFTGrid.displacement sums the real-space kernel instead
 # of an FFT pair (break-even measured at about 3.5 log2 N at 512² and 1024², single precision)
 SPARSE_PER_LOG2 = 2.5
@@ -82,8 +84,8 @@ class FFTGrid:
         Most loaded pixels summed directly (default ``SPARSE_PER_LOG2 * log2(ny nx)``; 0: FFTs
         only).
     workers : int, optional
-        Threads of the FFTs and direct sums (default ``THREADS`` from ``THREADS_MIN_PIXELS``
-        pixels up, else 1); the results are the same bits for any number.
+        Threads of the FFTs (default ``THREADS`` from ``THREADS_MIN_PIXELS`` pixels up, else 1;
+        scipy's FFT differs in the last bit with it).
     """
 
     def __init__(self, shape, spacing, dtype=np.float32, *, sparse_max=None, workers=None):
