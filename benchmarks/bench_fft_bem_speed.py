@@ -139,16 +139,22 @@ def main(argv=None):
                 if key not in cache:
                     with old_kernels():
                         cache[key] = run(h, rh, tolerance=1e-4, precision="double")
+                    cache[key]["unit"] = min(unit, ifft_seconds())
                     if args.cache:
                         args.cache.write_text(json.dumps(cache, indent=1))
-                res["tight"] = cache[key]
+                    res["tight"] = cache[key]
+                else:
+                    res["tight (cached)"] = cache[key]
             unit = min(unit, ifft_seconds())
             print(f"\n{name} {n}² (1024² iFFT {unit * 1e3:.1f} ms)")
             print(f"  {'call':6s} {'states':>6s} {'FFT pairs':>9s} {'iters':>6s} {'seconds':>8s} "
-                  f"{'x iFFT':>7s} {'unconv':>6s}")
+                  f"{'x iFFT':>7s} {'unconv':>6s}   (tight: timed once; cached: timed in its own run)")
             for k, r in res.items():
+                u = r.get("unit", unit) if k.startswith("tight") else unit
                 print(f"  {k:6s} {r['states']:6d} {r['fft_calls']:9d} {r['iterations']:6d} "
-                      f"{r['seconds']:8.2f} {r['seconds'] / unit:7.0f} {r['unconverged']:6d}")
+                      f"{r['seconds']:8.2f} {r['seconds'] / u:7.0f} {r['unconverged']:6d}")
+            if "tight (cached)" in res:
+                res["tight"] = res.pop("tight (cached)")
             row = {"map": name, "n": n, "x_ifft": res["new"]["seconds"] / unit}
             if "old" in res:
                 row["old_x_ifft"] = res["old"]["seconds"] / unit
