@@ -1,4 +1,4 @@
-"""Frozen copy of roughstick/contact/_fft_bem_kernels.py before issue 33 (commit 768b963): the
+"""Frozen copy of roughstick/contact/fft_bem/_kernels.py before the speed-up (commit 768b963): the
 "old default" and the tight reference of benchmarks/bench_fft_bem_speed.py. Not imported by the
 package; do not edit.
 """

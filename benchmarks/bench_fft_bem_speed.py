@@ -1,7 +1,7 @@
-"""Speed and answers of the FFT boundary-element model's default call (issue 33, item 2).
+"""Speed and answers of the FFT boundary-element model's default call (the speed-up).
 
-Per case (map x size), in one process: the default call ``fft_bem_contact_curves(height,
-relative_humidity=RH)`` of this code (``new``) and of the code before issue 33 (``old``: the
+Per case (map x size), in one process: the default call ``rs.contact.fft_bem_curves(height,
+relative_humidity=RH)`` of this code (``new``) and of the code before the speed-up (``old``: the
 frozen kernels of benchmarks/_fft_bem_kernels_v0.py swapped into the same wrapper), each timed
 best of ``--repeat``, and the tight reference (``old`` kernels at tolerance 1e-4, double
 precision, timed once). Printed per case and call: states, FFT pairs (``rfft2`` + ``irfft2``),
@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib
 import json
 import pathlib
 import sys
@@ -62,12 +63,12 @@ def height_map(name, n):
 
 
 def _wrapper_module():
-    return sys.modules[rs.fft_bem_contact_curves.__module__]
+    return importlib.import_module("roughstick.contact.fft_bem._curves")
 
 
 @contextlib.contextmanager
 def old_kernels():
-    """The wrapper with the kernels before issue 33 (the module the wrapper calls ``_k``)."""
+    """The wrapper with the kernels before the speed-up (the module the wrapper calls ``_k``)."""
     sys.path.insert(0, str(HERE))
     import _fft_bem_kernels_v0 as v0
 
@@ -84,9 +85,9 @@ def run(h, rh, **kw):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         t = time.perf_counter()
-        ds = rs.fft_bem_contact_curves(h, relative_humidity=list(rh), **kw)
+        ds = rs.contact.fft_bem_curves(h, relative_humidity=list(rh), **kw)
         dt = time.perf_counter() - t
-        s = rs.adhesion_summary(ds)
+        s = rs.contact.summary(ds)
     out = {q: [float(v) for v in np.atleast_1d(s[q].values)] for q in QUANT}
     out.update(seconds=dt, fft_calls=int(ds.attrs["fft_calls"]), states=int(ds.attrs["states"]),
                iterations=int(ds.attrs["iterations"]), unconverged=int(ds.attrs["unconverged"]))
@@ -123,7 +124,7 @@ def main(argv=None):
     run(small, rh[:1])
     with old_kernels():
         run(small, rh[:1])
-    print(f"RH {list(rh)}; default call fft_bem_contact_curves(height, relative_humidity=RH); "
+    print(f"RH {list(rh)}; default call rs.contact.fft_bem_curves(height, relative_humidity=RH); "
           "'x iFFT' = seconds / one 1024² complex iFFT timed in the same process")
     summary = []
     for n in args.sizes:
@@ -138,7 +139,7 @@ def main(argv=None):
             if not args.no_tight:
                 if key not in cache:
                     with old_kernels():
-                        cache[key] = run(h, rh, tolerance=1e-4, precision="double")
+                        cache[key] = run(h, rh, solver_tolerance=1e-4, precision="double")
                     cache[key]["unit"] = min(unit, ifft_seconds())
                     if args.cache:
                         args.cache.write_text(json.dumps(cache, indent=1))

@@ -1,8 +1,8 @@
-"""FFT boundary-element model after the speed-up of issue 33 (item 2): same answers as a tight
+"""FFT boundary-element model after its speed-up : same answers as a tight
 solve, fewer FFT pairs than the kernels before it, and the pieces that make it cheaper (direct
 sums of the kernel, incremental gaps, the secant predictor) exact to rounding.
 
-The kernels before issue 33 are the frozen copy benchmarks/_fft_bem_kernels_v0.py (the "old
+The kernels before the speed-up are the frozen copy benchmarks/_fft_bem_kernels_v0.py (the "old
 default" and the old tight reference of benchmarks/bench_fft_bem_speed.py); the tests that use
 them are skipped where that file is absent. Costs are counted (FFT pairs), not timed.
 """
@@ -10,6 +10,7 @@ them are skipped where that file is absent. Costs are counted (FFT pairs), not t
 from __future__ import annotations
 
 import contextlib
+import importlib
 import importlib.util
 import pathlib
 import sys
@@ -19,7 +20,7 @@ import numpy as np
 import pytest
 
 import roughstick as rs
-from roughstick.contact import _fft_bem_kernels as K
+from roughstick.contact.fft_bem import _kernels as K
 
 FAMILIES = ("S1", "S2", "table4", "smooth", "rough")
 RH = [0.3, 0.6, 0.9]
@@ -30,8 +31,8 @@ V0 = pathlib.Path(__file__).resolve().parents[2] / "benchmarks" / "_fft_bem_kern
 def summary(h, **kw):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ds = rs.fft_bem_contact_curves(h, relative_humidity=RH, **kw)
-        s = rs.adhesion_summary(ds)
+        ds = rs.contact.fft_bem_curves(h, relative_humidity=RH, **kw)
+        s = rs.contact.summary(ds)
     return {q: s[q].values for q in QUANT}, int(ds.attrs["fft_calls"])
 
 
@@ -40,9 +41,9 @@ def worst(a, b):
 
 
 def kernels_v0():
-    """The module of the kernels before issue 33."""
+    """The module of the kernels before the speed-up."""
     if not V0.exists():
-        pytest.skip(f"{V0} (the kernels before issue 33) is absent")
+        pytest.skip(f"{V0} (the kernels before the speed-up) is absent")
     name = "_fft_bem_kernels_v0"
     if name not in sys.modules:  # numba's cache finds the module by its name
         spec = importlib.util.spec_from_file_location(name, V0)
@@ -54,9 +55,9 @@ def kernels_v0():
 
 @contextlib.contextmanager
 def old_kernels():
-    """The public model run on the kernels before issue 33 (swapped into its module)."""
+    """The public model run on the kernels before the speed-up (swapped into its module)."""
     v0 = kernels_v0()
-    mod = sys.modules[rs.fft_bem_contact_curves.__module__]
+    mod = importlib.import_module("roughstick.contact.fft_bem._curves")
     names = [n for n, v in vars(mod).items() if getattr(v, "auto_curve", None) is K.auto_curve]
     assert names, "the wrapper's kernels module was not found"
     saved = {n: getattr(mod, n) for n in names}
@@ -76,7 +77,7 @@ def test_default_agrees_with_the_tight_solve(family, n):
     precision, RH 0.3/0.6/0.9: measured at most 0.13 % (Γ), 0.11 % (pull-off), 0.35 % (d_eq)."""
     h = rs.datasets.surface_family(family, shape=(n, n), seed=1)
     new, _ = summary(h)
-    tight, _ = summary(h, tolerance=1e-4, precision="double")
+    tight, _ = summary(h, solver_tolerance=1e-4, precision="double")
     err = worst(new, tight)
     assert err["adhesive_energy"] < 0.01, err
     assert err["pull_off_pressure"] < 0.01, err
@@ -86,7 +87,7 @@ def test_default_agrees_with_the_tight_solve(family, n):
 @pytest.mark.parametrize("n", [64, 96])
 @pytest.mark.parametrize("family", FAMILIES)
 def test_same_answers_and_a_fifth_of_the_fft_pairs_of_the_old_kernels(family, n):
-    """Against the kernels before issue 33: Γ, pull-off and d_eq within 1.5 %, 2 % and 0.5 % of
+    """Against the kernels before the speed-up: Γ, pull-off and d_eq within 1.5 %, 2 % and 0.5 % of
     their tight solve (measured at most 0.58 %, 0.43 %, 0.04 %; the old default call itself:
     0.40 %, 1.59 %, 0.03 %), with at most a fifth of the old default call's FFT pairs (measured
     0.00-0.18; the rest are direct sums of the kernel, counted apart)."""
@@ -94,7 +95,7 @@ def test_same_answers_and_a_fifth_of_the_fft_pairs_of_the_old_kernels(family, n)
     new, new_ffts = summary(h)
     with old_kernels():
         _, old_ffts = summary(h)
-        tight, _ = summary(h, tolerance=1e-4, precision="double")
+        tight, _ = summary(h, solver_tolerance=1e-4, precision="double")
     err = worst(new, tight)
     assert err["adhesive_energy"] < 0.015, err
     assert err["pull_off_pressure"] < 0.02, err
@@ -128,8 +129,8 @@ def test_states_carry_their_exact_gap():
     traction); it stays the gap of its pressure and wet set: G[p - sigma0 1_W] + d - z."""
     h = rs.datasets.surface_family("table4", shape=(64, 64), seed=1)
     z = h.values / 1e-9
-    s0 = abs(float(rs.laplace_pressure(0.7))) / rs.reduced_modulus()
-    hw = float(rs.water_height(0.7)) / 1e-9
+    s0 = abs(float(rs.contact.laplace_pressure(0.7))) / rs.materials.reduced_modulus()
+    hw = float(rs.contact.water_height(0.7)) / 1e-9
     for dtype, tol in ((np.float64, 1e-9), (np.float32, 1e-4)):
         dd, states, grid = K.auto_curve(z, (5.0, 5.0), s0, hw, dtype=dtype)
         assert grid.sparse_calls > grid.calls  # most transforms were direct sums
@@ -159,10 +160,10 @@ def test_predictor_changes_the_path_not_the_answer(monkeypatch):
     h = rs.datasets.surface_family("smooth", shape=(96, 96), seed=1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with_ = rs.fft_bem_contact_curves(h, relative_humidity=RH)
+        with_ = rs.contact.fft_bem_curves(h, relative_humidity=RH)
         monkeypatch.setattr(K, "PREDICT_MAX_RATIO", 0.0)
-        without = rs.fft_bem_contact_curves(h, relative_humidity=RH)
-    a, b = rs.adhesion_summary(with_), rs.adhesion_summary(without)
+        without = rs.contact.fft_bem_curves(h, relative_humidity=RH)
+    a, b = rs.contact.summary(with_), rs.contact.summary(without)
     for q in QUANT:
         np.testing.assert_allclose(a[q].values, b[q].values, rtol=0.01, err_msg=q)
     assert with_.attrs["iterations"] < without.attrs["iterations"]
@@ -172,13 +173,13 @@ def test_predictor_changes_the_path_not_the_answer(monkeypatch):
 def test_bistable_wet_set_keeps_the_old_update_order(d):
     """Where a wet pixel's own tension holds it wet (RH 1e-6 on Table 4: sigma0 G(0) = 1.6 h0)
     the order of the updates picks one of several equilibria a pixel apart: the solver keeps the
-    order of the kernels before issue 33 there and finds their state (in the order used
+    order of the kernels before the speed-up there and finds their state (in the order used
     elsewhere it finds 34 pixels in contact and 6-7 wet outside it where they find 27-31 and
     none, and Γ of the automatic grid moved by 13 %)."""
     h = rs.datasets.surface_family("table4", shape=(64, 64), seed=1)
     z = h.values / 1e-9
-    s0 = abs(float(rs.laplace_pressure(1e-6))) / rs.reduced_modulus()
-    hw = float(rs.water_height(1e-6)) / 1e-9
+    s0 = abs(float(rs.contact.laplace_pressure(1e-6))) / rs.materials.reduced_modulus()
+    hw = float(rs.contact.water_height(1e-6)) / 1e-9
     kw = dict(scale=float(np.std(z)), max_iterations=500)
     grid = K.FFTGrid(z.shape, (5.0, 5.0))
     assert s0 * grid.self_displacement > K.SEQUENTIAL_WET * hw

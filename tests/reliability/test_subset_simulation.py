@@ -382,7 +382,7 @@ def test_bem_check_confirms_or_flags_the_failure_states():
 
 def test_fft_bem_limit_state_is_the_public_model():
     """model="fft_bem": every failure sample's stored response is the boundary-element
-    Γ of its surface computed by the public functions (noise -> surface -> fft_bem_contact_curves
+    Γ of its surface computed by the public functions (noise -> surface -> rs.contact.fft_bem_curves
     -> adhesion_summary), and the result says which model it used."""
     psd = table4()
     ds = rs.reliability.failure_probability(psd, threshold=0.04, relative_humidity=0.5, shape=(24, 24),

@@ -21,7 +21,7 @@ state's pressure and from its gaps opened by the move of the flat; a state whose
 no hard contact starts from the undeformed wet set ``{d - z < h0}`` (the Tamaas reference's
 convention for states with water but no contact).
 
-What makes it cheap (issue 33; docs/evidence/_from_fftbem.md):
+What makes it cheap (the speed-up; docs/evidence/fft_bem_speed.md):
 
 - every state carries its exact gap g = G[p - sigma0 1_W] + d - z, and the next one starts from
   it plus the displacement of the change of traction, not of the whole traction;
@@ -683,7 +683,7 @@ def _solve(grid, base, p0, *, wet, sigma0, h0, tolerance, max_iterations, scale,
     # humidity, soft bodies) the Dugdale zone has equilibria a pixel apart and the order of the
     # updates picks one: the wet set is then refreshed from the exact gap after the step's clamp,
     # and shifts the gap before the next direction (three transforms at most per iteration, as
-    # before issue 33). Elsewhere it follows the exact gap one step later, so that its change and
+    # before the speed-up). Elsewhere it follows the exact gap one step later, so that its change and
     # the next clamp share one transform.
     sequential = adhesive and sigma0 * grid.self_displacement > SEQUENTIAL_WET * h0
     t = grid.buffer("t")  # no need to clear it: the first direction is a restart
@@ -717,7 +717,7 @@ def _solve(grid, base, p0, *, wet, sigma0, h0, tolerance, max_iterations, scale,
             if moved:
                 s1, s2, n, bad, *sums = _corrected(grid, c, g, p, W, h0, adhesive, moved)
         # pixels entering the contact restart the conjugate directions (ENTER_RESTART; all of
-        # them in the sequential order, as before issue 33); so does a change of the wet set in
+        # them in the sequential order, as before the speed-up); so does a change of the wet set in
         # the sequential order (elsewhere restarting there too cost 15 % more iterations)
         delta = 0.0 if (entered > (0 if sequential else ENTER_RESTART * n) or moved) else 1.0
         err = max(np.sqrt(s1 / max(n, 1)), np.sqrt(s2 / max(n, 1))) / scale

@@ -12,7 +12,7 @@ import xarray as xr
 from scipy import ndimage
 
 import roughstick as rs
-from roughstick import hertz_modulus
+from roughstick import materials
 from roughstick.contact import laplace_pressure, water_height
 from roughstick.contact.adhesion import summary_kernel as _summary_kernel
 from roughstick.contact.modified_dmt import _controller as rk
@@ -20,7 +20,7 @@ from roughstick.contact.modified_dmt import _tail as _rough_tail
 
 DATA = pathlib.Path(__file__).resolve().parents[3] / "data_samples"
 
-K = hertz_modulus()
+K = materials.hertz_modulus()
 RH = np.array([0.3, 0.5, 0.6, 0.7, 0.8, 0.9])
 HW = water_height(RH).values
 DP = laplace_pressure(RH).values

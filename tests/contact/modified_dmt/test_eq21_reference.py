@@ -21,7 +21,7 @@ import pytest
 from eq21_reference import fit_asperity, footprints, reference_curves
 from scipy import ndimage
 
-from roughstick import datasets, hertz_modulus
+from roughstick import datasets, materials
 from roughstick.contact import laplace_pressure, water_height
 from roughstick.contact.modified_dmt._controller import (
     curves,
@@ -31,7 +31,7 @@ from roughstick.contact.modified_dmt._controller import (
 )
 from roughstick.contact.modified_dmt._fit import fit_footprint
 
-K = hertz_modulus()
+K = materials.hertz_modulus()
 RH = np.array([0.3, 0.7, 0.9])
 HW = water_height(RH).values
 DP = laplace_pressure(RH).values
