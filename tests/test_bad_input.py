@@ -99,7 +99,7 @@ def test_surfaces_too_large_for_memory_are_refused_before_allocating(h):
 
 
 @pytest.mark.parametrize("call", [
-    lambda m: rs.contact.curves(m, relative_humidity=0.5),
+    lambda m: rs.contact.curves(m, relative_humidity=0.5, model="modified_dmt"),
     lambda m: rs.contact.curves(m, relative_humidity=0.5, model="auto"),
     lambda m: rs.contact.modified_dmt_curves(m, relative_humidity=0.5),
     lambda m: rs.contact.fft_bem_curves(m, relative_humidity=0.5),
@@ -141,7 +141,7 @@ def test_a_lazy_map_too_large_for_memory_is_not_told_to_rechunk():
                         coords={"y": c, "x": c}, attrs={"units": "m"})
     with rs.testing.raise_if_dask_computes():
         with pytest.raises(MemoryError, match=r"200000 x 200000 map needs about .* GiB.*rechunking cannot help"):
-            rs.contact.curves(lazy, relative_humidity=0.5, distance=[0.0, 1e-9])
+            rs.contact.curves(lazy, relative_humidity=0.5, distance=[0.0, 1e-9], model="modified_dmt")
         with pytest.raises(MemoryError, match=r"fft_bem contact model on a 200000 x 200000 map"):
             rs.contact.fft_bem_curves(lazy, relative_humidity=0.5, distance=[0.0, 1e-9])
 
@@ -191,7 +191,7 @@ def test_heights_in_m_labelled_nm_are_refused_with_the_fix(h):
     with pytest.raises(ValueError, match=r"rms height is .* m: below anything an AFM can measure.*attrs\['units'\]"):
         rs.surface.power_spectrum(h.assign_attrs(units="nm"))  # values in m, labelled nm
     with pytest.raises(ValueError, match="below anything an AFM can measure"):
-        rs.contact.curves(h.assign_attrs(units="nm"), relative_humidity=0.5)
+        rs.contact.curves(h.assign_attrs(units="nm"), relative_humidity=0.5, model="modified_dmt")
 
 
 # -- dtypes a height cannot have, at every entry point -----------------------------------------
@@ -202,7 +202,7 @@ def test_every_map_entry_point_refuses_a_dtype_a_height_cannot_have(h, dtype, wh
     'flat'; a date-time map as 'rms 9.9e8 m, probably in nm')."""
     bad = h.copy(data=np.zeros(h.shape, dtype)) if dtype == "datetime64[ns]" else h.astype(dtype)
     calls = [rs.surface.power_spectrum, rs.surface.roughness_moments, rs.surface.validate_height,
-             lambda m: rs.contact.curves(m, relative_humidity=0.5),
+             lambda m: rs.contact.curves(m, relative_humidity=0.5, model="modified_dmt"),
              lambda m: rs.contact.curves(m, relative_humidity=0.5, model="gw"),
              lambda m: rs.contact.fft_bem_curves(m, relative_humidity=0.5),
              lambda m: rs.contact.surface_groups(m, relative_humidity=0.5)]

@@ -350,7 +350,7 @@ class RunConfig:
     scheduler: str | None
     connect_timeout: float
     progress: bool | None
-    model: str = "modified_dmt"
+    model: str = "auto"
     material: Material = POLYSILICON
 
     def build_psd(self):

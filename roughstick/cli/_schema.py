@@ -114,7 +114,9 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "distance_points": F("int", "points of the distance grid", default=200, minimum=8),
             "distance_lower": F("number", "bottom of the distance grid in units of the rms height",
                                 default=1.5, minimum=0.0),
-            "model": F("choice", _CONTACT_MODEL, default="modified_dmt",
+            "model": F("choice", _CONTACT_MODEL + "; 'auto' from n = 200 on: the modified DMT on "
+                       "every surface and the chosen model on a subset sized by a pilot "
+                       "(multi-fidelity)", default="auto",
                        choices=MODEL_CHOICES,
                        replaces=("contact_model",)),
         },

@@ -28,13 +28,13 @@ from ._types import (
 def register(sub):
     p = sub.add_parser(
         "curves",
-        help="force-distance curves (modified DMT, Eq. 16, or another model) and adhesion summary "
-        "of one height map",
+        help="force-distance curves (by the cheapest model measured within --accuracy of the "
+        "boundary-element reference, or the model named) and adhesion summary of one height map",
         description=(
             "Read a height map, compute the pressure versus distance at the given humidities "
-            "(modified DMT, Eqs. 16-23, by default; --model picks another registered contact "
-            "model, or auto = the cheapest model measured within --accuracy of the boundary-element "
-            "reference for this surface) and its adhesive energy (Eq. 13), and write both to a "
+            "(by default --model auto: the cheapest contact model measured within --accuracy of the "
+            "boundary-element reference for this surface; --model modified_dmt is the paper's "
+            "model, Eqs. 16-23) and its adhesive energy (Eq. 13), and write both to a "
             "CF NetCDF file. --resolution also reports how the summaries change with the pixel "
             "size."
         ),
@@ -62,9 +62,10 @@ def register(sub):
     p.add_argument("--connectivity", type=int, default=4, choices=[4, 8])
     p.add_argument("--periodic", default=None, choices=["yes", "no"],
                    help="override the map's 'periodic' attribute")
-    p.add_argument("--model", default="modified_dmt", choices=rs.contact.model_names(auto=True),
-                   help="contact model (default modified_dmt); auto: the cheapest model whose "
-                   "measured error bound for this surface meets --accuracy (docs/accuracy.md)")
+    p.add_argument("--model", default="auto", choices=rs.contact.model_names(auto=True),
+                   help="contact model (default auto: the cheapest model whose measured error bound "
+                   "for this surface meets --accuracy, docs/accuracy.md; modified_dmt: the paper's "
+                   "model, Eq. 16)")
     p.add_argument("--accuracy", "--tolerance", dest="accuracy", type=positive_float_arg, default=0.1,
                    help="accepted relative error against the boundary-element reference "
                    "(default 0.1): --model auto meets it; modified_dmt warns where it may not "

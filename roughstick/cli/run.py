@@ -116,8 +116,7 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
             seed=cfg.seed, chunks=cfg.chunks, distance=dist, adsorbed_layer=cfg.adsorbed_layer,
             output=ens_dir, overwrite=cfg.overwrite, scheduler=cfg.scheduler,
             connect_timeout=cfg.connect_timeout, progress=cfg.progress, material=cfg.material,
-            # the default model is not named: an ensemble stored before it could be keeps resuming
-            model=None if cfg.model == "modified_dmt" else cfg.model,
+            model=cfg.model,
             **_auto_keywords(cfg.auto),
         )
     ds = ds.load()

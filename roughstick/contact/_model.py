@@ -95,7 +95,9 @@ class ContactModel:
     ``run(context, grid) -> {variable: DataArray}`` for a model that does not map its kernel over
     the maps (Greenwood-Williamson maps it over spectral moments, given as a Dataset too:
     ``accepts_moments``; broadcasts the humidity: ``broadcast_humidity``; its default grid serves
-    any moments: ``grid_needs_one_map=False``). ``function`` is the model's
+    any moments: ``grid_needs_one_map=False``); ``positive_mean_gap``: distances at or below the
+    mean plane of the heights have no solution (a periodic model: the flat would cut the whole
+    map), so a grid shared with other maps gets NaN there. ``function`` is the model's
     public function (the accessor's ``<name>_curves``), when it has one.
 
     Examples
@@ -129,6 +131,7 @@ class ContactModel:
     accepts_moments: bool = False
     grid_needs_one_map: bool = True
     min_distances: int = 1
+    positive_mean_gap: bool = False
     memory: str | Callable | None = None
     estimate_seconds: Callable | None = None
     prepare: Callable | None = None

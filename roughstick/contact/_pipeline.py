@@ -384,7 +384,7 @@ def curves(
     height: xr.DataArray,
     *,
     relative_humidity,
-    model: str = "modified_dmt",
+    model: str = "auto",
     distance=None,
     material=POLYSILICON,
     material2=None,
@@ -404,14 +404,14 @@ def curves(
         uniform pixel-centre coords; attribute ``periodic`` (1: generated, wraps round).
     relative_humidity : float, sequence or xarray.DataArray
         RH as fractions in (0, 1); a sequence gives an ``rh`` dimension.
-    model : str, default "modified_dmt"
-        A registered contact model (:data:`roughstick.contact.MODELS`): ``"modified_dmt"``
-        (Eq. 16), ``"gw"`` (Eq. 14, on the map's moments), ``"fft_bem"`` (the FFT
-        boundary-element model), ``"bem"`` (the Tamaas reference); or ``"auto"``: the cheapest
-        model whose measured error bound at this surface's groups meets ``accuracy`` at every
-        requested humidity (:func:`roughstick.contact.select_model`), said before the work with
-        its estimated time (logger ``roughstick``, INFO) and recorded in
-        ``attrs["model_selection"]``.
+    model : str, default "auto"
+        ``"auto"``: the cheapest registered model whose measured error bound at this surface's
+        groups meets ``accuracy`` at every requested humidity
+        (:func:`roughstick.contact.select_model`), said before the work with its estimated time
+        (logger ``roughstick``, INFO) and recorded in ``attrs["model_selection"]``. Or a
+        registered contact model by name (:data:`roughstick.contact.MODELS`): ``"modified_dmt"``
+        (the paper's model, Eq. 16), ``"gw"`` (Eq. 14, on the map's moments), ``"fft_bem"`` (the
+        FFT boundary-element model), ``"bem"`` (the Tamaas reference).
     distance : array-like or xarray.DataArray, optional
         Distances ``d`` [m] from the flat to the mean plane of the heights. Default: the model's
         automatic grid (one eager map; Greenwood-Williamson: any moments).

@@ -31,6 +31,7 @@ from .._core.conventions import ATTRS, dataset_attrs
 from .._core.references import PAPER, cite
 from .._core.validate import relative_humidity_array
 from .._core.version import __version__
+from ..contact import MODELS
 from ..contact import curves as contact_curves
 from ..contact import summary as contact_summary
 from ..contact.adhesion import equilibrium_crossings
@@ -297,10 +298,12 @@ def _curves_self_extending(spec, hk, rh, grid, top, bottom, *, extend=True):
         flag |= 2
 
     def run(dist):
-        da = xr.DataArray(dist, dims="distance", coords={"distance": dist}, attrs=dict(ATTRS["distance"]))
+        kept = dist[dist > _mean_plane(spec, hk)]
+        da = xr.DataArray(kept, dims="distance", coords={"distance": kept}, attrs=dict(ATTRS["distance"]))
         c = spec.curves(hk, relative_humidity=rh, distance=da, material=spec.material,
                         adsorbed_layer=spec.adsorbed_layer, **spec.curves_kwargs)
-        return c.to_dataset(name=c.name or "pressure") if isinstance(c, xr.DataArray) else c
+        c = c.to_dataset(name=c.name or "pressure") if isinstance(c, xr.DataArray) else c
+        return c if kept.size == dist.size else c.reindex(distance=dist)  # NaN: no solution there
 
     curves = run(d)
     if "pressure" not in curves:
@@ -316,6 +319,16 @@ def _curves_self_extending(spec, hk, rh, grid, top, bottom, *, extend=True):
         curves = run(d)
         p = np.asarray(curves["pressure"].transpose(..., "distance").values)
     return curves, flag
+
+
+def _mean_plane(spec: Spec, hk: xr.DataArray) -> float:
+    """The distance at and below which the ensemble's contact model has no solution on ``hk``:
+    its mean plane for a model with ``positive_mean_gap`` (the periodic boundary-element
+    models), else minus infinity."""
+    model = MODELS.get(spec.curves_kwargs.get("model", ""))
+    if model is None or not model.positive_mean_gap:
+        return -np.inf
+    return float(hk.mean(skipna=True))
 
 
 OWN_GRID_NOTE = (

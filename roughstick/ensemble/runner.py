@@ -39,6 +39,7 @@ from .._core.validate import (
     surface_shape,
 )
 from ..contact import (
+    MODELS,
     VALIDITY_BOUND,
     expected_surface_groups,
     model_names,
@@ -64,8 +65,16 @@ from .store import open_ensemble
 
 __all__ = ["run", "surface_size_study"]
 
-#: The contact model run when ``model`` is not named.
-DEFAULT_MODEL = "modified_dmt"
+#: The contact model run when ``model`` is not named: the cheapest that meets ``accuracy``.
+DEFAULT_MODEL = "auto"
+#: The cheap model of a default multi-fidelity ensemble (the paper's model, Eq. 16).
+CHEAP_MODEL = "modified_dmt"
+#: From this many realizations a default ensemble whose accuracy needs a costlier model than
+#: :data:`CHEAP_MODEL` runs the cheap model on all and the accurate one on a subset; below it, the
+#: accurate model on all (the pilot would be a large part of the run).
+MULTIFIDELITY_FROM = 200
+#: A pilot asking for more than this fraction of the realizations runs the accurate model on all.
+MULTIFIDELITY_MAX_FRACTION = 0.6
 
 
 def _contact_options(model, accuracy, curves_kwargs):
@@ -187,7 +196,8 @@ def run(
 
     For realization :math:`k = 0 … n-1`: a surface from ``psd`` (Eqs. 33-34,
     :func:`roughstick.surface.generate_surfaces`), its pressure–distance curves at every humidity
-    by the contact model ``model`` (the modified DMT of Eqs. 16-23 by default) on a distance grid
+    by the contact model ``model`` (by default the cheapest measured within ``accuracy`` of the
+    boundary-element reference) on a distance grid
     common to all realizations, and their summaries (Γ of Eq. 13, pull-off pressure, equilibrium
     distance).
 
@@ -207,16 +217,24 @@ def run(
         Pixel size [m], or with its unit (``"5 nm"``).
     size, shape : float, str or (float, float), int or (int, int)
         Surface side(s) in metres (or with a unit, ``"1.28 um"``), or in pixels; give exactly one.
-    model : {"modified_dmt", "gw", "fft_bem", "bem", "auto"}, optional
-        The contact model every realization runs (default ``"modified_dmt"``; ``"bem"`` needs the
-        Tamaas extra). ``"auto"`` is resolved once for the whole ensemble, before the graph is
-        built, as the cheapest model whose measured error bound at the surface groups expected
-        from the PSD (:func:`roughstick.contact.expected_surface_groups`) meets ``accuracy`` at every
-        humidity. The model run is ``attrs["contact_model"]``; for ``"auto"`` the reason is
-        ``attrs["model_selection"]``.
+    model : {"auto", "modified_dmt", "gw", "fft_bem", "bem"}, default "auto"
+        ``"auto"`` (also ``None``): the accuracy target by the cheapest plan, resolved once for
+        the whole ensemble before the graph is built. The model is the cheapest whose measured
+        error bound at the surface groups expected from the PSD
+        (:func:`roughstick.contact.expected_surface_groups`) meets ``accuracy`` at every
+        humidity; where it is costlier than the modified DMT and ``n >= MULTIFIDELITY_FROM``
+        (200; not with ``n="auto"`` nor with ``accurate_model``), the modified DMT runs on every
+        realization and the chosen model on a subset sized by a pilot (``n_accurate="auto"``; on
+        all where the pilot asks for more than 60 % of them): a multi-fidelity ensemble, whose
+        accurate band :func:`confidence_band` gives. The model run is
+        ``attrs["contact_model"]`` (and ``attrs["accurate_model"]``), the reason
+        ``attrs["model_selection"]``. A named model runs on every realization;
+        ``"modified_dmt"`` is the paper's model (§3.4, Eqs. 16-23); ``"bem"`` needs the Tamaas
+        extra.
     accuracy : float, optional
         Accepted relative error of the model against the boundary-element reference (default
-        0.1): what ``"auto"`` must meet, and above which a ValidityWarning is given.
+        0.1): what ``"auto"`` (and the default) must meet, and above which a named model gets a
+        ValidityWarning.
     seed : int or numpy.random.SeedSequence, default 0
         Root seed; realization ``k`` uses its child ``k`` whatever the chunking.
     chunks : int or dict, optional
@@ -315,15 +333,22 @@ def run(
     rh = relative_humidity_array(relative_humidity)
     material = POLYSILICON if material is None else as_material(material)
     model, accuracy, curves_kwargs = _contact_options(model, accuracy, curves_kwargs)
+    # the default (no model, no accurate model): the accuracy target, by the cheapest plan
+    defaulted = model in (None, "auto") and accurate_model is None and curves is None
     chosen = selection = None
     if curves is None:
         # the model every realization runs ("auto" resolved once): one template, one variable set
         chosen, selection = _check_once(psd, shp, spacing, rh, material, adsorbed_layer, model,
                                         accuracy, curves_kwargs.get("quantity", "adhesive_energy"),
                                         warn=generate is None)
-    if selection is not None:  # "auto": its choice (the parameters of an unchanged run keep their hash)
+    if defaulted and not auto and n_total >= MULTIFIDELITY_FROM and _costlier(chosen, CHEAP_MODEL):
+        accurate_model, chosen = chosen, CHEAP_MODEL
+        selection += (f"; multi-fidelity: {CHEAP_MODEL} on every realization, {accurate_model} on "
+                      "a subset sized by a pilot (n >= "
+                      f"{MULTIFIDELITY_FROM}), combined by roughstick.ensemble.confidence_band")
+    if chosen is not None:  # the model resolved before the graph, named in the parameters
         curves_kwargs["model"] = chosen
-    elif model is not None:  # a named model (the default is not named: earlier runs keep their hash)
+    elif model is not None:
         curves_kwargs["model"] = model
     generate = generate_surfaces if generate is None else generate
     # the per-surface validity check would warn once per realization from inside dask: the run is
@@ -360,6 +385,12 @@ def run(
     if accurate_model is not None:
         spec = _with_accurate_subset(spec, accurate_model, n_accurate, n_total, auto=auto,
                                      accuracy=VALIDITY_BOUND if accuracy is None else accuracy)
+        if defaulted and len(spec.accurate[1]) > MULTIFIDELITY_MAX_FRACTION * n_total:
+            # the pilot asks for most realizations: the accurate model on all is cheaper
+            selection += (f"; the pilot asked for {len(spec.accurate[1])} of {n_total} "
+                          f"realizations with {accurate_model}: it runs on all")
+            chosen = accurate_model
+            spec = _single_model(spec, accurate_model)
     attrs = _attrs(spec, n_total)
     if chosen is not None:
         attrs["contact_model"] = chosen
@@ -420,6 +451,20 @@ def _with_accurate_subset(spec: Spec, model: str, n_accurate, n_total: int, *, a
     members = frozenset(int(k) for k in accurate_subset(n_total, int(n_accurate), seed=spec.seed))
     return dataclasses.replace(spec, accurate=(model, members),
                                token=_hash_params({**_spec_fields(spec), "accurate": (model, members)}))
+
+
+def _costlier(model: str | None, than: str) -> bool:
+    """Whether ``model`` ranks above ``than`` in the contact-model registry's cost order."""
+    if model is None or model not in MODELS or MODELS[model].cost_rank is None:
+        return False
+    return MODELS[model].cost_rank > MODELS[than].cost_rank
+
+
+def _single_model(spec: Spec, model: str) -> Spec:
+    """``spec`` running ``model`` on every realization, without a multi-fidelity subset."""
+    kw = {**spec.curves_kwargs, "model": model}
+    fields = {**_spec_fields(spec), "curves_kwargs": kw}
+    return dataclasses.replace(spec, curves_kwargs=kw, accurate=(), token=_hash_params(fields))
 
 
 def _spec_fields(spec: Spec) -> dict:

@@ -44,7 +44,7 @@ def test_modified_dmt_warning_is_a_message_naming_the_flags(tmp_path, capsys):
 
     path, _ = _map(tmp_path)
     assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.7",
-                 "--accuracy", "1e-4", "--out", str(tmp_path / "m.nc")]) == 0
+                 "--model", "modified_dmt", "--accuracy", "1e-4", "--out", str(tmp_path / "m.nc")]) == 0
     err = capsys.readouterr().err
     assert err.startswith("roughstick curves: warning: modified_dmt may be off")
     assert "--model auto --accuracy 0.0001" in err
@@ -73,12 +73,12 @@ def test_bem_model_and_resolution_option(tmp_path, capsys):
 
 
 def test_validity_remedy_is_said_in_flags_only(tmp_path, capsys):
-    """Issue 16 item 7: messages name CLI flags, not Python arguments."""
+    """Messages name CLI flags, not Python arguments."""
     from roughstick.cli import main
 
     path, _ = _map(tmp_path)
     assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.7",
-                 "--accuracy", "1e-4", "--out", str(tmp_path / "m.nc")]) == 0
+                 "--model", "modified_dmt", "--accuracy", "1e-4", "--out", str(tmp_path / "m.nc")]) == 0
     err = capsys.readouterr().err
     assert "rough_contact_curves(" not in err and "model='" not in err
     assert "Remedy: --model auto --accuracy 0.0001 picks the cheapest model" in err

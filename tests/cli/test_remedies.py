@@ -38,12 +38,12 @@ def _run_cfg(tmp_path, name, ensemble="", extra=""):
 def test_run_takes_the_contact_model_its_warnings_name_and_says_it_in_config_keys(tmp_path, capsys):
     """`roughstick run` warned "use model='auto'" and refused a model key: the warning now names
     [ensemble] model, which the run takes ("auto" then says its choice before the work)."""
-    assert main(["run", str(_run_cfg(tmp_path, "plain"))]) == 0
+    assert main(["run", str(_run_cfg(tmp_path, "plain", 'model = "modified_dmt"'))]) == 0
     err = capsys.readouterr().err
     assert 'Remedy: [ensemble] model = "auto" picks the cheapest model' in err
     assert '[surface] spacing = "' in err  # the pixel warning: a finer spacing, as a key
     assert "model='" not in err and "curves_kwargs" not in err and "spacing=" not in err
-    assert main(["run", str(_run_cfg(tmp_path, "auto", 'model = "auto"'))]) == 0
+    assert main(["run", str(_run_cfg(tmp_path, "auto"))]) == 0  # the default: model = "auto"
     text = capsys.readouterr()
     assert "ValidityWarning" not in text.err
     said = text.out.index("auto -> ")
@@ -62,7 +62,7 @@ def test_the_console_script_spells_the_remedies_as_config_keys_too(tmp_path):
     import subprocess
     import sys
 
-    cfg = _run_cfg(tmp_path, "plain")
+    cfg = _run_cfg(tmp_path, "plain", 'model = "modified_dmt"')
     res = subprocess.run([sys.executable, "-m", "roughstick.cli", "run", str(cfg)], cwd=tmp_path,
                          capture_output=True, text=True, timeout=300,
                          env={**os.environ, "CI": "true", "MPLBACKEND": "Agg"})
@@ -76,7 +76,7 @@ def test_python_callers_get_their_own_arguments_named():
     psd = rs.surface.self_affine_psd(np.geomspace(1e5, 3e9, 300), s0=1e-36, s1=1e-37, q0=1e7, qmax=2.9e8)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        rs.ensemble.run(psd, n=1, shape=(16, 16), spacing=5e-9, relative_humidity=[0.05])
+        rs.ensemble.run(psd, n=1, shape=(16, 16), spacing=5e-9, relative_humidity=[0.05], model="modified_dmt")
     text = " ".join(str(w.message) for w in caught if issubclass(w.category, rs.ValidityWarning))
     assert "spacing=" in text and "[surface]" not in text and "--" not in text
 

@@ -63,7 +63,7 @@ def test_sphere_adhesive_energy_matches_integral_of_eq9():
     K = rs.materials.hertz_modulus()
     top = float(h.max() - h.mean())
     d = top - np.linspace(-hw - 0.2e-9, 0.3e-9, 400)
-    c = rs.contact.curves(h, relative_humidity=rh, distance=d)
+    c = rs.contact.curves(h, relative_humidity=rh, distance=d, model="modified_dmt")
     gamma = float(rs.contact.summary(c).adhesive_energy) * h.size * dx * dx
 
     def force(delta):
@@ -156,7 +156,7 @@ def test_gamma_without_equilibrium_is_whole_grid_lower_bound():
 def _sphere_curves(distance):
     h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
     return rs.contact.curves(h, relative_humidity=0.5, distance=distance,
-                                   check_validity=False)
+                                   check_validity=False, model="modified_dmt")
 
 
 def test_grid_above_the_surface_warns_that_gamma_zero_means_nothing():
@@ -196,7 +196,7 @@ def test_infinite_pixels_are_refused_with_the_fix():
     h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
     h[5, 7] = np.inf
     with pytest.raises(ValueError, match=r"1 infinite pixel.*y index 5, x index 7.*NaN"):
-        rs.contact.curves(h, relative_humidity=0.5)
+        rs.contact.curves(h, relative_humidity=0.5, model="modified_dmt")
     h[5, 7] = -np.inf
     with pytest.raises(ValueError, match="infinite"):
         rs.contact.curves(h, relative_humidity=0.5, model="gw")
@@ -238,7 +238,7 @@ def test_grid_warning_on_automatic_grid_does_not_advise_the_automatic_grid(heigh
     # (a constant map is refused: tests/contact/test_rough_soft.py)
     with pytest.warns(rs.contact.ValidityWarning, match="not physical"):
         c = rs.contact.curves(height, relative_humidity=[0.3, 0.9], check_validity=False,
-                                    **kwargs)
+                              model="modified_dmt", **kwargs)
     assert c.attrs["distance_grid"] == "automatic"
     s = rs.contact.summary(c, check_grid=False)
     bad = s.rh.values[np.isnan(s.equilibrium_distance.values)]
@@ -252,11 +252,11 @@ def test_grid_warning_on_automatic_grid_does_not_advise_the_automatic_grid(heigh
 
 def test_grid_warning_on_given_grid_advises_the_automatic_grid():
     h = sphere_topography(200e-9, n=33, spacing=2e-9)
-    full = rs.contact.curves(h, relative_humidity=[0.5, 0.7], check_validity=False)
+    full = rs.contact.curves(h, relative_humidity=[0.5, 0.7], check_validity=False, model="modified_dmt")
     p = full.pressure.sel(rh=0.5).values
     k_eq = int(np.nonzero((p[:-1] >= 0) & (p[1:] < 0))[0][-1])
     given = rs.contact.curves(h, relative_humidity=[0.5, 0.7], check_validity=False,
-                                    distance=full.distance.values[k_eq + 2:])
+                                    distance=full.distance.values[k_eq + 2:], model="modified_dmt")
     assert given.attrs["distance_grid"] == "given"
     msg = _grid_warning(given)
     assert "never repulsive at RH 0.5" in msg and "distance=None" in msg

@@ -70,8 +70,8 @@ def test_dispatcher_names_and_history():
     with pytest.raises(ValueError, match="model must be one of"):
         rs.contact.curves(h, relative_humidity=0.5, model="jkr")
     with pytest.raises(TypeError, match="for model='modified_dmt'"):
-        rs.contact.curves(h, relative_humidity=0.5, distance=[0.0], sphere_model="dmt")
-    ds = rs.contact.curves(h, relative_humidity=0.5, distance=[-1e-9, 1e-9])
+        rs.contact.curves(h, relative_humidity=0.5, distance=[0.0], sphere_model="dmt", model="modified_dmt")
+    ds = rs.contact.curves(h, relative_humidity=0.5, distance=[-1e-9, 1e-9], model="modified_dmt")
     direct = rs.contact.modified_dmt_curves(h, relative_humidity=0.5, distance=[-1e-9, 1e-9])
     xr.testing.assert_identical(ds.pressure, direct.pressure)
     assert ds.attrs["history"].splitlines()[-1].endswith("roughstick.contact.curves(model='modified_dmt')")

@@ -131,4 +131,4 @@ def test_size_study_runs_one_auto_model_for_every_size():
 
 def test_a_callable_psd_is_refused_with_the_way_to_evaluate_it():
     with pytest.raises(TypeError, match=r"self_affine_psd\(numpy.geomspace"):
-        rs.ensemble.run(rs.datasets.family_psd("S1"), n=2, shape=16, spacing=5e-9, relative_humidity=[0.5])
+        rs.ensemble.run(rs.datasets.family_psd("S1"), n=2, shape=16, spacing=5e-9, relative_humidity=[0.5], model="modified_dmt")

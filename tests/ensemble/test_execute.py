@@ -52,7 +52,7 @@ def test_local_cluster_processes_bit_identical(tmp_path):
     """The real pipeline on a LocalCluster of two worker processes = threads = other chunking."""
     distributed = pytest.importorskip("distributed")
 
-    run = dict(n=6, shape=64, spacing=5e-9, relative_humidity=RH, seed=11)
+    run = dict(n=6, shape=64, spacing=5e-9, relative_humidity=RH, seed=11, model="modified_dmt")
     psd = rs.datasets.sample_psd("S2")
     threaded = rs.ensemble.run(psd, chunks=2, **run).compute(scheduler="threads")
     other_chunks = rs.ensemble.run(psd, chunks=5, **run).compute(scheduler="sync")

@@ -35,7 +35,7 @@ def _run(psd, *, n, shape, rh=(0.3, 0.9)):
         warnings.simplefilter("ignore", rs.ValidityWarning)  # their accuracy is issue 13's table
         warnings.simplefilter("ignore", rs.surface.ExtrapolatedPSDWarning)
         return rs.ensemble.run(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=list(rh),
-                               seed=1, progress=False).compute()
+                               seed=1, progress=False, model="modified_dmt").compute()
 
 
 def test_all_45_realistic_self_affine_psds_finish():
@@ -53,7 +53,7 @@ def test_all_45_realistic_self_affine_psds_finish():
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", rs.ValidityWarning)
                 c = rs.contact.curves(h.isel(realization=k, drop=True).compute(),
-                                            relative_humidity=[float(ds.rh[j])])
+                                            relative_humidity=[float(ds.rh[j])], model="modified_dmt")
             p = c.pressure.transpose(..., "distance").values.ravel()
             assert (p <= 0).all() and p[0] < 0, (rms, q0, hurst, k)
             assert float(c.distance[0]) <= float(h.isel(realization=k).min() - h.isel(realization=k).mean())

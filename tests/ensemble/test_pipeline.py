@@ -110,7 +110,7 @@ def test_material_by_name_or_refused_naming_the_names():
     with pytest.raises(ValueError, match=r"material='silicon' is not a material roughstick knows; known "
                                          r"names: 'poly-silicon'.*roughstick.Material\(youngs_modulus="):
         rs.ensemble.run(rs.datasets.sample_psd("S2"), n=2, shape=32, spacing=5e-9, relative_humidity=[0.5],
-                        material="silicon")
+                        material="silicon", model="modified_dmt")
     with pytest.raises(TypeError, match="must be a roughstick.Material or a known name"):
         toy_run(n=2, material=164e9)
     named, default = toy_run(n=2, material="poly-Si"), toy_run(n=2)
@@ -124,8 +124,8 @@ def test_lengths_with_their_unit_everywhere():
     psd = rs.datasets.sample_psd("S2")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the validity and pixel warnings of this small run
-        with_units = rs.ensemble.run(psd, n=2, size="0.32 um", spacing="5 nm", relative_humidity=[0.5], seed=1)
-        in_m = rs.ensemble.run(psd, n=2, size=0.32e-6, spacing=5e-9, relative_humidity=[0.5], seed=1)
+        with_units = rs.ensemble.run(psd, n=2, size="0.32 um", spacing="5 nm", relative_humidity=[0.5], seed=1, model="modified_dmt")
+        in_m = rs.ensemble.run(psd, n=2, size=0.32e-6, spacing=5e-9, relative_humidity=[0.5], seed=1, model="modified_dmt")
     assert with_units.attrs["params_hash"] == in_m.attrs["params_hash"]
     assert with_units.sizes == in_m.sizes and with_units.attrs["surface_shape"] == in_m.attrs["surface_shape"]
     a = rs.surface.generate_surfaces(psd, n=1, shape=32, spacing="5 nm", seed=3)
@@ -139,7 +139,7 @@ def test_lengths_with_their_unit_everywhere():
     xr.testing.assert_allclose(f, rs.contact.sphere_force([1e-9], model="dmt", radius=200e-9, relative_humidity=0.5),
                                rtol=1e-14)
     with pytest.raises(ValueError, match=r"spacing = '2 parsecs': unknown length unit"):
-        rs.ensemble.run(psd, n=2, shape=32, spacing="2 parsecs", relative_humidity=[0.5])
+        rs.ensemble.run(psd, n=2, shape=32, spacing="2 parsecs", relative_humidity=[0.5], model="modified_dmt")
     with pytest.raises(ValueError, match=r"spacing\[y\] must be positive and finite, got -2e-09"):
         rs.surface.generate_surfaces(psd, n=1, shape=32, spacing="-2 nm")
 
@@ -203,7 +203,7 @@ def test_surface_size_study_shares_grid():
 def test_real_pipeline_layout_and_single_realization(sample_psds):
     psd = sample_psds["S2"]
     with raise_if_dask_computes():
-        ds = rs.ensemble.run(psd, n=3, shape=64, spacing=5e-9, relative_humidity=RH6, seed=9, chunks=2)
+        ds = rs.ensemble.run(psd, n=3, shape=64, spacing=5e-9, relative_humidity=RH6, seed=9, chunks=2, model="modified_dmt")
     for v in ("pressure", "wet_fraction", "contact_fraction", "n_contacts", "fit_error"):
         assert ds[v].dims == ("realization", "rh", "distance"), v
     for v in ("adhesive_energy", "pull_off_pressure", "equilibrium_distance"):
@@ -211,13 +211,13 @@ def test_real_pipeline_layout_and_single_realization(sample_psds):
     ds = ds.compute()
     # realization 2 regenerated alone and run through the public functions directly
     h = rs.surface.generate_surfaces(psd, realizations=[2], shape=64, spacing=5e-9, seed=9).compute()
-    c = rs.contact.curves(h, relative_humidity=RH6, distance=ds.distance)
+    c = rs.contact.curves(h, relative_humidity=RH6, distance=ds.distance, model="modified_dmt")
     s = rs.contact.summary(c)
     np.testing.assert_array_equal(c.pressure.isel(realization=0).transpose("rh", "distance").values,
                                   ds.pressure.sel(realization=2).values)
     # its summaries: each humidity alone on the map's own automatic grid
     own = [float(rs.contact.summary(rs.contact.curves(
-        h.isel(realization=0, drop=True), relative_humidity=[r], check_validity=False)
+        h.isel(realization=0, drop=True), relative_humidity=[r], check_validity=False, model="modified_dmt")
     ).adhesive_energy[0]) for r in RH6]
     np.testing.assert_array_equal(own, ds.adhesive_energy.sel(realization=2).values)
     # and within the grid-convergence tolerance of the common-grid summary
@@ -232,7 +232,7 @@ def test_real_gamma_converges_on_default_grid(sample_psds):
         coarse = rs.ensemble.distance_grid(psd, **kw)
         fine = rs.ensemble.distance_grid(psd, points_per_water_height=40, **kw)
         assert fine.size > 3.5 * coarse.size
-        run = dict(n=4, shape=128, spacing=5e-9, relative_humidity=RH6, seed=4, chunks=4)
+        run = dict(n=4, shape=128, spacing=5e-9, relative_humidity=RH6, seed=4, chunks=4, model="modified_dmt")
         g0 = rs.ensemble.run(psd, distance=coarse, **run).adhesive_energy.values
         g1 = rs.ensemble.run(psd, distance=fine, **run).adhesive_energy.values
         err = np.abs(g0 / g1 - 1)
@@ -266,7 +266,7 @@ SUMMARIES = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
 
 def _summaries(n, rh, chunks=None):
     ds = rs.ensemble.run(_smooth_psd(), n=n, relative_humidity=rh, spacing=5e-9,
-                         shape=(64, 64), seed=11, chunks=chunks, scheduler="sync")
+                         shape=(64, 64), seed=11, chunks=chunks, scheduler="sync", model="modified_dmt")
     return ds[list(SUMMARIES)].compute()
 
 
@@ -289,11 +289,11 @@ def test_summaries_independent_of_other_humidities_n_and_chunks():
 @pytest.mark.filterwarnings("ignore::roughstick.ValidityWarning")
 def test_summary_is_the_single_map_automatic_grid_result():
     ds = rs.ensemble.run(_smooth_psd(), n=2, relative_humidity=[0.5], spacing=5e-9,
-                         shape=(64, 64), seed=5, scheduler="sync").compute()
+                         shape=(64, 64), seed=5, scheduler="sync", model="modified_dmt").compute()
     h = rs.surface.generate_surfaces(_smooth_psd(), n=2, shape=(64, 64), spacing=5e-9,
                              seed=5).isel(realization=1, drop=True).compute()
     direct = rs.contact.summary(rs.contact.curves(h, relative_humidity=[0.5],
-                                                         check_validity=False))
+                                                         check_validity=False, model="modified_dmt"))
     np.testing.assert_allclose(ds.adhesive_energy.isel(realization=1).values,
                                direct.adhesive_energy.values, rtol=1e-12)
     assert "own automatic distance grid" in ds.attrs["history"]
@@ -307,7 +307,7 @@ def test_run_warns_once_before_the_graph(sample_psds):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         ds = rs.ensemble.run(sample_psds["S2"], n=4, shape=512, spacing=5e-9,
-                             relative_humidity=[0.7], seed=2, chunks=1)
+                             relative_humidity=[0.7], seed=2, chunks=1, model="modified_dmt")
     kinds = [w.category for w in caught]
     assert kinds.count(rs.surface.ExtrapolatedPSDWarning) == 1, kinds
     assert kinds.count(rs.ValidityWarning) == 1, kinds

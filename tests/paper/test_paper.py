@@ -30,7 +30,7 @@ def readable(fig):
 def ens():
     psd = rs.datasets.sample_psd("S2")
     return rs.ensemble.run(psd, n=6, shape=64, spacing=5e-9, relative_humidity=RH, seed=3,
-                           chunks=3).compute()
+                           chunks=3, model="modified_dmt").compute()
 
 
 def test_ensemble_figures(ens):
@@ -52,7 +52,7 @@ def test_ensemble_figures(ens):
 
 def test_rough_contact_figures_and_map_dataset():
     maps = {k: rs.datasets.load_sample(k).isel(x=slice(0, 128), y=slice(0, 128)) for k in ("S1A", "S1B")}
-    curves = {k: rs.contact.curves(h, relative_humidity=RH) for k, h in maps.items()}
+    curves = {k: rs.contact.curves(h, relative_humidity=RH, model="modified_dmt") for k, h in maps.items()}
     summaries = {k: rs.contact.summary(c) for k, c in curves.items()}
     ds, fig = rough_contact.fig08_rough_curves(curves["S1A"], name="S1A", relative_humidity=RH)
     assert ds is curves["S1A"] and isinstance(fig, Figure) and readable(fig)

@@ -93,7 +93,7 @@ def test_numpy_response_is_the_public_xarray_path(quantity, periodic, material2)
         h = xr.DataArray(zc, dims=("y", "x"), attrs={"units": "m", "periodic": int(periodic)},
                          coords={"y": (np.arange(48) + 0.5) * SPACING, "x": (np.arange(40) + 0.5) * SPACING})
         c = rs.contact.curves(h, relative_humidity=0.4, distance=d, material2=material2,
-                                    check_validity=False)
+                                    check_validity=False, model="modified_dmt")
         ref = rs.contact.summary(c, check_grid=False)
         g = rs.contact.adhesion.summary_kernel(*model._curves(zc, d, periodic), d)
         assert float(g[0]) == float(ref.adhesive_energy) and float(g[1]) == float(ref.pull_off_pressure)

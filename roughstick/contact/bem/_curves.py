@@ -263,6 +263,7 @@ MODEL = register_model(ContactModel(
     references=_REFERENCES,
     reference=True,
     complete_map=True,
+    positive_mean_gap=True,
     min_distances=2,
     memory="bem",
     estimate_seconds=lambda shape, curves, points: estimate_model_seconds("bem", shape, curves, points),

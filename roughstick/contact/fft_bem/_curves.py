@@ -410,6 +410,7 @@ MODEL = register_model(ContactModel(
     extra_variables=("distance_offset", "solver_residual", "solved"),
     references=_REFERENCES,
     complete_map=True,
+    positive_mean_gap=True,
     memory=lambda o: "fft_bem_double" if o.get("precision") == "double" else "fft_bem",
     estimate_seconds=lambda shape, curves, points: estimate_model_seconds("fft_bem", shape, curves, points),
     prepare=_prepare,

@@ -34,7 +34,7 @@ def test_single_sphere_reproduces_sphere_modified_dmt():
     K = rs.materials.hertz_modulus()
     top = float(h.max() - h.mean())
     d = top - np.linspace(-1.0e-9, 2.5e-9, 15)
-    ds = rs.contact.curves(h, relative_humidity=[0.5, 0.7], distance=d)
+    ds = rs.contact.curves(h, relative_humidity=[0.5, 0.7], distance=d, model="modified_dmt")
     area = h.size * dx * dx
     for rh in (0.5, 0.7):
         sub = ds.sel(rh=rh)
@@ -54,7 +54,7 @@ def test_single_sphere_reproduces_sphere_modified_dmt():
 def test_pressure_bounded_by_laplace_pressure_and_saturation():
     # the water term can never pull harder than Delta P on the whole map (saturation, §3.4.2)
     h = s1_like()
-    ds = rs.contact.curves(h, relative_humidity=RH6, n_distance=120)
+    ds = rs.contact.curves(h, relative_humidity=RH6, n_distance=120, model="modified_dmt")
     assert bool((ds.pressure >= ds.laplace_pressure * (1 + 1e-12)).all())
     assert bool(((ds.wet_fraction >= 0) & (ds.wet_fraction <= 1)).all())
     # far above the surface: nothing; pressure is zero at the top of the grid
@@ -63,11 +63,11 @@ def test_pressure_bounded_by_laplace_pressure_and_saturation():
 
 def test_adhesive_energy_converges_with_grid():
     h = s1_like((48, 48), seed=1)
-    auto = rs.contact.curves(h, relative_humidity=[0.3, 0.9])
+    auto = rs.contact.curves(h, relative_humidity=[0.3, 0.9], model="modified_dmt")
     lo, hi = float(auto.distance.min()), float(auto.distance.max())
     gammas = []
     for n in (50, 100, 200, 400, 800):
-        c = rs.contact.curves(h, relative_humidity=[0.3, 0.9], distance=np.linspace(lo, hi, n))
+        c = rs.contact.curves(h, relative_humidity=[0.3, 0.9], distance=np.linspace(lo, hi, n), model="modified_dmt")
         gammas.append(rs.contact.summary(c).adhesive_energy.values)
     g = np.array(gammas)
     err = np.abs(g[:-1] - g[-1]) / g[-1]
@@ -79,7 +79,7 @@ def test_adhesive_energy_converges_with_grid():
     ga = rs.contact.summary(auto).adhesive_energy.values
     d = auto.distance.values
     d4 = np.unique(np.concatenate([d, (d[:-1, None] + np.diff(d)[:, None] * [0.25, 0.5, 0.75]).ravel()]))
-    fine = rs.contact.curves(h, relative_humidity=[0.3, 0.9], distance=d4)
+    fine = rs.contact.curves(h, relative_humidity=[0.3, 0.9], distance=d4, model="modified_dmt")
     g4 = rs.contact.summary(fine).adhesive_energy.values
     assert np.all(np.abs(ga - g4) / g4 < 0.01)
 
@@ -87,7 +87,7 @@ def test_adhesive_energy_converges_with_grid():
 @pytest.mark.parametrize("sample", ["S1A", "S2A"])
 def test_fit_error_below_unit_cell_where_attractive(sample):
     h = rs.datasets.load_sample(sample).isel(x=slice(0, 256), y=slice(0, 256))
-    ds = rs.contact.curves(h, relative_humidity=[0.3, 0.5, 0.7, 0.8], n_distance=120)
+    ds = rs.contact.curves(h, relative_humidity=[0.3, 0.5, 0.7, 0.8], n_distance=120, model="modified_dmt")
     att = ds.pressure < 0
     es = ds.fit_error.where(att & (ds.n_contacts > 0))
     # Eq. 23 error below the silicon unit cell and well below the interference (Fig. 8c-d).
@@ -108,23 +108,23 @@ def test_numpy_dask_and_leading_dims(backend):
     d = np.linspace(-2e-9, 14e-9, 25)
     inp = backend(maps, {"realization": 1})
     with raise_if_dask_computes():
-        ds = rs.contact.curves(inp, relative_humidity=[0.4, 0.8], distance=d)
+        ds = rs.contact.curves(inp, relative_humidity=[0.4, 0.8], distance=d, model="modified_dmt")
     assert ds.pressure.dims == ("realization", "rh", "distance")
     assert isinstance(ds.pressure.data, type(inp.data))
     ds = ds.compute()
-    one = rs.contact.curves(maps.isel(realization=2), relative_humidity=[0.4, 0.8], distance=d)
+    one = rs.contact.curves(maps.isel(realization=2), relative_humidity=[0.4, 0.8], distance=d, model="modified_dmt")
     xr.testing.assert_allclose(ds.isel(realization=2), one, rtol=1e-12)
 
 
 def test_chunked_core_dims_raise():
     h = s1_like((32, 32)).chunk({"x": 16})
     with pytest.raises(ValueError, match=r'\.chunk\(\{.x.: -1\}\)'):
-        rs.contact.curves(h, relative_humidity=0.5, distance=[0.0, 1e-9])
+        rs.contact.curves(h, relative_humidity=0.5, distance=[0.0, 1e-9], model="modified_dmt")
 
 
 def test_metadata_and_scalar_rh():
     h = s1_like((32, 32))
-    ds = rs.contact.curves(h, relative_humidity=0.5, distance=[3e-9, 0.0, 1e-9])
+    ds = rs.contact.curves(h, relative_humidity=0.5, distance=[3e-9, 0.0, 1e-9], model="modified_dmt")
     np.testing.assert_array_equal(ds.distance.values, [0.0, 1e-9, 3e-9])  # stored ascending
     assert "rh" not in ds.dims and float(ds.rh) == 0.5
     for name, units in [("pressure", "Pa"), ("repulsive_pressure", "Pa"), ("wet_fraction", "1"),
@@ -140,7 +140,7 @@ def test_metadata_and_scalar_rh():
 def test_nan_pixels_documented_and_finite():
     h = s1_like((40, 40))
     h[10:12, :] = np.nan
-    ds = rs.contact.curves(h, relative_humidity=[0.3, 0.9], n_distance=60)
+    ds = rs.contact.curves(h, relative_humidity=[0.3, 0.9], n_distance=60, model="modified_dmt")
     assert bool(np.isfinite(ds.pressure).all())
     assert "NaN pixels are excluded" in ds.attrs["history"]
 
@@ -157,21 +157,21 @@ def test_nan_pixels_documented_and_finite():
 )
 def test_bad_input(kwargs, match):
     with pytest.raises(ValueError, match=match):
-        rs.contact.curves(s1_like((16, 16)), **kwargs)
+        rs.contact.curves(s1_like((16, 16)), **{"model": "modified_dmt", **kwargs})
 
 
 def test_bad_maps():
     with pytest.raises(ValueError, match="no finite pixel"):
-        rs.contact.curves(make_topography(np.full((8, 8), np.nan)), relative_humidity=0.5)
+        rs.contact.curves(make_topography(np.full((8, 8), np.nan)), relative_humidity=0.5, model="modified_dmt")
     with pytest.raises(ValueError, match="at least 8 x 8"):
-        rs.contact.curves(make_topography(np.zeros((2, 8))), relative_humidity=0.5)
+        rs.contact.curves(make_topography(np.zeros((2, 8))), relative_humidity=0.5, model="modified_dmt")
     h = s1_like((8, 8))
     h = h.assign_coords(x=h.x.values ** 1.1)
     with pytest.raises(ValueError, match="uniform"):
-        rs.contact.curves(h, relative_humidity=0.5, distance=[0.0])
+        rs.contact.curves(h, relative_humidity=0.5, distance=[0.0], model="modified_dmt")
     stack = xr.concat([s1_like((8, 8))] * 2, "realization")
     with pytest.raises(ValueError, match="distance= explicitly"):
-        rs.contact.curves(stack, relative_humidity=0.5)
+        rs.contact.curves(stack, relative_humidity=0.5, model="modified_dmt")
     with pytest.raises(ValueError, match="model"):
         rs.contact.curves(s1_like((8, 8)), relative_humidity=0.5, model="no_such_model")
 
@@ -203,8 +203,8 @@ def test_nanometre_input_is_converted():
     nm = h * 1e9
     nm.attrs = {**h.attrs, "units": "nm"}
     d = [0.0, 2e-9]
-    a = rs.contact.curves(h, relative_humidity=0.5, distance=d)
-    b = rs.contact.curves(nm, relative_humidity=0.5, distance=d)
+    a = rs.contact.curves(h, relative_humidity=0.5, distance=d, model="modified_dmt")
+    b = rs.contact.curves(nm, relative_humidity=0.5, distance=d, model="modified_dmt")
     # nm -> m rounds the heights in the last bit; the fastmath sphere fits (Eq. 21) guarantee 1e-6
     xr.testing.assert_allclose(a.pressure, b.pressure, rtol=1e-6)
 
@@ -227,7 +227,7 @@ def test_plots_smoke():
         plot_rough_curves,
     )
 
-    c = rs.contact.curves(s1_like((48, 48)), relative_humidity=[0.3, 0.9], n_distance=60)
+    c = rs.contact.curves(s1_like((48, 48)), relative_humidity=[0.3, 0.9], n_distance=60, model="modified_dmt")
     ax = plot_rough_curves(c)
     assert len(ax.lines) == 3  # two curves and the zero line
     plot_fit_error(c, rh=0.9)
@@ -253,7 +253,7 @@ def test_automatic_grid_strictly_increasing_for_any_n(family):
 
 def test_automatic_grid_of_n_points_feeds_every_model():
     h = rs.datasets.surface_family("S1", shape=(64, 64), seed=1)
-    c = rs.contact.curves(h, relative_humidity=[0.3], n_distance=100, check_validity=False)
+    c = rs.contact.curves(h, relative_humidity=[0.3], n_distance=100, check_validity=False, model="modified_dmt")
     assert c.sizes["distance"] >= 100 and np.all(np.diff(c.distance.values) > 0)
     assert c.attrs["distance_grid"] == "automatic"
     g = rs.contact.curves(h, relative_humidity=[0.3], model="gw", n_distance=100)

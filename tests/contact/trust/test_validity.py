@@ -144,7 +144,7 @@ def test_a_lazy_stack_stays_lazy_and_says_it_was_not_checked():
     d = float(h.max()) + np.linspace(-3e-9, 1e-9, 8)
     with warnings.catch_warnings(record=True) as rec, raise_if_dask_computes():
         warnings.simplefilter("always")
-        ds = rs.contact.curves(stack, relative_humidity=0.7, distance=d, accuracy=1e-6)
+        ds = rs.contact.curves(stack, relative_humidity=0.7, distance=d, accuracy=1e-6, model="modified_dmt")
     assert not [w for w in rec if issubclass(w.category, rs.contact.ValidityWarning)]
     assert ds.attrs["validity_check"].startswith("not checked (lazy input)")
     # the check the note names works on one computed map and points at the caller's line
@@ -177,7 +177,7 @@ def test_paper_samples_warn_exactly_where_the_measured_bound_exceeds_the_toleran
                                      {f: float(g[f]) for f in validity.GROUP_FEATURES})
         with warnings.catch_warnings(record=True) as rec:
             warnings.simplefilter("always")
-            ds = rs.contact.curves(h, relative_humidity=rh, n_distance=16)
+            ds = rs.contact.curves(h, relative_humidity=rh, n_distance=16, model="modified_dmt")
         hits = [w for w in rec if issubclass(w.category, rs.contact.ValidityWarning)]
         assert bool(hits) == (bound.upper > 0.1), (rh, bound)
         assert ds.attrs["validity_check"].startswith(
