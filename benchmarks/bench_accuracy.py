@@ -436,7 +436,7 @@ def cmd_timing(args):
     done = done_keys(out, ["family", "pixels", "reduced_modulus", "rh"])
     rh = 0.7
     warm = surface(dict(family="S2", seed=1, shape=32))
-    rs.contact.curves(warm, relative_humidity=0.5)
+    rs.contact.curves(warm, relative_humidity=0.5, model="modified_dmt")
     rs.contact.fft_bem_curves(warm, relative_humidity=0.5)
     for fam, n, e in TIMING_CASES:
         if n not in args.pixels:

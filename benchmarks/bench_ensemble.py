@@ -78,7 +78,7 @@ def speed(ns, shape, chunks, scheduler):
             c0 = time.process_time()
             ds = rs.ensemble.run(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
                                  chunks=chunks, distance=dist, output=os.path.join(tmp, "e"),
-                                 scheduler=scheduler, progress=False)
+                                 scheduler=scheduler, progress=False, model="modified_dmt")
             g = ds.adhesive_energy.values  # noqa: F841  (read back from the files)
             wall = time.perf_counter() - t0
             cpu = time.process_time() - c0
@@ -107,7 +107,7 @@ def convergence(ns, shape, chunks, scheduler):
             t0 = time.perf_counter()
             ds = rs.ensemble.run(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
                                  chunks=chunks, distance=dist, output=folder, scheduler=scheduler,
-                                 progress=False)
+                                 progress=False, model="modified_dmt")
             total += time.perf_counter() - t0
             b = rs.ensemble.confidence_band(ds[["adhesive_energy"]].load())
             rows.append((n, total, b))

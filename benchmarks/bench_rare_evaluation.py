@@ -63,7 +63,7 @@ def main():
         t_k = (time.perf_counter() - t0) / args.n
         t0 = time.perf_counter()
         g_x = [float(rs.contact.summary(rs.contact.curves(
-            f.height_array(zc), relative_humidity=args.rh, distance=d, check_validity=False),
+            f.height_array(zc), relative_humidity=args.rh, distance=d, check_validity=False, model="modified_dmt"),
             check_grid=False).adhesive_energy) for zc, d in grids]
         t_x = (time.perf_counter() - t0) / args.n
         nb = max(4, args.n // 4)

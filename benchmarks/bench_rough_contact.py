@@ -175,7 +175,7 @@ def main(quick=False):
         z = h.values
         t, f, (d, o) = ratio(lambda: rk.curves(z, HW, DP, **kw(h)), reps)
         te, fe, _ = ratio(lambda: rk.curves(z, HW, DP, distance=d, **kw(h)), reps)
-        tp, fp, _ = ratio(lambda: rs.contact.curves(h, relative_humidity=RH), reps)
+        tp, fp, _ = ratio(lambda: rs.contact.curves(h, relative_humidity=RH, model="modified_dmt"), reps)
         g, pull, deq, _, _ = _summary_kernel(o[0], o[2], d)
         d4 = refine4(d)
         _, o4 = rk.curves(z, HW, DP, distance=d4, **kw(h))

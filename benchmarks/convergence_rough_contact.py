@@ -32,7 +32,7 @@ def gamma(h, **kw):
 
 def main():
     h = xr.open_dataset(rs.datasets.sample_path("S1A")).height.isel(x=slice(0, 512), y=slice(0, 512)).load()
-    rs.contact.curves(h, relative_humidity=0.5, distance=[0.0])  # compile
+    rs.contact.curves(h, relative_humidity=0.5, distance=[0.0], model="modified_dmt")  # compile
     d = rs.contact.contact_distance_grid(h, relative_humidity=RH, n=200).values
     lo, hi = d.min(), d.max()
     ref, tref, _ = gamma(h, distance=np.linspace(lo, hi, 3200))

@@ -383,7 +383,7 @@ def main(argv=None):
     # warm-up: numba compilation of the modified-DMT kernels is not part of a curve's cost
     warm = make_surface("S2", 32)
     rs.contact.curves(
-        warm, relative_humidity=0.5, distance=distance_grid(warm, 0.5, 4, 86.6e9)
+        warm, relative_humidity=0.5, distance=distance_grid(warm, 0.5, 4, 86.6e9), model="modified_dmt"
     )
     rs.contact.gw_curves(hh_moments(warm), relative_humidity=0.5, distance=[1e-9, 2e-9])
     rows = []

@@ -49,7 +49,7 @@ cells = [
     ),
     new_code_cell(
         "ens = {s: rs.ensemble.run(psd[s], n=N, shape=SMALL, spacing=5e-9, relative_humidity=RH,\n"
-        "                          seed=14 + k, chunks=2)\n"
+        "                          seed=14 + k, chunks=2, model='modified_dmt')  # the paper's model\n"
         "       for k, s in enumerate(('S1', 'S2'))}\n"
         "ens['S1']"
     ),
@@ -96,13 +96,13 @@ cells = [
     new_code_cell(
         "folder = pathlib.Path(tempfile.mkdtemp()) / 'S1'\n"
         "ds = rs.ensemble.run(psd['S1'], n=4, shape=64, spacing=5e-9, relative_humidity=RH, seed=0,\n"
-        "                     chunks=2, output=folder, scheduler=client).load()\n"
+        "                     chunks=2, output=folder, scheduler=client, model='modified_dmt').load()\n"
         "print(sorted(p.name for p in folder.iterdir()))\n"
         "m = json.loads((folder / 'manifest.json').read_text())\n"
         "print(m['params_hash'], m['completed'], m['complete'])\n"
         "(folder / 'block-r00001-h000.nc').unlink()          # lose a block ...\n"
         "again = rs.ensemble.run(psd['S1'], n=4, shape=64, spacing=5e-9, relative_humidity=RH,\n"
-        "                        seed=0, chunks=2, output=folder)  # ... and resume\n"
+        "                        seed=0, chunks=2, output=folder, model='modified_dmt')  # ... and resume\n"
         "bool((again.adhesive_energy == ds.adhesive_energy).all())"
     ),
     new_code_cell("client.close()"),

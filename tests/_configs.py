@@ -22,4 +22,5 @@ relative_humidity = [0.3, 0.9]
 n = 20
 [bank]
 laws = 3
+model = "modified_dmt"  # the paper's model: its bank tail is re-checked with the BEM
 """

@@ -169,9 +169,10 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "model": F("choice", "contact model: method 'count', that of the ensemble's "
                                "surfaces (" + _CONTACT_MODEL.split(": ", 1)[1] + "); 'subset'/"
                                "'monte_carlo', that of each zone: 'modified_dmt' (Eq. 16, ~1 ms per 128 x "
-                               "128 zone; its failure states re-checked by the BEM) or 'fft_bem' (~45 "
-                               "ms; needed where Eq. 16's tail is an artefact, docs/rare_events.md)",
-                               default="modified_dmt",
+                               "128 zone; its failure states re-checked by the BEM), 'fft_bem' (~45 "
+                               "ms; needed where Eq. 16's tail is an artefact, docs/rare_events.md) or "
+                               "'auto' (the cheaper of the two measured within 10 % on these zones)",
+                               default="auto",
                                replaces=("contact_model",),
                                choices=MODEL_CHOICES),
         },
@@ -221,7 +222,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                       minimum=1),
             "seed": F("int", "root seed of the patch surfaces", default=0, minimum=0),
             "model": F("choice", "contact model of the patch laws: " + _CONTACT_MODEL.split(": ", 1)[1],
-                               default="modified_dmt",
+                               default="auto",
                                replaces=("contact_model",),
                                choices=MODEL_CHOICES),
             "cache": F("path", "folder of the bank cache (relative to the file)",

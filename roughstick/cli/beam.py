@@ -131,7 +131,7 @@ def _provenance(ds, c: dict, path: pathlib.Path, bank):
         relative_humidity=[float(v) for v in bank.rh.values],
         patch_shape=[int(v) for v in ((shape, shape) if np.ndim(shape) == 0 else shape)],
         patch_spacing=float(s["spacing"]), bank_laws=int(bank.sizes["law"]), bank_seed=int(bk["seed"]),
-        bank_model=str(bk["model"]), bank_cache_file=str(bank.attrs.get("cache_file", "")),
+        bank_model=str(bank.attrs.get("contact_model", bk["model"])), bank_cache_file=str(bank.attrs.get("cache_file", "")),
         beam_seed=int(ens["seed"]), method=str(ens["method"]), beam_model=str(ens["beam_model"]),
         configuration=path.read_text(), **material_attrs(config_material(c["material"])))
     ds.attrs = attrs

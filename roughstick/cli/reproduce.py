@@ -97,7 +97,7 @@ def _reproduce(out, *, quick, n, scheduler, overwrite, log, save):
             folder = out / f"ensemble_{sample}_{s}"
             ds = rs.ensemble.run(psd, n=n, shape=s, spacing=5e-9, relative_humidity=RH[sample],
                                  seed=np.random.SeedSequence(2015, spawn_key=(k, j)), chunks=2 if s <= 512 else 1, distance=dist,
-                                 output=folder, overwrite=overwrite, scheduler=scheduler)
+                                 output=folder, overwrite=overwrite, scheduler=scheduler, model="modified_dmt")
             files.append(folder)
             log(f"[{sample} {s}²] {n} realizations in {time.perf_counter() - t0:.1f} s -> {folder}")
             per_size.append(ds.load())

@@ -89,10 +89,11 @@ def load_risk_config(path) -> dict:
             problems.append(f"[risk] method = {r['method']!r} simulates its own zones: remove "
                             "[ensemble] adhesive_energy, or use method = 'count' to read that sample")
         problems += small_p_problems("risk", r)
-        if r["model"] not in ("modified_dmt", "fft_bem"):
+        if r["model"] not in ("auto", "modified_dmt", "fft_bem"):
             problems.append(f"[risk] model = {r['model']!r} applies to method = 'count'; the "
-                            f"zones of method = {r['method']!r} run on 'modified_dmt' or 'fft_bem'")
-    elif r["model"] != "modified_dmt" and "adhesive_energy" in c["ensemble"]:
+                            f"zones of method = {r['method']!r} run on 'auto', 'modified_dmt' or "
+                            "'fft_bem'")
+    elif r["model"] != "auto" and "adhesive_energy" in c["ensemble"]:
         problems.append(f"[risk] model = {r['model']!r} computes Γ, which [ensemble] "
                         "adhesive_energy gives: remove one of them")
     if problems:
@@ -209,6 +210,7 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
     per_layer = []
     # one line per level, with the time left over every layer, length and humidity
     points = len(ens["adsorbed_layer"]) * len(lengths) * len(rh)
+    used = {}  # the zone model run ("auto" resolved by failure_probability) and why
     with staged_progress(points, what=r["method"].replace("_", " "), budget=r["max_evaluations"]) as prog:
         for layer in ens["adsorbed_layer"]:
             per_length = []
@@ -222,6 +224,11 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
                     max_evaluations=r["max_evaluations"], seed=ens["seed"], adsorbed_layer=layer,
                     confidence=r["confidence"], output=out / f"subset-{layer}-{length * 1e6:g}um",
                     overwrite=overwrite, **kw)
+                if ds.attrs.get("contact_model", r["model"]) != used.get("model"):
+                    used.update(model=ds.attrs.get("contact_model", r["model"]),
+                                why=ds.attrs.get("model_selection", ""))
+                    if used["why"]:
+                        LOG.info(f"    {used['why']}")
                 if "rh" not in ds.dims:
                     ds = ds.expand_dims("rh")
                 if "failures_confirmed_by_bem" in ds:  # a variable: attrs do not survive the concat below
@@ -244,7 +251,10 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
     for name in cross.data_vars:
         risk[name] = cross[name]
     risk.attrs.update(material_attrs(material))
-    risk.attrs.update({"method": r["method"], "target_cv": r["target_cv"], "contact_model": r["model"],
+    if used.get("why"):
+        risk.attrs["model_selection"] = used["why"]
+    risk.attrs.update({"method": r["method"], "target_cv": r["target_cv"],
+                       "contact_model": used.get("model", r["model"]),
                        "zone_shape": list(s["shape"]), "spacing": s["spacing"],
                        "probability_model": "pull-out proxy P(Gamma > Gamma_crit(l)) of paper section 5.2 "
                                             "on zones of zone_shape pixels"})
@@ -272,9 +282,7 @@ def _gamma_samples(c, beam, out, *, overwrite):
     parts = []
     model, material = c["risk"]["model"], config_material(c["material"])
     for layer in layers:
-        kw = {"material": material}
-        if model != "modified_dmt":  # the default is not named: earlier ensembles keep resuming
-            kw["model"] = model
+        kw = {"material": material, "model": model}
         if ens["stream"]:
             kw["output"] = out / f"ensemble-{layer}"
             kw["overwrite"] = overwrite

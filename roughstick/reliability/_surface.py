@@ -25,7 +25,13 @@ from .._core.conventions import CURVE_VARIABLES
 from .._core.materials import POLYSILICON, hertz_modulus
 from .._core.remedy import argument, spell, spelled
 from .._core.validate import external_stacklevel
-from ..contact import ValidityWarning, fft_bem_curves, laplace_pressure
+from ..contact import (
+    ValidityWarning,
+    expected_surface_groups,
+    fft_bem_curves,
+    laplace_pressure,
+    select_model,
+)
 from ..surface import surface_filter
 
 __all__: list[str] = []
@@ -177,6 +183,30 @@ def material_token(material) -> str:
     if material is None or material == POLYSILICON:
         return getattr(material, "name", repr(material))
     return repr(material)
+
+
+def zone_model(model, psd, *, shape, spacing, relative_humidity, material, material2,
+               adsorbed_layer, periodic, patches) -> tuple[str, str | None]:
+    """``(model, why)``: ``model`` itself, or for ``"auto"`` the cheapest of
+    :data:`CONTACT_MODELS` whose measured error bound at the surface groups expected from ``psd``
+    on this zone meets :data:`roughstick.contact.VALIDITY_BOUND` at every humidity (``fft_bem``:
+    periodic single zones only)."""
+    if model != "auto":
+        return model, None
+    candidates = CONTACT_MODELS if (periodic and patches == 1) else ("modified_dmt",)
+    groups = expected_surface_groups(psd, shape=shape, spacing=spacing,
+                                     relative_humidity=relative_humidity,
+                                     material=POLYSILICON if material is None else material,
+                                     material2=material2, adsorbed_layer=adsorbed_layer)
+    try:
+        chosen, reason = select_model(None, relative_humidity=relative_humidity, groups=groups,
+                                      candidates=candidates)
+    except ValueError as err:  # no model meets the accuracy: say what runs where
+        raise type(err)(
+            f"{err} On pieces and strips (periodic=False or patches > 1) only the modified DMT "
+            "runs: evaluate periodic single zones (periodic=True, patches=1) to use fft_bem, or "
+            f"pass {spell('contact_model', 'modified_dmt')} knowingly.") from None
+    return chosen, f"auto -> {chosen} for every zone: {reason}"
 
 
 def bem_check(ds, model, threshold, n_check):

@@ -62,7 +62,7 @@ def failure_probability(
     shape,
     spacing: float,
     quantity: str = "adhesive_energy",
-    model: str = "modified_dmt",
+    model: str = "auto",
     method: str = "subset",
     n_per_level: int = 1000,
     level_probability: float = 0.2,
@@ -112,10 +112,12 @@ def failure_probability(
     spacing : float
         Pixel size [m].
     quantity : {"adhesive_energy", "pull_off_pressure"}
-    model : {"modified_dmt", "fft_bem"}, default "modified_dmt"
+    model : {"auto", "modified_dmt", "fft_bem"}, default "auto"
         The contact model of each zone: Eq. 16, or the FFT boundary-element model (periodic
         zones only, about 20 times the cost; needed where the Eq. 16 tail is made of artefacts,
-        docs/rare_events.md).
+        docs/rare_events.md). ``"auto"``: the cheaper of the two whose measured error bound at
+        the surface groups expected from the PSD at this zone meets 10 % at every humidity
+        (:func:`roughstick.contact.select_model`; ``attrs["model_selection"]``).
     method, n_per_level, level_probability, independent_runs, proposal, proposal_scale,
     target_acceptance, target_cv, max_evaluations, max_levels, confidence, seed, chunks, scheduler
         See :func:`subset_simulation`.
@@ -152,6 +154,10 @@ def failure_probability(
     if not (np.isfinite(threshold) and threshold > 0):
         raise ValueError(f"threshold must be a positive finite number in SI units, got {threshold!r}.")
     to_surface = _s.NoiseToSurface(psd, shape=shape, spacing=spacing)
+    model, selection = _s.zone_model(model, psd, shape=(to_surface.ny, to_surface.nx),
+                                     spacing=spacing, relative_humidity=rh_in, material=material,
+                                     material2=material2, adsorbed_layer=adsorbed_layer,
+                                     periodic=periodic, patches=patches)
     ny, nx, dy, dx = to_surface.ny, to_surface.nx, to_surface.dy, to_surface.dx
     m0 = to_surface.variance
     hw = np.atleast_1d(water_height(rh_in, adsorbed_layer=adsorbed_layer).values)
@@ -202,6 +208,8 @@ def failure_probability(
                       "patches": int(patches), "periodic": int(periodic), "height_rms": math.sqrt(m0),
                       "adsorbed_layer": str(getattr(adsorbed_layer, "__name__", adsorbed_layer)),
                       "points_per_water_height": float(points_per_water_height)})
+    if selection is not None:
+        res.attrs["model_selection"] = selection
     append_history(res, f"failure_probability(quantity={quantity!r}, shape={ny}x{nx}, spacing={dx:.3g} m, "
                         f"method={method!r}, patches={patches})")
     return res

@@ -19,7 +19,7 @@ def _psd():
 
 
 def test_bank_cached_and_reused(tmp_path):
-    kwargs = dict(relative_humidity=[0.3, 0.9], n=2, shape=(16, 16), spacing=10e-9, seed=4,
+    kwargs = dict(model="modified_dmt", relative_humidity=[0.3, 0.9], n=2, shape=(16, 16), spacing=10e-9, seed=4,
                   cache_dir=tmp_path)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -40,7 +40,7 @@ def test_bank_cached_and_reused(tmp_path):
 
 
 def test_a_damaged_cache_file_is_named_set_aside_and_rebuilt(tmp_path):
-    kwargs = dict(relative_humidity=[0.5], n=2, shape=(16, 16), spacing=40e-9, seed=4,
+    kwargs = dict(model="modified_dmt", relative_humidity=[0.5], n=2, shape=(16, 16), spacing=40e-9, seed=4,
                   cache_dir=tmp_path, check_tail=0)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", rs.ValidityWarning)
@@ -84,20 +84,20 @@ def test_a_cache_folder_that_cannot_be_written_is_refused_before_any_law(tmp_pat
         with pytest.raises(PermissionError, match=r"cannot write the patch-bank cache folder .*a-file/cache.*"
                                                   r"pass a writable cache_dir="):
             build_patch_bank(_psd(), relative_humidity=[0.5], n=2, shape=(16, 16), spacing=40e-9,
-                             cache_dir=tmp_path / "a-file" / "cache")
+                             cache_dir=tmp_path / "a-file" / "cache", model="modified_dmt")
 
 
 def test_bank_bad_input():
     with pytest.raises(ValueError, match=r"did you mean 0.6\?"):
-        build_patch_bank(_psd(), relative_humidity=60, spacing=1e-8)
+        build_patch_bank(_psd(), relative_humidity=60, spacing=1e-8, model="modified_dmt")
     with pytest.raises(TypeError, match="DataArray"):
-        build_patch_bank(lambda q: q, relative_humidity=0.5, spacing=1e-8)
+        build_patch_bank(lambda q: q, relative_humidity=0.5, spacing=1e-8, model="modified_dmt")
 
 
 def test_patches_shorter_than_four_correlation_lengths_are_flagged():
     """The independence assumption is checked against the PSD's correlation length (expected
     from the PSD, no surface needed) and recorded in the bank's attributes."""
-    kw = dict(relative_humidity=[0.5], n=1, seed=1)
+    kw = dict(model="modified_dmt", relative_humidity=[0.5], n=1, seed=1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", rs.ValidityWarning)
         with pytest.warns(UserWarning, match="shorter than 4 correlation lengths"):
@@ -115,7 +115,7 @@ def test_bank_parts_independent_and_resumed(tmp_path):
     resumes from its finished parts (here a finished part planted on disk is read, not redone)."""
     from roughstick.beam import patch_bank as pb
 
-    kw = dict(relative_humidity=[0.5], n=27, shape=(16, 16), spacing=40e-9, seed=3)
+    kw = dict(model="modified_dmt", relative_humidity=[0.5], n=27, shape=(16, 16), spacing=40e-9, seed=3)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         plain = build_patch_bank(_psd(), **kw)
@@ -136,7 +136,7 @@ def test_the_bank_tail_is_rechecked_with_the_boundary_element_model(tmp_path):
     """The largest Eq. 16 energies of a bank of 64² Table-4 patches at 50 % RH are artefacts: the
     FFT-BEM gives them less than half (ValidityWarning naming model='fft_bem'), while on typical
     laws (around the median) the two models agree within a factor 0.6 (independent BEM calls)."""
-    kw = dict(relative_humidity=[0.5], n=600, shape=(64, 64), spacing=5e-9, seed=2)
+    kw = dict(model="modified_dmt", relative_humidity=[0.5], n=600, shape=(64, 64), spacing=5e-9, seed=2)
     with pytest.warns(rs.ValidityWarning, match="model='fft_bem'"):
         bank = build_patch_bank(_psd(), cache_dir=tmp_path, **kw)
     assert bank.attrs["tail_checked"] == 8
@@ -155,7 +155,7 @@ def test_the_bank_tail_is_rechecked_with_the_boundary_element_model(tmp_path):
         assert "tail_bem_ratio" not in plain.attrs
         again = build_patch_bank(_psd(), **{**kw, "n": 50, "seed": 3}, cache_dir=tmp_path)
         assert again.attrs["from_cache"] == 1 and again.attrs["tail_checked"] == 8
-        bem_bank = build_patch_bank(_psd(), **{**kw, "n": 4}, model="fft_bem")
+        bem_bank = build_patch_bank(_psd(), **{**kw, "n": 4, "model": "fft_bem"})
     assert "tail_bem_ratio" not in bem_bank.attrs
     with pytest.raises(ValueError, match="check_tail=-1: must be an integer >= 0"):
         build_patch_bank(_psd(), check_tail=-1, **kw)

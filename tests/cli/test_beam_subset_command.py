@@ -23,6 +23,7 @@ target_cv = 0.3
 max_evaluations = 6000
 [bank]
 laws = 40
+model = "modified_dmt"
 """
 
 

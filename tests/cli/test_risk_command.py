@@ -114,9 +114,9 @@ def test_cli_risk_subset_method_is_checked_before_work(tmp_path, capsys):
     c = load_risk_config(cfg)
     assert c["risk"]["method"] == "subset" and c["risk"]["target_cv"] == 0.2
     assert c["risk"]["n_per_level"] == 1000 and c["risk"]["max_evaluations"] == 20000
-    assert c["risk"]["model"] == "modified_dmt"
-    cfg.write_text('[risk]\nmodel = "auto"\n')  # counting: the ensemble's model
-    assert load_risk_config(cfg)["risk"]["model"] == "auto"
+    assert c["risk"]["model"] == "auto"  # the cheaper model measured within 10 % on the zones
+    cfg.write_text('[risk]\nmodel = "modified_dmt"\n')  # counting: the ensemble's model
+    assert load_risk_config(cfg)["risk"]["model"] == "modified_dmt"
     cfg.write_text('[risk]\nmodel = "fft_bem"\n[ensemble]\nadhesive_energy = "g.nc"\n')
     (tmp_path / "g.nc").write_text("")
     with pytest.raises(ConfigError, match="model = 'fft_bem' computes Γ, which"):
@@ -211,7 +211,7 @@ def test_cli_risk_subset_shows_each_level_with_the_time_left(tmp_path, capsys):
         '[surface]\nshape = [16, 16]\n'
         '[ensemble]\nrelative_humidity = [0.5]\nadsorbed_layer = ["paper"]\nseed = 3\n'
         '[run]\nscheduler = "sync"\n'
-        '[risk]\nmethod = "subset"\nn_per_level = 50\ntarget_cv = 0.9\nmax_evaluations = 300\n'
+        '[risk]\nmethod = "subset"\nmodel = "modified_dmt"\nn_per_level = 50\ntarget_cv = 0.9\nmax_evaluations = 300\n'
         "levels = [0.01]\n")
     with warnings.catch_warnings():
         warnings.simplefilter("always", rs.ValidityWarning)  # printed by the command

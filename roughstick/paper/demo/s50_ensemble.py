@@ -37,7 +37,7 @@ def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", rs.surface.ExtrapolatedPSDWarning)
         ds = rs.ensemble.run(psd, n=n, shape=shape, spacing=5e-9, relative_humidity=RH, seed=0,
-                             chunks=2, output=out / "ensemble_S1", progress=False).load()
+                             chunks=2, output=out / "ensemble_S1", progress=False, model="modified_dmt").load()
     band = rs.ensemble.confidence_band(ds)
     band.attrs["title"] = f"S1 PSD, {n} surfaces of {shape}²: 95 % band of the ensemble"
     files = [out / "ensemble_S1", rs.io.netcdf.write(band, out / "ensemble_S1_band.nc", compute=True,
