@@ -147,6 +147,7 @@ def _run(args):
     summary = rs.contact.summary(ds)
     for name in summary.data_vars:
         ds[name] = summary[name]
+    res = None
     if args.resolution:
         res = rs.contact.resolution_study(h, relative_humidity=list(args.rh),
                                   factors=args.resolution_factors,
@@ -174,8 +175,24 @@ def _run(args):
     )
     out.parent.mkdir(parents=True, exist_ok=True)
     netcdf.write(ds, out, compute=True, overwrite=True)  # checked: check_output_file
-    for rh, g, deq in zip(np.atleast_1d(ds.rh.values), np.atleast_1d(summary.adhesive_energy.values),
-                          np.atleast_1d(summary.equilibrium_distance.values), strict=True):
-        print(f"RH {rh:.3g}: adhesive energy {g:.4g} J/m2, equilibrium distance {deq * 1e9:.3g} nm")
+    budget = rs.contact.error_budget(summary, res)
+    print(f"contact model {ds.attrs.get('contact_model', args.model)}; relative error budget "
+          "[model bound, distance grid, pixel (--resolution with a factor below 1)]:")
+    for j, (rh, g, deq) in enumerate(zip(np.atleast_1d(ds.rh.values),
+                                         np.atleast_1d(summary.adhesive_energy.values),
+                                         np.atleast_1d(summary.equilibrium_distance.values), strict=True)):
+        print(f"RH {rh:.3g}: adhesive energy {g:.4g} J/m2 {_budget_text(budget, 'adhesive_energy', j)}, "
+              f"equilibrium distance {deq * 1e9:.3g} nm {_budget_text(budget, 'equilibrium_distance', j)}")
     print(f"wrote {out}")
+
+
+def _budget_text(budget, quantity: str, j: int) -> str:
+    """``[model ≤ a %, grid b %, pixel c %]`` of one summary at humidity index ``j``."""
+    row = budget.sel(quantity=quantity).isel(rh=j)
+
+    def pct(v, bound=False):
+        v = float(v)
+        return "not measured" if np.isnan(v) else ("unbounded" if np.isinf(v) else
+                                                   f"{'<= ' if bound else ''}{v:.1%}")
+    return f"[model {pct(row.model, True)}, grid {pct(row.grid)}, pixel {pct(row.pixel)}]"
     return 0

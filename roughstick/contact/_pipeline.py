@@ -43,6 +43,7 @@ from .._core.validate import (
 )
 from ._model import MODELS, ContactModel, Grid, get_model, model_names
 from .meniscus import laplace_pressure, water_height
+from .trust.budget import model_bounds
 from .trust.report import assess
 from .trust.validity import VALIDITY_BOUND, NoModelMeetsAccuracy, select_model
 
@@ -314,7 +315,26 @@ def apply(model, height, *, relative_humidity, distance=None, material=POLYSILIC
                     adsorbed_layer=adsorbed_layer, accuracy=accuracy, quantity=quantity,
                     check=check_validity, selection=selection)
     ds.attrs.update(report.to_attrs())
+    if check_validity and isinstance(height, xr.DataArray):
+        _budget(ds, entry, ctx.height if ctx.height is not None else height,
+                relative_humidity=relative_humidity, material=material, material2=material2,
+                adsorbed_layer=adsorbed_layer)
     return ds
+
+
+def _budget(ds, entry, height, *, relative_humidity, material, material2, adsorbed_layer) -> None:
+    """The model's measured error bounds per humidity in ``ds.attrs`` (read by
+    :func:`roughstick.contact.summary` and :func:`roughstick.contact.error_budget`)."""
+    rhs = relative_humidity_values(relative_humidity)
+    if getattr(height, "chunks", None) is not None or not (rhs.size and np.all((rhs > 0) & (rhs < 1))):
+        return
+    try:
+        bounds = model_bounds(entry.name, height, relative_humidity=relative_humidity,
+                              material=material, material2=material2, adsorbed_layer=adsorbed_layer)
+    except ValueError:  # no finite pixel to compute the groups of: nothing to bound
+        return
+    for q, b in bounds.items():
+        ds.attrs[f"model_error_bound_{q}"] = b
 
 
 # ------------------------------------------------------------------------------ dispatch

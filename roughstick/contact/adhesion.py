@@ -239,6 +239,42 @@ def summary_kernel(p, wet, d, from_equilibrium=True):
     return gamma, pull, deq, weq, gamma_all - gamma_sep
 
 
+#: The summaries that carry an error budget (roughstick.contact.error_budget).
+BUDGET_QUANTITIES = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
+
+
+def _per_rh(da: xr.DataArray) -> list[float]:
+    """Largest value over every dimension but ``rh``, as a list over ``rh``."""
+    lead = [dim for dim in da.dims if dim != "rh"]
+    return np.atleast_1d((da.max(lead, skipna=True) if lead else da).values).astype(float).tolist()
+
+
+def _error_budget_attrs(ds, p, wet, d, attrs, from_equilibrium) -> None:
+    """Each summary's error budget in its attributes: the model's measured bound and the pixel
+    estimate the pipeline stored in the curves' ``attrs`` (``model_error_bound_<name>``,
+    ``pixel_error_estimate_<name>``), and ``grid_error_estimate``: the largest relative change
+    when every second grid point is dropped (either half)."""
+    changes = {q: [] for q in BUDGET_QUANTITIES}
+    for start in (0, 1):
+        keep = np.arange(start, d.size, 2)
+        if keep.size < 2:
+            continue
+        half = xr.apply_ufunc(
+            summary_kernel, p.isel(distance=keep), wet.isel(distance=keep),
+            kwargs={"d": d[keep], "from_equilibrium": bool(from_equilibrium)},
+            input_core_dims=[["distance"], ["distance"]], output_core_dims=[[]] * 5,
+            output_dtypes=[float] * 5)
+        for q, h in zip(BUDGET_QUANTITIES, half[:3], strict=True):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                changes[q].append(np.abs(h / ds[q] - 1))
+    for q in BUDGET_QUANTITIES:
+        if changes[q]:
+            ds[q].attrs["grid_error_estimate"] = _per_rh(xr.concat(changes[q], "half").max("half"))
+        for part in ("model_error_bound", "pixel_error_estimate"):
+            if f"{part}_{q}" in attrs:
+                ds[q].attrs[part] = list(np.atleast_1d(attrs[f"{part}_{q}"]).astype(float))
+
+
 def summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
                      check_grid: bool = True) -> xr.Dataset:
     r"""Apparent adhesive energy (Eq. 13), pull-off pressure and equilibrium of each curve.
@@ -294,7 +330,8 @@ def summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     Examples
     --------
     >>> h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
-    >>> c = rs.contact.curves(h, relative_humidity=0.5, distance=np.linspace(-3e-9, 3e-9, 61))
+    >>> c = rs.contact.curves(h, relative_humidity=0.5, distance=np.linspace(-3e-9, 3e-9, 61),
+    ...                       model="modified_dmt")
     >>> s = rs.contact.summary(c)
     >>> bool(s.adhesive_energy > 0), bool(s.equilibrium_distance < c.max_interference.distance.max())
     (True, True)
@@ -337,6 +374,8 @@ def summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     ds = xr.Dataset({name: set_attrs(o, key) for (name, key), o in zip(names, outs, strict=True)})
     drop = [c for c in ds.coords if "distance" in ds[c].dims]
     ds = ds.drop_vars(drop)
+    if not hasattr(p.data, "dask"):
+        _error_budget_attrs(ds, p, wet, d, curves.attrs, from_equilibrium)
     ds.attrs = dict(curves.attrs)
     ds.attrs["title"] = "adhesion summary (Eq. 13) of " + str(curves.attrs.get("title", "contact curves"))
     ds.attrs["adhesive_energy_range"] = "from_equilibrium" if from_equilibrium else "whole_grid"

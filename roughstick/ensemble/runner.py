@@ -49,6 +49,7 @@ from ..contact import (
 )
 from ..contact import curves as contact_curves
 from ..contact import summary as contact_summary
+from ..contact.trust.budget import model_bounds
 from ..surface.generate import ExtrapolatedPSDWarning, generate_surfaces
 from .execute import auto_ensemble, stream
 from .multifidelity import accurate_subset, accurate_subset_size
@@ -392,6 +393,9 @@ def run(
             chosen = accurate_model
             spec = _single_model(spec, accurate_model)
     attrs = _attrs(spec, n_total)
+    if chosen is not None and spec.generate is generate_surfaces:  # the default stages
+        attrs.update(_model_error_attrs(psd, shp, spacing, rh, material, adsorbed_layer,
+                                        accurate_model or chosen or curves_kwargs.get("model")))
     if chosen is not None:
         attrs["contact_model"] = chosen
     if selection is not None:
@@ -451,6 +455,21 @@ def _with_accurate_subset(spec: Spec, model: str, n_accurate, n_total: int, *, a
     members = frozenset(int(k) for k in accurate_subset(n_total, int(n_accurate), seed=spec.seed))
     return dataclasses.replace(spec, accurate=(model, members),
                                token=_hash_params({**_spec_fields(spec), "accurate": (model, members)}))
+
+
+def _model_error_attrs(psd, shape, spacing, rh, material, adsorbed_layer, model) -> dict:
+    """``model_error_bound_<summary>``: the measured bound of the model whose answer the
+    ensemble gives (the accurate one of a multi-fidelity run) at the surface groups expected
+    from the PSD, per humidity."""
+    if model not in MODELS:
+        return {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ExtrapolatedPSDWarning)  # said once by the run
+        groups = expected_surface_groups(psd, shape=shape, spacing=spacing, relative_humidity=rh,
+                                         material=material, adsorbed_layer=adsorbed_layer)
+    bounds = model_bounds(model, None, relative_humidity=rh, material=material, material2=None,
+                          adsorbed_layer=adsorbed_layer, groups=groups)
+    return {f"model_error_bound_{q}": b for q, b in bounds.items()}
 
 
 def _costlier(model: str | None, than: str) -> bool:

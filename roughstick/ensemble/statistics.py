@@ -339,7 +339,8 @@ def confidence_band(
             res[c].attrs = coord_attrs(c, res[c])
     # the run's parameters (seed, shape, spacing, PSD source, auto-n state ...) travel with the band
     res.attrs = {k: v for k, v in ds.attrs.items()
-                 if isinstance(v, (str, int, float, np.integer, np.floating)) and k != "incomplete"}
+                 if (isinstance(v, (str, int, float, np.integer, np.floating))
+                     or k.startswith("model_error_bound_")) and k != "incomplete"}
     res.attrs.pop("n_samples", None)  # a count of the input is not a count of this band
     # the file's attribute names: level (the band) and confidence (its quantiles' intervals)
     res.attrs.update(level=confidence, confidence=ci_confidence, n_members=int(n),
@@ -483,7 +484,7 @@ def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: 
                        "realizations)") + ")")
         head = (f"RH {r:.0%}: " if r is not None else "") + (
             f"median {_fmt(qq[1], fmt)} {units}{med}, {level:.0%} band [{_fmt(qq[0], fmt)}, "
-            f"{_fmt(qq[2], fmt)}] from n = {n}")
+            f"{_fmt(qq[2], fmt)}] from n = {n}") + _model_error_text(band, variable, k)
         if not has_ci:
             lines.append(head + "; the band's own uncertainty was not computed")
             continue
@@ -498,6 +499,17 @@ def band_summary(band: xr.Dataset, variable: str = "adhesive_energy", *, scale: 
                          else f"of the {side} edge: " + unbounded(edge_note))
         lines.append(head + f"; {conf:.0%} CI " + ", ".join(parts))
     return lines + [f"{marker} {why}" for why, marker in notes.items()]
+
+
+def _model_error_text(band, variable: str, col: int) -> str:
+    """``; model error <= x %`` from the band's measured bound at humidity ``col`` (or '')."""
+    bound = band.attrs.get(f"model_error_bound_{variable}")
+    if bound is None:
+        return ""
+    b = float(np.atleast_1d(bound)[min(col, np.size(bound) - 1)])
+    model = band.attrs.get("accurate_model", band.attrs.get("contact_model", "the model"))
+    return (f" ({model}: model error unbounded by the measurements)" if not np.isfinite(b)
+            else f" ({model}: model error <= {b:.0%})")
 
 
 # ----------------------------------------------------------------------------- proportions
