@@ -193,8 +193,40 @@ def subset_simulation(
         raise ValueError(f"independent_runs must be an integer >= 1, got {independent_runs!r}.")
     runs, converged = _run_to_target(eng, settings, int(independent_runs), target_cv, max_evaluations,
                                      confidence)
-    return _e._to_dataset(runs, settings, threshold=threshold, target_cv=target_cv, converged=converged,
-                          confidence=confidence, root=root, rattrs=response_attrs)
+    ds = _e._to_dataset(runs, settings, threshold=threshold, target_cv=target_cv, converged=converged,
+                        confidence=confidence, root=root, rattrs=response_attrs)
+    _warn_if_not_honest(ds, settings)
+    return ds
+
+
+def _warn_if_not_honest(ds, settings):
+    """Warn when the runs' final failures descend from few lineages (the genealogical cv is
+    unreliable: the interval is wide, the remedy is more samples per level) or when responses
+    were NaN (counted as missing; the interval covers them failing or not)."""
+    import warnings
+
+    from .._core.remedy import spell
+    from .._core.validate import external_stacklevel
+
+    if int(ds.few_lineages) and ds.sizes["run"] < _e.SPREAD_RUNS:  # else the runs' spread checks it
+        few = [(r, float(v)) for r, v in enumerate(ds.run_lineages.values)
+               if float(ds.run_probability[r]) > 0 and v < _e.MIN_LINEAGES]
+        listed = ", ".join(f"run {r}: {v:.1f}" for r, v in few)
+        warnings.warn(
+            f"subset simulation: the final failures descend from fewer than {_e.MIN_LINEAGES:g} effective "
+            f"independent level-0 lineages ({listed}): the reported cv "
+            f"({float(ds.coefficient_of_variation):.2g}) rests on them and is likely optimistic, so the "
+            f"interval uses Student's t on their number ({ds.attrs['interval_method']}). For a "
+            f"trustworthy cv, give the levels more samples: {spell('samples_per_level', 2 * settings.samples)} "
+            f"(now {settings.samples}).", UserWarning, stacklevel=external_stacklevel())
+    nan = ds.nan_responses.fillna(0).sum("run")
+    if float(nan.sum()) > 0:
+        per = ", ".join(f"level {j}: {int(v)}" for j, v in enumerate(nan.values) if v > 0)
+        warnings.warn(
+            f"subset simulation: {int(nan.sum())} NaN responses ({per}) of {int(ds.n_evaluations)} evaluations: "
+            "they count as missing (the probability is over the finite responses), and the interval "
+            "is widened to cover them all failing or none. Make the limit state return a finite response "
+            "(-inf where the state certainly does not fail).", UserWarning, stacklevel=external_stacklevel())
 
 
 def _run_to_target(eng, settings, min_runs, target_cv, max_evaluations, confidence):
@@ -211,7 +243,8 @@ def _run_to_target(eng, settings, min_runs, target_cv, max_evaluations, confiden
         est = _e._estimate(runs, method, confidence)
         if target_cv is None:
             return runs, False
-        if est.cv <= target_cv:
+        if est.cv <= target_cv and (method == "monte_carlo" or est.interval == "wilson"
+                                    or est.agrees(len(runs))):
             return runs, True
         spent = runs.evaluations()
         if method == "monte_carlo":
