@@ -26,6 +26,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import warnings
 
 import numpy as np
 import xarray as xr
@@ -33,6 +34,8 @@ import xarray as xr
 from .._core.api import renamed_keywords
 from .._core.conventions import append_history
 from .._core.dask import as_seed_sequence
+from .._core.remedy import spell
+from .._core.validate import external_stacklevel
 from . import _engine as _e
 
 __all__ = ["subset_simulation", "weakest_link"]
@@ -221,11 +224,6 @@ def _warn_if_not_honest(ds, settings):
     """Warn when the runs' final failures descend from few lineages (the genealogical cv is
     unreliable: the interval is wide, the remedy is more samples per level) or when responses
     were NaN (counted as missing; the interval covers them failing or not)."""
-    import warnings
-
-    from .._core.remedy import spell
-    from .._core.validate import external_stacklevel
-
     if int(ds.few_lineages) and ds.sizes["run"] < _e.SPREAD_RUNS:  # else the runs' spread checks it
         few = [(r, float(v)) for r, v in enumerate(ds.run_lineages.values)
                if float(ds.run_probability[r]) > 0 and v < _e.MIN_LINEAGES]
