@@ -191,3 +191,16 @@ def test_reported_cv_within_25_percent_and_coverage_90(case):
     mean = np.mean(cv[np.isfinite(cv)])
     assert 0.75 < mean / true < 1.25, (mean, true)
     assert cover >= 180
+
+
+def test_the_remedy_is_spelled_where_the_user_is():
+    """From Python the collapse warning names n_per_level=; from `roughstick beam`/`risk` the key of
+    their configuration."""
+    from roughstick._core.remedy import spell, spelled
+    from roughstick.cli._common import config_spellings
+
+    assert spell("samples_per_level", 2000) == "n_per_level=2000"
+    with spelled(**config_spellings(contact_model="bank", key="model", samples="ensemble")):
+        assert spell("samples_per_level", 2000) == "[ensemble] n_per_level = 2000"
+    with spelled(**config_spellings(contact_model="risk", key="model", samples="risk")):
+        assert spell("samples_per_level", 600) == "[risk] n_per_level = 600"
