@@ -613,10 +613,6 @@ class Runs:
         """Model evaluations of the costliest run so far."""
         return max(s.evaluations for s in self.summaries())
 
-    def nan_count(self) -> int:
-        """NaN responses of every level of every run."""
-        return sum(lv.nan_count for levels in self.levels for lv in levels)
-
 
 @dataclasses.dataclass(frozen=True)
 class Estimate:

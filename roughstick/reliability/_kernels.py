@@ -255,9 +255,11 @@ def genealogical_cv2(final_roots, final_indicator, n_roots: int) -> float:
     n_f = int(ind.sum())
     if n_f == 0:
         return math.inf
-    counts = np.bincount(np.asarray(final_roots, dtype=np.int64)[ind], minlength=n_roots)
-    frac = counts / n_f - 1.0 / n_roots
-    return float(n_roots / (n_roots - 1) * np.dot(frac, frac))
+    # sum_i (n_i/n_F - 1/N)^2 = sum_i (n_i/n_F)^2 - 1/N over the ancestors with failures only (root
+    # indices may exceed N when some level-0 samples are NaN, which are no ancestors)
+    counts = np.unique(np.asarray(final_roots, dtype=np.int64)[ind], return_counts=True)[1]
+    frac = counts / n_f
+    return float(n_roots / (n_roots - 1) * (np.dot(frac, frac) - 1.0 / n_roots))
 
 
 def effective_lineages(final_roots, final_indicator) -> float:
