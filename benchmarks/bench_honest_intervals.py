@@ -148,8 +148,10 @@ def sweep(seeds, first_seed):
             p_exact = norm.sf(beta)
             rows = []
             for s in range(first_seed, first_seed + seeds):
-                ds = rs.reliability.subset_simulation(limit_state, noise_shape=shape, threshold=beta, seed=s,
-                                                      n_per_level=n, scheduler="sync", chunks=100_000)
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")  # the few-lineage warning of every run
+                    ds = rs.reliability.subset_simulation(limit_state, noise_shape=shape, threshold=beta, seed=s,
+                                                          n_per_level=n, scheduler="sync", chunks=100_000)
                 lin = float(ds.run_lineages[0])
                 gen = math.sqrt(n / (n - 1) * (1 / lin - 1 / n)) if lin > 0 else math.inf
                 rows.append((float(ds.failure_probability), gen, float(ds.coefficient_of_variation), lin))
