@@ -178,15 +178,15 @@ def test_reported_cv_and_coverage_fast(nan):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", [dict(beta=norm.isf(1e-3), n_per_level=300),
-                                  dict(beta=norm.isf(1e-4), n_per_level=900),
-                                  dict(beta=norm.isf(1e-3), n_per_level=300, nan=True)])
+@pytest.mark.parametrize("case", [dict(beta=norm.isf(1e-3), shape=(16, 16), n_per_level=300),
+                                  dict(beta=norm.isf(1e-4), shape=(32, 32), n_per_level=900),
+                                  dict(beta=norm.isf(1e-3), shape=(16, 16), n_per_level=300, nan=True)])
 def test_reported_cv_within_25_percent_and_coverage_90(case):
-    """200 seeds (as benchmarks/bench_honest_intervals.py): the mean reported cv within +-25 % of
-    the true cv, >= 90 % of the 95 % intervals cover."""
+    """200 seeds, the runs of benchmarks/bench_honest_intervals.py's linear3, linear4 and nan cases:
+    the mean reported cv within +-25 % of the true cv, >= 90 % of the 95 % intervals cover."""
     case = dict(case)
-    beta = case.pop("beta")
-    res = _runs((16, 16), beta, range(10_000, 10_200), **case)
+    beta, shape = case.pop("beta"), case.pop("shape")
+    res = _runs(shape, beta, range(10_000, 10_200), **case)
     true, cv, cover = _spread_and_coverage(res, norm.sf(beta))
     mean = np.mean(cv[np.isfinite(cv)])
     assert 0.75 < mean / true < 1.25, (mean, true)
