@@ -259,7 +259,7 @@ def genealogical_cv2(final_roots, final_indicator, n_roots: int) -> float:
     # indices may exceed N when some level-0 samples are NaN, which are no ancestors)
     counts = np.unique(np.asarray(final_roots, dtype=np.int64)[ind], return_counts=True)[1]
     frac = counts / n_f
-    return float(n_roots / (n_roots - 1) * (np.dot(frac, frac) - 1.0 / n_roots))
+    return max(float(n_roots / (n_roots - 1) * (np.dot(frac, frac) - 1.0 / n_roots)), 0.0)  # rounding
 
 
 def effective_lineages(final_roots, final_indicator) -> float:

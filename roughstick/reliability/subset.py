@@ -231,8 +231,8 @@ def _warn_if_not_honest(ds, settings):
         warnings.warn(
             f"subset simulation: the final failures descend from fewer than {_e.MIN_LINEAGES:g} effective "
             f"independent level-0 lineages ({listed}): the reported cv "
-            f"({float(ds.coefficient_of_variation):.2g}) rests on them and is likely optimistic, so the "
-            f"interval uses Student's t on their number ({ds.attrs['interval_method']}). For a "
+            f"({float(ds.coefficient_of_variation):.2g}, corrected for them) rests on them and is a rough "
+            f"figure, and the interval uses Student's t on their number ({ds.attrs['interval_method']}). For a "
             f"trustworthy cv, give the levels more samples: {spell('samples_per_level', 2 * settings.samples)} "
             f"(now {settings.samples}).", UserWarning, stacklevel=external_stacklevel())
     nan = ds.nan_responses.fillna(0).sum("run")
