@@ -16,7 +16,7 @@ each, or a ``target_cv`` stopping rule) and prints
   quantile (from ``run_cv`` and ``run_lineages``, which determine it).
 
 Cases: ``linear3`` P = 1e-3, N = 300; ``linear4`` P = 1e-4, N = 900 (the estimator's
-defaults at the issue's target); ``collapse`` P = 1e-5, N = 100: a run built to lose its
+defaults at the 1e-4 target of docs/rare_events.md); ``collapse`` P = 1e-5, N = 100: a run built to lose its
 lineages (10 levels of 20 chains of 5); ``nan`` the linear limit state with P = 1e-3 returning
 NaN on half the space (where z_1 > 0, independent of Y): the old estimator counted NaN as no
 failure and gave P / 2; ``target`` P = 1e-4, N = 300 with ``target_cv=0.3`` (at least 3 runs
