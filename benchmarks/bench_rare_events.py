@@ -60,7 +60,7 @@ def _case(args):
 def _repeat(psd, args, settings, unit, first):
     """K runs with the settings of the first one (``first``: its P, cv, evaluations, wall) on
     seeds seed .. seed+K-1: their spread."""
-    ps, cvs, ns, walls = ([v] for v in first)
+    ps, cvs, ns, walls, los, his, lins = ([v] for v in first)
     for s in range(args.seed + 1, args.seed + args.repeat):
         t0 = time.perf_counter()
         d = rs.reliability.failure_probability(psd, **_case(args), seed=s, target_cv=args.target_cv or None,
@@ -69,8 +69,11 @@ def _repeat(psd, args, settings, unit, first):
         ps.append(float(d.failure_probability))
         cvs.append(float(d.coefficient_of_variation))
         ns.append(int(d.n_evaluations))
+        los.append(float(d.failure_probability_lower))
+        his.append(float(d.failure_probability_upper))
+        lins.append(float(d.run_lineages.min()))
         print(f"  seed {s}: P = {ps[-1]:.3e}  reported cv {cvs[-1]:.2f}  evaluations {ns[-1]}  "
-              f"wall {walls[-1]:.1f} s", flush=True)
+              f"effective final lineages {lins[-1]:.1f}  wall {walls[-1]:.1f} s", flush=True)
     ps = np.array(ps)
     k = ps.size
     sd = ps.std(ddof=1) / ps.mean()
@@ -80,6 +83,13 @@ def _repeat(psd, args, settings, unit, first):
           f"{sd:.2f}, 95% [{lo:.2f}, {hi:.2f}] (chi-square, normal approximation); mean reported cv "
           f"{np.mean(cvs):.2f}; mean evaluations {np.mean(ns):.0f}; mean wall {np.mean(walls):.1f} s = "
           f"{np.mean(walls) / unit:.0f} x one 1024^2 iFFT")
+    lins = np.array(lins)
+    print(f"effective final lineages: mean {lins.mean():.1f}, fewer than 5 (flagged) in {int((lins < 5).sum())}/{k}")
+    if args.reference:
+        ref = args.reference
+        cover = sum(lo <= ref <= hi for lo, hi in zip(los, his, strict=True))
+        print(f"intervals covering the reference P = {ref:.3g}: {cover}/{k}; true cv of one run against it "
+              f"(rms error / P) {np.sqrt(np.mean((ps - ref) ** 2)) / ref:.2f}")
 
 
 def _monte_carlo(psd, args, unit):
@@ -111,6 +121,8 @@ def main():
     ap.add_argument("--contact-model", default="modified_dmt", choices=("modified_dmt", "fft_bem"))
     ap.add_argument("--repeat", type=int, default=0, help="K runs in all, on seeds seed.. (true cv)")
     ap.add_argument("--monte-carlo", type=int, default=0, help="N crude Monte Carlo evaluations")
+    ap.add_argument("--reference", type=float, default=0.0,
+                    help="a reference P (e.g. of crude Monte Carlo): --repeat counts the intervals covering it")
     ap.add_argument("--family", default="table4", choices=rs.datasets.FAMILIES,
                     help="surface family of the zones (rs.datasets.family_psd)")
     args = ap.parse_args()
@@ -156,7 +168,8 @@ def main():
         print(f"crude Monte Carlo for the same cv: {n_mc:.3g} evaluations ({n_mc / n:.0f} x more)")
 
     if args.repeat > 1:
-        _repeat(psd, args, settings, unit, (p, cv, n, wall))
+        _repeat(psd, args, settings, unit, (p, cv, n, wall, float(ds.failure_probability_lower),
+                                            float(ds.failure_probability_upper), float(ds.run_lineages.min())))
     if args.monte_carlo:
         _monte_carlo(psd, args, unit)
     if args.analytic_runs == 0:

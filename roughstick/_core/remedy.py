@@ -38,6 +38,7 @@ SETTINGS = {
     "contact_model": "the contact model's name (keyword: accuracy, the accepted error of 'auto')",
     "spacing": "a pixel size [m] fine enough",
     "resolution": "how to measure what the pixel costs (no value)",
+    "samples_per_level": "the samples per level of subset simulation",
 }
 
 _SPELLINGS: contextvars.ContextVar[dict | None] = contextvars.ContextVar("roughstick_remedy_spellings",
@@ -80,6 +81,8 @@ def _default(setting: str) -> Callable:
         return argument("model", call="roughstick.contact.curves")
     if setting == "spacing":
         return argument("spacing", fmt=lambda v: f"{v:.2g}")
+    if setting == "samples_per_level":
+        return argument("n_per_level", fmt=str)
     if setting == "resolution":
         return lambda value=None, **kw: ("roughstick.contact.resolution_study(height, relative_humidity=...) "
                                          "(the same map at half and twice the pixel)")

@@ -505,11 +505,14 @@ def _model_key(table: str) -> str:
     return "contact_model" if old else "model"
 
 
-def config_spellings(*, contact_model: str, surface: str = "surface", key: str | None = None) -> dict:
+def config_spellings(*, contact_model: str, surface: str = "surface", key: str | None = None,
+                     samples: str | None = None) -> dict:
     """How the warnings of a command read from a configuration file spell their remedies
     (:mod:`roughstick._core.remedy`): keys of its tables, the contact model as ``key`` (default:
-    the key the schema gives it) in ``[contact_model]``, the pixel in ``[surface]``."""
-    return {
+    the key the schema gives it) in ``[contact_model]``, the pixel in ``[surface]``, the samples
+    per level of subset simulation as ``n_per_level`` in ``[samples]``."""
+    more = {"samples_per_level": config_key(samples, "n_per_level", fmt=str)} if samples else {}
+    return {**more,
         "contact_model": config_key(contact_model, key or _model_key(contact_model)),
         "spacing": config_key(surface, "spacing", fmt=lambda v: f'"{v * 1e9:.2g} nm"'),
         "resolution": lambda v=None, **kw: (f"the same run with [{surface}] spacing doubled (its size "

@@ -43,7 +43,7 @@ class Field:
 
 F = Field
 _SMALL_P = {  # the small-probability methods' stopping rule: [risk] of risk, [ensemble] of beam
-    "target_cv": F("fraction", "method 'subset'/'monte_carlo': stop when the cv of P(stuck) is at most this", default=0.3,
+    "target_cv": F("fraction", "method 'subset'/'monte_carlo': stop when the cv of P(stuck) is at most this (subset: after >= 3 runs that agree)", default=0.3,
                    percent=False),
     "max_evaluations": F("int", "method 'subset'/'monte_carlo': evaluations allowed per length, RH (and layer)", default=20000, minimum=10),
     "n_per_level": F("int", "method 'subset': samples per level (a multiple of 5: p0 = 0.2)", default=1000, minimum=10)}

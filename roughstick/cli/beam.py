@@ -40,7 +40,8 @@ def register(sub):
                    help="output folder (default: [output] folder, else ./beam-output)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace results of another run in the output folder")
-    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="bank", key="model"))
+    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="bank", key="model",
+                                                                                     samples="ensemble"))
 
 
 def _psd(surface: dict):
@@ -220,6 +221,7 @@ def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite, provenance) -> in
                      f"[{float(d.stiction_probability_lower):.3g}, {float(d.stiction_probability_upper):.3g}] "
                      f"cv {float(d.coefficient_of_variation):.2f}, {int(d.n_evaluations)} beams"
                      + ("" if int(d.converged) else " (target cv not met)")
+                     + (" (few final lineages: cv unreliable)" if int(d.few_lineages) else "")
                      + f"; bank (exact on its {n_law} laws) {float(d.bank_stiction_probability):.3g}")
     if float(ds.bank_stiction_probability.min()) < 1.0 / n_law:
         LOG.info(f"note: P(stuck) below 1/{n_law} is not resolved by a bank of {n_law} laws (0 on the bank "

@@ -49,7 +49,8 @@ def register(sub):
     p.add_argument("--overwrite", action="store_true",
                    help="replace the results of a run with other parameters in the output folder")
     add_figure_options(p)
-    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="risk", key="model"))
+    p.set_defaults(func=_run, remedies=lambda args: config_spellings(contact_model="risk", key="model",
+                                                                                     samples="risk"))
 
 
 def load_risk_config(path) -> dict:
@@ -187,7 +188,7 @@ def _psd(s):
 
 
 _SUBSET_VARS = ("stiction_probability", "stiction_probability_lower", "stiction_probability_upper",
-                "coefficient_of_variation", "n_evaluations", "converged")
+                "coefficient_of_variation", "n_evaluations", "converged", "few_lineages")
 
 
 def _subset_risk(c, beam, lengths, out, *, overwrite):
@@ -371,7 +372,8 @@ def _run_subset(c, beam, lengths, out, *, overwrite):
                 LOG.info(f"  [{layer}] l={bl * 1e6:.0f}um RH {rh * 100:.1f}%: P = {float(d.stiction_probability):.3g} "
                          f"[{float(d.stiction_probability_lower):.3g}, {float(d.stiction_probability_upper):.3g}] "
                          f"cv {float(d.coefficient_of_variation):.2f}, {int(d.n_evaluations)} evaluations"
-                         + ("" if int(d.converged) else " (target cv not met)") + _confirmed(d))
+                         + ("" if int(d.converged) else " (target cv not met)")
+                         + (" (few final lineages: cv unreliable)" if int(d.few_lineages) else "") + _confirmed(d))
     _crossing_table(risk, r["levels"])
     LOG.info(f"wrote {f} (no figures with method = {r['method']!r}: it has no Γ sample)")
     finish_folder(out)

@@ -75,7 +75,7 @@ class BeamMargin:
 
 
 _BEAM_VARS = ("failure_probability", "failure_probability_lower", "failure_probability_upper",
-              "coefficient_of_variation", "au_beck_cv", "n_evaluations", "converged")
+              "coefficient_of_variation", "au_beck_cv", "n_evaluations", "converged", "few_lineages")
 
 
 def _bank_stuck_probability(bank: xr.DataArray, *, beam_length, protocol, beam, patch_length, method,
@@ -126,7 +126,7 @@ def _bank_stuck_probability(bank: xr.DataArray, *, beam_length, protocol, beam, 
     res = res.assign_coords(rh=("rh", np.asarray(rh, dtype=float), {
         "units": "1", "long_name": "relative humidity", "standard_name": "relative_humidity"}),
         beam_length=("beam_length", lengths, {"units": "m", "long_name": "beam length"}))
-    for name in ("coefficient_of_variation", "au_beck_cv", "n_evaluations", "converged"):
+    for name in ("coefficient_of_variation", "au_beck_cv", "n_evaluations", "converged", "few_lineages"):
         res[name].attrs.setdefault("units", "1")
     if np.ndim(beam_length) == 0:
         res = res.squeeze("beam_length")

@@ -80,7 +80,11 @@ ATTRS = {
     "acceptance_rate": {"units": "1", "long_name": "fraction of the level's proposals accepted"},
     "level_evaluations": {"units": "1", "long_name": "model evaluations of the level"},
     "run_probability": {"units": "1", "long_name": "failure probability estimated by the run"},
-    "run_cv": {"units": "1", "long_name": "coefficient of variation of the run's estimate (genealogical)"},
+    "run_cv": {"units": "1", "long_name": "coefficient of variation of the run's estimate (genealogical, Bessel-corrected on its effective final lineages)"},
+    "run_lineages": {"units": "1", "long_name": "effective number of independent final lineages of the run: 1 / sum_i (n_i / n_F)^2 over its level-0 ancestors"},
+    "few_lineages": {"units": "1", "long_name": "number of runs with fewer effective final lineages than min_lineages: their genealogical cv is not to be trusted"},
+    "nan_responses": {"units": "1", "long_name": "NaN responses of the level (level 0: samples; above: proposals), counted as missing, not as no failure"},
+    "spread_p_value": {"units": "1", "long_name": "chi-square probability of a spread of the runs at least this large if their genealogical cv were right (NaN: fewer than 2 runs)"},
     "run_evaluations": {"units": "1", "long_name": "model evaluations of the run"},
     "run_levels": {"units": "1", "long_name": "number of levels of the run"},
     "run_samples": {"units": "1", "long_name": "samples per level of the run"},
@@ -246,6 +250,19 @@ class _Level:
     spread: np.ndarray        # per-coordinate spread of the seeds (ones at level 0)
     keep_noise: np.ndarray = None   # seeds of the next level, or failure samples of the last
     keep_response: np.ndarray = None
+
+    @property
+    def nan_count(self) -> int:
+        """NaN responses of the level: of its samples (level 0), of its chains' proposals (above:
+        a seed's ``proposal`` is NaN by convention, not evaluated)."""
+        if not np.isfinite(self.threshold):
+            return int(np.isnan(self.response).sum())
+        return int(np.isnan(self.proposal).sum() - np.unique(self.chain).size)
+
+    @property
+    def nan_fraction(self) -> float:
+        """NaN share of the level's model evaluations."""
+        return self.nan_count / self.evaluations if self.evaluations else 0.0
 
     @property
     def acceptance(self):
@@ -434,7 +451,14 @@ class _Engine:
         if not final and not ind.any():  # an atom at the top of the response: cannot go on
             b, final = self.y_star, True
             ind = np.where(np.isnan(y), False, y > b)
-        p = float(ind.mean())
+        # NaN responses are missing, not "no failure": the fraction is over the others (chains
+        # never hold a NaN state: a NaN proposal is rejected); _nan_bounds widens the interval
+        valid = int(np.count_nonzero(~np.isnan(y)))
+        if valid == 0:
+            raise ValueError(f"every one of the {n} responses of level 0 is NaN: the limit state fails "
+                             "on every sample. Make it return a finite response (-inf where the state "
+                             "certainly does not fail).")
+        p = float(ind.sum() / valid)
         if np.isfinite(threshold):
             per_chain = [ind[chain == c] for c in np.unique(chain)]
             gamma = _k.correlation_factor(per_chain, p)
@@ -442,7 +466,7 @@ class _Engine:
             gamma = 0.0
         return _Level(response=y, proposal=yp, accepted=acc, chain=chain, threshold=float(threshold),
                       next_threshold=float(b), final=bool(final), probability=p, gamma=float(gamma),
-                      cv2=_k.level_cv2(p, n, gamma), evaluations=int(evaluations), scales=scales,
+                      cv2=_k.level_cv2(p, valid, gamma), evaluations=int(evaluations), scales=scales,
                       spread=spread)
 
     def _keep(self, lev, noise_of):
@@ -504,32 +528,62 @@ def _last_scale(lev, s):
     return _k.adapt_scale(float(sc[k]), float(lev.accepted[sel].mean()), s.target_acceptance, k)
 
 
+#: a run whose final failures descend from fewer effective lineages (``run_lineages``) is
+#: flagged: its genealogical cv rests on too few independent contributions (docs/rare_events.md)
+MIN_LINEAGES = 5.0
+#: ``target_cv`` stops only once this many independent runs agree with their reported cv
+MIN_STOPPING_RUNS = 3
+#: ... or, when they do not, once this many runs make their spread a cv of its own (the relative
+#: error of a standard deviation from 10 runs is about 0.24)
+SPREAD_RUNS = 10
+#: level of the chi-square test of the runs' spread against their genealogical cv
+AGREEMENT_LEVEL = 0.05
+
+
 def _above(lv):
     return np.where(np.isnan(lv.response), False, lv.response > lv.next_threshold)
 
 
-def _genealogical_cv2(levels):
-    """Squared cv of one run from its genealogy (see ``_kernels.genealogical_cv2``)."""
+def _final_lineages(levels):
+    """Level-0 ancestor of every state of the run's last level, and which of them fail."""
     kept = [np.flatnonzero(_above(lv)) for lv in levels]
     roots = _k.root_ancestors([lv.chain for lv in levels], kept)
-    return _k.genealogical_cv2(roots[-1], _above(levels[-1]), levels[0].response.size)
+    return roots[-1], _above(levels[-1])
+
+
+def _nan_bounds(levels):
+    r"""The run's P if each level's NaN responses were all non-failures, and all failures:
+    :math:`\prod_j p_j(1-f_j)` and :math:`\prod_j (p_j(1-f_j)+f_j)`, :math:`f_j` the NaN share of
+    level j's evaluations standing for the NaN share of the level's (conditional) distribution."""
+    f = np.array([lv.nan_fraction for lv in levels])
+    pj = np.array([lv.probability for lv in levels])
+    return float(np.prod(pj * (1 - f))), float(np.prod(pj * (1 - f) + f))
 
 
 class RunSummary(NamedTuple):
-    """One run's estimate: P, its genealogical cv, model evaluations and Au-Beck's cv."""
+    """One run's estimate: P, its genealogical cv, model evaluations, Au-Beck's cv, the
+    effective number of final lineages, and P bounded as if its NaN responses were all
+    non-failures / all failures."""
 
     probability: float
     cv: float
     evaluations: int
     au_beck_cv: float
+    lineages: float
+    nan_low: float
+    nan_high: float
 
 
 def _run_summary(levels) -> RunSummary:
     """The :class:`RunSummary` of one run (a list of levels)."""
     p = float(np.prod([lv.probability for lv in levels]))
     au2 = float(sum(lv.cv2 for lv in levels))
-    return RunSummary(p, math.sqrt(_genealogical_cv2(levels)), int(sum(lv.evaluations for lv in levels)),
-                      math.sqrt(au2))
+    roots, fails = _final_lineages(levels)
+    n0 = levels[0].response.size - levels[0].nan_count  # NaN samples are no ancestors
+    lineages = _k.effective_lineages(roots, fails)
+    cv2 = _k.lineage_cv2(_k.genealogical_cv2(roots, fails, n0), lineages)
+    return RunSummary(p, math.sqrt(cv2), int(sum(lv.evaluations for lv in levels)), math.sqrt(au2),
+                      lineages, *_nan_bounds(levels))
 
 
 @dataclasses.dataclass
@@ -562,8 +616,9 @@ class Runs:
 
 @dataclasses.dataclass(frozen=True)
 class Estimate:
-    """P, its cv (the one the interval uses), Au-Beck's and the between-run cv, the interval
-    and how it was built."""
+    """P, its cv (the one the interval uses), Au-Beck's and the between-run cv, the interval,
+    how it was built, the runs flagged for few final lineages and the chi-square probability of
+    the runs' spread given their genealogical cv (NaN: fewer than 2 runs)."""
 
     probability: float
     cv: float
@@ -572,6 +627,36 @@ class Estimate:
     lower: float
     upper: float
     interval: str
+    few_lineages: tuple = ()
+    spread_p_value: float = math.nan
+
+    def agrees(self, runs: int) -> bool:
+        """Whether ``target_cv`` may stop here: at least :data:`MIN_STOPPING_RUNS` runs whose
+        spread is consistent with their genealogical cv, or :data:`SPREAD_RUNS` runs."""
+        return runs >= SPREAD_RUNS or (runs >= MIN_STOPPING_RUNS and not self.spread_p_value < AGREEMENT_LEVEL)
+
+
+def _counted(runs: Runs, confidence) -> Estimate:
+    """Crude Monte Carlo (or subset runs that stopped at level 0): k/n over the finite
+    responses, the binomial cv, the Wilson interval widened to NaN as no failure / as failure."""
+    k = sum(int(np.count_nonzero(_above(levels[0]))) for levels in runs.levels)
+    u = sum(levels[0].nan_count for levels in runs.levels)
+    tot = sum(levels[0].response.size for levels in runs.levels) - u
+    p = k / tot
+    cv = math.sqrt((1 - p) / (tot * p)) if p > 0 else math.inf
+    lo = _k.wilson_interval(k, tot + u, confidence)[0]
+    hi = _k.wilson_interval(k + u, tot + u, confidence)[1]
+    return Estimate(p, cv, cv, math.nan, lo, hi, "wilson")
+
+
+def _spread_p_value(ps, cvs, p):
+    """Chi-square probability of a spread of the runs' estimates at least this large if each
+    run's genealogical cv were its true one (NaN when it cannot be tested)."""
+    from scipy.stats import chi2
+
+    if ps.size < 2 or not p > 0 or not np.all(np.isfinite(cvs)) or not np.mean(cvs**2) > 0:
+        return math.nan
+    return float(chi2.sf(np.sum((ps - p) ** 2) / (p * p * np.mean(cvs**2)), ps.size - 1))
 
 
 def _estimate(runs: Runs, method, confidence) -> Estimate:
@@ -581,11 +666,7 @@ def _estimate(runs: Runs, method, confidence) -> Estimate:
     # a subset run that stops at level 0 is crude Monte Carlo: the binomial cv and Wilson interval
     # (Au-Beck's and the genealogical cv are 0 when every sample fails, which no sample proves)
     if method == "monte_carlo" or all(len(levels) == 1 for levels in runs.levels):
-        k = sum(int(round(lv[0].probability * n)) for lv, n in zip(runs.levels, runs.sizes, strict=True))
-        tot = sum(runs.sizes)
-        p = k / tot
-        cv = math.sqrt((1 - p) / (tot * p)) if p > 0 else math.inf
-        return Estimate(p, cv, cv, math.nan, *_k.wilson_interval(k, tot, confidence), "wilson")
+        return _counted(runs, confidence)
     summ = runs.summaries()
     ps = np.array([a.probability for a in summ])
     cvs = np.array([a.cv for a in summ])
@@ -595,17 +676,23 @@ def _estimate(runs: Runs, method, confidence) -> Estimate:
     gen = float(math.sqrt(np.mean(cvs**2) / R)) if np.all(np.isfinite(cvs)) else math.inf
     au = float(math.sqrt(np.mean(aus**2) / R)) if np.all(np.isfinite(aus)) else math.inf
     between = float(ps.std(ddof=1) / math.sqrt(R) / p) if R >= 2 and p > 0 else math.nan
-    if R >= 3 and np.isfinite(between) and between > gen:
-        cv, q, how = between, float(stdtrit(R - 1, 0.5 + confidence / 2)), f"log-normal, between-run cv, Student t with {R - 1} dof"
-    else:
-        cv, q, how = gen, None, "log-normal, genealogical cv"
-    if p > 0:
-        lo, hi = _k.lognormal_interval(p, cv, confidence, quantile=q)
+    few = tuple(r for r, a in enumerate(summ) if a.probability > 0 and a.lineages < MIN_LINEAGES)
+    if R >= 3 and np.isfinite(between) and (between > gen or (gen == math.inf and R >= SPREAD_RUNS)):
+        cv, dof, how = between, R - 1.0, f"log-normal, between-run cv, Student t with {R - 1} dof"
+    else:  # the genealogical variance rests on the runs' effective final lineages, less one each
+        dof = max(sum(a.lineages - 1.0 for a in summ), 1e-3)
+        cv, how = gen, f"log-normal, genealogical cv, Student t with {dof:.3g} dof (final lineages)"
+    if p > 0 and cv == math.inf:  # a run of one lineage: no measure of its error at all
+        lo, hi = 0.0, 1.0
+    elif p > 0:
+        lo, hi = _k.lognormal_interval(p, cv, confidence, quantile=float(stdtrit(dof, 0.5 + confidence / 2)))
+        lo *= float(np.mean([a.nan_low for a in summ])) / p
+        hi *= float(np.mean([a.nan_high for a in summ])) / p
     else:  # no failure seen: the levels reached times a Wilson bound on 0 out of N
         bounds = [float(np.prod([lv.probability for lv in levels[:-1]]))
                   * _k.wilson_interval(0, levels[-1].response.size, confidence)[1] for levels in runs.levels]
-        lo, hi, cv = 0.0, min(bounds), math.inf
-    return Estimate(p, cv, au, between, lo, hi, how)
+        lo, hi, cv = 0.0, max(min(bounds), float(np.mean([a.nan_high for a in summ]))), math.inf
+    return Estimate(p, cv, au, between, lo, min(hi, 1.0), how, few, _spread_p_value(ps, cvs, p))
 
 
 def _level_arrays(runs: Runs):
@@ -618,7 +705,7 @@ def _level_arrays(runs: Runs):
     chain = np.full((R, L, N), -1, np.int32)
     per = {k: np.full((R, L), np.nan) for k in ("level_threshold", "next_threshold", "conditional_probability",
                                                "correlation_factor", "level_cv",
-                                               "acceptance_rate", "level_evaluations")}
+                                               "acceptance_rate", "level_evaluations", "nan_responses")}
     fails, frun, fresp = [], [], []
     n_round = max(lv.scales.size for levels in runs.levels for lv in levels)
     scale = np.full((R, L, n_round), np.nan)
@@ -637,6 +724,7 @@ def _level_arrays(runs: Runs):
             scale[r, j, :lv.scales.size] = lv.scales
             per["acceptance_rate"][r, j] = lv.acceptance
             per["level_evaluations"][r, j] = lv.evaluations
+            per["nan_responses"][r, j] = lv.nan_count
         last = levels[-1]
         if last.final and last.keep_noise is not None and last.keep_noise.shape[0]:
             fails.append(last.keep_noise.reshape(last.keep_noise.shape[0], -1))
@@ -664,6 +752,7 @@ def _to_dataset(runs: Runs, s: _Settings, *, threshold, target_cv, converged, co
     ds["proposal_scale"] = _attrs(xr.DataArray(scale, dims=("run", "level", "round")), "proposal_scale")
     ds["run_probability"] = _attrs(xr.DataArray([a.probability for a in summ], dims="run"), "run_probability")
     ds["run_cv"] = _attrs(xr.DataArray([a.cv for a in summ], dims="run"), "run_cv")
+    ds["run_lineages"] = _attrs(xr.DataArray([a.lineages for a in summ], dims="run"), "run_lineages")
     ds["run_evaluations"] = _attrs(xr.DataArray(np.array([a.evaluations for a in summ], np.int64), dims="run"),
                                    "run_evaluations")
     ds["run_levels"] = _attrs(xr.DataArray(np.array([len(lv) for lv in runs.levels], np.int64), dims="run"),
@@ -681,6 +770,9 @@ def _to_dataset(runs: Runs, s: _Settings, *, threshold, target_cv, converged, co
     ds["au_beck_cv"] = _attrs(xr.DataArray(float(est.au_beck_cv)), "au_beck_cv")
     ds["between_run_cv"] = _attrs(xr.DataArray(float(est.between_run_cv)), "between_run_cv")
     ds["n_evaluations"] = _attrs(xr.DataArray(np.int64(sum(a.evaluations for a in summ))), "n_evaluations")
+    ds["few_lineages"] = _attrs(xr.DataArray(np.int64(len(est.few_lineages))), "few_lineages",
+                                min_lineages=MIN_LINEAGES)
+    ds["spread_p_value"] = _attrs(xr.DataArray(float(est.spread_p_value)), "spread_p_value")
     ds["converged"] = _attrs(xr.DataArray(np.int8(bool(converged) and est.probability > 0)), "converged")
     ds = ds.assign_coords(round=np.arange(scale.shape[2]))
     for c in ("run", "level", "sample", "round"):

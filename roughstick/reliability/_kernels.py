@@ -183,7 +183,8 @@ def lognormal_interval(p: float, cv: float, confidence: float, quantile: float |
     s = math.sqrt(math.log1p(cv * cv))
     # log P_hat = log p - s^2/2 + s eps (mean p): invert for p
     centre = p * math.sqrt(1.0 + cv * cv)
-    return (centre * math.exp(-z * s), centre * math.exp(z * s))
+    w = min(z * s, 700.0)  # a quantile of Student's t with a fraction of a degree of freedom
+    return (centre * math.exp(-w), centre * math.exp(w))
 
 
 def wilson_interval(k: int, n: int, confidence: float):
@@ -254,6 +255,47 @@ def genealogical_cv2(final_roots, final_indicator, n_roots: int) -> float:
     n_f = int(ind.sum())
     if n_f == 0:
         return math.inf
-    counts = np.bincount(np.asarray(final_roots, dtype=np.int64)[ind], minlength=n_roots)
-    frac = counts / n_f - 1.0 / n_roots
-    return float(n_roots / (n_roots - 1) * np.dot(frac, frac))
+    # sum_i (n_i/n_F - 1/N)^2 = sum_i (n_i/n_F)^2 - 1/N over the ancestors with failures only (root
+    # indices may exceed N when some level-0 samples are NaN, which are no ancestors)
+    counts = np.unique(np.asarray(final_roots, dtype=np.int64)[ind], return_counts=True)[1]
+    frac = counts / n_f
+    return max(float(n_roots / (n_roots - 1) * (np.dot(frac, frac) - 1.0 / n_roots)), 0.0)  # rounding
+
+
+def effective_lineages(final_roots, final_indicator) -> float:
+    r"""Effective number of independent final lineages of a run, :math:`1/\sum_i (n_i/n_F)^2`.
+
+    :math:`n_i` is the number of final failures descending from level-0 sample :math:`i`
+    (Kish's effective sample size of the clusters by ancestor). The genealogical squared cv is
+    :math:`\frac{N}{N-1}(1/N_{\rm eff} - 1/N)`: it cannot exceed 1, and it rests on about
+    :math:`N_{\rm eff}` independent contributions. 0 if no failure.
+
+    >>> effective_lineages([3, 3, 3, 5], [True, True, True, True])  # 3 + 1 failures
+    1.6
+    """
+    ind = np.asarray(final_indicator, dtype=bool)
+    if not ind.any():
+        return 0.0
+    counts = np.unique(np.asarray(final_roots, dtype=np.int64)[ind], return_counts=True)[1]
+    frac = counts / counts.sum()
+    return float(1.0 / np.dot(frac, frac))
+
+
+def lineage_cv2(cv2: float, lineages: float) -> float:
+    r"""The genealogical squared cv with Bessel's correction on the effective lineages.
+
+    The genealogical variance is a sample variance of the level-0 ancestors' contributions, of
+    which only about :math:`N_{\rm eff}` (:func:`effective_lineages`) are independent and non-zero:
+    it is corrected as a variance from :math:`N_{\rm eff}` values, :math:`\delta^2 N_{\rm eff} /
+    (N_{\rm eff} - 1)`. Negligible with many lineages, it grows without bound as they collapse to
+    one, where the genealogy says nothing about the variance (``inf``): the uncorrected
+    estimator cannot exceed 1 and is optimistic exactly there.
+
+    >>> round(lineage_cv2(0.25, 5.0), 4)
+    0.3125
+    >>> lineage_cv2(1.0, 1.0)
+    inf
+    """
+    if not lineages > 1.0 + 1e-9:
+        return math.inf
+    return float(cv2 * lineages / (lineages - 1.0))

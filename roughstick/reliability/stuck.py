@@ -205,11 +205,13 @@ def stuck_probability(
         The contact model of the zones (``"auto"``: the cheaper one measured within 10 % on
         these zones, :func:`roughstick.reliability.failure_probability`).
     target_cv : float or None, default 0.3
-        Stop when the estimate's coefficient of variation is at most this (None: one run).
+        Stop when the estimate's coefficient of variation is at most this (None: one run);
+        subset simulation stops only after at least 3 runs whose spread agrees with their cv.
     max_evaluations : int or None, default 20000
         Budget of model evaluations per estimate (per humidity and length).
     n_per_level : int, default 1000
-        Samples per level of subset simulation (first batch of Monte Carlo).
+        Samples per level of subset simulation (first batch of Monte Carlo). More when a run is
+        flagged for few final lineages (``few_lineages``): its cv is then not to be trusted.
     **options
         Further keywords of the engine: :func:`roughstick.beam.simulate` (beam),
         :func:`failure_probability` (on a PSD: ``output``, ``adsorbed_layer``, ``scheduler`` ...)

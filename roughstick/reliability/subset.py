@@ -26,6 +26,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import warnings
 
 import numpy as np
 import xarray as xr
@@ -33,6 +34,8 @@ import xarray as xr
 from .._core.api import renamed_keywords
 from .._core.conventions import append_history
 from .._core.dask import as_seed_sequence
+from .._core.remedy import spell
+from .._core.validate import external_stacklevel
 from . import _engine as _e
 
 __all__ = ["subset_simulation", "weakest_link"]
@@ -71,7 +74,10 @@ def subset_simulation(
     limit_state : callable
         Maps one white-noise array of shape ``noise_shape`` to a float response; larger is
         closer to failure. Must be thread-safe (dask threads) and picklable (processes and
-        distributed). NaN responses count as no failure (and are never accepted in a chain).
+        distributed). A NaN response is missing, never "no failure": it is counted per level
+        (``nan_responses``), left out of the level's fraction (a chain rejects a NaN proposal),
+        and the interval is widened to cover every NaN failing or none (with a warning). Return
+        ``-inf`` where a state certainly does not fail.
     noise_shape : tuple of int
         Shape of the white noise. Level-0 sample ``i`` is
         ``realization_rng(SeedSequence(seed), i).standard_normal(noise_shape)``.
@@ -106,7 +112,10 @@ def subset_simulation(
     target_cv : float, optional
         Stopping rule: runs are added (subset: one more run of the same size; Monte Carlo: a
         batch sized to reach the target) until the coefficient of variation is at most
-        ``target_cv``. None: ``independent_runs`` runs (Monte Carlo: one batch).
+        ``target_cv``; subset simulation stops only once at least 3 runs agree (the spread of
+        their estimates is consistent with their reported cv: ``spread_p_value`` >= 0.05), or
+        10 runs give the spread's own cv. None: ``independent_runs`` runs (Monte Carlo: one
+        batch).
     max_evaluations : int, optional
         Budget of model evaluations: a run is started only if one as large as the largest so
         far still fits (``independent_runs`` always complete; a run needing more levels than
@@ -139,8 +148,10 @@ def subset_simulation(
     -------
     xarray.Dataset
         Scalars ``failure_probability``, ``failure_probability_lower``/``_upper``,
-        ``coefficient_of_variation``, ``n_evaluations``, ``converged``; per ``(run, level)``
-        the thresholds, conditional probabilities, correlation factors and acceptance; per
+        ``coefficient_of_variation``, ``n_evaluations``, ``converged``, ``few_lineages`` (runs
+        flagged for fewer than 5 effective final lineages), ``spread_p_value``; per ``run``
+        ``run_probability``, ``run_cv``, ``run_lineages``; per ``(run, level)`` the thresholds,
+        conditional probabilities, correlation factors, acceptance and ``nan_responses``; per
         ``(run, level, round)`` the proposal scale; per ``(run, level, sample)`` every state's
         ``response``, ``proposal_response``, ``accepted`` and ``chain``; ``failure_noise`` of
         the last level's failure samples.
@@ -153,17 +164,27 @@ def subset_simulation(
     descending from sample :math:`i`), and
     :math:`\delta_r^2 = \frac{N}{N-1}\sum_i (n_i/n_F - 1/N)^2` (the ancestral-lineage estimator
     of sequential Monte Carlo, Chan & Lai 2013, Lee & Whiteley 2018). It contains the
-    correlation of the states of a chain and between levels. ``au_beck_cv`` is Au & Beck's
-    (2001, Eqs. 25-30) :math:`\sum_j \frac{1 - p_j}{N p_j}(1 + \gamma_j)`, :math:`\gamma_j`
+    correlation of the states of a chain and between levels. It equals
+    :math:`\frac{N}{N-1}(1/N_{\rm eff} - 1/N)`, :math:`N_{\rm eff} = 1/\sum_i (n_i/n_F)^2` the
+    effective number of independent final lineages (``run_lineages``), so it cannot exceed 1 and
+    is optimistic exactly when the lineages collapse: the reported :math:`\delta_r^2` is it
+    times :math:`N_{\rm eff}/(N_{\rm eff}-1)` (a variance from :math:`N_{\rm eff}` values;
+    infinite for one lineage, whose interval is then [0, 1]), and a run with
+    :math:`N_{\rm eff} < 5` is flagged (``few_lineages``, a warning naming ``n_per_level``).
+    ``au_beck_cv`` is Au & Beck's (2001, Eqs. 25-30) :math:`\sum_j \frac{1 - p_j}{N p_j}(1 + \gamma_j)`, :math:`\gamma_j`
     from the lag correlations of the failure indicator inside the chains; it neglects the
     correlation between levels and underestimates the error (docs/rare_events.md).
     :math:`R` runs: :math:`\hat P = \overline{\hat P_r}`, cv
     :math:`\sqrt{\overline{\delta_r^2}/R}`; ``between_run_cv``
     :math:`= s(\hat P_r)/(\sqrt R\,\hat P)` replaces it when :math:`R \ge 3` and it is larger.
     Interval: log-normal, :math:`\hat P\sqrt{1+\delta^2}\,e^{\pm q\sqrt{\ln(1+\delta^2)}}`,
-    :math:`q` the normal quantile (genealogical cv) or Student's t with :math:`R - 1` degrees
-    of freedom (between-run cv). Monte Carlo: :math:`k/n`,
-    :math:`\delta = \sqrt{(1-\hat P)/(n\hat P)}`, Wilson interval.
+    :math:`q` the quantile of Student's t with :math:`\sum_r (N_{{\rm eff},r} - 1)` degrees of
+    freedom (genealogical cv: the variance rests on the lineages) or :math:`R - 1` (between-run
+    cv). Monte Carlo: :math:`k/n`, :math:`\delta = \sqrt{(1-\hat P)/(n\hat P)}`, Wilson
+    interval. NaN responses: :math:`p_j` over the finite responses; the interval's ends are
+    multiplied by :math:`\prod_j (1-f_j)` and :math:`\prod_j (p_j(1-f_j)+f_j)/\prod_j p_j`
+    (:math:`f_j` the NaN share of level :math:`j`'s evaluations: every NaN a non-failure, or a
+    failure); Monte Carlo: the Wilson bounds of :math:`k` and :math:`k + u` out of :math:`n`.
 
     Examples
     --------
@@ -193,8 +214,35 @@ def subset_simulation(
         raise ValueError(f"independent_runs must be an integer >= 1, got {independent_runs!r}.")
     runs, converged = _run_to_target(eng, settings, int(independent_runs), target_cv, max_evaluations,
                                      confidence)
-    return _e._to_dataset(runs, settings, threshold=threshold, target_cv=target_cv, converged=converged,
-                          confidence=confidence, root=root, rattrs=response_attrs)
+    ds = _e._to_dataset(runs, settings, threshold=threshold, target_cv=target_cv, converged=converged,
+                        confidence=confidence, root=root, rattrs=response_attrs)
+    _warn_if_not_honest(ds, settings)
+    return ds
+
+
+def _warn_if_not_honest(ds, settings):
+    """Warn when the runs' final failures descend from few lineages (the genealogical cv is
+    unreliable: the interval is wide, the remedy is more samples per level) or when responses
+    were NaN (counted as missing; the interval covers them failing or not)."""
+    if int(ds.few_lineages) and ds.sizes["run"] < _e.SPREAD_RUNS:  # else the runs' spread checks it
+        few = [(r, float(v)) for r, v in enumerate(ds.run_lineages.values)
+               if float(ds.run_probability[r]) > 0 and v < _e.MIN_LINEAGES]
+        listed = ", ".join(f"run {r}: {v:.1f}" for r, v in few)
+        warnings.warn(
+            f"subset simulation: the final failures descend from fewer than {_e.MIN_LINEAGES:g} effective "
+            f"independent level-0 lineages ({listed}): the reported cv "
+            f"({float(ds.coefficient_of_variation):.2g}, corrected for them) rests on them and is a rough "
+            f"figure, and the interval uses Student's t on their number ({ds.attrs['interval_method']}). For a "
+            f"trustworthy cv, give the levels more samples: {spell('samples_per_level', 2 * settings.samples)} "
+            f"(now {settings.samples}).", UserWarning, stacklevel=external_stacklevel())
+    nan = ds.nan_responses.fillna(0).sum("run")
+    if float(nan.sum()) > 0:
+        per = ", ".join(f"level {j}: {int(v)}" for j, v in enumerate(nan.values) if v > 0)
+        warnings.warn(
+            f"subset simulation: {int(nan.sum())} NaN responses ({per}) of {int(ds.n_evaluations)} evaluations: "
+            "they count as missing (the probability is over the finite responses), and the interval "
+            "is widened to cover them all failing or none. Make the limit state return a finite response "
+            "(-inf where the state certainly does not fail).", UserWarning, stacklevel=external_stacklevel())
 
 
 def _run_to_target(eng, settings, min_runs, target_cv, max_evaluations, confidence):
@@ -211,7 +259,8 @@ def _run_to_target(eng, settings, min_runs, target_cv, max_evaluations, confiden
         est = _e._estimate(runs, method, confidence)
         if target_cv is None:
             return runs, False
-        if est.cv <= target_cv:
+        if est.cv <= target_cv and (method == "monte_carlo" or est.interval == "wilson"
+                                    or est.agrees(len(runs))):
             return runs, True
         spent = runs.evaluations()
         if method == "monte_carlo":

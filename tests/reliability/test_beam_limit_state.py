@@ -59,7 +59,8 @@ def test_closed_form_on_the_bank_agrees_with_counting_simulated_beams():
 
 
 def test_subset_reaches_1e_3_within_its_interval_in_few_evaluations():
-    """P(stuck) = 1.0e-3 on a 5000-law bank: target cv 0.3 met with < 5,000 beams, closed form inside."""
+    """P(stuck) = 1.0e-3 on a 5000-law bank: target cv 0.3 met by the 3 runs the stopping rule
+    needs at least (< 3,000 beams each), closed form inside."""
     bank = lognormal_bank()
     ds = rs.stuck_probability(bank, method="subset", beam_length=130e-6, n_per_level=500, seed=3).squeeze()
     exact = closed_form(bank.values[:, 0], 130e-6)
@@ -67,7 +68,7 @@ def test_subset_reaches_1e_3_within_its_interval_in_few_evaluations():
     assert float(ds.bank_stiction_probability) == pytest.approx(exact, rel=1e-12)
     assert float(ds.stiction_probability_lower) <= exact <= float(ds.stiction_probability_upper)
     assert float(ds.coefficient_of_variation) <= 0.3 and int(ds.converged) == 1
-    assert int(ds.n_evaluations) < 5000
+    assert int(ds.n_evaluations) < 9000
 
 
 def test_zero_on_the_bank_gives_zero_with_an_upper_bound():
