@@ -35,13 +35,16 @@ from ..contact import (
 )
 from ..contact import curves as contact_curves
 from ..contact import summary as adhesion_summary
+from ..ensemble.pipeline import distance_grid
 from ..io.netcdf import publish
+from ..stiction.cantilever import PAPER_CANTILEVER, Cantilever
+from ..stiction.zone import compose_zone_law, subzone_shape
 from ..surface import generate_surfaces
 
 __all__ = ["build_patch_bank", "pressure_law_bank"]
 
 
-def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON):
+def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON, subzones=1):
     h = hashlib.sha256()
     h.update(np.ascontiguousarray(psd.values, dtype=float).tobytes())
     for c in psd.coords:
@@ -50,6 +53,8 @@ def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON):
                          model]).encode())
     if material != POLYSILICON:  # poly-silicon banks keep the names they were cached under
         h.update(repr(material).encode())
+    if subzones != 1:  # single-patch banks keep their names too
+        h.update(f"subzones={int(subzones)}".encode())
     return h.hexdigest()[:16]
 
 
@@ -65,8 +70,23 @@ TAIL_RATIO_WARN = 0.8
 _LAWS_PER_PART = 25
 
 
-def _law_energies(psd, laws, rh, shape, spacing, seed, model, material=POLYSILICON) -> np.ndarray:
-    """Adhesive energies (Eq. 13) of the patches ``laws`` at the humidities ``rh``: (law, rh)."""
+def _law_energies(psd, laws, rh, shape, spacing, seed, model, material=POLYSILICON,
+                  composition=None) -> np.ndarray:
+    """Adhesive energies (Eq. 13) of the patches ``laws`` at the humidities ``rh``: (law, rh).
+
+    ``composition``: ``(subzones, distance)``: law ``k`` is the zone of sub-zones
+    ``k*subzones ... (k+1)*subzones - 1`` (each of ``shape``) composed on the grid ``distance``
+    (:func:`roughstick.stiction.compose_zone_law`); None: law ``k`` is one patch of ``shape``."""
+    laws = np.asarray(laws)
+    if composition is not None:
+        m, distance = composition
+        subs = (laws[:, None] * m + np.arange(m)[None, :]).ravel()
+        surf = generate_surfaces(psd, realizations=subs, shape=shape, spacing=spacing,
+                                 seed=seed).compute(scheduler="sync")
+        curves = contact_curves(surf, relative_humidity=list(rh), model=model, material=material,
+                                distance=distance, check_validity=False)
+        law = compose_zone_law(curves[["pressure", "wet_fraction"]].compute(scheduler="sync"), subzones=m)
+        return np.asarray(law["adhesive_energy"].transpose("realization", "rh").values)
     # realization k always comes from SeedSequence child k: the same law whatever the parts
     surf = generate_surfaces(psd, realizations=laws, shape=shape, spacing=spacing,
                              seed=seed).compute(scheduler="sync")
@@ -93,7 +113,8 @@ def _set_aside(file: Path, why: BaseException, what: str, *, keep: bool = True) 
                   UserWarning, stacklevel=4)
 
 
-def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material=POLYSILICON):
+def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material=POLYSILICON,
+          composition=None):
     """Adhesive energies of laws [start, stop) (read back from its part file when cached)."""
     file = None if parts_dir is None else parts_dir / f"laws_{start:07d}_{stop:07d}.npy"
     if file is not None and file.exists():
@@ -104,7 +125,8 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material
             return values
         except (OSError, ValueError, EOFError) as exc:
             _set_aside(file, exc, f"recomputing laws {start}-{stop - 1}", keep=False)
-    values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model, material)
+    values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model, material,
+                           composition)
     if file is not None:
         parts_dir.mkdir(parents=True, exist_ok=True)
         tmp = file.with_suffix(".tmp.npy")
@@ -114,7 +136,7 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material
 
 
 def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int,
-                material=POLYSILICON) -> xr.DataArray:
+                material=POLYSILICON, composition=None) -> xr.DataArray:
     """Re-evaluate the ``n_check`` laws of largest Eq. 16 energy at each RH with the FFT-BEM.
 
     Sets ``attrs["tail_bem_ratio"]`` (per RH, the median over those laws of BEM Γ / Eq. 16 Γ),
@@ -129,7 +151,8 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int,
     ratio, lo, hi = (np.full(values.shape[1], np.nan) for _ in range(3))
     for j, rh in enumerate(bank.rh.values):
         top = np.argsort(values[:, j], kind="stable")[::-1][:k]
-        bem = _law_energies(psd, top, [float(rh)], shape, spacing, seed, "fft_bem", material)[:, 0]
+        bem = _law_energies(psd, top, [float(rh)], shape, spacing, seed, "fft_bem", material,
+                            composition)[:, 0]
         ratio[j], lo[j], hi[j] = median_interval(bem / values[top, j], confidence=0.95)
     bank.attrs.update(tail_bem_ratio=ratio, tail_bem_ratio_low=lo, tail_bem_ratio_high=hi, tail_checked=k)
     low = bank.rh.values[ratio < TAIL_RATIO_WARN]
@@ -173,12 +196,52 @@ def _check_cache_writable(folder: Path) -> None:
         ) from exc
 
 
+def _native_spacing(psd, spacing) -> float:
+    """The pixel of the bank: ``spacing``, else the PSD's own (``spacing_x`` of a measured PSD)."""
+    if spacing is not None:
+        return float(as_length(spacing, name="spacing"))
+    native = psd.attrs.get("spacing_x") if isinstance(psd, xr.DataArray) else None
+    if native is None:
+        raise ValueError("this PSD does not say its pixel (no attrs['spacing_x']): pass spacing= (e.g. "
+                         "spacing=5e-9, the pixel that resolves the water necks of nm-rough films)")
+    return float(native)
+
+
+def _patch_plan(psd, shape, subzones, spacing, beam) -> tuple[tuple[int, int], int]:
+    """(sub-zone shape, sub-zones per law) of a bank: the beam's Δx × w zone by default
+    (:func:`roughstick.stiction.subzone_shape`), else what was asked, warning when a law is
+    narrower than the beam (what that costs is the zone-size law, docs/zone_size.md)."""
+    if shape is None:
+        zone = (int(round(beam.interaction_zone_length / spacing)), int(round(beam.width / spacing)))
+        sub, m = subzone_shape(beam, spacing=spacing, shape=zone)
+        return sub, (m if subzones is None else int(subzones))
+    shape = tuple(int(v) for v in np.broadcast_to(shape, 2))
+    m = 1 if subzones is None else int(subzones)
+    width = shape[1] * m * spacing
+    if width < 0.99 * beam.width:
+        warnings.warn(
+            f"each law is a patch {shape[0] * spacing * 1e6:.3g} x {width * 1e6:.3g} µm, narrower than the "
+            f"beam ({beam.width * 1e6:.3g} µm): a strip of the beam holds more summits, so its Γ is smaller, "
+            "by about two orders of magnitude at 30-50 % RH on nm-rough films (Table-4 PSD, Eq. 16: the median "
+            "Γ of 0.64 µm squares is 130-170 x that of 2.62 x 30 µm strips; docs/zone_size.md), and "
+            "P(stuck) is overstated. Leave shape=None (the beam's Δx × w strip, composed of sub-zones) or "
+            "pass subzones= so that the law spans the beam.", UserWarning, stacklevel=external_stacklevel())
+    return shape, m
+
+
 @renamed_keywords(n_law="n")
-@check_numbers(n="count", spacing="length", seed="seed", check_tail="count0")
-def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, shape=(64, 64),
-                     spacing: float, seed: int = 0, model: str = "modified_dmt",
-                     cache_dir=None, check_tail: int = 8, material=None) -> xr.DataArray:
+@check_numbers(n="count", spacing="length?", seed="seed", check_tail="count0?", subzones="count?")
+def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, shape=None,
+                     spacing=None, seed: int = 0, model: str = "modified_dmt",
+                     cache_dir=None, check_tail: int | None = None, material=None,
+                     beam: Cantilever = PAPER_CANTILEVER, subzones: int | None = None) -> xr.DataArray:
     r"""Adhesive energies of ``n`` random patches at each RH: the law bank of the beam model.
+
+    By default a law is the beam's own patch, the strip :math:`\Delta x \times w` (interaction
+    length by beam width, §5.2) at ``spacing``, composed of the sub-zones that tile it
+    (:func:`roughstick.stiction.subzone_shape`; the strip's law is the area mean of theirs,
+    :func:`roughstick.stiction.compose_zone_law`). A smaller ``shape`` is a different zone: its Γ
+    is larger (fewer summits to rest on), so a law narrower than the beam warns.
 
     Parameters
     ----------
@@ -189,12 +252,13 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
         RH fractions in (0, 1).
     n : int
         Number of patches (laws).
-    shape : (int, int)
-        Pixels of a patch; with ``spacing`` the patch size (the interaction zone, §5.2).
-    spacing : float or str
-        Pixel size [m], or with its unit (``"20 nm"``).
+    shape : (int, int), optional
+        Pixels of one sub-zone (with ``subzones`` 1: of one patch). None: the sub-zones of the
+        beam's strip.
+    spacing : float or str, optional
+        Pixel size [m], or with its unit (``"5 nm"``); None: the PSD's own (``attrs["spacing_x"]``).
     seed : int
-        Root seed of the patches (one SeedSequence child per patch, as generate_surfaces does).
+        Root seed of the patches (one SeedSequence child per sub-zone, as generate_surfaces does).
     model : str
         Contact model of :func:`roughstick.contact.curves`.
     cache_dir : path-like, optional
@@ -205,71 +269,78 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
         aside to ``<name>.corrupt`` with a warning and the bank rebuilt (a damaged part is
         deleted and recomputed). A folder that cannot be written is refused before any law is
         computed (``PermissionError``).
-    check_tail : int
+    check_tail : int, optional
         With ``model="modified_dmt"``: re-evaluate this many laws of largest energy at each RH
         with the FFT-BEM (``attrs["tail_bem_ratio"]``, the median BEM/Eq. 16 ratio; a
-        ValidityWarning below :data:`TAIL_RATIO_WARN`); 0 skips the check.
+        ValidityWarning below :data:`TAIL_RATIO_WARN`); 0 skips the check. None: 8 for a bank of
+        single patches, 0 for composed strips (a strip costs about 10 min of FFT-BEM).
     material : roughstick.Material, optional
         Both bodies' material (default poly-silicon); part of the cache key.
+    beam : Cantilever
+        The beam whose strip is the default patch.
+    subzones : int, optional
+        Sub-zones of ``shape`` per law (composed); None: the number that tiles the beam's width
+        when ``shape`` is None, else 1.
 
     Returns
     -------
     xarray.DataArray
         ``adhesive_energy`` [J m-2] over ``(law, rh)``; ``attrs["cache_file"]`` when cached and
         ``attrs["from_cache"]`` telling whether it was read back; ``tail_bem_ratio`` and
-        ``tail_checked`` (see ``check_tail``).
+        ``tail_checked`` (see ``check_tail``); ``patch_area``, ``subzones``.
 
     Examples
     --------
     >>> import numpy as np
     >>> psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
     >>> bank = rs.beam.build_patch_bank(psd, relative_humidity=[0.5, 0.7], n=2, shape=(32, 32),
-    ...                                 spacing=20e-9, check_tail=0)
+    ...                                 spacing=20e-9, check_tail=0, beam=rs.Cantilever(width=0.64e-6))
     >>> bank.dims, (bank.values * 1e3).round(2)  # mJ m-2 over (law, rh)
     (('law', 'rh'), array([[ 0.71,  6.43],
            [ 2.05, 18.49]]))
     """
     rh = relative_humidity_array(relative_humidity)
-    if int(n) < 1:
-        raise ValueError("n must be at least 1")
-    if int(check_tail) < 0:
-        raise ValueError(f"check_tail must be >= 0 (laws re-checked with the BEM), got {check_tail}")
-    check = int(check_tail) if model == "modified_dmt" else 0
-    spacing = as_length(spacing, name="spacing")
     if not isinstance(psd, xr.DataArray):
         raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.surface.self_affine_psd(q, ...)) "
                         f"so the cache can key on its values, got {type(psd).__name__}")
-    shape = tuple(int(v) for v in shape)
+    spacing = _native_spacing(psd, spacing)
+    shape, m = _patch_plan(psd, shape, subzones, spacing, beam)
+    check = (8 if m == 1 else 0) if check_tail is None else int(check_tail)
+    check = check if model == "modified_dmt" else 0
     material = POLYSILICON if material is None else material
     groups = expected_surface_groups(psd, shape=shape, spacing=float(spacing),
                                      relative_humidity=list(rh), material=material)
     corr = float(groups["corr_over_L"]) * shape[1] * float(spacing)
     patch = min(shape) * float(spacing)
     if patch < 4 * corr:
+        what = "sub-zones" if m > 1 else "patches"
         warnings.warn(
-            f"patches of {patch:.3g} m are shorter than 4 correlation lengths of the PSD "
-            f"({corr:.3g} m, 1/e of the autocorrelation): neighbouring patches of a real "
+            f"{what} of {patch:.3g} m are shorter than 4 correlation lengths of the PSD "
+            f"({corr:.3g} m, 1/e of the autocorrelation): neighbouring {what} of a real "
             "interface would not be independent, as the beam model assumes. Use a larger shape "
             "or spacing (a patch >= 4 correlation lengths).", UserWarning, stacklevel=external_stacklevel())
     if model == "modified_dmt":
         # once for the bank (expected groups of the PSD), not once per law
         with spelled(**_SPELLING):
             warn_if_outside_validity(None, relative_humidity=list(rh), groups=groups, material=material)
+    composition = None
+    if m > 1:
+        composition = (m, distance_grid(psd, shape=shape, n=int(n) * m, relative_humidity=rh).values)
     path = None
     if cache_dir is not None:
-        key = _key(psd, rh, n, shape, spacing, seed, model, material)
+        key = _key(psd, rh, n, shape, spacing, seed, model, material, m)
         path = Path(cache_dir) / f"patch_bank_{key}.nc"
         out = _read_cached(path, int(n), rh) if path.exists() else None
         if out is not None:
             if check and int(out.attrs.get("tail_checked", -1)) != min(check, int(n)):
-                out = _tail_check(out, psd, shape, float(spacing), seed, check, material)  # an older cache
+                out = _tail_check(out, psd, shape, float(spacing), seed, check, material, composition)
             out.attrs.update(cache_file=str(path), from_cache=1)
             return out
         _check_cache_writable(path.parent)  # before any law is computed
     parts_dir = None if path is None else path.with_name(path.stem + ".parts")
     blocks = [(a, min(a + _LAWS_PER_PART, int(n))) for a in range(0, int(n), _LAWS_PER_PART)]
-    tasks = [dask.delayed(_part)(psd, a, b, rh, shape, float(spacing), seed, model, parts_dir, material)
-             for a, b in blocks]
+    tasks = [dask.delayed(_part)(psd, a, b, rh, shape, float(spacing), seed, model, parts_dir, material,
+                                 composition) for a, b in blocks]
     values = np.concatenate(dask.compute(*tasks, scheduler="threads"), axis=0)
     out = xr.DataArray(values, {"law": np.arange(int(n)), "rh": rh}, ("law", "rh"),
                        name="adhesive_energy",
@@ -277,11 +348,13 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
                               "contact_model": model, "seed": int(seed),
                               "material": repr(material),
                               "correlation_length": corr,
-                              "independence": "patch laws drawn independently; checked: patch "
+                              "subzones": m, "patch_area": float(m * shape[0] * shape[1] * spacing**2),
+                              "independence": "patch laws drawn independently; checked: "
+                                              f"{'sub-zone' if m > 1 else 'patch'} "
                                               f"{patch:.3g} m vs 4 correlation lengths "
                                               f"{4 * corr:.3g} m"})
     if check:
-        out = _tail_check(out, psd, shape, float(spacing), seed, check, material)
+        out = _tail_check(out, psd, shape, float(spacing), seed, check, material, composition)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(".tmp")
@@ -289,9 +362,10 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
         file = out.to_dataset().assign_attrs(dataset_attrs(
             "roughstick patch bank: adhesive energies of random surface patches (Eq. 13)",
             patch_shape=list(shape), spacing_m=float(spacing), n_law=int(n), seed=int(seed),
-            contact_model=model, cache_key=key))
+            contact_model=model, cache_key=key, subzones=m))
         append_history(file, f"build_patch_bank(n={int(n)}, shape={list(shape)}, spacing={float(spacing)!r}, "
-                             f"relative_humidity={[float(r) for r in rh]}, seed={int(seed)}, model={model!r})")
+                             f"relative_humidity={[float(r) for r in rh]}, seed={int(seed)}, model={model!r}, "
+                             f"subzones={m})")
         file.to_netcdf(tmp)
         publish(tmp, path)
         if parts_dir.exists():
