@@ -348,7 +348,8 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
                               "contact_model": model, "seed": int(seed),
                               "material": repr(material),
                               "correlation_length": corr,
-                              "subzones": m, "patch_area": float(m * shape[0] * shape[1] * spacing**2),
+                              "subzones": m, "subzone_shape": list(shape),
+                              "patch_area": float(m * shape[0] * shape[1] * spacing**2),
                               "independence": "patch laws drawn independently; checked: "
                                               f"{'sub-zone' if m > 1 else 'patch'} "
                                               f"{patch:.3g} m vs 4 correlation lengths "

@@ -198,7 +198,8 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
         },
         "surface": {
             "spacing": F("length", "pixel size of the patch surfaces", required=True),
-            "shape": F("shape", "pixels of one patch surface: n or [ny, nx]", default=[64, 64]),
+            "shape": F("shape", "pixels of one patch surface: n or [ny, nx]; default the beam's own patch, "
+                       "patch_length x width, composed of sub-zones that tile it (a smaller patch warns)"),
             "psd": F("path", "a NetCDF PSD (variable 'psd'); default the paper's Table 4 (Eq. 37)"),
         },
         "ensemble": {
