@@ -113,6 +113,7 @@ def _stuck(ccdf_values, t):
     return float(-np.expm1(np.sum(np.log1p(-ccdf_values)))) + 0.0
 
 
+@check_numbers(patch_length="length?")
 def stuck_probability_from_ccdf(ccdf: xr.Dataset, *, beam_length, beam: Cantilever = PAPER_CANTILEVER,
                                 patch_length=None) -> xr.Dataset:
     r"""P(stuck) of released sharp-front beams of every ``beam_length`` from one Γ CCDF.

@@ -42,6 +42,7 @@ __all__ = ["compose_zone_law", "strip_adhesive_energy", "subzone_shape"]
 MIN_CORRELATION_LENGTHS = 4
 
 
+@check_numbers(subzones="count")
 def compose_zone_law(curves: xr.Dataset, *, subzones: int, dim: str = "realization") -> xr.Dataset:
     r"""Pressure law and adhesive energy of zones made of ``subzones`` sub-zones each.
 
@@ -144,7 +145,7 @@ def subzone_shape(beam: Cantilever = PAPER_CANTILEVER, *, spacing: float = 5e-9,
     return (ny, nx // k), k
 
 
-@check_numbers(n="count", seed="seed")
+@check_numbers(n="count", seed="seed", subzones="count?")
 def strip_adhesive_energy(psd, *, relative_humidity, n: int, beam: Cantilever = PAPER_CANTILEVER,
                           spacing=5e-9, shape=None, subzones: int | None = None, model: str = "modified_dmt",
                           seed=0, distance=None, keep_curves: bool = False) -> xr.Dataset:

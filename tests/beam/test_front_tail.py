@@ -82,3 +82,18 @@ def test_bad_ccdf_is_refused_naming_the_fix():
         rs.beam.stuck_probability_from_ccdf(xr.Dataset(), beam_length=2e-4)
     with pytest.raises(ValueError, match="dim="):
         rs.beam.adhesive_energy_ccdf(_bank())  # a bank's sample dimension is 'law'
+
+
+def test_the_p_stuck_verb_composes_every_length_from_the_strips():
+    bank = _bank()
+    by_verb = rs.stuck_probability(bank, method="front", beam_length=LENGTHS)
+    direct = rs.beam.stuck_probability_from_ccdf(rs.beam.adhesive_energy_ccdf(bank, dim="law"),
+                                                 beam_length=LENGTHS)
+    xr.testing.assert_allclose(by_verb.stuck_probability, direct.stuck_probability)
+    strips = bank.rename(law="realization")
+    same = rs.stuck_probability(strips, method="front", beam_length=LENGTHS)
+    np.testing.assert_allclose(same.stuck_probability.values, direct.stuck_probability.values)
+    with pytest.raises(TypeError, match="needs beam_length="):
+        rs.stuck_probability(strips, method="front")
+    with pytest.raises(TypeError, match="n= is for method"):
+        rs.stuck_probability(strips, method="front", beam_length=LENGTHS, n=5)
