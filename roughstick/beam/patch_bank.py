@@ -378,17 +378,21 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
 
 
 @renamed_keywords(n_law="n")
-@check_numbers(n="count", spacing="length", seed="seed", n_gap="count")
-def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, shape=(64, 64),
+@check_numbers(n="count", spacing="length", seed="seed", n_gap="count", subzones="count?")
+def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, shape=None,
                       spacing: float, seed: int = 0, model: str = "modified_dmt",
-                      n_gap: int = 400) -> xr.DataArray:
+                      n_gap: int = 400, beam: Cantilever = PAPER_CANTILEVER,
+                      subzones: int | None = None) -> xr.DataArray:
     r"""Pressure-distance laws of ``n`` random patches per RH on one uniform gap grid.
 
-    The same patches as :func:`build_patch_bank` with the same arguments (law k is realization
-    k of :func:`roughstick.surface.generate_surfaces`), kept as full curves (Eqs. 33-35, 13)
-    for the cohesive model instead of their adhesive energies. Patches are assumed
-    independent; a ``ValueError`` is raised when the patch is not at least four correlation
-    lengths of the first surface long (autocorrelation falling below 1/e).
+    The same patches as :func:`build_patch_bank` with the same arguments (by default the beam's
+    own strips, patch length × width, each the area mean of the ``subzones`` sub-zones of
+    ``shape`` that tile it, :func:`roughstick.stiction.compose_zone_law`; with ``shape`` and no
+    ``subzones`` law k is realization k of :func:`roughstick.surface.generate_surfaces`), kept
+    as full curves (Eqs. 33-35, 13) for the cohesive model instead of their adhesive energies.
+    Patches are assumed independent; a ``ValueError`` is raised when a (sub-)patch is not at
+    least four correlation lengths of the first surface long (autocorrelation falling below 1/e),
+    and a patch narrower than the beam warns (its Γ is too large, docs/zone_size.md).
 
     Parameters
     ----------
@@ -398,8 +402,9 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
         RH fractions in (0, 1).
     n : int
         Number of patches (laws).
-    shape : (int, int)
-        Pixels of a patch.
+    shape : (int, int), optional
+        Pixels of a sub-zone (with ``subzones`` None: of a patch); None: the sub-zones of the
+        beam's strip (:func:`roughstick.stiction.subzone_shape`).
     spacing : float
         Pixel size [m].
     seed : int
@@ -408,6 +413,10 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
         Contact model of :func:`roughstick.contact.curves`.
     n_gap : int
         Points of the uniform gap grid.
+    beam : Cantilever
+        The beam whose strip is the default patch.
+    subzones : int, optional
+        Sub-zones per law; None: those that tile the beam's width when ``shape`` is None, else 1.
 
     Returns
     -------
@@ -419,7 +428,7 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
     >>> import numpy as np
     >>> psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
     >>> bank = rs.beam.pressure_law_bank(psd, relative_humidity=[0.5], n=2, shape=(32, 32),
-    ...                                  spacing=20e-9, n_gap=50)
+    ...                                  spacing=20e-9, n_gap=50, beam=rs.Cantilever(width=0.64e-6))
     >>> bank.dims, bank.shape
     (('law', 'rh', 'gap'), (2, 1, 50))
     """
@@ -428,8 +437,14 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
         raise ValueError("relative_humidity must be fractions in (0, 1), e.g. 0.6 not 60")
     if int(n) < 1 or int(n_gap) < 8:
         raise ValueError("n must be >= 1 and n_gap >= 8")
-    surf = generate_surfaces(psd, n=int(n), shape=tuple(shape), spacing=float(spacing),
-                             seed=seed).load()
+    spacing = float(spacing)
+    shape, m = _patch_plan(psd, shape, subzones, spacing, beam)
+
+    def law_surfaces(k):
+        return generate_surfaces(psd, realizations=np.arange(k * m, (k + 1) * m), shape=shape,
+                                 spacing=spacing, seed=seed).compute(scheduler="sync")
+
+    surf = law_surfaces(0)
     first = np.asarray(surf.isel(realization=0).values, dtype=float)
     z = first - first.mean()
     acf = np.fft.ifft2(np.abs(np.fft.fft2(z)) ** 2).real[0] / np.sum(z * z)
@@ -440,16 +455,19 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
     grid = np.asarray(contact_distance_grid(surf.isel(realization=0), relative_humidity=list(rh)).values)
     rms = float(z.std())
     lo, hi = grid.min() - 0.5 * (grid.max() - grid.min()), grid.max() + 4 * rms
+    if m > 1:  # the tallest summit of all the sub-zones of the bank lies below the top
+        hi = max(hi, float(distance_grid(m0=rms**2, shape=shape, n=int(n) * m, relative_humidity=rh)[-1]))
     gap = np.linspace(lo, hi, int(n_gap))
     out = np.empty((int(n), len(rh), gap.size))
     for k in range(int(n)):
-        c = contact_curves(surf.isel(realization=k), relative_humidity=list(rh), distance=gap,
-                                 model=model)
-        out[k] = c["pressure"].transpose("rh", "distance").values
+        surf = surf if k == 0 else law_surfaces(k)
+        c = contact_curves(surf, relative_humidity=list(rh), distance=gap, model=model)
+        out[k] = c["pressure"].mean("realization").transpose("rh", "distance").values
     bank = xr.DataArray(out, {"law": np.arange(int(n)), "rh": rh, "gap": gap},
                         ("law", "rh", "gap"), name="pressure",
                         attrs={"units": "Pa", "long_name": "mean pressure of a patch law (positive repulsive)",
                                "contact_model": model, "seed": int(seed), "correlation_length": corr,
+                               "subzones": m, "subzone_shape": list(shape),
                                "independence": "patch laws independent (patch >= 4 correlation lengths)"})
     bank["gap"].attrs.update(units="m", long_name="distance between the mean planes")
     return bank

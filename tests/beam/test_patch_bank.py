@@ -181,3 +181,23 @@ def test_the_default_law_is_the_beams_strip_composed_of_sub_zones():
             build_patch_bank(_psd(), beam=beam, shape=(131, 131), **kw)
     with pytest.raises(ValueError, match="pass spacing="):
         build_patch_bank(_psd(), relative_humidity=[0.5], n=1)
+
+
+def test_the_pressure_bank_composes_the_same_strips():
+    """pressure_law_bank's default law is the beam's strip too: the area mean of the pressures
+    of the sub-zones that build_patch_bank composes (the same realizations), and its Eq. 13
+    energy is the energy bank's within the grids' difference."""
+    beam = rs.Cantilever(width=5.24e-6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        laws = rs.beam.pressure_law_bank(_psd(), relative_humidity=[0.9], n=2, spacing=20e-9, seed=2,
+                                         beam=beam, n_gap=800)
+        energies = build_patch_bank(_psd(), relative_humidity=[0.9], n=2, spacing=20e-9, seed=2, beam=beam)
+        subs = rs.generate_surfaces(_psd(), n=4, shape=(131, 131), spacing=20e-9, seed=2).compute()
+        c = rs.contact.curves(subs, relative_humidity=[0.9], distance=laws.gap.values).compute()
+    assert laws.attrs["subzones"] == 2
+    mean = c.pressure.isel(rh=0).values.reshape(2, 2, -1).mean(axis=1)
+    np.testing.assert_allclose(laws.isel(rh=0).values, mean, rtol=1e-10, atol=1e-6)
+    curves = xr.Dataset({"pressure": laws.rename(gap="distance")})
+    g = rs.contact.summary(curves, check_grid=False).adhesive_energy.transpose("law", "rh").values
+    np.testing.assert_allclose(g, energies.values, rtol=0.1)
