@@ -32,6 +32,7 @@ from ..contact import (
     contact_distance_grid,
     expected_surface_groups,
     warn_if_outside_validity,
+    warn_if_unresolved,
 )
 from ..contact import curves as contact_curves
 from ..contact import summary as adhesion_summary
@@ -319,9 +320,11 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
             f"({corr:.3g} m, 1/e of the autocorrelation): neighbouring {what} of a real "
             "interface would not be independent, as the beam model assumes. Use a larger shape "
             "or spacing (a patch >= 4 correlation lengths).", UserWarning, stacklevel=external_stacklevel())
-    if model == "modified_dmt":
-        # once for the bank (expected groups of the PSD), not once per law
-        with spelled(**_SPELLING):
+    with spelled(**_SPELLING):
+        # the pixel against the water necks (a coarser pixel sets Γ as much as the model does)
+        warn_if_unresolved(groups=groups, spacing=float(spacing))
+        if model == "modified_dmt":
+            # once for the bank (expected groups of the PSD), not once per law
             warn_if_outside_validity(None, relative_humidity=list(rh), groups=groups, material=material)
     composition = None
     if m > 1:

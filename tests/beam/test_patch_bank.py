@@ -201,3 +201,16 @@ def test_the_pressure_bank_composes_the_same_strips():
     curves = xr.Dataset({"pressure": laws.rename(gap="distance")})
     g = rs.contact.summary(curves, check_grid=False).adhesive_energy.transpose("law", "rh").values
     np.testing.assert_allclose(g, energies.values, rtol=0.1)
+
+
+def test_a_pixel_coarser_than_the_water_necks_warns_before_the_laws():
+    """Table-4 patches at 20 nm: the ring wetted around a summit spans < 3 pixels at 30 % RH (1.7),
+    so the pixel sets Γ; at 5 nm (5.5 pixels) the bank is quiet about it."""
+    kw = dict(relative_humidity=[0.3], n=1, shape=(64, 64), beam=rs.Cantilever(width=1.28e-6), check_tail=0)
+    with pytest.warns(rs.contact.PixelResolutionWarning, match="does not resolve the water necks"):
+        build_patch_bank(_psd(), spacing=20e-9, **kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.contact.PixelResolutionWarning)
+        warnings.simplefilter("ignore", UserWarning)
+        warnings.filterwarnings("error", category=rs.contact.PixelResolutionWarning)
+        build_patch_bank(_psd(), spacing=5e-9, **{**kw, "beam": rs.Cantilever(width=0.32e-6)})
