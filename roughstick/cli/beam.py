@@ -17,6 +17,7 @@ import pathlib
 import time
 
 import numpy as np
+import xarray as xr
 
 import roughstick as rs
 
@@ -100,6 +101,14 @@ def _run(args) -> int:
                           seed=ens["seed"], protocol=ens["protocol"], beam=beam,
                           patch_length=b.get("patch_length"), beam_model=ens["beam_model"])
     t2 = time.perf_counter()
+    closed = None
+    if ens["beam_model"] == "sharp_front" and ens["protocol"] == "release":
+        # the same beams in closed form from the bank's CCDF (every length from one tail)
+        closed = rs.beam.stuck_probability_from_ccdf(
+            rs.beam.adhesive_energy_ccdf(bank, dim="law"), beam_length=ds.beam_length.values, beam=beam,
+            patch_length=b.get("patch_length")).stuck_probability.transpose("rh", "beam_length")
+        ds["stuck_probability_closed_form"] = xr.DataArray(closed.values, dims=("rh", "beam_length"), attrs={
+            "units": "1", "long_name": "P(stuck) of the sharp front in closed form on the bank's CCDF"})
     write_netcdf(_provenance(ds, c, path, bank), out / "beam.nc", compute=True, overwrite=True)
     finish_folder(out)
     src = "read from cache" if bank.attrs.get("from_cache") else "computed"
@@ -115,7 +124,9 @@ def _run(args) -> int:
                      f"{float(ds.stuck_probability.sel(sel)):.3f} "
                      f"[{float(ds.stuck_probability_lower.sel(sel)):.3f}, "
                      f"{float(ds.stuck_probability_upper.sel(sel)):.3f}] "
-                     f"(95 % Wilson interval, n = {ds.sizes['realization']})")
+                     f"(95 % Wilson interval, n = {ds.sizes['realization']})"
+                     + ("" if closed is None else
+                        f"; closed form on the bank {float(closed.sel(sel)):.3g}"))
     LOG.info(f"wrote {out / 'beam.nc'}")
     return 0
 
