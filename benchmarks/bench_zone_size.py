@@ -2,7 +2,7 @@
 
     nice -n 10 python benchmarks/bench_zone_size.py [--families table4 S1] [--rh 0.3 0.5 0.7 0.9]
         [--n-eq16 40] [--n-bem 12 4 2] [--strips 8] [--bem-strip 128 768] [--full N] [--grooved]
-        [--parts 1 2 3]
+        [--parts 1 2 3 4] [--beams 20000]
 
 All surfaces are periodic Gaussian surfaces at 5 nm of the Table-4 PSD (``rs.datasets.family_psd
 ("table4")``, the §5.2 zone surface) and of the S1 PSD, the paper's interaction zone being
@@ -27,6 +27,11 @@ All surfaces are periodic Gaussian surfaces at 5 nm of the Table-4 PSD (``rs.dat
    the strips composed from independently drawn periodic 524 × 500 sub-zones against the direct
    strips of part 1 (Eq. 16): quantiles with their 95 % intervals; "overlap" when the two
    intervals of every quantile overlap.
+
+4. **Every beam length from one tail**: P(stuck) of the paper's beam (sharp front, release) at
+   100-1500 µm from the CCDF of part 3's strips (``rs.stuck_probability(strips, method="front")``)
+   against ``--beams`` beams simulated on the same strips as a bank (``rs.beam.simulate``), with
+   the largest difference in binomial standard deviations.
 
 Timings are wall seconds in this process; the machine-load yardstick (one 1024² complex iFFT)
 is printed first.
@@ -202,6 +207,38 @@ def prediction_check(psd, args, fam, direct):
     print(f"  every quantile interval overlaps: {'yes' if overlap else 'NO'}")
 
 
+def every_length(psd, args, fam, strips=None):
+    print(f"\n--- 4. P(stuck) of every beam length from the strips' Γ CCDF, {fam}, Eq. 16 "
+          "(paper's beam, sharp front, release)")
+    if strips is None:
+        strips = rs.stiction.strip_adhesive_energy(psd, relative_humidity=args.rh, n=args.n_eq16,
+                                                   seed=args.seed + 3).adhesive_energy
+    bank = strips.rename(realization="law")
+    lengths = np.array([100, 200, 300, 600, 800, 1000, 1200, 1500]) * 1e-6
+    t = time.perf_counter()
+    closed = rs.stuck_probability(strips, method="front", beam_length=lengths)
+    t_closed = time.perf_counter() - t
+    t = time.perf_counter()
+    beams = rs.beam.simulate(bank, beam_length=lengths, n=args.beams, seed=1)
+    t_sim = time.perf_counter() - t
+    print(f"  closed form {t_closed * 1e3:.1f} ms for {lengths.size} lengths; {args.beams} simulated beams on the "
+          f"same {bank.sizes['law']} strips (rs.beam.simulate) {t_sim:.2f} s")
+    worst = 0.0
+    for r in strips.rh.values:
+        for b, length in enumerate(lengths):
+            pc = float(closed.stuck_probability.sel(rh=r).isel(beam_length=b))
+            sel = dict(rh=r, beam_length=length)
+            ps = float(beams.stuck_probability.sel(sel))
+            lo, hi = float(beams.stuck_probability_lower.sel(sel)), float(beams.stuck_probability_upper.sel(sel))
+            z = abs(ps - pc) / max(np.sqrt(pc * (1 - pc) / args.beams), 1e-12)
+            worst = max(worst, z if 0 < pc < 1 else 0.0)
+            print(f"    RH {r:.1f} l {length * 1e6:6.0f} µm: closed form {pc:.4f} "
+                  f"[{float(closed.stuck_probability_lower.sel(rh=r).isel(beam_length=b)):.3f}, "
+                  f"{float(closed.stuck_probability_upper.sel(rh=r).isel(beam_length=b)):.3f}]  "
+                  f"simulated {ps:.4f} [{lo:.4f}, {hi:.4f}]")
+    print(f"  largest |simulated - closed form| / binomial sd: {worst:.2f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--families", nargs="+", default=["table4", "S1"])
@@ -212,7 +249,8 @@ def main():
     ap.add_argument("--bem-strip", type=int, nargs=2, default=[128, 768], help="fft_bem strip of part 2 (px)")
     ap.add_argument("--full", type=int, default=0, help="also N composed fft_bem strips (≈ 10 min each)")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--parts", type=int, nargs="+", default=[1, 2, 3])
+    ap.add_argument("--parts", type=int, nargs="+", default=[1, 2, 3, 4])
+    ap.add_argument("--beams", type=int, default=20000, help="simulated beams per length and RH (part 4)")
     ap.add_argument("--grooved", action="store_true",
                     help="part 2 on strips grooved 5 rms deep along every cut (no contact near a cut)")
     args = ap.parse_args()
@@ -228,6 +266,8 @@ def main():
                 worst[model] = max(worst.get(model, 0.0), w)
         if 3 in args.parts and direct is not None:
             prediction_check(psd, args, fam, direct)
+        if 4 in args.parts:
+            every_length(psd, args, fam)
     if 2 in args.parts:
         for model, w in worst.items():
             print(f"\ncomposed-strip law vs direct strips, {model}, largest quantile difference over "
