@@ -88,7 +88,7 @@ def describe(g: xr.DataArray, label: str):
 
 def size_law(psd, args, fam):
     print(f"\n--- 1. zone-size law, {fam} PSD (Γ in µJ m-2; n zones per size)")
-    direct_strips = None
+    direct_strips, eq16 = None, {}
     sizes = [((128, 128), args.n_eq16), ((256, 256), args.n_eq16), (SUB, args.n_eq16),
              ((524, 1500), args.n_eq16), (STRIP, args.n_eq16)]
     for shape, n in sizes:
@@ -98,6 +98,7 @@ def size_law(psd, args, fam):
         area = shape[0] * shape[1] * SPACING**2 * 1e12
         describe(g, f"Eq16 {shape[0]}x{shape[1]} n={n}")
         print(f"  {'':>22} ({area:.3g} µm², {time.perf_counter() - t:.1f} s)")
+        eq16[shape] = g
         if shape == STRIP:
             direct_strips = g
     for shape, n in zip([(128, 128), (256, 256), SUB], args.n_bem):
@@ -105,7 +106,12 @@ def size_law(psd, args, fam):
             continue
         t = time.perf_counter()
         c, _ = zone_curves(psd, shape, n, args.rh, "fft_bem", seed=args.seed)
-        describe(gamma(c), f"BEM {shape[0]}x{shape[1]} n={n}")
+        g = gamma(c)
+        describe(g, f"BEM {shape[0]}x{shape[1]} n={n}")
+        if shape in eq16 and eq16[shape].sizes["realization"] >= n:  # the same zones (same seed)
+            ratio = (g / eq16[shape].isel(realization=slice(0, n))).median("realization")
+            print(f"  {'':>22} BEM/Eq16 on the same zones, median per RH: "
+                  + "  ".join(f"{float(v):.2f}" for v in ratio.values))
         print(f"  {'':>22} ({shape[0] * shape[1] * SPACING**2 * 1e12:.3g} µm², {time.perf_counter() - t:.1f} s)")
     if args.full:
         t = time.perf_counter()
