@@ -28,7 +28,7 @@ from .._core.arguments import check_numbers
 from .._core.conventions import append_history
 from .._core.validate import as_length, external_stacklevel, relative_humidity_array
 from ..contact import curves as contact_curves
-from ..contact import expected_surface_groups
+from ..contact import expected_surface_groups, warn_if_outside_validity, warn_if_unresolved
 from ..contact import summary as adhesion_summary
 from ..ensemble.pipeline import distance_grid
 from ..surface import generate_surfaces
@@ -119,12 +119,6 @@ def _callable_m0(psd, shape, spacing) -> float:
     return float(np.sum(np.where(q > 0, s, 0.0)) * (2 * np.pi) ** 2 / (ny * nx * spacing**2))
 
 
-def _correlation_length(psd, *, shape, spacing) -> float:
-    """1/e correlation length [m] of surfaces of ``shape`` drawn from ``psd`` (along x)."""
-    groups = expected_surface_groups(psd, shape=tuple(shape), spacing=float(spacing), relative_humidity=[0.5])
-    return float(groups["corr_over_L"]) * shape[1] * float(spacing)
-
-
 @check_numbers(spacing="length")
 def subzone_shape(beam: Cantilever = PAPER_CANTILEVER, *, spacing: float = 5e-9,
                   shape=None) -> tuple[tuple[int, int], int]:
@@ -203,15 +197,11 @@ def strip_adhesive_energy(psd, *, relative_humidity, n: int, beam: Cantilever = 
     """
     spacing = float(as_length(spacing, name="spacing"))
     rh = relative_humidity_array(relative_humidity)
-    if shape is None:
-        shape, m = subzone_shape(beam, spacing=spacing)
-    else:
-        shape = (int(shape[0]), int(shape[1]))
-        m = None
-    m = int(subzones) if subzones is not None else (m or subzone_shape(beam, spacing=spacing)[1])
-    if m < 1:
-        raise ValueError(f"subzones must be >= 1, got {subzones!r}")
-    corr = _correlation_length(psd, shape=shape, spacing=spacing)
+    tiling, m = subzone_shape(beam, spacing=spacing)
+    shape = tiling if shape is None else (int(shape[0]), int(shape[1]))
+    m = m if subzones is None else int(subzones)
+    groups = expected_surface_groups(psd, shape=shape, spacing=spacing, relative_humidity=list(rh))
+    corr = float(groups["corr_over_L"]) * shape[1] * spacing
     short = min(shape) * spacing
     if short < MIN_CORRELATION_LENGTHS * corr:
         raise ValueError(
@@ -223,12 +213,14 @@ def strip_adhesive_energy(psd, *, relative_humidity, n: int, beam: Cantilever = 
     if distance is None:
         grid_psd = {"psd": psd} if isinstance(psd, xr.DataArray) else {"m0": _callable_m0(psd, shape, spacing)}
         distance = distance_grid(**grid_psd, shape=shape, n=total, relative_humidity=rh).values
+    # the trust checks once, on the sub-zones the PSD gives (not once per sub-zone)
+    warn_if_unresolved(groups=groups, spacing=spacing)
+    if model == "modified_dmt":
+        warn_if_outside_validity(None, relative_humidity=list(rh), groups=groups)
     surf = generate_surfaces(psd, n=total, shape=shape, spacing=spacing, seed=seed)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)  # per sub-zone trust checks: the strip is judged below
-        c = contact_curves(surf, relative_humidity=list(rh), model=model,
-                           distance=np.asarray(distance, dtype=float))
-        c = c[["pressure", "wet_fraction"]].compute(scheduler="threads")
+    c = contact_curves(surf, relative_humidity=list(rh), model=model, check_validity=False,
+                       distance=np.asarray(distance, dtype=float))
+    c = c[["pressure", "wet_fraction"]].compute(scheduler="threads")
     out = compose_zone_law(c, subzones=m)
     if not keep_curves:
         out = out.drop_vars(["pressure", "wet_fraction"]).drop_dims("distance", errors="ignore")
@@ -239,7 +231,7 @@ def strip_adhesive_energy(psd, *, relative_humidity, n: int, beam: Cantilever = 
                       stacklevel=external_stacklevel())
     out.attrs.update(subzones=m, subzone_shape=list(shape), spacing=spacing, contact_model=model,
                      zone_area=float(m * shape[0] * shape[1] * spacing**2), correlation_length=corr,
-                     seed=int(seed) if np.ndim(seed) == 0 else str(seed))
+                     seed=int(seed) if isinstance(seed, (int, np.integer)) else str(seed))
     append_history(out, f"strip_adhesive_energy(n={int(n)}, shape={list(shape)}, subzones={m}, "
                         f"spacing={spacing!r}, model={model!r})")
     return out
