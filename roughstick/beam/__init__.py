@@ -8,9 +8,10 @@ sharp-front energy balance of Eq. 36 (:func:`crack_length`) or the cohesive Eule
 these, small values included, is :func:`roughstick.reliability.stuck_probability`.
 """
 
-from . import cohesive, patch_bank, sharp_front
+from . import cohesive, front_tail, patch_bank, sharp_front
 from .cohesive import *  # noqa: F403
+from .front_tail import *  # noqa: F403
 from .patch_bank import *  # noqa: F403
 from .sharp_front import *  # noqa: F403
 
-__all__ = [name for mod in (sharp_front, cohesive, patch_bank) for name in mod.__all__]
+__all__ = [name for mod in (sharp_front, front_tail, cohesive, patch_bank) for name in mod.__all__]

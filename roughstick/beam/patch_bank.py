@@ -33,16 +33,20 @@ from ..contact import (
     expected_surface_groups,
     select_model,
     warn_if_outside_validity,
+    warn_if_unresolved,
 )
 from ..contact import curves as contact_curves
 from ..contact import summary as adhesion_summary
+from ..ensemble.pipeline import distance_grid
 from ..io.netcdf import publish
+from ..stiction.cantilever import PAPER_CANTILEVER, Cantilever
+from ..stiction.zone import compose_zone_law, subzone_shape
 from ..surface import generate_surfaces
 
 __all__ = ["build_patch_bank", "pressure_law_bank"]
 
 
-def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON):
+def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON, subzones=1):
     h = hashlib.sha256()
     h.update(np.ascontiguousarray(psd.values, dtype=float).tobytes())
     for c in psd.coords:
@@ -51,6 +55,8 @@ def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON):
                          model]).encode())
     if material != POLYSILICON:  # poly-silicon banks keep the names they were cached under
         h.update(repr(material).encode())
+    if subzones != 1:  # single-patch banks keep their names too
+        h.update(f"subzones={int(subzones)}".encode())
     return h.hexdigest()[:16]
 
 
@@ -66,8 +72,23 @@ TAIL_RATIO_WARN = 0.8
 _LAWS_PER_PART = 25
 
 
-def _law_energies(psd, laws, rh, shape, spacing, seed, model, material=POLYSILICON) -> np.ndarray:
-    """Adhesive energies (Eq. 13) of the patches ``laws`` at the humidities ``rh``: (law, rh)."""
+def _law_energies(psd, laws, rh, shape, spacing, seed, model, material=POLYSILICON,
+                  composition=None) -> np.ndarray:
+    """Adhesive energies (Eq. 13) of the patches ``laws`` at the humidities ``rh``: (law, rh).
+
+    ``composition``: ``(subzones, distance)``: law ``k`` is the zone of sub-zones
+    ``k*subzones ... (k+1)*subzones - 1`` (each of ``shape``) composed on the grid ``distance``
+    (:func:`roughstick.stiction.compose_zone_law`); None: law ``k`` is one patch of ``shape``."""
+    laws = np.asarray(laws)
+    if composition is not None:
+        m, distance = composition
+        subs = (laws[:, None] * m + np.arange(m)[None, :]).ravel()
+        surf = generate_surfaces(psd, realizations=subs, shape=shape, spacing=spacing,
+                                 seed=seed).compute(scheduler="sync")
+        curves = contact_curves(surf, relative_humidity=list(rh), model=model, material=material,
+                                distance=distance, check_validity=False)
+        law = compose_zone_law(curves[["pressure", "wet_fraction"]].compute(scheduler="sync"), subzones=m)
+        return np.asarray(law["adhesive_energy"].transpose("realization", "rh").values)
     # realization k always comes from SeedSequence child k: the same law whatever the parts
     surf = generate_surfaces(psd, realizations=laws, shape=shape, spacing=spacing,
                              seed=seed).compute(scheduler="sync")
@@ -94,7 +115,8 @@ def _set_aside(file: Path, why: BaseException, what: str, *, keep: bool = True) 
                   UserWarning, stacklevel=4)
 
 
-def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material=POLYSILICON):
+def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material=POLYSILICON,
+          composition=None):
     """Adhesive energies of laws [start, stop) (read back from its part file when cached)."""
     file = None if parts_dir is None else parts_dir / f"laws_{start:07d}_{stop:07d}.npy"
     if file is not None and file.exists():
@@ -105,7 +127,8 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material
             return values
         except (OSError, ValueError, EOFError) as exc:
             _set_aside(file, exc, f"recomputing laws {start}-{stop - 1}", keep=False)
-    values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model, material)
+    values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model, material,
+                           composition)
     if file is not None:
         parts_dir.mkdir(parents=True, exist_ok=True)
         tmp = file.with_suffix(".tmp.npy")
@@ -115,7 +138,7 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material
 
 
 def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int,
-                material=POLYSILICON) -> xr.DataArray:
+                material=POLYSILICON, composition=None) -> xr.DataArray:
     """Re-evaluate the ``n_check`` laws of largest Eq. 16 energy at each RH with the FFT-BEM.
 
     Sets ``attrs["tail_bem_ratio"]`` (per RH, the median over those laws of BEM Γ / Eq. 16 Γ),
@@ -130,7 +153,8 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int,
     ratio, lo, hi = (np.full(values.shape[1], np.nan) for _ in range(3))
     for j, rh in enumerate(bank.rh.values):
         top = np.argsort(values[:, j], kind="stable")[::-1][:k]
-        bem = _law_energies(psd, top, [float(rh)], shape, spacing, seed, "fft_bem", material)[:, 0]
+        bem = _law_energies(psd, top, [float(rh)], shape, spacing, seed, "fft_bem", material,
+                            composition)[:, 0]
         ratio[j], lo[j], hi[j] = median_interval(bem / values[top, j], confidence=0.95)
     bank.attrs.update(tail_bem_ratio=ratio, tail_bem_ratio_low=lo, tail_bem_ratio_high=hi, tail_checked=k)
     low = bank.rh.values[ratio < TAIL_RATIO_WARN]
@@ -174,12 +198,52 @@ def _check_cache_writable(folder: Path) -> None:
         ) from exc
 
 
+def _native_spacing(psd, spacing) -> float:
+    """The pixel of the bank: ``spacing``, else the PSD's own (``spacing_x`` of a measured PSD)."""
+    if spacing is not None:
+        return float(as_length(spacing, name="spacing"))
+    native = psd.attrs.get("spacing_x") if isinstance(psd, xr.DataArray) else None
+    if native is None:
+        raise ValueError("this PSD does not say its pixel (no attrs['spacing_x']): pass spacing= (e.g. "
+                         "spacing=5e-9, the pixel that resolves the water necks of nm-rough films)")
+    return float(native)
+
+
+def _patch_plan(psd, shape, subzones, spacing, beam) -> tuple[tuple[int, int], int]:
+    """(sub-zone shape, sub-zones per law) of a bank: the beam's Δx × w zone by default
+    (:func:`roughstick.stiction.subzone_shape`), else what was asked, warning when a law is
+    narrower than the beam (what that costs is the zone-size law, docs/zone_size.md)."""
+    if shape is None:
+        zone = (int(round(beam.interaction_zone_length / spacing)), int(round(beam.width / spacing)))
+        sub, m = subzone_shape(beam, spacing=spacing, shape=zone)
+        return sub, (m if subzones is None else int(subzones))
+    shape = tuple(int(v) for v in np.broadcast_to(shape, 2))
+    m = 1 if subzones is None else int(subzones)
+    width = shape[1] * m * spacing
+    if width < 0.99 * beam.width:
+        warnings.warn(
+            f"each law is a patch {shape[0] * spacing * 1e6:.3g} x {width * 1e6:.3g} µm, narrower than the "
+            f"beam ({beam.width * 1e6:.3g} µm): a strip of the beam holds more summits, so its Γ is smaller, "
+            "by about two orders of magnitude at 30-50 % RH on nm-rough films (Table-4 PSD, Eq. 16: the median "
+            "Γ of 0.64 µm squares is 130-170 x that of 2.62 x 30 µm strips; docs/zone_size.md), and "
+            "P(stuck) is overstated. Leave shape=None (the beam's Δx × w strip, composed of sub-zones) or "
+            "pass subzones= so that the law spans the beam.", UserWarning, stacklevel=external_stacklevel())
+    return shape, m
+
+
 @renamed_keywords(n_law="n")
-@check_numbers(n="count", spacing="length", seed="seed", check_tail="count0")
-def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, shape=(64, 64),
-                     spacing: float, seed: int = 0, model: str = "auto",
-                     cache_dir=None, check_tail: int = 8, material=None) -> xr.DataArray:
+@check_numbers(n="count", spacing="length?", seed="seed", check_tail="count0?", subzones="count?")
+def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, shape=None,
+                     spacing=None, seed: int = 0, model: str = "modified_dmt",
+                     cache_dir=None, check_tail: int | None = None, material=None,
+                     beam: Cantilever = PAPER_CANTILEVER, subzones: int | None = None) -> xr.DataArray:
     r"""Adhesive energies of ``n`` random patches at each RH: the law bank of the beam model.
+
+    By default a law is the beam's own patch, the strip :math:`\Delta x \times w` (interaction
+    length by beam width, §5.2) at ``spacing``, composed of the sub-zones that tile it
+    (:func:`roughstick.stiction.subzone_shape`; the strip's law is the area mean of theirs,
+    :func:`roughstick.stiction.compose_zone_law`). A smaller ``shape`` is a different zone: its Γ
+    is larger (fewer summits to rest on), so a law narrower than the beam warns.
 
     Parameters
     ----------
@@ -190,17 +254,19 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
         RH fractions in (0, 1).
     n : int
         Number of patches (laws).
-    shape : (int, int)
-        Pixels of a patch; with ``spacing`` the patch size (the interaction zone, §5.2).
-    spacing : float or str
-        Pixel size [m], or with its unit (``"20 nm"``).
+    shape : (int, int), optional
+        Pixels of one sub-zone (with ``subzones`` 1: of one patch). None: the sub-zones of the
+        beam's strip.
+    spacing : float or str, optional
+        Pixel size [m], or with its unit (``"5 nm"``); None: the PSD's own (``attrs["spacing_x"]``).
     seed : int
-        Root seed of the patches (one SeedSequence child per patch, as generate_surfaces does).
-    model : str, default "auto"
+        Root seed of the patches (one SeedSequence child per sub-zone, as generate_surfaces does).
+    model : str, default "modified_dmt"
         Contact model of :func:`roughstick.contact.curves`; ``"auto"``: the cheaper of
         ``"modified_dmt"`` and ``"fft_bem"`` whose measured error bound at the surface groups
         expected from the PSD on these patches meets 10 % at every humidity
-        (``attrs["contact_model"]`` says which).
+        (``attrs["contact_model"]`` says which; on the beam's strips the FFT-BEM costs about
+        10 min per law).
     cache_dir : path-like, optional
         Directory of the on-disk cache; ``None`` computes without caching. The laws are computed
         in parts of 25 by dask's threads (both cores; a law is the same whatever the parts);
@@ -209,74 +275,83 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
         aside to ``<name>.corrupt`` with a warning and the bank rebuilt (a damaged part is
         deleted and recomputed). A folder that cannot be written is refused before any law is
         computed (``PermissionError``).
-    check_tail : int
+    check_tail : int, optional
         With ``model="modified_dmt"``: re-evaluate this many laws of largest energy at each RH
         with the FFT-BEM (``attrs["tail_bem_ratio"]``, the median BEM/Eq. 16 ratio; a
-        ValidityWarning below :data:`TAIL_RATIO_WARN`); 0 skips the check.
+        ValidityWarning below :data:`TAIL_RATIO_WARN`); 0 skips the check. None: 8 for a bank of
+        single patches, 0 for composed strips (a strip costs about 10 min of FFT-BEM).
     material : roughstick.Material, optional
         Both bodies' material (default poly-silicon); part of the cache key.
+    beam : Cantilever
+        The beam whose strip is the default patch.
+    subzones : int, optional
+        Sub-zones of ``shape`` per law (composed); None: the number that tiles the beam's width
+        when ``shape`` is None, else 1.
 
     Returns
     -------
     xarray.DataArray
         ``adhesive_energy`` [J m-2] over ``(law, rh)``; ``attrs["cache_file"]`` when cached and
         ``attrs["from_cache"]`` telling whether it was read back; ``tail_bem_ratio`` and
-        ``tail_checked`` (see ``check_tail``).
+        ``tail_checked`` (see ``check_tail``); ``patch_area``, ``subzones``.
 
     Examples
     --------
     >>> import numpy as np
     >>> psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
     >>> bank = rs.beam.build_patch_bank(psd, relative_humidity=[0.5, 0.7], n=2, shape=(32, 32),
-    ...                                 spacing=20e-9, check_tail=0)
-    >>> bank.dims, bank.attrs["contact_model"], (bank.values * 1e3).round(1)  # mJ m-2 over (law, rh)
-    (('law', 'rh'), 'fft_bem', array([[ 0.7,  6.2],
-           [ 1.6, 17.6]]))
+    ...                                 spacing=20e-9, check_tail=0, beam=rs.Cantilever(width=0.64e-6))
+    >>> bank.dims, (bank.values * 1e3).round(2)  # mJ m-2 over (law, rh)
+    (('law', 'rh'), array([[ 0.71,  6.43],
+           [ 2.05, 18.49]]))
     """
     rh = relative_humidity_array(relative_humidity)
-    if int(n) < 1:
-        raise ValueError("n must be at least 1")
-    if int(check_tail) < 0:
-        raise ValueError(f"check_tail must be >= 0 (laws re-checked with the BEM), got {check_tail}")
-    spacing = as_length(spacing, name="spacing")
     if not isinstance(psd, xr.DataArray):
         raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.surface.self_affine_psd(q, ...)) "
                         f"so the cache can key on its values, got {type(psd).__name__}")
-    shape = tuple(int(v) for v in shape)
+    spacing = _native_spacing(psd, spacing)
+    shape, m = _patch_plan(psd, shape, subzones, spacing, beam)
     material = POLYSILICON if material is None else material
     groups = expected_surface_groups(psd, shape=shape, spacing=float(spacing),
                                      relative_humidity=list(rh), material=material)
     if model == "auto":  # the cheaper of Eq. 16 and fft_bem measured within 10 % on these patches
         model, _ = select_model(None, relative_humidity=list(rh), groups=groups,
                                 candidates=("modified_dmt", "fft_bem"))
-    check = int(check_tail) if model == "modified_dmt" else 0
+    check = (8 if m == 1 else 0) if check_tail is None else int(check_tail)
+    check = check if model == "modified_dmt" else 0
     corr = float(groups["corr_over_L"]) * shape[1] * float(spacing)
     patch = min(shape) * float(spacing)
     if patch < 4 * corr:
+        what = "sub-zones" if m > 1 else "patches"
         warnings.warn(
-            f"patches of {patch:.3g} m are shorter than 4 correlation lengths of the PSD "
-            f"({corr:.3g} m, 1/e of the autocorrelation): neighbouring patches of a real "
+            f"{what} of {patch:.3g} m are shorter than 4 correlation lengths of the PSD "
+            f"({corr:.3g} m, 1/e of the autocorrelation): neighbouring {what} of a real "
             "interface would not be independent, as the beam model assumes. Use a larger shape "
             "or spacing (a patch >= 4 correlation lengths).", UserWarning, stacklevel=external_stacklevel())
-    if model == "modified_dmt":
-        # once for the bank (expected groups of the PSD), not once per law
-        with spelled(**_SPELLING):
+    with spelled(**_SPELLING):
+        # the pixel against the water necks (a coarser pixel sets Γ as much as the model does)
+        warn_if_unresolved(groups=groups, spacing=float(spacing))
+        if model == "modified_dmt":
+            # once for the bank (expected groups of the PSD), not once per law
             warn_if_outside_validity(None, relative_humidity=list(rh), groups=groups, material=material)
+    composition = None
+    if m > 1:
+        composition = (m, distance_grid(psd, shape=shape, n=int(n) * m, relative_humidity=rh).values)
     path = None
     if cache_dir is not None:
-        key = _key(psd, rh, n, shape, spacing, seed, model, material)
+        key = _key(psd, rh, n, shape, spacing, seed, model, material, m)
         path = Path(cache_dir) / f"patch_bank_{key}.nc"
         out = _read_cached(path, int(n), rh) if path.exists() else None
         if out is not None:
             if check and int(out.attrs.get("tail_checked", -1)) != min(check, int(n)):
-                out = _tail_check(out, psd, shape, float(spacing), seed, check, material)  # an older cache
+                out = _tail_check(out, psd, shape, float(spacing), seed, check, material, composition)
             out.attrs.update(cache_file=str(path), from_cache=1)
             return out
         _check_cache_writable(path.parent)  # before any law is computed
     parts_dir = None if path is None else path.with_name(path.stem + ".parts")
     blocks = [(a, min(a + _LAWS_PER_PART, int(n))) for a in range(0, int(n), _LAWS_PER_PART)]
-    tasks = [dask.delayed(_part)(psd, a, b, rh, shape, float(spacing), seed, model, parts_dir, material)
-             for a, b in blocks]
+    tasks = [dask.delayed(_part)(psd, a, b, rh, shape, float(spacing), seed, model, parts_dir, material,
+                                 composition) for a, b in blocks]
     values = np.concatenate(dask.compute(*tasks, scheduler="threads"), axis=0)
     out = xr.DataArray(values, {"law": np.arange(int(n)), "rh": rh}, ("law", "rh"),
                        name="adhesive_energy",
@@ -284,11 +359,14 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
                               "contact_model": model, "seed": int(seed),
                               "material": repr(material),
                               "correlation_length": corr,
-                              "independence": "patch laws drawn independently; checked: patch "
+                              "subzones": m, "subzone_shape": list(shape),
+                              "patch_area": float(m * shape[0] * shape[1] * spacing**2),
+                              "independence": "patch laws drawn independently; checked: "
+                                              f"{'sub-zone' if m > 1 else 'patch'} "
                                               f"{patch:.3g} m vs 4 correlation lengths "
                                               f"{4 * corr:.3g} m"})
     if check:
-        out = _tail_check(out, psd, shape, float(spacing), seed, check, material)
+        out = _tail_check(out, psd, shape, float(spacing), seed, check, material, composition)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(".tmp")
@@ -296,9 +374,10 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
         file = out.to_dataset().assign_attrs(dataset_attrs(
             "roughstick patch bank: adhesive energies of random surface patches (Eq. 13)",
             patch_shape=list(shape), spacing_m=float(spacing), n_law=int(n), seed=int(seed),
-            contact_model=model, cache_key=key))
+            contact_model=model, cache_key=key, subzones=m))
         append_history(file, f"build_patch_bank(n={int(n)}, shape={list(shape)}, spacing={float(spacing)!r}, "
-                             f"relative_humidity={[float(r) for r in rh]}, seed={int(seed)}, model={model!r})")
+                             f"relative_humidity={[float(r) for r in rh]}, seed={int(seed)}, model={model!r}, "
+                             f"subzones={m})")
         file.to_netcdf(tmp)
         publish(tmp, path)
         if parts_dir.exists():
@@ -310,17 +389,21 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
 
 
 @renamed_keywords(n_law="n")
-@check_numbers(n="count", spacing="length", seed="seed", n_gap="count")
-def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, shape=(64, 64),
+@check_numbers(n="count", spacing="length", seed="seed", n_gap="count", subzones="count?")
+def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, shape=None,
                       spacing: float, seed: int = 0, model: str = "modified_dmt",
-                      n_gap: int = 400) -> xr.DataArray:
+                      n_gap: int = 400, beam: Cantilever = PAPER_CANTILEVER,
+                      subzones: int | None = None) -> xr.DataArray:
     r"""Pressure-distance laws of ``n`` random patches per RH on one uniform gap grid.
 
-    The same patches as :func:`build_patch_bank` with the same arguments (law k is realization
-    k of :func:`roughstick.surface.generate_surfaces`), kept as full curves (Eqs. 33-35, 13)
-    for the cohesive model instead of their adhesive energies. Patches are assumed
-    independent; a ``ValueError`` is raised when the patch is not at least four correlation
-    lengths of the first surface long (autocorrelation falling below 1/e).
+    The same patches as :func:`build_patch_bank` with the same arguments (by default the beam's
+    own strips, patch length × width, each the area mean of the ``subzones`` sub-zones of
+    ``shape`` that tile it, :func:`roughstick.stiction.compose_zone_law`; with ``shape`` and no
+    ``subzones`` law k is realization k of :func:`roughstick.surface.generate_surfaces`), kept
+    as full curves (Eqs. 33-35, 13) for the cohesive model instead of their adhesive energies.
+    Patches are assumed independent; a ``ValueError`` is raised when a (sub-)patch is not at
+    least four correlation lengths of the first surface long (autocorrelation falling below 1/e),
+    and a patch narrower than the beam warns (its Γ is too large, docs/zone_size.md).
 
     Parameters
     ----------
@@ -330,8 +413,9 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
         RH fractions in (0, 1).
     n : int
         Number of patches (laws).
-    shape : (int, int)
-        Pixels of a patch.
+    shape : (int, int), optional
+        Pixels of a sub-zone (with ``subzones`` None: of a patch); None: the sub-zones of the
+        beam's strip (:func:`roughstick.stiction.subzone_shape`).
     spacing : float
         Pixel size [m].
     seed : int
@@ -340,6 +424,10 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
         Contact model of :func:`roughstick.contact.curves`.
     n_gap : int
         Points of the uniform gap grid.
+    beam : Cantilever
+        The beam whose strip is the default patch.
+    subzones : int, optional
+        Sub-zones per law; None: those that tile the beam's width when ``shape`` is None, else 1.
 
     Returns
     -------
@@ -351,7 +439,7 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
     >>> import numpy as np
     >>> psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
     >>> bank = rs.beam.pressure_law_bank(psd, relative_humidity=[0.5], n=2, shape=(32, 32),
-    ...                                  spacing=20e-9, n_gap=50)
+    ...                                  spacing=20e-9, n_gap=50, beam=rs.Cantilever(width=0.64e-6))
     >>> bank.dims, bank.shape
     (('law', 'rh', 'gap'), (2, 1, 50))
     """
@@ -360,8 +448,14 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
         raise ValueError("relative_humidity must be fractions in (0, 1), e.g. 0.6 not 60")
     if int(n) < 1 or int(n_gap) < 8:
         raise ValueError("n must be >= 1 and n_gap >= 8")
-    surf = generate_surfaces(psd, n=int(n), shape=tuple(shape), spacing=float(spacing),
-                             seed=seed).load()
+    spacing = float(spacing)
+    shape, m = _patch_plan(psd, shape, subzones, spacing, beam)
+
+    def law_surfaces(k):
+        return generate_surfaces(psd, realizations=np.arange(k * m, (k + 1) * m), shape=shape,
+                                 spacing=spacing, seed=seed).compute(scheduler="sync")
+
+    surf = law_surfaces(0)
     first = np.asarray(surf.isel(realization=0).values, dtype=float)
     z = first - first.mean()
     acf = np.fft.ifft2(np.abs(np.fft.fft2(z)) ** 2).real[0] / np.sum(z * z)
@@ -372,16 +466,19 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
     grid = np.asarray(contact_distance_grid(surf.isel(realization=0), relative_humidity=list(rh)).values)
     rms = float(z.std())
     lo, hi = grid.min() - 0.5 * (grid.max() - grid.min()), grid.max() + 4 * rms
+    if m > 1:  # the tallest summit of all the sub-zones of the bank lies below the top
+        hi = max(hi, float(distance_grid(m0=rms**2, shape=shape, n=int(n) * m, relative_humidity=rh)[-1]))
     gap = np.linspace(lo, hi, int(n_gap))
     out = np.empty((int(n), len(rh), gap.size))
     for k in range(int(n)):
-        c = contact_curves(surf.isel(realization=k), relative_humidity=list(rh), distance=gap,
-                                 model=model)
-        out[k] = c["pressure"].transpose("rh", "distance").values
+        surf = surf if k == 0 else law_surfaces(k)
+        c = contact_curves(surf, relative_humidity=list(rh), distance=gap, model=model)
+        out[k] = c["pressure"].mean("realization").transpose("rh", "distance").values
     bank = xr.DataArray(out, {"law": np.arange(int(n)), "rh": rh, "gap": gap},
                         ("law", "rh", "gap"), name="pressure",
                         attrs={"units": "Pa", "long_name": "mean pressure of a patch law (positive repulsive)",
                                "contact_model": model, "seed": int(seed), "correlation_length": corr,
+                               "subzones": m, "subzone_shape": list(shape),
                                "independence": "patch laws independent (patch >= 4 correlation lengths)"})
     bank["gap"].attrs.update(units="m", long_name="distance between the mean planes")
     return bank

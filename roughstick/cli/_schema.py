@@ -201,7 +201,8 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
         },
         "surface": {
             "spacing": F("length", "pixel size of the patch surfaces", required=True),
-            "shape": F("shape", "pixels of one patch surface: n or [ny, nx]", default=[64, 64]),
+            "shape": F("shape", "pixels of one patch surface: n or [ny, nx]; default the beam's own patch, "
+                       "patch_length x width, composed of sub-zones that tile it (a smaller patch warns)"),
             "psd": F("path", "a NetCDF PSD (variable 'psd'); default the paper's Table 4 (Eq. 37)"),
         },
         "ensemble": {
@@ -221,8 +222,10 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "laws": F("int", "patch laws in the bank (surfaces computed once per RH)", default=1000,
                       minimum=1),
             "seed": F("int", "root seed of the patch surfaces", default=0, minimum=0),
-            "model": F("choice", "contact model of the patch laws: " + _CONTACT_MODEL.split(": ", 1)[1],
-                               default="auto",
+            "model": F("choice", "contact model of the patch laws (default 'modified_dmt': on the "
+                               "beam's strips the FFT-BEM costs about 10 min per law): "
+                               + _CONTACT_MODEL.split(": ", 1)[1],
+                               default="modified_dmt",
                                replaces=("contact_model",),
                                choices=MODEL_CHOICES),
             "cache": F("path", "folder of the bank cache (relative to the file)",

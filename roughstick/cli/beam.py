@@ -17,6 +17,7 @@ import pathlib
 import time
 
 import numpy as np
+import xarray as xr
 
 import roughstick as rs
 
@@ -62,13 +63,15 @@ def _run(args) -> int:
     path = pathlib.Path(args.config)
     c = parse(read_toml(path), "beam", base=path.parent, source=path.name)
     b, s, ens, bank_cfg, o = (c[k] for k in ("beam", "surface", "ensemble", "bank", "output"))
-    shape = s["shape"]
-    shape = (shape, shape) if np.ndim(shape) == 0 else tuple(shape)
-    check_memory(shape, where=f"{path.name} [surface] shape")
+    shape = s.get("shape")
+    shape = None if shape is None else ((shape, shape) if np.ndim(shape) == 0 else tuple(shape))
+    if shape is not None:
+        check_memory(shape, where=f"{path.name} [surface] shape")
     material = config_material(c["material"], path.name)
     b.setdefault("youngs_modulus", material.youngs_modulus)  # the beam is made of the film
     beam = rs.Cantilever(width=b["width"], thickness=b["thickness"], gap=b["gap"],
-                         youngs_modulus=b["youngs_modulus"])
+                         youngs_modulus=b["youngs_modulus"],
+                         **({"interaction_length": b["patch_length"]} if b.get("patch_length") else {}))
     rh = np.asarray(ens["relative_humidity"], dtype=float)
     _check_method(ens, path.name)
     _check_patch(b, path.name)
@@ -82,7 +85,7 @@ def _run(args) -> int:
     try:
         bank = rs.beam.build_patch_bank(psd, relative_humidity=rh, n=bank_cfg["laws"], shape=shape,
                                         spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["model"],
-                                        cache_dir=cache,
+                                        cache_dir=cache, beam=beam,
                                         **({} if material == POLYSILICON else {"material": material}))
     except OSError as exc:  # the bank writes only into its cache folder
         cause = exc.__cause__ if isinstance(exc.__cause__, OSError) else exc
@@ -99,6 +102,14 @@ def _run(args) -> int:
                           seed=ens["seed"], protocol=ens["protocol"], beam=beam,
                           patch_length=b.get("patch_length"), beam_model=ens["beam_model"])
     t2 = time.perf_counter()
+    closed = None
+    if ens["beam_model"] == "sharp_front" and ens["protocol"] == "release":
+        # the same beams in closed form from the bank's CCDF (every length from one tail)
+        closed = rs.beam.stuck_probability_from_ccdf(
+            rs.beam.adhesive_energy_ccdf(bank, dim="law"), beam_length=ds.beam_length.values, beam=beam,
+            patch_length=b.get("patch_length")).stuck_probability.transpose("rh", "beam_length")
+        ds["stuck_probability_closed_form"] = xr.DataArray(closed.values, dims=("rh", "beam_length"), attrs={
+            "units": "1", "long_name": "P(stuck) of the sharp front in closed form on the bank's CCDF"})
     write_netcdf(_provenance(ds, c, path, bank), out / "beam.nc", compute=True, overwrite=True)
     finish_folder(out)
     src = "read from cache" if bank.attrs.get("from_cache") else "computed"
@@ -114,7 +125,9 @@ def _run(args) -> int:
                      f"{float(ds.stuck_probability.sel(sel)):.3f} "
                      f"[{float(ds.stuck_probability_lower.sel(sel)):.3f}, "
                      f"{float(ds.stuck_probability_upper.sel(sel)):.3f}] "
-                     f"(95 % Wilson interval, n = {ds.sizes['realization']})")
+                     f"(95 % Wilson interval, n = {ds.sizes['realization']})"
+                     + ("" if closed is None else
+                        f"; closed form on the bank {float(closed.sel(sel)):.3g}"))
     LOG.info(f"wrote {out / 'beam.nc'}")
     return 0
 
@@ -126,11 +139,11 @@ def _provenance(ds, c: dict, path: pathlib.Path, bank):
     attrs = dataset_attrs("beam-scale stochastic stiction",
                           references=cite((PAPER, "section 5, Eqs. 13, 16, 36")))
     attrs.update(ds.attrs)  # the model's own (title, protocol, seed of the beams, beam, references)
-    shape = s["shape"]
     attrs.update(
         psd=str(s["psd"]) if s.get("psd") is not None else "paper Table 4 (Eq. 37, roughstick.stiction.cantilever_psd)",
         relative_humidity=[float(v) for v in bank.rh.values],
-        patch_shape=[int(v) for v in ((shape, shape) if np.ndim(shape) == 0 else shape)],
+        patch_shape=[int(v) for v in np.broadcast_to(bank.attrs.get("subzone_shape", s.get("shape", 0)), 2)],
+        patch_subzones=int(bank.attrs.get("subzones", 1)),
         patch_spacing=float(s["spacing"]), bank_laws=int(bank.sizes["law"]), bank_seed=int(bk["seed"]),
         bank_model=str(bank.attrs.get("contact_model", bk["model"])), bank_cache_file=str(bank.attrs.get("cache_file", "")),
         beam_seed=int(ens["seed"]), method=str(ens["method"]), beam_model=str(ens["beam_model"]),

@@ -10,11 +10,15 @@ all of them; what ``data`` is (a sample, simulated beams, a PSD, a bank of patch
 from __future__ import annotations
 
 import inspect
+import warnings
 
+import numpy as np
 import xarray as xr
 
 from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
+from .._core.validate import external_stacklevel
+from ..beam.front_tail import adhesive_energy_ccdf, stuck_probability_from_ccdf
 from ..beam.sharp_front import simulate, stuck_probability_from_beams
 from ..stiction.cantilever import PAPER_CANTILEVER, Cantilever
 from ..stiction.risk import stuck_probability_from_sample
@@ -24,12 +28,13 @@ from .surface import _zone_stuck_probability
 __all__ = ["stuck_probability", "METHODS"]
 
 #: How :func:`stuck_probability` estimates P(stuck).
-METHODS = ("count", "beam", "subset", "monte_carlo")
+METHODS = ("count", "beam", "front", "subset", "monte_carlo")
 
 #: The inputs each method reads, beside ``data`` (and ``beam``, ``confidence``).
 _TAKES = {
     "count": {"beam_length", "dim", "interval"},
     "beam": {"beam_length", "interval", "n", "seed", "protocol", "beam_model", "patch_length"},
+    "front": {"beam_length", "dim", "patch_length"},
     "subset": {"beam_length", "seed", "target_cv", "max_evaluations", "n_per_level", "protocol",
                "patch_length", "relative_humidity", "shape", "spacing", "model"},
 }
@@ -81,6 +86,9 @@ def _check_combination(method, kind, given, options, data):
         ("beam", "psd"): "method='beam' releases beams on a bank of patch laws: build one from the PSD "
                          "with rs.beam.build_patch_bank, or pass method='subset' for the zone model",
         ("beam", "beams"): "these beams are simulated already: method='count' counts them",
+        ("front", "psd"): "method='front' reads the Γ of strips of the beam: draw them with "
+                          "rs.stiction.strip_adhesive_energy(psd, ...) and pass their adhesive_energy",
+        ("front", "beams"): "these beams are simulated already: method='count' counts them",
         ("subset", "sample"): "subset simulation draws its own surfaces: pass the PSD (zone model) or a "
                               "bank of patch laws (beam model), or count this sample with method='count'",
         ("subset", "beams"): "subset simulation draws its own beams: pass the bank of patch laws, or count "
@@ -118,6 +126,9 @@ def _check_combination(method, kind, given, options, data):
             raise TypeError(f"stuck_probability(psd, method={method!r}) needs the zone: "
                             f"{', '.join(f'{k}=' for k in missing)} (e.g. relative_humidity=[0.5, 0.7], "
                             "shape=(128, 128), spacing=5e-9)")
+    if method == "front" and kind == "sample" and "beam_length" not in given:
+        raise TypeError("stuck_probability(sample, method='front') needs beam_length= (every length is "
+                        "composed from the strips' Γ CCDF, e.g. np.linspace(100e-6, 2e-3, 100))")
     if kind == "bank" and method != "count" and "beam_length" not in given:
         raise TypeError(f"stuck_probability(bank, method={method!r}) needs beam_length= (the beams "
                         "released on the bank, e.g. [200e-6, 400e-6])")
@@ -161,6 +172,11 @@ def stuck_probability(
       ``n`` beams per length on it (:func:`roughstick.beam.simulate`) and counts them:
       ``beam_length`` (required), ``n``, ``seed``, ``protocol``, ``beam_model``,
       ``patch_length``, ``interval``.
+    - ``"front"`` on a sample of the Γ of strips of the beam (patch length × width, e.g.
+      :func:`roughstick.stiction.strip_adhesive_energy`) along ``dim``, or on a bank: the
+      released sharp-front beam in closed form from their CCDF, every length at once
+      (:func:`roughstick.beam.stuck_probability_from_ccdf`): ``beam_length`` (required),
+      ``patch_length``, ``dim``; the interval is the CCDF's simultaneous band carried through.
     - ``"subset"`` (subset simulation: small probabilities) or ``"monte_carlo"`` (crude Monte
       Carlo, its reference), to ``target_cv``: on a PSD (the zone model, the §5.2 proxy)
       ``relative_humidity``, ``shape``, ``spacing`` (required), one ``beam_length``, ``model``,
@@ -174,9 +190,10 @@ def stuck_probability(
     ----------
     data : xarray.DataArray, xarray.Dataset or callable
         What P(stuck) is estimated from (above).
-    method : {"count", "beam", "subset", "monte_carlo"}
+    method : {"count", "beam", "front", "subset", "monte_carlo"}
         ``"count"``: count a given sample; ``"beam"``: release ``n`` beams per length on the bank
-        (:func:`roughstick.beam.simulate`) and count them; ``"subset"``: subset simulation to
+        (:func:`roughstick.beam.simulate`) and count them; ``"front"``: the sharp-front beam in
+        closed form from the sample's (or bank's) Γ CCDF; ``"subset"``: subset simulation to
         ``target_cv`` (small probabilities: 1e-3 and below); ``"monte_carlo"``: crude Monte Carlo
         of the same model to ``target_cv`` (its reference).
     beam_length : float or sequence, optional
@@ -256,6 +273,9 @@ def stuck_probability(
             return stuck_probability_from_beams(data, confidence=confidence, interval=interval)
         return stuck_probability_from_sample(data, beam_length=beam_length, beam=beam, dim=dim,
                                              confidence=confidence, interval=interval)
+    if method == "front":
+        ccdf = adhesive_energy_ccdf(data, dim="law" if kind == "bank" else dim, confidence=confidence)
+        return stuck_probability_from_ccdf(ccdf, beam_length=beam_length, beam=beam, patch_length=patch_length)
     if method == "beam":
         beams = simulate(data, beam_length=beam_length, n=n, seed=seed, protocol=protocol, beam=beam,
                          patch_length=patch_length, beam_model=beam_model, **options)
@@ -266,8 +286,25 @@ def stuck_probability(
     if kind == "bank":
         return _bank_stuck_probability(data, protocol=protocol, patch_length=patch_length, **common,
                                        **options)
+    _warn_if_smaller_than_the_zone(shape, spacing, beam)
     return _zone_stuck_probability(data, relative_humidity=relative_humidity, shape=shape,
                                    spacing=spacing, model=model, **common, **options)
+
+
+def _warn_if_smaller_than_the_zone(shape, spacing, beam) -> None:
+    """Zones smaller than the beam's Δs × w carry a larger Γ: say so, with what it costs."""
+    ny, nx = (int(v) for v in np.broadcast_to(shape, 2))
+    zone = (beam.interaction_zone_length, beam.width)
+    if ny * spacing >= 0.99 * zone[0] and nx * spacing >= 0.99 * zone[1]:
+        return
+    warnings.warn(
+        f"zones of {ny} x {nx} px ({ny * spacing * 1e6:.3g} x {nx * spacing * 1e6:.3g} µm) are smaller than "
+        f"the beam's interaction zone Δs × w ({zone[0] * 1e6:.3g} x {zone[1] * 1e6:.3g} µm): a smaller zone rests "
+        "on lower summits and carries a larger Γ (Table-4 surfaces, Eq. 16: 0.64 µm squares 130-170 x the "
+        "strip's median at 30-50 % RH; docs/zone_size.md), so this P(stuck) is that of the smaller zone "
+        "and overstates the beam's. The whole zone is shape="
+        f"{(round(zone[0] / spacing), round(zone[1] / spacing))}; or compose it from sub-zones "
+        "(rs.stiction.strip_adhesive_energy, method='front').", UserWarning, stacklevel=external_stacklevel())
 
 
 def _same(value, default) -> bool:

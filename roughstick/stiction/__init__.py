@@ -7,9 +7,10 @@ Eq. 37 -> an ensemble of zone surfaces). P(stuck) itself, by counting, subset si
 beam-scale model, is :func:`roughstick.reliability.stuck_probability`.
 """
 
-from . import cantilever, interaction_zone, risk
+from . import cantilever, interaction_zone, risk, zone
 from .cantilever import *  # noqa: F403
 from .interaction_zone import *  # noqa: F403
 from .risk import *  # noqa: F403
+from .zone import *  # noqa: F403
 
-__all__ = [name for mod in (cantilever, risk, interaction_zone) for name in mod.__all__]
+__all__ = [name for mod in (cantilever, risk, interaction_zone, zone) for name in mod.__all__]

@@ -26,6 +26,9 @@ def test_cli_beam(tmp_path, capsys):
     ds = xr.load_dataset(out / "beam.nc")
     assert ds.crack_length.dims == ("realization", "rh", "beam_length")
     assert ds.sizes == {"realization": 20, "rh": 2, "beam_length": 2}
+    # the closed form on the bank's CCDF beside the count: inside the count's Wilson interval
+    closed = ds.stuck_probability_closed_form
+    assert bool(((ds.stuck_probability_lower - 1e-9 <= closed) & (closed <= ds.stuck_probability_upper + 1e-9)).all())
 
 
 def test_cli_beam_cache_folder_problems_name_the_cache_key(tmp_path, capsys):

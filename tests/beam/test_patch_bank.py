@@ -104,7 +104,7 @@ def test_patches_shorter_than_four_correlation_lengths_are_flagged():
             small = build_patch_bank(_psd(), shape=(8, 8), spacing=5e-9, **kw)
         warnings.simplefilter("error", UserWarning)
         warnings.simplefilter("ignore", rs.ValidityWarning)
-        large = build_patch_bank(_psd(), shape=(32, 32), spacing=40e-9, **kw)
+        large = build_patch_bank(_psd(), shape=(32, 32), spacing=40e-9, beam=rs.Cantilever(width=1.28e-6), **kw)
     corr = small.attrs["correlation_length"]
     assert 8 * 5e-9 < 4 * corr <= 32 * 40e-9
     assert "independent" in large.attrs["independence"]
@@ -159,3 +159,58 @@ def test_the_bank_tail_is_rechecked_with_the_boundary_element_model(tmp_path):
     assert "tail_bem_ratio" not in bem_bank.attrs
     with pytest.raises(ValueError, match="check_tail=-1: must be an integer >= 0"):
         build_patch_bank(_psd(), check_tail=-1, **kw)
+
+
+def test_the_default_law_is_the_beams_strip_composed_of_sub_zones():
+    """shape=None: a law is the beam's Δx × w strip, the area mean of the sub-zones that tile it
+    (rs.stiction.strip_adhesive_energy gives the same strips), not a square nobody asked for."""
+    beam = rs.Cantilever(width=5.24e-6)  # 131 x 262 px at 20 nm: two 131 x 131 sub-zones
+    kw = dict(relative_humidity=[0.5, 0.9], n=3, spacing=20e-9, seed=2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)  # nothing to warn about: the law is the strip
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        bank = build_patch_bank(_psd(), beam=beam, **kw)
+        strips = rs.stiction.strip_adhesive_energy(_psd(), beam=beam, **kw)
+    assert bank.attrs["subzones"] == 2 and "tail_bem_ratio" not in bank.attrs  # no BEM strip by default
+    assert bank.attrs["patch_area"] == pytest.approx(131 * 262 * 20e-9**2)
+    np.testing.assert_allclose(bank.values, strips.adhesive_energy.transpose("realization", "rh").values,
+                               rtol=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        with pytest.warns(UserWarning, match=r"narrower than the beam.*shape=None"):
+            build_patch_bank(_psd(), beam=beam, shape=(131, 131), **kw)
+    with pytest.raises(ValueError, match="pass spacing="):
+        build_patch_bank(_psd(), relative_humidity=[0.5], n=1)
+
+
+def test_the_pressure_bank_composes_the_same_strips():
+    """pressure_law_bank's default law is the beam's strip too: the area mean of the pressures
+    of the sub-zones that build_patch_bank composes (the same realizations), and its Eq. 13
+    energy is the energy bank's within the grids' difference."""
+    beam = rs.Cantilever(width=5.24e-6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        laws = rs.beam.pressure_law_bank(_psd(), relative_humidity=[0.9], n=2, spacing=20e-9, seed=2,
+                                         beam=beam, n_gap=800)
+        energies = build_patch_bank(_psd(), relative_humidity=[0.9], n=2, spacing=20e-9, seed=2, beam=beam)
+        subs = rs.generate_surfaces(_psd(), n=4, shape=(131, 131), spacing=20e-9, seed=2).compute()
+        c = rs.contact.curves(subs, relative_humidity=[0.9], distance=laws.gap.values, model="modified_dmt").compute()
+    assert laws.attrs["subzones"] == 2
+    mean = c.pressure.isel(rh=0).values.reshape(2, 2, -1).mean(axis=1)
+    np.testing.assert_allclose(laws.isel(rh=0).values, mean, rtol=1e-10, atol=1e-6)
+    curves = xr.Dataset({"pressure": laws.rename(gap="distance")})
+    g = rs.contact.summary(curves, check_grid=False).adhesive_energy.transpose("law", "rh").values
+    np.testing.assert_allclose(g, energies.values, rtol=0.1)
+
+
+def test_a_pixel_coarser_than_the_water_necks_warns_before_the_laws():
+    """Table-4 patches at 20 nm: the ring wetted around a summit spans < 3 pixels at 30 % RH (1.7),
+    so the pixel sets Γ; at 5 nm (5.5 pixels) the bank is quiet about it."""
+    kw = dict(relative_humidity=[0.3], n=1, shape=(64, 64), beam=rs.Cantilever(width=1.28e-6), check_tail=0)
+    with pytest.warns(rs.contact.PixelResolutionWarning, match="does not resolve the water necks"):
+        build_patch_bank(_psd(), spacing=20e-9, **kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", rs.contact.PixelResolutionWarning)
+        warnings.simplefilter("ignore", UserWarning)
+        warnings.filterwarnings("error", category=rs.contact.PixelResolutionWarning)
+        build_patch_bank(_psd(), spacing=5e-9, **{**kw, "beam": rs.Cantilever(width=0.32e-6)})

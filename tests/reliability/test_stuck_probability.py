@@ -139,3 +139,19 @@ def test_old_names_warn_naming_the_new_call_and_give_the_same_numbers():
     # the old subset call without method= now says which method it needs
     with pytest.warns(DeprecationWarning), pytest.raises(ValueError, match="method='subset'"):
         rs.beam_stiction_probability_subset(bank, beam_length=1e-4)
+
+
+def test_zones_smaller_than_the_beams_zone_warn_with_the_whole_zone(monkeypatch):
+    """The zone model's P(stuck) belongs to its zone: one smaller than Δs × w warns (its Γ is
+    larger, docs/zone_size.md) and names the whole zone's shape; the whole zone does not."""
+    from roughstick.reliability import stuck
+
+    monkeypatch.setattr(stuck, "_zone_stuck_probability", lambda *a, **k: "ran")
+    psd = rs.datasets.family_psd("table4")
+    with pytest.warns(UserWarning, match=r"smaller than the beam's interaction zone.*shape=\(524, 6000\)"):
+        assert rs.stuck_probability(psd, method="subset", relative_humidity=0.5, shape=(128, 128),
+                                    spacing=5e-9) == "ran"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        assert rs.stuck_probability(psd, method="subset", relative_humidity=0.5, shape=(524, 6000),
+                                    spacing=5e-9) == "ran"
