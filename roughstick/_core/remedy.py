@@ -38,6 +38,8 @@ SETTINGS = {
     "contact_model": "the contact model's name (keyword: tolerance, the accepted error of 'auto')",
     "spacing": "a pixel size [m] fine enough",
     "resolution": "how to measure what the pixel costs (no value)",
+    "height_distribution": "the height distribution of generated surfaces ('maps': the measured maps' own)",
+    "surface_size": "a side length [m] of generated surfaces (the measured maps')",
 }
 
 _SPELLINGS: contextvars.ContextVar[dict | None] = contextvars.ContextVar("roughstick_remedy_spellings",
@@ -80,6 +82,11 @@ def _default(setting: str) -> Callable:
         return argument("model", call="rough_contact_curves")
     if setting == "spacing":
         return argument("spacing", fmt=lambda v: f"{v:.2g}")
+    if setting == "height_distribution":
+        return lambda value=None, **kw: (f"roughstick.ensemble.run(..., maps=maps, height_distribution={value!r})"
+                                         if value == "maps" else f"height_distribution={value!r}")
+    if setting == "surface_size":
+        return argument("size", fmt=lambda v: f"{v:.3g}")
     if setting == "resolution":
         return lambda value=None, **kw: ("roughstick.resolution_study(height, relative_humidity=...) "
                                          "(the same map at half and twice the pixel)")

@@ -96,7 +96,21 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "variable": F("str", "variable of the PSD file", default="psd"),
             "num_q": F("int", "wavevector points of the Eq. 37 PSD", default=4096, minimum=16),
         },
-        "surface": _COMMON["surface"],
+        "surface": {
+            **_COMMON["surface"],
+            "height_distribution": F(
+                "choice", "height distribution of the generated surfaces: 'auto' = the maps' own "
+                "when [psd] source = 'samples' and they are not Gaussian within their sampling "
+                "error, else Gaussian; 'maps' (their own), 'gaussian', or 'johnson' (from "
+                "skewness and kurtosis)", default="auto", choices=("auto", "maps", "gaussian", "johnson")),
+            "skewness": F("number", "height skewness of height_distribution = 'johnson'"),
+            "kurtosis": F("number", "height kurtosis (3 for a Gaussian) of height_distribution = "
+                          "'johnson'", minimum=1.0),
+            "distribution_method": F("choice", "how a height distribution is imposed: 'translation' "
+                                     "(a transformed Gaussian surface, pre-corrected PSD) or "
+                                     "'iaaft' (docs/generation.md)", default="translation",
+                                     choices=("translation", "iaaft")),
+        },
         "ensemble": {
             "n": F("n", "number of surfaces (>= 1) or 'auto'", required=True),
             "relative_humidity": F("relative_humidity", "humidities as fractions", required=True,

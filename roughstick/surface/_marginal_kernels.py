@@ -37,7 +37,7 @@ from scipy import special
 
 from .._core.dask import realization_rng
 from ._generate_kernels import _filter, _full_plane, _Kernel, _symmetrise
-from .distribution import SCORE, evaluate, normal_grid, standard_moments
+from .distribution import SCORE, evaluate, normal_grid, standardised
 
 __all__: list[str] = []
 
@@ -49,13 +49,6 @@ PRECORRECTION_STEPS = 10
 PRECORRECTION_GAIN = 0.05
 #: Hermite terms of the correlation map f (the rest of sum a_k^2 = 1 goes to the last power).
 HERMITE_TERMS = 256
-
-
-def standardised(table: np.ndarray) -> np.ndarray:
-    """The translation table with mean 0 and variance 1 under u ~ N(0, 1), as interpolated."""
-    x, w = normal_grid()
-    mean, sd, _, _ = standard_moments(evaluate(table, x), w)
-    return (np.asarray(table, dtype=float) - mean) / sd
 
 
 def hermite_coefficients(table: np.ndarray, terms: int = HERMITE_TERMS) -> np.ndarray:

@@ -40,7 +40,7 @@ from .._core.arguments import check_numbers
 from .._core.conventions import append_history, dataset_attrs
 from .._core.references import cite
 from .._core.validate import as_length
-from .topography import level, validate_height
+from .topography import level_unless_periodic
 
 __all__ = ["height_distribution"]
 
@@ -89,6 +89,14 @@ def evaluate(table: np.ndarray, u) -> np.ndarray:
     out[lo] = table[0] + (u[lo] - SCORE[0]) * (table[1] - table[0]) / step
     out[hi] = table[-1] + (u[hi] - SCORE[-1]) * (table[-1] - table[-2]) / step
     return out
+
+
+def standardised(table: np.ndarray) -> np.ndarray:
+    """The translation table with mean 0 and variance 1 under u ~ N(0, 1), as interpolated by
+    :func:`evaluate` (the generators scale it by the PSD's rms height)."""
+    x, w = normal_grid()
+    mean, sd, _, _ = standard_moments(evaluate(table, x), w)
+    return (np.asarray(table, dtype=float) - mean) / sd
 
 
 # ------------------------------------------------------------------------------ Johnson systems
@@ -151,15 +159,23 @@ def _johnson_table(skewness: float, kurtosis: float) -> tuple[np.ndarray, dict]:
 
 
 # ------------------------------------------------------------------------------ measured maps
-def _pooled(height: xr.DataArray) -> np.ndarray:
-    """Every pixel of the levelled maps, each map standardised by its own mean and rms, sorted."""
-    h = level(validate_height(height), method="plane")
-    z = np.asarray(h.values, dtype=float).reshape((-1, h.sizes["y"] * h.sizes["x"]))
-    if not np.all(np.isfinite(z)):
+def _levelled(height) -> list:
+    """The maps (a stack ``(..., y, x)`` or a list of 2-D maps), levelled by a plane unless periodic, as a list
+    of 2-D arrays."""
+    maps = height if isinstance(height, (list, tuple)) else [height]
+    out = []
+    for m in maps:
+        h = level_unless_periodic(m)
+        out.extend(np.asarray(h.values, dtype=float).reshape((-1, h.sizes["y"], h.sizes["x"])))
+    if not all(np.all(np.isfinite(z)) for z in out):
         raise ValueError("the maps have NaN pixels; level them with rs.surface.level(height, "
                          "nan='fill') first.")
-    z = (z - z.mean(axis=1, keepdims=True)) / z.std(axis=1, keepdims=True)
-    return np.sort(z.ravel())
+    return out
+
+
+def _pooled(maps: list) -> np.ndarray:
+    """Every pixel of the maps, each map standardised by its own mean and rms, sorted."""
+    return np.sort(np.concatenate([((z - z.mean()) / z.std()).ravel() for z in maps]))
 
 
 def _empirical_table(values: np.ndarray) -> tuple[np.ndarray, dict]:
@@ -192,7 +208,8 @@ def _empirical_table(values: np.ndarray) -> tuple[np.ndarray, dict]:
 def height_distribution(height=None, *, skewness=None, kurtosis=None, rms=None) -> xr.Dataset:
     r"""A height distribution to impose on generated surfaces: measured or Johnson.
 
-    From measured maps: their empirical distribution (the maps levelled by a least-squares plane,
+    From measured maps: their empirical distribution (the maps levelled by a least-squares plane
+    unless periodic,
     each standardised by its own mean and rms, pooled). From moments: the Johnson :math:`S_U` or
     :math:`S_B` distribution with that ``skewness`` and ``kurtosis`` (Johnson 1949), or the
     Gaussian for (0, 3). Either way the distribution is held as its translation
@@ -201,8 +218,9 @@ def height_distribution(height=None, *, skewness=None, kurtosis=None, rms=None) 
 
     Parameters
     ----------
-    height : xarray.DataArray, optional
-        Measured height maps ``(..., y, x)``; every map along the leading dims is pooled.
+    height : xarray.DataArray or list of xarray.DataArray, optional
+        Measured height maps ``(..., y, x)``, or a list of maps of any sizes; every map is
+        pooled.
     skewness, kurtosis : float, optional
         Third and fourth standardised moments (kurtosis 3 for a Gaussian, not the excess);
         instead of ``height``.
@@ -235,15 +253,13 @@ def height_distribution(height=None, *, skewness=None, kurtosis=None, rms=None) 
     if height is not None:
         if rms is not None:
             raise ValueError("rms= is for a Johnson distribution; measured maps carry their own.")
-        values = _pooled(height)
+        maps = _levelled(height)
+        values = _pooled(maps)
         table, attrs = _empirical_table(values)
-        h = validate_height(height)
-        lead = [d for d in h.dims if d not in ("y", "x")]
-        var = h.var(("y", "x")).mean() if lead else h.var(("y", "x"))
-        attrs.update(n_maps=int(np.prod([h.sizes[d] for d in lead])) if lead else 1,
-                     n_pixels=int(values.size), rms_height=float(np.sqrt(var)),
+        attrs.update(n_maps=len(maps), n_pixels=int(values.size),
+                     rms_height=float(np.sqrt(np.mean([z.var() for z in maps]))),
                      skewness=float(np.mean(values**3)), kurtosis=float(np.mean(values**4)))
-        what = f"empirical, {attrs['n_maps']} map(s) of {h.sizes['y']} x {h.sizes['x']} pixels"
+        what = f"empirical, {len(maps)} map(s), {values.size} pixels"
     else:
         if skewness is None or kurtosis is None:
             raise ValueError("give both skewness= and kurtosis= (3 for a Gaussian).")

@@ -46,8 +46,8 @@ def roughness_statistics(
     diagnostics : bool, default True
         Add the height-distribution diagnostics of each map (:func:`height_diagnostics`: its
         skewness, kurtosis and 99th/99.9th height percentiles against the sampling intervals of
-        Gaussian surfaces with its PSD, and the verdict ``gaussian``). They cost 100 Gaussian
-        surfaces of the map's size per map (about 1 s for 512 x 512 pixels) and need the heights
+        Gaussian surfaces with its PSD, and the verdict ``gaussian``). They cost 50 Gaussian
+        surfaces of the map's size per map (about 0.5 s for 512 x 512 pixels) and need the heights
         in memory: a dask-backed input gets none.
     seed : int, default 0
         Root seed of the diagnostics' surrogates.

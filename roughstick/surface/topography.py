@@ -200,6 +200,18 @@ def level(
     return out
 
 
+def is_periodic(height: xr.DataArray) -> bool:
+    """Whether a map wraps around (``attrs['periodic']`` 1, as generated surfaces are)."""
+    return str(height.attrs.get("periodic", 0)).strip().lower() in ("1", "true")
+
+
+def level_unless_periodic(height: xr.DataArray) -> xr.DataArray:
+    """A measured map levelled by its least-squares plane; a periodic map (a generated surface,
+    which has no instrument tilt and whose long waves are its roughness) as it is."""
+    h = validate_height(height)
+    return h if is_periodic(h) else level(h, method="plane")
+
+
 def _refuse_constant_or_nan(h: xr.DataArray) -> None:
     """Eager inputs only: NaN pixels and constant maps raise (lazy ones are not computed)."""
     if is_lazy(h):

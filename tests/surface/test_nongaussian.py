@@ -17,7 +17,13 @@ from scipy import special, stats
 
 import roughstick as rs
 from roughstick.surface import _marginal_kernels as kernels
-from roughstick.surface.distribution import evaluate, gauss_hermite, johnson_fit, standard_moments
+from roughstick.surface.distribution import (
+    evaluate,
+    gauss_hermite,
+    johnson_fit,
+    standard_moments,
+    standardised,
+)
 from roughstick.surface.generate import _half_plane_power
 from roughstick.testing import raise_if_dask_computes
 
@@ -149,7 +155,7 @@ def test_translation_holds_psd_and_tail(skewness, kurtosis):
     # the upper tail: pooled 99th and 99.9th percentiles within 5 % of the target's
     sigma = np.sqrt(float((rs.surface.surface_filter(short_psd, shape=SHAPE, spacing=SPACING)).sum())
                     * (2 * np.pi / (SHAPE * SPACING)) ** 2)
-    expected = sigma * evaluate(kernels.standardised(d.height.values), special.ndtri([0.99, 0.999]))
+    expected = sigma * evaluate(standardised(d.height.values), special.ndtri([0.99, 0.999]))
     np.testing.assert_allclose(np.quantile(z, [0.99, 0.999]), expected, rtol=0.05)
     assert stats.skew(z.ravel()) == pytest.approx(skewness, abs=0.15)
 
@@ -183,7 +189,7 @@ def test_iaaft_gives_every_surface_the_target_quantiles():
     sigma = np.sqrt(float(rs.surface.surface_filter(short_psd, shape=64, spacing=SPACING).sum())
                     * (2 * np.pi / (64 * SPACING)) ** 2)
     n = 64 * 64
-    np.testing.assert_allclose(sorted_target, sigma * evaluate(kernels.standardised(d.height.values),
+    np.testing.assert_allclose(sorted_target, sigma * evaluate(standardised(d.height.values),
                                                                 special.ndtri((np.arange(n) + 0.5) / n)))
     gauss = rs.surface.generate_surfaces(short_psd, **kw).values
     np.testing.assert_allclose(_bands(_periodogram(z), shape=64, n_bands=5)
