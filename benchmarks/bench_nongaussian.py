@@ -4,6 +4,7 @@ run by pytest).
     python benchmarks/bench_nongaussian.py               # everything (a few minutes)
     python benchmarks/bench_nongaussian.py --quick       # 8 surfaces per target, no headline
     python benchmarks/bench_nongaussian.py --no-headline
+    python benchmarks/bench_nongaussian.py --only ST_di-3 --n 64    # one target, more surfaces
 
 The real AFM maps are read from $ROUGHSTICK_AFM_DIR, else from ../shared/afm beside the project;
 absent files are skipped with a message.
@@ -270,6 +271,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--no-headline", action="store_true")
+    ap.add_argument("--only", default=None, help="part 1 only, for the targets whose name holds this")
     ap.add_argument("--n", type=int, default=None, help="surfaces per AFM target, twice that per "
                     "synthetic one (default 16; quick 8)")
     args = ap.parse_args()
@@ -279,10 +281,14 @@ def main():
           f"{len(found)} of {len(AFM_FILES)} found")
     t0 = time.perf_counter()
     for target in targets():
+        if args.only and args.only not in target[0]:
+            continue
         # the synthetic 256 x 256 targets are cheap: twice the surfaces
-        measure(*target, n if target[2][0] > 256 or target[0].startswith("ST_") else 2 * n)
+        measure(*target, n if target[0].startswith("ST_") or args.only else 2 * n)
     verdict()
     print(f"(part 1: {time.perf_counter() - t0:.0f} s)")
+    if args.only:
+        return
     coverage(40 if args.quick else 100)
     if not (args.quick or args.no_headline):
         headline(16)

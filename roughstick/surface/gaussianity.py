@@ -229,8 +229,10 @@ def is_gaussian(height: xr.DataArray, *, confidence: float = 0.95, n: int = 50) 
     True
     """
     maps = height if isinstance(height, (list, tuple)) else [height]
+    # the key: each map in single precision (a map levelled once more, its plane ~1e-25 m,
+    # is the same map), its shape and pixel
     key = (confidence, n, *(
-        (hashlib.sha1(np.ascontiguousarray(np.asarray(m.values, dtype=float))).hexdigest(), m.shape,
+        (hashlib.sha1(np.ascontiguousarray(np.asarray(m.values, dtype=np.float32))).hexdigest(), m.shape,
          tuple(float(m[d][1] - m[d][0]) if m.sizes[d] > 1 else 0.0 for d in ("y", "x"))) for m in maps))
     if key not in _VERDICTS:  # the same maps asked twice (a command, then the ensemble it runs)
         _VERDICTS[key] = bool(height_diagnostics(height, pooled=True, confidence=confidence, n=n).gaussian)

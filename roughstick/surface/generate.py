@@ -566,9 +566,10 @@ def generate_surfaces(
         :math:`z = \sigma T(g)` of a Gaussian surface :math:`g` whose spectrum is pre-corrected so
         that :math:`z` has the PSD (the distribution exact in law; one Gaussian surface and a table
         look-up each); ``"iaaft"``, alternating Fourier-amplitude and rank remaps of the Gaussian
-        surface (every surface has exactly the distribution's quantiles; about ten times the
-        cost). Either way realization ``k`` starts from the Gaussian surface ``k``, so the
-        results are as reproducible and chunk-independent as the Gaussian ones.
+        surface (every surface has exactly the distribution's quantiles, so the same tallest
+        point; an order of magnitude dearer, and it whitens a PSD with a cutoff). Either way
+        realization ``k`` starts from the Gaussian surface ``k``, so the results are as
+        reproducible and chunk-independent as the Gaussian ones.
 
     Returns
     -------
