@@ -43,7 +43,7 @@ CACHE = pathlib.Path(os.environ.get("ROUGHSTICK_BEM_CACHE", ROOT / "benchmarks" 
 RESULTS = pathlib.Path(os.environ.get("ROUGHSTICK_VALIDITY_RESULTS",
                                      ROOT / "benchmarks" / "validity_results"))
 FAMILY_LIST = ("S1", "S2", "table4", "smooth", "rough")
-MODULI = (rs.reduced_modulus(), 10e9)
+MODULI = (rs.materials.reduced_modulus(), 10e9)
 RHS = (0.3, 0.5, 0.7, 0.9)
 SPACING = 5e-9
 TOL = 1e-6
@@ -53,7 +53,7 @@ QUANT = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
 
 
 def _validity_module():
-    from roughstick.contact import validity
+    from roughstick.contact.trust import validity
 
     return validity
 
@@ -89,7 +89,7 @@ def jobs(blocks="abcde"):
 
 
 def material_for(E):
-    if np.isclose(E, rs.reduced_modulus(), rtol=1e-9):
+    if np.isclose(E, rs.materials.reduced_modulus(), rtol=1e-9):
         return rs.POLYSILICON
     nu = rs.POLYSILICON.poisson_ratio
     return rs.Material(youngs_modulus=2 * (1 - nu**2) * E, poisson_ratio=nu,
@@ -147,7 +147,7 @@ def run_bem(job, *, verbose=True):
     h = surface(job)
     z = h.values
     E, rh = job["reduced_modulus"], job["rh"]
-    hw = float(rs.water_height(rh))
+    hw = float(rs.contact.water_height(rh))
     for extend in range(4):
         d = reference_grid(z, hw, E, extend)
         key = cache_key(z, SPACING, rh, E, d)
@@ -169,8 +169,8 @@ def run_bem(job, *, verbose=True):
                     return run_bem(job, verbose=verbose)
             fft0 = ifft_seconds()
             t0, c0 = time.perf_counter(), time.process_time()
-            ds = rs.bem_contact_curves(h, relative_humidity=rh, distance=d,
-                                       material=material_for(E), tolerance=TOL)
+            ds = rs.contact.bem_curves(h, relative_humidity=rh, distance=d,
+                                       material=material_for(E), solver_tolerance=TOL)
             wall, cpu = time.perf_counter() - t0, time.process_time() - c0
             meta = dict(family=job["family"], seed=job["seed"], map_index=job["map_index"],
                         pixels=job["shape"], spacing=SPACING, rh=rh, reduced_modulus=E,
@@ -183,7 +183,7 @@ def run_bem(job, *, verbose=True):
             if verbose:
                 print(f"BEM {job['family']:7s} E*={E / 1e9:5.1f} RH={rh} seed={job['seed']} "
                       f"{job['shape']}²: {wall:.0f} s wall, {cpu:.0f} s cpu", flush=True)
-        s = rs.adhesion_summary(ds[["pressure", "wet_fraction"]])
+        s = rs.contact.summary(ds[["pressure", "wet_fraction"]])
         if np.isfinite(float(s.equilibrium_distance)) or d[0] <= z.mean() + 0.25 * z.std() + 1e-15:
             return path
     return path
@@ -198,7 +198,7 @@ def summ(p, d, wet=None, contact=None):
                      "wet_fraction": (("distance",), np.zeros(len(d)) if wet is None
                                       else np.asarray(wet, dtype=float))},
                     coords={"distance": np.asarray(d, dtype=float)})
-    s = rs.adhesion_summary(ds)
+    s = rs.contact.summary(ds)
     out = {q: float(s[q]) for q in QUANT}
     if contact is not None and np.isfinite(out["equilibrium_distance"]):
         out["contact_at_eq"] = float(np.interp(out["equilibrium_distance"], d, contact))
@@ -208,7 +208,7 @@ def summ(p, d, wet=None, contact=None):
 
 
 def groups(h, rh, E):
-    g = rs.surface_groups(h, relative_humidity=rh, material=material_for(E))
+    g = rs.contact.surface_groups(h, relative_humidity=rh, material=material_for(E))
     return {k: float(g[k]) for k in g.data_vars}
 
 
@@ -228,11 +228,11 @@ def model_rows(h, rh, E, d, ref, base, *, reference, defaults=True):
     mat = material_for(E)
     kw = dict(relative_humidity=rh, material=mat)
     runs = [
-        ("modified_dmt", lambda: rs.rough_contact_curves(h, distance=d, model="modified_dmt", **kw)),
-        ("gw", lambda: rs.rough_contact_curves(h, distance=d, model="gw", **kw)),
-        ("fft_bem", lambda: rs.fft_bem_contact_curves(h, distance=d, **kw)),
-        ("modified_dmt_default", lambda: rs.rough_contact_curves(h, model="modified_dmt", **kw)),
-        ("fft_bem_default", lambda: rs.fft_bem_contact_curves(h, **kw)),
+        ("modified_dmt", lambda: rs.contact.curves(h, distance=d, model="modified_dmt", **kw)),
+        ("gw", lambda: rs.contact.curves(h, distance=d, model="gw", **kw)),
+        ("fft_bem", lambda: rs.contact.fft_bem_curves(h, distance=d, **kw)),
+        ("modified_dmt_default", lambda: rs.contact.curves(h, model="modified_dmt", **kw)),
+        ("fft_bem_default", lambda: rs.contact.fft_bem_curves(h, **kw)),
     ]
     if not defaults:
         runs = [r for r in runs if not r[0].endswith("_default")]
@@ -357,8 +357,8 @@ def cmd_auto(args):
                     map_index=m["map_index"], pixels=m["pixels"], reduced_modulus=E, rh=rh,
                     bem_dropped=int((~ok).sum()), **groups(h, rh, E))
         c0 = time.process_time()
-        s, sec, c = _run(lambda h=h, rh=rh, d=d, E=E: rs.rough_contact_curves(
-            h, relative_humidity=rh, distance=d, model="auto", tolerance=0.1,
+        s, sec, c = _run(lambda h=h, rh=rh, d=d, E=E: rs.contact.curves(
+            h, relative_humidity=rh, distance=d, model="auto", accuracy=0.1,
             material=material_for(E)))
         row = dict(base, method="auto", reference="bem", seconds=sec,
                    cpu_seconds=time.process_time() - c0, chosen=c.attrs["contact_model"], **s)
@@ -385,12 +385,12 @@ def cmd_extend(args):
                         continue
                     h = surface(dict(family=fam, seed=seed_of(fam, k), shape=256))
                     z = h.values
-                    hw = float(rs.water_height(rh))
+                    hw = float(rs.contact.water_height(rh))
                     for extend in range(4):
                         d = reference_grid(z, hw, E, extend)
                         t0 = time.perf_counter()
-                        o = rs.fft_bem_contact_curves(h, relative_humidity=rh, distance=d,
-                                                      material=material_for(E), tolerance=1e-4)
+                        o = rs.contact.fft_bem_curves(h, relative_humidity=rh, distance=d,
+                                                      material=material_for(E), solver_tolerance=1e-4)
                         sec = time.perf_counter() - t0
                         ref = summ(o.pressure.values, d, o.wet_fraction.values,
                                    o.contact_fraction.values)
@@ -403,8 +403,8 @@ def cmd_extend(args):
                     if k <= args.fine_maps:
                         dx4 = np.concatenate([np.linspace(a, b, 5)[:-1]
                                               for a, b in zip(d[:-1], d[1:])] + [d[-1:]])
-                        o4 = rs.fft_bem_contact_curves(h, relative_humidity=rh, distance=dx4,
-                                                       material=material_for(E), tolerance=1e-4)
+                        o4 = rs.contact.fft_bem_curves(h, relative_humidity=rh, distance=dx4,
+                                                       material=material_for(E), solver_tolerance=1e-4)
                         ref4 = summ(o4.pressure.values, dx4)
                     base = dict(family=fam, seed=seed_of(fam, k), map_index=k, pixels=256,
                                 reduced_modulus=float(E), rh=float(rh), **groups(h, rh, E),
@@ -436,8 +436,8 @@ def cmd_timing(args):
     done = done_keys(out, ["family", "pixels", "reduced_modulus", "rh"])
     rh = 0.7
     warm = surface(dict(family="S2", seed=1, shape=32))
-    rs.rough_contact_curves(warm, relative_humidity=0.5)
-    rs.fft_bem_contact_curves(warm, relative_humidity=0.5)
+    rs.contact.curves(warm, relative_humidity=0.5)
+    rs.contact.fft_bem_curves(warm, relative_humidity=0.5)
     for fam, n, e in TIMING_CASES:
         if n not in args.pixels:
             continue
@@ -448,10 +448,10 @@ def cmd_timing(args):
         mat = material_for(E)
         kw = dict(relative_humidity=rh, material=mat)
         calls = [
-            ("modified_dmt", lambda h=h, kw=kw: rs.rough_contact_curves(h, model="modified_dmt",
+            ("modified_dmt", lambda h=h, kw=kw: rs.contact.curves(h, model="modified_dmt",
                                                                         **kw)),
-            ("fft_bem", lambda h=h, kw=kw: rs.fft_bem_contact_curves(h, **kw)),
-            ("auto", lambda h=h, kw=kw: rs.rough_contact_curves(h, model="auto", tolerance=0.1,
+            ("fft_bem", lambda h=h, kw=kw: rs.contact.fft_bem_curves(h, **kw)),
+            ("auto", lambda h=h, kw=kw: rs.contact.curves(h, model="auto", accuracy=0.1,
                                                                 **kw)),
         ]
         fft = ifft_seconds()
@@ -466,7 +466,7 @@ def cmd_timing(args):
                 b = best.get(name, (np.inf, np.inf, ""))
                 best[name] = (min(b[0], w), min(b[1], cp), c.attrs.get("contact_model", ""))
         t0, c0 = time.perf_counter(), time.process_time()
-        rs.bem_contact_curves(h, **kw)
+        rs.contact.bem_curves(h, **kw)
         bem = (time.perf_counter() - t0, time.process_time() - c0)
         fft = min(fft, ifft_seconds())
         rows = [dict(family=fam, pixels=n, reduced_modulus=float(E), rh=rh, method="bem",
@@ -487,7 +487,7 @@ def cmd_timing(args):
 
 
 def cmd_resolution(args):
-    """BEM at 5 and 10 nm pixels (block averages) against rs.resolution_study (fft_bem)."""
+    """BEM at 5 and 10 nm pixels (block averages) against rs.contact.resolution_study (fft_bem)."""
     out = RESULTS / "resolution.csv"
     done = done_keys(out, ["family", "rh"])
     for fam in FAMILY_LIST:
@@ -502,13 +502,13 @@ def cmd_resolution(args):
             ok = ~(ds5.solver_residual.values > 10 * TOL)
             b5 = summ(ds5.pressure.values[ok], ds5.distance.values[ok])
             h = surface(job)
-            hc = rs.resample_pixels(h, 2)
-            d = reference_grid(hc.values, float(rs.water_height(rh)), E)
+            hc = rs.contact.resample_pixels(h, 2)
+            d = reference_grid(hc.values, float(rs.contact.water_height(rh)), E)
             key = cache_key(hc.values, 2 * SPACING, rh, E, d)
             path = CACHE / f"{key}.json"
             if not path.exists():
                 t0, c0 = time.perf_counter(), time.process_time()
-                ds = rs.bem_contact_curves(hc, relative_humidity=rh, distance=d, tolerance=TOL)
+                ds = rs.contact.bem_curves(hc, relative_humidity=rh, distance=d, solver_tolerance=TOL)
                 save_curve(path, ds, dict(family=fam, seed=job["seed"], map_index=1, pixels=128,
                                           spacing=2 * SPACING, rh=rh, reduced_modulus=E,
                                           grid_extend=0, cache_key=key,
@@ -523,7 +523,7 @@ def cmd_resolution(args):
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 t0 = time.process_time()
-                r = rs.resolution_study(h, relative_humidity=rh, factors=(0.5, 1, 2),
+                r = rs.contact.resolution_study(h, relative_humidity=rh, factors=(0.5, 1, 2),
                                         model="fft_bem")
                 sec = time.process_time() - t0
             row = dict(family=fam, rh=rh, reduced_modulus=E, cpu_seconds=sec)
@@ -748,7 +748,7 @@ def paper_default_warnings():
             warnings.simplefilter("always")
             v.warn_if_outside_validity(h, relative_humidity=[0.3, 0.5, 0.6, 0.7, 0.8, 0.9])
         hits = [w for w in rec if issubclass(w.category, v.ValidityWarning)]
-        g = rs.surface_groups(h, relative_humidity=[0.3, 0.5, 0.6, 0.7, 0.8, 0.9])
+        g = rs.contact.surface_groups(h, relative_humidity=[0.3, 0.5, 0.6, 0.7, 0.8, 0.9])
         worst = []
         for r in g.rh.values:
             gr = {f: float(g[f].sel(rh=r)) for f in v.GROUP_FEATURES}

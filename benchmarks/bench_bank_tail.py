@@ -76,9 +76,9 @@ def one_family(psd, args):
         ratios = []
         for k, (r, law) in enumerate(zip(ranks, laws)):
             t1 = time.perf_counter()
-            c = rs.rough_contact_curves(surf.isel(realization=k), relative_humidity=[float(rh)],
+            c = rs.contact.curves(surf.isel(realization=k), relative_humidity=[float(rh)],
                                         model="fft_bem", check_validity=False)
-            b = float(rs.adhesion_summary(c)["adhesive_energy"].squeeze())
+            b = float(rs.contact.summary(c)["adhesive_energy"].squeeze())
             t_bem += time.perf_counter() - t1
             n_bem += 1
             ratios.append(b / g[law])

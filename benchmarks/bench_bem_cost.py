@@ -34,10 +34,10 @@ def main():
                     warnings.simplefilter("ignore")
                     t0 = time.perf_counter()
                     if model == "bem":
-                        ds = rs.bem_contact_curves(h, relative_humidity=0.5, n_distances=8)
+                        ds = rs.contact.bem_curves(h, relative_humidity=0.5, n_distance=8)
                         solves = int(ds.attrs["bem_solves"])
                     else:
-                        ds = rs.fft_bem_contact_curves(h, relative_humidity=0.5)
+                        ds = rs.contact.fft_bem_curves(h, relative_humidity=0.5)
                         solves = int(ds.attrs["states"])
                     dt = time.perf_counter() - t0
                 t_fft = min(t_fft, fft_pair_seconds((n, n), repeats=5))

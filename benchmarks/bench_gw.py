@@ -52,7 +52,7 @@ def timed(fn, repeat=3):
 def speed_vs_error(ds, label, cutoff):
     d = np.linspace(-2, 30, 200) * NM
     print(f"\n## {label}, height_cutoff={cutoff}: 6 RH x 200 distances, modified DMT per summit")
-    ref = rs.gw_contact_curves(ds, relative_humidity=RH6, distance=d, height_cutoff=cutoff,
+    ref = rs.contact.gw_curves(ds, relative_humidity=RH6, distance=d, height_cutoff=cutoff,
                                n_height=256, n_curvature=192)
     g_ref = gamma(ref.pressure)
     ok = g_ref > 1e-9  # J m-2: humidities where GW predicts any stiction at all
@@ -61,7 +61,7 @@ def speed_vs_error(ds, label, cutoff):
     print(f"{'n_height':>8} {'n_curv':>7} {'time [s]':>9} {'max rel err Gamma':>18} "
           f"{'max |dp|/max|p|':>16}")
     for nh, nk in [(8, 6), (12, 8), (16, 12), (24, 16), (32, 24), (48, 32), (64, 48)]:
-        t, c = timed(lambda nh=nh, nk=nk: rs.gw_contact_curves(
+        t, c = timed(lambda nh=nh, nk=nk: rs.contact.gw_curves(
             ds, relative_humidity=RH6, distance=d, height_cutoff=cutoff, n_height=nh, n_curvature=nk))
         eg = np.max(np.abs(gamma(c.pressure)[ok] / g_ref[ok] - 1))
         ep = np.max(np.abs(c.pressure.values - ref.pressure.values) / scale)
@@ -74,13 +74,13 @@ def models_table():
     print("\n## summit models, S1, cutoff 2.5 sqrt(m0), 6 RH x 200 distances: direct kernel vs table")
     print(f"{'model':>13} {'force_table':>11} {'time [s]':>9} {'max rel err Gamma vs direct':>28}")
     for model in ("modified_dmt", "dmt", "maugis"):
-        t0, direct = timed(lambda model=model: rs.gw_contact_curves(
+        t0, direct = timed(lambda model=model: rs.contact.gw_curves(
             S1, relative_humidity=RH6, distance=d, height_cutoff=2.5, sphere_model=model,
             force_table=0), repeat=1)
         g0 = gamma(direct.pressure)
         print(f"{model:>13} {'0 (direct)':>11} {t0:9.3f} {'-':>28}")
         for tab in (64, 256):
-            t, c = timed(lambda model=model, tab=tab: rs.gw_contact_curves(
+            t, c = timed(lambda model=model, tab=tab: rs.contact.gw_curves(
                 S1, relative_humidity=RH6, distance=d, height_cutoff=2.5, sphere_model=model,
                 force_table=tab), repeat=1)
             print(f"{model:>13} {tab:11d} {t:9.3f} {np.max(np.abs(gamma(c.pressure) / g0 - 1)):28.2e}"
@@ -92,7 +92,7 @@ def distance_step_table():
     print(f"{'step [nm]':>9} {'time [s]':>9}  " + " ".join(f"{'RH ' + str(int(r * 100)):>10}" for r in RH6))
     for step in (0.4, 0.2, 0.1, 0.05, 0.025):
         d = np.arange(-2, 40 + step / 2, step) * NM
-        t, c = timed(lambda d=d: rs.gw_contact_curves(S1, relative_humidity=RH6, distance=d,
+        t, c = timed(lambda d=d: rs.contact.gw_curves(S1, relative_humidity=RH6, distance=d,
                                                       height_cutoff=2.5), repeat=1)
         print(f"{step:9.3f} {t:9.3f}  " + " ".join(f"{g * 1e3:10.5f}" for g in gamma(c.pressure)))
 
@@ -101,7 +101,7 @@ def paper_tables():
     d = np.arange(-5, 45.0001, 0.02) * NM
     print("\n## Fig. 9: Gamma (mJ m-2) vs height cutoff h_max/sqrt(m0), S1, d step 0.02 nm")
     cuts = [2.0, 2.5, 3.0, 3.5, 4.0, 4.5, 5.0, 5.5, 6.0, 6.5, 7.0, None]
-    st = rs.gw_cutoff_study(S1, relative_humidity=[0.3, 0.9], distance=d, height_cutoffs=cuts)
+    st = rs.contact.gw_cutoff_study(S1, relative_humidity=[0.3, 0.9], distance=d, height_cutoffs=cuts)
     g = gamma(st.pressure)
     pmin = st.pressure.min("distance").values / 1e6
     print(f"{'h_max':>8} {'Gamma RH30':>12} {'Gamma RH90':>12} {'p_min RH30 [MPa]':>17} {'p_min RH90':>11}")
@@ -111,7 +111,7 @@ def paper_tables():
     print("\n## Gamma (mJ m-2), max tension (MPa) and max wet fraction vs RH, d step 0.02 nm")
     for name, ds in (("S1", S1), ("S2", S2)):
         for cut in (None, 2.5):
-            c = rs.gw_contact_curves(ds, relative_humidity=RH6, distance=d, height_cutoff=cut)
+            c = rs.contact.gw_curves(ds, relative_humidity=RH6, distance=d, height_cutoff=cut)
             g = gamma(c.pressure) * 1e3
             pm = -c.pressure.min("distance").values / 1e6
             wf = c.wet_fraction.max("distance").values
@@ -120,7 +120,7 @@ def paper_tables():
             print(f"{'':>18}  -pmin " + " ".join(f"{x:10.4g}" for x in pm))
             print(f"{'':>18}  wetmx " + " ".join(f"{x:10.4g}" for x in wf))
     print("   (RH columns:", ", ".join(f"{int(r * 100)} %" for r in RH6), ";",
-          "|dP| [MPa]:", ", ".join(f"{abs(float(rs.laplace_pressure(r))) / 1e6:.1f}" for r in RH6), ")")
+          "|dP| [MPa]:", ", ".join(f"{abs(float(rs.contact.laplace_pressure(r))) / 1e6:.1f}" for r in RH6), ")")
 
 
 def main():

@@ -6,7 +6,7 @@ One evaluation of ``rs.reliability.failure_probability``'s limit state (white no
 Eqs. 33-34 -> modified-DMT curve on the surface's own grid, Eq. 16 -> adhesive energy, Eq. 13) on ``--n``
 random zones of each family at 5 nm; then, on one full grid per zone (first water contact to below
 every pixel), the numpy kernels the limit state calls against the public xarray path it called
-before (``rs.rough_contact_curves`` + ``rs.adhesion_summary``) and the largest relative difference
+before (``rs.contact.curves`` + ``rs.contact.summary``) and the largest relative difference
 of their Gamma (the same kernel: 0 expected); and the FFT-BEM (``model="fft_bem"``). Times
 are also given as multiples of one 1024^2 complex iFFT timed in the same process.
 """
@@ -35,7 +35,7 @@ def main():
     warnings.filterwarnings("ignore", category=rs.ValidityWarning)
     shape = tuple(args.shape)
     unit = ifft_seconds(7)
-    hw = float(rs.water_height(args.rh).values)
+    hw = float(rs.contact.water_height(args.rh).values)
     print(f"{shape[0]}x{shape[1]} zones at 5 nm, RH {args.rh}, {args.n} zones per family; one 1024^2 iFFT "
           f"= {unit * 1e3:.1f} ms")
     print("family  limit state (default) | full grid: numpy kernels, xarray path, ratio | FFT-BEM | "
@@ -59,10 +59,10 @@ def main():
             top = float(zc.max()) + hw
             grids.append((zc, top - model.step * np.arange(int(np.ceil((top - zc.min()) / model.step)) + 2)[::-1]))
         t0 = time.perf_counter()
-        g_k = [float(rs.adhesion_summary_kernel(*model._curves(zc, d, True), d)[0]) for zc, d in grids]
+        g_k = [float(rs.contact.adhesion.summary_kernel(*model._curves(zc, d, True), d)[0]) for zc, d in grids]
         t_k = (time.perf_counter() - t0) / args.n
         t0 = time.perf_counter()
-        g_x = [float(rs.adhesion_summary(rs.rough_contact_curves(
+        g_x = [float(rs.contact.summary(rs.contact.curves(
             f.height_array(zc), relative_humidity=args.rh, distance=d, check_validity=False),
             check_grid=False).adhesive_energy) for zc, d in grids]
         t_x = (time.perf_counter() - t0) / args.n

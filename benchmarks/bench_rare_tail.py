@@ -5,7 +5,7 @@
 Crude Monte Carlo of the modified-DMT (Eq. 16) adhesive energy of Table-4 zones (128 x 128 px at
 5 nm, 50 % RH) with ``rs.reliability.failure_probability(method="monte_carlo")``, then the states above
 ``--threshold``, ranked by their Eq. 16 Gamma, re-evaluated with the FFT boundary-element model
-(``rs.fft_bem_contact_curves``): the highest 16 and a few further ranks, and 4 typical zones. Then
+(``rs.contact.fft_bem_curves``): the highest 16 and a few further ranks, and 4 typical zones. Then
 how knife-edged Eq. 16's Gamma is on those states: the relative change of Gamma under a pCN move
 of sigma = 0.01 (1 % of the white noise), three moves per state, against typical states.
 """
@@ -25,8 +25,8 @@ SPACING = 5e-9
 
 def bem_gamma(noise, psd, shape, rh):
     h = rs.reliability.surface_from_noise(noise.reshape(shape), psd, shape=shape, spacing=SPACING)
-    c = rs.fft_bem_contact_curves(h - h.mean(), relative_humidity=rh, progress=False)
-    return float(rs.adhesion_summary(c, check_grid=False).adhesive_energy)
+    c = rs.contact.fft_bem_curves(h - h.mean(), relative_humidity=rh, progress=False)
+    return float(rs.contact.summary(c, check_grid=False).adhesive_energy)
 
 
 def main():
@@ -61,7 +61,7 @@ def main():
     from roughstick.reliability._surface import NoiseToSurface, SurfaceResponse
 
     f = NoiseToSurface(psd, shape=shape, spacing=SPACING)
-    model = SurfaceResponse(f, relative_humidity=args.rh, water_height=float(rs.water_height(args.rh).values))
+    model = SurfaceResponse(f, relative_humidity=args.rh, water_height=float(rs.contact.water_height(args.rh).values))
     for w in typical:
         print(f"typical  Eq.16 {model(w) * 1e3:6.2f}  FFT-BEM {bem_gamma(w, psd, shape, args.rh) * 1e3:6.2f} mJ/m2")
     for name, states in (("highest 16 Eq. 16 states", [noise[i].reshape(shape) for i in order[:16]]),

@@ -5,7 +5,7 @@ same run (min of several repeats; CPU time of this process, so other jobs on a s
 count less). Prints:
 
 1. per surface (data_samples S1A and S2A, a Table-4 surface, the smooth and the rough self-affine
-   families; 1024^2 at 5 nm, six RH): the public default call ``rs.rough_contact_curves(h, relative_humidity=RH)``, the kernel's
+   families; 1024^2 at 5 nm, six RH): the public default call ``rs.contact.curves(h, relative_humidity=RH)``, the kernel's
    default call (automatic one-pass grid) and the same levels as an explicit grid, the number of levels and of sphere fits, and the contact fraction
    at the lowest level;
 2. accuracy of the automatic grid: Gamma (Eq. 13), pull-off and d_eq against the same grid with
@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import pathlib
+import sys
 import time
 import warnings
 
@@ -32,10 +33,12 @@ import numpy as np
 import xarray as xr
 
 import roughstick as rs
-from roughstick.contact import _rough_kernels as rk
-from roughstick.contact._rough_fit import fit_footprint
-from roughstick.contact._rough_reference import fit_asperity, footprints, reference_curves
-from roughstick.contact.adhesion import adhesion_summary_kernel as _summary_kernel
+from roughstick.contact.adhesion import summary_kernel as _summary_kernel
+from roughstick.contact.modified_dmt import _controller as rk
+from roughstick.contact.modified_dmt._fit import fit_footprint
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "tests" / "contact" / "modified_dmt"))
+from eq21_reference import fit_asperity, footprints, reference_curves  # noqa: E402  (a test oracle)
 
 DATA = pathlib.Path(__file__).resolve().parents[1] / "data_samples"
 
@@ -48,7 +51,7 @@ def family_surface(name, *, shape, seed):
         a = xr.open_dataset(DATA / f"{name}A.nc").attrs
         p = dict(s0=a["psd_s0"], s1=a["psd_s1"], q0=a["psd_q0"], qmax=a["psd_qmax"])
     elif name == "table4":
-        c = rs.cantilever_psd()
+        c = rs.stiction.cantilever_psd()
         p = dict(s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
     else:
         rms, hurst, q0, qmax = (2e-9, 0.8, 2e7, 289e6) if name == "smooth" else (8e-9, 0.5, 5e7, 289e6)
@@ -60,9 +63,9 @@ def family_surface(name, *, shape, seed):
     return ens.isel(realization=0).compute()
 
 RH = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
-HW = rs.water_height(RH).values
-DP = rs.laplace_pressure(RH).values
-K = rs.hertz_modulus()
+HW = rs.contact.water_height(RH).values
+DP = rs.contact.laplace_pressure(RH).values
+K = rs.materials.hertz_modulus()
 SPEC = np.fft.fft2(np.random.default_rng(0).standard_normal((1024, 1024)))
 
 
@@ -172,7 +175,7 @@ def main(quick=False):
         z = h.values
         t, f, (d, o) = ratio(lambda: rk.curves(z, HW, DP, **kw(h)), reps)
         te, fe, _ = ratio(lambda: rk.curves(z, HW, DP, distance=d, **kw(h)), reps)
-        tp, fp, _ = ratio(lambda: rs.rough_contact_curves(h, relative_humidity=RH), reps)
+        tp, fp, _ = ratio(lambda: rs.contact.curves(h, relative_humidity=RH), reps)
         g, pull, deq, _, _ = _summary_kernel(o[0], o[2], d)
         d4 = refine4(d)
         _, o4 = rk.curves(z, HW, DP, distance=d4, **kw(h))

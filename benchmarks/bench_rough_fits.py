@@ -3,8 +3,8 @@
 Where asperities are steep and a few pixels wide, many cut by the edge of a measured map, the cost
 of Eq. 21 has several local minima and two optimisers from the same starts can end in different
 ones. Per asperity (the reference's footprints, every one of 3 pixels or more) this compares the
-Eq. 23 residual E of the fast fit (:func:`roughstick.contact._rough_fit.fit_footprint`) with the
-reference's (:func:`roughstick.contact._rough_reference.fit_asperity`, scipy least_squares):
+Eq. 23 residual E of the fast fit (:func:`roughstick.contact.modified_dmt._fit.fit_footprint`) with the
+reference's (``fit_asperity`` of tests/contact/modified_dmt/eq21_reference.py, scipy least_squares):
 'worse' counts the asperities where the fast E exceeds the reference's by more than
 1e-9 E + 1e-9 a_f (the tolerance of tests/contact/test_rough_reference.py), 'better' the converse.
 
@@ -19,14 +19,18 @@ The five surface families are in bench_rough_contact.py (part 3) and in the slow
 from __future__ import annotations
 
 import math
+import pathlib
+import sys
 import warnings
 
 import numpy as np
 from scipy import ndimage
 
-from roughstick.contact._rough_fit import fit_footprint
-from roughstick.contact._rough_kernels import prepare_heights
-from roughstick.contact._rough_reference import fit_asperity, footprints
+from roughstick.contact.modified_dmt._controller import prepare_heights
+from roughstick.contact.modified_dmt._fit import fit_footprint
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "tests" / "contact" / "modified_dmt"))
+from eq21_reference import fit_asperity, footprints  # noqa: E402  (a test oracle)
 
 DX = 5e-9
 FIT_RTOL, FIT_ATOL = 1e-9, 1e-9

@@ -25,15 +25,15 @@ RH = [0.3, 0.7, 0.9]
 
 def gamma(h, **kw):
     t0 = time.perf_counter()
-    c = rs.rough_contact_curves(h, relative_humidity=RH, **kw)
-    g = rs.adhesion_summary(c).adhesive_energy.values
+    c = rs.contact.curves(h, relative_humidity=RH, **kw)
+    g = rs.contact.summary(c).adhesive_energy.values
     return g, time.perf_counter() - t0, c.distance.size
 
 
 def main():
     h = xr.open_dataset(rs.datasets.sample_path("S1A")).height.isel(x=slice(0, 512), y=slice(0, 512)).load()
-    rs.rough_contact_curves(h, relative_humidity=0.5, distance=[0.0])  # compile
-    d = rs.contact_distance_grid(h, relative_humidity=RH, n=200).values
+    rs.contact.curves(h, relative_humidity=0.5, distance=[0.0])  # compile
+    d = rs.contact.contact_distance_grid(h, relative_humidity=RH, n=200).values
     lo, hi = d.min(), d.max()
     ref, tref, _ = gamma(h, distance=np.linspace(lo, hi, 3200))
     print("Gamma [mJ/m2] reference (3200 uniform points):", np.round(ref * 1e3, 5), f"({tref:.2f} s)")

@@ -22,7 +22,7 @@ import numpy as np
 from _yardstick import best_of, ifft_seconds
 
 import roughstick as rs
-from roughstick.contact import _fft_bem_kernels
+from roughstick.contact.fft_bem import _kernels as _fft_bem_kernels
 
 HUMIDITIES = [1e-4, 1e-3, 0.05, 0.5, 0.9]
 FAMILIES = ["S1", "S2", "table4", "smooth"]
@@ -31,18 +31,18 @@ FAMILIES = ["S1", "S2", "table4", "smooth"]
 def default_call(h, halvings):
     """Curves, summary and best time of 2 of the default call with ``halvings`` confirmations."""
     _fft_bem_kernels.BREAK_HALVINGS = halvings
-    curves, best = best_of(lambda: rs.rough_contact_curves(h, relative_humidity=HUMIDITIES,
+    curves, best = best_of(lambda: rs.contact.curves(h, relative_humidity=HUMIDITIES,
                                                            model="fft_bem"))
-    return curves, rs.adhesion_summary(curves), best
+    return curves, rs.contact.summary(curves), best
 
 
 def fine_gamma(h, curves, i, rh):
     """Γ of the retraction along a fine uniform grid spanning humidity i's automatic grid."""
     d = curves.distance.values[curves.solved.values[i] > 0]
-    zmax, hw = float(h.max()), float(rs.water_height(rh))
+    zmax, hw = float(h.max()), float(rs.contact.water_height(rh))
     fine = np.linspace(d[0], zmax + max(6 * hw, 1.5 * (d[-1] - zmax)), 1600)
-    ref = rs.fft_bem_contact_curves(h, relative_humidity=rh, distance=fine)
-    return float(rs.adhesion_summary(ref).adhesive_energy)
+    ref = rs.contact.fft_bem_curves(h, relative_humidity=rh, distance=fine)
+    return float(rs.contact.summary(ref).adhesive_energy)
 
 
 def main(size=64, seed=0):

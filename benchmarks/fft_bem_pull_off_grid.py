@@ -20,7 +20,7 @@ import numpy as np
 from _yardstick import best_of, ifft_seconds
 
 import roughstick as rs
-from roughstick.contact import _fft_bem_kernels
+from roughstick.contact.fft_bem import _kernels as _fft_bem_kernels
 
 HUMIDITIES = [1e-4, 1e-3, 1e-2, 0.1, 0.5]
 FAMILIES = ["S1", "S2", "table4", "smooth"]
@@ -28,9 +28,9 @@ FAMILIES = ["S1", "S2", "table4", "smooth"]
 
 def default_call(h, extra):
     _fft_bem_kernels.EXTRA_PULL_OFF_ROUNDS = extra
-    curves, best = best_of(lambda: rs.rough_contact_curves(h, relative_humidity=HUMIDITIES,
+    curves, best = best_of(lambda: rs.contact.curves(h, relative_humidity=HUMIDITIES,
                                                            model="fft_bem"))
-    return curves, rs.adhesion_summary(curves), best
+    return curves, rs.contact.summary(curves), best
 
 
 def dense_pull_off(h, curves, i, rh):
@@ -39,8 +39,8 @@ def dense_pull_off(h, curves, i, rh):
     d, p = curves.distance.values[solved], curves.pressure.values[i][solved]
     j = int(np.argmin(p))
     local = np.linspace(d[max(j - 2, 0)], d[min(j + 2, d.size - 1)], 200)
-    ref = rs.fft_bem_contact_curves(h, relative_humidity=rh, distance=np.union1d(d, local))
-    return float(rs.adhesion_summary(ref).pull_off_pressure)
+    ref = rs.contact.fft_bem_curves(h, relative_humidity=rh, distance=np.union1d(d, local))
+    return float(rs.contact.summary(ref).pull_off_pressure)
 
 
 def main(size=64, seed=2):

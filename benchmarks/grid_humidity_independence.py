@@ -24,7 +24,7 @@ HUMIDITIES = [0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.65, 0.66, 0.7, 0.8, 0.9, 0.9
 
 
 def gamma(curves):
-    return rs.adhesion_summary(curves).adhesive_energy.values
+    return rs.contact.summary(curves).adhesive_energy.values
 
 
 def main(families, n):
@@ -34,11 +34,11 @@ def main(families, n):
             h = rs.datasets.surface_family(fam, shape=(n, n), seed=seed)
             worst = 0.0
             for r in HUMIDITIES:
-                alone = gamma(rs.rough_contact_curves(h, relative_humidity=[r], check_validity=False))[0]
+                alone = gamma(rs.contact.curves(h, relative_humidity=[r], check_validity=False))[0]
                 vals = [alone]
                 for s in SETS:
                     ss = sorted(set(s) | {r})
-                    c = rs.rough_contact_curves(h, relative_humidity=ss, check_validity=False)
+                    c = rs.contact.curves(h, relative_humidity=ss, check_validity=False)
                     vals.append(gamma(c)[ss.index(r)])
                 spread = max(vals) / min(vals) - 1
                 worst = max(worst, spread)
@@ -47,7 +47,7 @@ def main(families, n):
 
 
 def cost():
-    from roughstick.contact import rough
+    from roughstick.contact.modified_dmt import _grid as rough
 
     warnings.simplefilter("ignore")
     rh = [0.3, 0.5, 0.6, 0.7, 0.8, 0.9]
@@ -55,14 +55,14 @@ def cost():
     spec = rng.normal(size=(1024, 1024)) + 1j * rng.normal(size=(1024, 1024))
     for name in ("S1A", "S2A"):
         h = rs.io.read_afm(f"data_samples/{name}.nc").load()
-        rs.rough_contact_curves(h.isel(x=slice(0, 64), y=slice(0, 64)), relative_humidity=rh,
+        rs.contact.curves(h.isel(x=slice(0, 64), y=slice(0, 64)), relative_humidity=rh,
                                 check_validity=False)  # compile
         times, points, ffts = {0: [], rough._MAX_ROUNDS: []}, {}, []
         for _ in range(5):
             for rounds in list(times):
                 saved, rough._MAX_ROUNDS = rough._MAX_ROUNDS, rounds
                 t = time.perf_counter()
-                c = rs.rough_contact_curves(h, relative_humidity=rh, check_validity=False)
+                c = rs.contact.curves(h, relative_humidity=rh, check_validity=False)
                 times[rounds].append(time.perf_counter() - t)
                 rough._MAX_ROUNDS = saved
                 points[rounds] = c.sizes["distance"]

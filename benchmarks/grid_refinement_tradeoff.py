@@ -18,25 +18,25 @@ import numpy as np
 from grid_humidity_independence import SETS
 
 import roughstick as rs
-from roughstick.contact import rough
+from roughstick.contact.modified_dmt import _grid as rough
 
 HUMIDITIES = [0.1, 0.3, 0.5, 0.66, 0.7, 0.9]
 
 
 def gamma(h, rh, **kw):
-    return rs.adhesion_summary(rs.rough_contact_curves(h, relative_humidity=rh, check_validity=False,
+    return rs.contact.summary(rs.contact.curves(h, relative_humidity=rh, check_validity=False,
                                                        **kw)).adhesive_energy.values
 
 
 def main(n, mode):
     warnings.simplefilter("ignore")
     if mode == "off":
-        rough._refine_gamma = lambda z, d, out, mem, hw, dp, kw: (d, out)
+        rough.refine_gamma = lambda z, d, out, mem, hw, dp, kw: (d, out)
     for fam in rs.datasets.FAMILIES:
         h = rs.datasets.surface_family(fam, shape=(n, n), seed=1)
         spread = error = 0.0
         for r in HUMIDITIES:
-            grid = rs.rough_contact_curves(h, relative_humidity=[r], check_validity=False).distance.values
+            grid = rs.contact.curves(h, relative_humidity=[r], check_validity=False).distance.values
             vals = [gamma(h, [r])[0]]
             for s in SETS:
                 ss = sorted(set(s) | {r})
@@ -47,7 +47,7 @@ def main(n, mode):
         t = []
         for _ in range(3):
             t0 = time.process_time()
-            rs.rough_contact_curves(h, relative_humidity=[0.3, 0.5, 0.6, 0.7, 0.8, 0.9])
+            rs.contact.curves(h, relative_humidity=[0.3, 0.5, 0.6, 0.7, 0.8, 0.9])
             t.append(time.process_time() - t0)
         print(f"{n} refine {mode} {fam}: spread over RH sets {spread:.2%}, alone vs 8000-pt grid "
               f"{error:.2%}, 6-RH default call {min(t) * 1e3:.0f} ms", flush=True)

@@ -23,14 +23,14 @@ def main(families, moduli, n=64):
         h = rs.datasets.surface_family(fam, shape=(n, n), seed=1)
         for E in moduli:
             m = rs.Material(youngs_modulus=E, poisson_ratio=0.3, name="x")
-            g = rs.surface_groups(h, relative_humidity=RH, material=m)
-            sm = rs.adhesion_summary(rs.rough_contact_curves(
+            g = rs.contact.surface_groups(h, relative_humidity=RH, material=m)
+            sm = rs.contact.summary(rs.contact.curves(
                 h, relative_humidity=RH, model="modified_dmt", material=m, check_validity=False))
             with warnings.catch_warnings(record=True) as w:
                 warnings.simplefilter("always")
-                cf = rs.rough_contact_curves(h, relative_humidity=RH, model="fft_bem", material=m,
+                cf = rs.contact.curves(h, relative_humidity=RH, model="fft_bem", material=m,
                                              max_iterations=3000)
-            sf = rs.adhesion_summary(cf)
+            sf = rs.contact.summary(cf)
             unconverged = any("far from convergence" in str(x.message) for x in w)
             for i, r in enumerate(RH):
                 a, b = float(sm.adhesive_energy[i]), float(sf.adhesive_energy[i])

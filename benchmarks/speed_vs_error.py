@@ -64,7 +64,7 @@ def downsample(h, factor):
 def distance_grid(h, rh, n, reduced_modulus):
     """Uniform grid from first water contact down past the equilibrium distance."""
     z = h.values
-    hw = float(rs.water_height(rh))
+    hw = float(rs.contact.water_height(rh))
     depth = (1e-9 + 0.5 * hw) * (86.6e9 / reduced_modulus) ** (2 / 3)
     bottom = max(z.max() - depth, z.mean() + 0.25 * z.std())
     return np.linspace(bottom, z.max() + hw, n)
@@ -73,7 +73,7 @@ def distance_grid(h, rh, n, reduced_modulus):
 def summary(curves):
     """Eq. 13 energy, pull-off pressure, equilibrium distance (roughstick.adhesion_summary)."""
     if "adhesion_summary" in rs.__all__:
-        s = rs.adhesion_summary(curves[["pressure", "wet_fraction"]])
+        s = rs.contact.summary(curves[["pressure", "wet_fraction"]])
         return {
             "adhesive_energy": s["adhesive_energy"].values,
             "pull_off_pressure": s["pull_off_pressure"].values,
@@ -110,7 +110,7 @@ def bem_curves(h, rh, d, material, cache, key, reuse):
     if reuse and path.exists():
         ds = xr.open_dataset(path).load()
         return ds, float(ds.attrs["wall_seconds"])
-    ds, sec = timed(rs.bem_contact_curves, h, relative_humidity=rh, distance=d, material=material)
+    ds, sec = timed(rs.contact.bem_curves, h, relative_humidity=rh, distance=d, material=material)
     ds.attrs["wall_seconds"] = sec
     cache.mkdir(parents=True, exist_ok=True)
     ds.to_netcdf(path)
@@ -118,7 +118,7 @@ def bem_curves(h, rh, d, material, cache, key, reuse):
 
 
 def material_for(reduced_modulus):
-    if np.isclose(reduced_modulus, rs.reduced_modulus(), rtol=1e-9):
+    if np.isclose(reduced_modulus, rs.materials.reduced_modulus(), rtol=1e-9):
         return rs.POLYSILICON
     nu = rs.POLYSILICON.poisson_ratio
     return rs.Material(
@@ -134,7 +134,7 @@ def rel(a, b):
 
 def compare(name, h, rh, n_dist, material, cache, reuse, *, settings=True, tag=""):
     """All methods on one (surface, RH): list of result rows."""
-    E = rs.reduced_modulus(material)
+    E = rs.materials.reduced_modulus(material)
     d = distance_grid(h, rh, n_dist, E)
     key = f"{name}_{h.sizes['x']}_{rh:.2f}_{E / 1e9:.4g}{tag}"
     bem, t_bem = bem_curves(h, rh, d, material, cache, key, reuse)
@@ -167,7 +167,7 @@ def compare(name, h, rh, n_dist, material, cache, reuse, *, settings=True, tag="
         runs.append(("modified_dmt", "10 nm pixels", downsample(h, 2), d))
     for method, setting, hh, dd in runs:
         cur, sec = timed(
-            rs.rough_contact_curves, hh, relative_humidity=rh, distance=dd, material=material
+            rs.contact.curves, hh, relative_humidity=rh, distance=dd, material=material
         )
         rows.append(
             dict(
@@ -180,7 +180,7 @@ def compare(name, h, rh, n_dist, material, cache, reuse, *, settings=True, tag="
     gw_cut = (None, 3.0, 4.0) if settings else (None,)
     for cut in gw_cut:
         cur, sec = timed(
-            rs.gw_contact_curves,
+            rs.contact.gw_curves,
             hh_moments(h),
             relative_humidity=rh,
             distance=d,
@@ -336,7 +336,7 @@ def main(argv=None):
         "--moduli",
         type=float,
         nargs="+",
-        default=[rs.reduced_modulus(), 20e9, 5e9, 1e9],
+        default=[rs.materials.reduced_modulus(), 20e9, 5e9, 1e9],
         help="contact moduli E* [Pa] of the sweep (default: poly-Si 86.58 GPa, 20, 5, 1 GPa)",
     )
     ap.add_argument("--validity-rh", type=float, nargs="+", default=[0.3, 0.7, 0.9])
@@ -362,7 +362,7 @@ def main(argv=None):
             ]
         for name, n, mat, rh in jobs:
             h = make_surface(name, n)
-            E = rs.reduced_modulus(mat)
+            E = rs.materials.reduced_modulus(mat)
             key = f"{name}_{n}_{rh:.2f}_{E / 1e9:.4g}"
             ds, sec = bem_curves(
                 h, rh, distance_grid(h, rh, args.n_distances, E), mat, cache, key, True
@@ -382,10 +382,10 @@ def main(argv=None):
 
     # warm-up: numba compilation of the modified-DMT kernels is not part of a curve's cost
     warm = make_surface("S2", 32)
-    rs.rough_contact_curves(
+    rs.contact.curves(
         warm, relative_humidity=0.5, distance=distance_grid(warm, 0.5, 4, 86.6e9)
     )
-    rs.gw_contact_curves(hh_moments(warm), relative_humidity=0.5, distance=[1e-9, 2e-9])
+    rs.contact.gw_curves(hh_moments(warm), relative_humidity=0.5, distance=[1e-9, 2e-9])
     rows = []
     for n in args.pixels:
         for name in ("S1", "S2"):

@@ -11,9 +11,9 @@ on the grid it had before (40 points from max z - max(h_water, 0.5 σ) to max z 
 on its default now (fft_bem's automatic grid), each against the fft_bem default call, with times.
 
 ``resolution``: on the same N untuned surfaces, how much fft_bem's Γ moves with the pixel
-(``rs.resolution_study(h, factors=(0.5, 1, 2))``: block averages of 2 x 2 pixels, and a
+(``rs.contact.resolution_study(h, factors=(0.5, 1, 2))``: block averages of 2 x 2 pixels, and a
 band-limited Fourier interpolation onto pixels half as large), against the wetted-neck radius in
-pixels (``neck_pixels`` of ``rs.surface_groups``) and whether ``rough_contact_curves(h,
+pixels (``neck_pixels`` of ``rs.contact.surface_groups``) and whether ``rough_contact_curves(h,
 model=MODEL)`` (default "fft_bem") warned that the pixel does not resolve the water necks; a
 summary per RH and over all maps. ``resolution families``: the same on the 64² maps
 (seed 0) of S1, S2, Table 4 and the smooth family at RH 1e-3, 0.05, 0.5 and 0.9 on poly-Si.
@@ -67,25 +67,25 @@ def call(h, rh, mat, model):
     with warnings.catch_warnings(record=True) as w:
         warnings.simplefilter("always")
         t = time.perf_counter()
-        c = rs.rough_contact_curves(h, relative_humidity=rh, model=model, material=mat)
-        g = float(rs.adhesion_summary(c).adhesive_energy)
+        c = rs.contact.curves(h, relative_humidity=rh, model=model, material=mat)
+        g = float(rs.contact.summary(c).adhesive_energy)
         dt = time.perf_counter() - t
     return g, c.attrs.get("contact_model", model), dt, sorted({x.category.__name__ for x in w})
 
 
 def extended(h, rh, mat):
     """fft_bem and bem on a fine uniform grid across fft_bem's automatic grid and beyond."""
-    hw, zmax = float(rs.water_height(rh)), float(h.max())
+    hw, zmax = float(rs.contact.water_height(rh)), float(h.max())
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        d = rs.fft_bem_contact_curves(h, relative_humidity=rh, material=mat).distance.values
+        d = rs.contact.fft_bem_curves(h, relative_humidity=rh, material=mat).distance.values
         ext = np.linspace(d[0], zmax + max(6 * hw, 1.5 * (d[-1] - zmax)), 400)
         out, gammas = [], []
-        for name, fn in (("fft_bem", rs.fft_bem_contact_curves), ("bem", rs.bem_contact_curves)):
+        for name, fn in (("fft_bem", rs.contact.fft_bem_curves), ("bem", rs.contact.bem_curves)):
             c = fn(h, relative_humidity=rh, material=mat, distance=ext)
             att = np.flatnonzero(c.pressure.values < 0)
             top = (float(c.distance[att[-1]]) - zmax) / hw if att.size else np.nan
-            gammas.append(float(rs.adhesion_summary(c).adhesive_energy))
+            gammas.append(float(rs.contact.summary(c).adhesive_energy))
             out.append(f"{name} Γ {gammas[-1]:.3e} (attractive up to {top:.2f} h_water)")
     return (f"fine grid (automatic grid top {(d[-1] - zmax) / hw:.2f} h_water above max z): "
             + "; ".join(out)), gammas[0]
@@ -96,7 +96,7 @@ def families():
         h = rs.datasets.surface_family(fam, shape=(64, 64), seed=0, n=1).isel(realization=0).compute()
         z = h.values
         for rh in (0.05, 0.5, 0.9):
-            hw = float(rs.water_height(rh))
+            hw = float(rs.contact.water_height(rh))
             old = np.linspace(max(z.max() - max(hw, 0.5 * z.std()), z.mean() + 0.5 * z.std()),
                               z.max() + hw, 40)
             out = {}
@@ -105,8 +105,8 @@ def families():
                 for name, kw in (("fft_bem", dict(model="fft_bem")), ("bem old grid", dict(model="bem", distance=old)),
                                  ("bem default", dict(model="bem"))):
                     t = time.perf_counter()
-                    c = rs.rough_contact_curves(h, relative_humidity=rh, **kw)
-                    out[name] = (float(rs.adhesion_summary(c).adhesive_energy), time.perf_counter() - t)
+                    c = rs.contact.curves(h, relative_humidity=rh, **kw)
+                    out[name] = (float(rs.contact.summary(c).adhesive_energy), time.perf_counter() - t)
             g0 = out["fft_bem"][0]
             print(f"{fam:7s} RH {rh}: fft_bem Γ {g0:.4e} J/m2 ({out['fft_bem'][1]:.2f} s) | "
                   + " | ".join(f"{k}: Γ/Γ_fft_bem - 1 = {v[0] / g0 - 1:+.4f} ({v[1]:.2f} s)"
@@ -130,13 +130,13 @@ def family_cases():
 def resolution(cases, model="fft_bem"):
     rows = []
     for h, rh, mat, desc in cases:
-        neck = float(rs.surface_groups(h, relative_humidity=rh).neck_pixels)
+        neck = float(rs.contact.surface_groups(h, relative_humidity=rh).neck_pixels)
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
-            rs.rough_contact_curves(h, relative_humidity=rh, material=mat, model=model)
+            rs.contact.curves(h, relative_humidity=rh, material=mat, model=model)
             warned = any(issubclass(x.category, rs.ValidityWarning) and "water necks" in str(x.message)
                          for x in w)
-            r = rs.resolution_study(h, relative_humidity=rh, material=mat, model=model)
+            r = rs.contact.resolution_study(h, relative_humidity=rh, material=mat, model=model)
         ch = r.relative_change_adhesive_energy.values.ravel()  # pixel sizes ascending: finer, native, coarser
         rows.append((rh, ch[0], ch[2], warned, neck))
         print(f"{desc} | neck {neck:.2f} px | Γ change: pixels / 2 (Fourier) {ch[0]:+.3f}, pixels x 2 "
@@ -151,7 +151,7 @@ def resolution(cases, model="fft_bem"):
               f"{sum(r[3] for r, m in zip(sel, moved) if m)} warned by the default call")
     fine = np.abs([r[1] for r in rows]) > 0.1
     warned = np.array([r[3] for r in rows])
-    print(f"{model}: warned (neck < {rs.RESOLVED_NECK_PIXELS:g} px) {int(warned.sum())} of {len(rows)} maps, "
+    print(f"{model}: warned (neck < {rs.contact.RESOLVED_NECK_PIXELS:g} px) {int(warned.sum())} of {len(rows)} maps, "
           f"{int((fine & warned).sum())} of them moved > 10 % at half the pixel; not warned "
           f"{int((~warned).sum())}, {int((fine & ~warned).sum())} of them moved")
 

@@ -22,7 +22,7 @@ cells = [
     nbf.v4.new_markdown_cell("## Fig. 1b: Laplace pressure and water height"),
     nbf.v4.new_code_cell(
         "figures.fig1b_meniscus(n=91);\n"
-        "rs.laplace_pressure([0.3, 0.5, 0.7, 0.9]).values / 1e6, rs.water_height([0.3, 0.5, 0.7]).values * 1e9"
+        "rs.contact.laplace_pressure([0.3, 0.5, 0.7, 0.9]).values / 1e6, rs.contact.water_height([0.3, 0.5, 0.7]).values * 1e9"
     ),
     nbf.v4.new_markdown_cell(
         "## Fig. 3: force–interference curves\n\n"
@@ -52,17 +52,17 @@ cells = [
     ),
     nbf.v4.new_code_cell(
         "R, w = 1e-6, 0.05\n"
-        "K = rs.hertz_modulus()\n"
+        "K = rs.materials.hertz_modulus()\n"
         "fig, ax = plt.subplots(figsize=(6, 4))\n"
         "for lam in [0.01, 0.3, 1.0, 3.0, 100.0]:\n"
         "    s0 = lam / 2 * np.cbrt(np.pi * w * K**2 / R)\n"
         "    ld = np.cbrt(np.pi**2 * w**2 * R / K**2)\n"
         "    d = np.linspace(-2 / (np.pi * lam) - 1, 3, 600) * ld\n"
-        "    f = rs.sphere_force(d, model='maugis', radius=R, work_of_adhesion=w, adhesive_stress=s0)\n"
+        "    f = rs.contact.sphere_force(d, sphere_model='maugis', radius=R, work_of_adhesion=w, adhesive_stress=s0)\n"
         "    ax.plot(d / ld, f / (np.pi * R * w), label=f'Maugis λ={lam:g}')\n"
         "d = np.linspace(-1, 3, 400) * ld\n"
-        "ax.plot(d / ld, rs.sphere_force(d, model='jkr', radius=R, work_of_adhesion=w) / (np.pi * R * w), 'k--', label='JKR')\n"
-        "ax.plot(d / ld, rs.sphere_force(d, model='hertz', radius=R) / (np.pi * R * w), 'k:', label='Hertz')\n"
+        "ax.plot(d / ld, rs.contact.sphere_force(d, sphere_model='jkr', radius=R, work_of_adhesion=w) / (np.pi * R * w), 'k--', label='JKR')\n"
+        "ax.plot(d / ld, rs.contact.sphere_force(d, sphere_model='hertz', radius=R) / (np.pi * R * w), 'k:', label='Hertz')\n"
         "ax.set_xlim(-3, 3); ax.set_ylim(-2.2, 3)\n"
         "ax.set_xlabel(r'$\\Delta = \\delta\\,/\\,(\\pi^2\\omega^2 R/K^2)^{1/3}$'); ax.set_ylabel('F / (πωR)'); ax.legend(fontsize=8); ax.grid(alpha=0.3)"
     ),

@@ -29,8 +29,8 @@ cells = [
         "automatically (first water contact down past equilibrium, refined where the curve turns)."
     ),
     nbf.v4.new_code_cell(
-        "curves = {n: rs.rough_contact_curves(h, relative_humidity=RH) for n, h in maps.items()}\n"
-        "summaries = {n: rs.adhesion_summary(c) for n, c in curves.items()}\n"
+        "curves = {n: rs.contact.curves(h, relative_humidity=RH) for n, h in maps.items()}\n"
+        "summaries = {n: rs.contact.summary(c) for n, c in curves.items()}\n"
         "curves['S1A']"
     ),
     nbf.v4.new_markdown_cell(
@@ -52,7 +52,7 @@ cells = [
         "from roughstick.plotting.gw import plot_gw_cutoff_study\n"
         "mom = xr.concat([rs.surface.roughness_moments(h) for h in maps.values()], 'map').mean('map')\n"
         "dist = np.linspace(0, 40e-9, 161)\n"
-        "study = rs.gw_cutoff_study(mom, relative_humidity=[0.3, 0.9], distance=dist)\n"
+        "study = rs.contact.gw_cutoff_study(mom, relative_humidity=[0.3, 0.9], distance=dist)\n"
         "plot_gw_cutoff_study(study);"
     ),
     nbf.v4.new_markdown_cell(
@@ -63,8 +63,8 @@ cells = [
     nbf.v4.new_code_cell(
         "gw, fig = figures.fig10_mdmt_vs_gw(maps, curves, relative_humidity=RH)\n"
         "xr.Dataset({n: s.pull_off_pressure / 1e6 for n, s in summaries.items()}\n"
-        "           | {'GW': rs.adhesion_summary(gw).pull_off_pressure / 1e6,\n"
-        "              '|ΔP|': -rs.laplace_pressure(RH)}).to_dataframe()"
+        "           | {'GW': rs.contact.summary(gw).pull_off_pressure / 1e6,\n"
+        "              '|ΔP|': -rs.contact.laplace_pressure(RH)}).to_dataframe()"
     ),
     nbf.v4.new_markdown_cell("## Fig. 11: adhesive energy and wetted fraction at equilibrium"),
     nbf.v4.new_code_cell(

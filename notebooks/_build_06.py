@@ -86,7 +86,7 @@ cells = [
         "the same surfaces and distance grid, so they coincide up to 65 % RH."
     ),
     code(
-        "rh = list(rs.PAPER_HUMIDITIES)\n"
+        "rh = list(rs.stiction.PAPER_HUMIDITIES)\n"
         "layers = ['none', 'paper']\n"
         "g = xr.concat([rs.stiction.predict_adhesive_energy(fit, n=10, shape=(64, 512), relative_humidity=rh,\n"
         "                                          adsorbed_layer=layer, seed=7).adhesive_energy.compute()\n"

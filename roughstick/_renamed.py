@@ -44,11 +44,37 @@ RENAMED.update({
     "roughness_statistics": "surface.roughness_statistics",
     "psd_summary": "surface.psd_summary",
     "moments_si": "_core.validate.moments_si",  # plumbing: checks a moments Dataset
+    "reduced_modulus": "materials.reduced_modulus",
+    "hertz_modulus": "materials.hertz_modulus",
+    "as_relative_humidity": "contact.as_relative_humidity",
 })
 
 
 # --------------------------------------------------------------------------------------- contact
 RENAMED.update({
+    # renamed, or plumbing out of the public namespace
+    "rough_contact_curves": "contact.curves",
+    "adhesion_summary": "contact.summary",
+    "gw_contact_curves": "contact.gw_curves",
+    "fft_bem_contact_curves": "contact.fft_bem_curves",
+    "bem_contact_curves": "contact.bem_curves",
+    "modified_dmt_kernel": "contact.modified_dmt.kernel",
+    "adhesion_summary_kernel": "contact.adhesion.summary_kernel",
+    "adhesive_energy_kernel": "contact.adhesion.adhesive_energy_kernel",
+    "periodic_offset_coefficient": "contact.fft_bem.periodic_offset_coefficient",
+    "MODEL_COST_ORDER": "contact.MODELS",
+    "CONTACT_MODELS": "contact.MODELS",
+    "GROUP_FEATURES": "contact.trust.validity.GROUP_FEATURES",
+    # moved, same name
+    **{name: f"contact.{name}" for name in (
+        "CurveGridWarning", "ValidityWarning", "ErrorBound", "FINE_PIXEL", "PixelResolutionWarning",
+        "RESOLVED_NECK_PIXELS", "SPHERE_MODELS", "VALIDITY_BOUND", "adsorbed_layer",
+        "contact_distance_grid", "expected_surface_groups", "gw_cutoff_study", "kelvin_radius",
+        "laplace_pressure", "meniscus_height", "model_error", "modified_dmt_curves",
+        "no_adsorbed_layer", "resample_pixels", "resolution_study", "select_model",
+        "sphere_adhesive_energy", "sphere_contact", "sphere_force", "step_adsorbed_layer",
+        "summit_joint_density", "surface_groups", "transition_parameter", "validity_map",
+        "warn_if_outside_validity", "warn_if_unresolved", "water_height")},
 })
 
 

@@ -5,15 +5,20 @@ window="hann")``: each method passes the object as the first argument and nothin
 logic, no caching; cf. xskillscore's ``core/accessor.py``). The methods come from one table per
 kind of data, ``{method name: function}``: a DataArray offers those of a height map, a PSD, a
 relative humidity and a Monte-Carlo sample; a Dataset those of curves, moments and ensembles.
-Importing :mod:`roughstick` registers it.
+Besides the tables, ``<model>_curves`` is served for every model of the contact-model registry
+(:data:`roughstick.contact.MODELS`) that takes the object (a map; moments for the models that take
+them). Importing :mod:`roughstick` registers it.
 """
 
 from __future__ import annotations
 
+import functools
+import warnings
+
 import xarray as xr
 
-from . import ensemble, surface
-from .contact import adhesion, bem, curves, gw, meniscus, rough
+from . import contact, ensemble, surface
+from .contact import MODELS, meniscus
 from .reliability import stuck
 from .stiction import cantilever, risk
 
@@ -30,11 +35,8 @@ HEIGHT_MAP = {
     "roughness_moments": surface.roughness_moments,
     "roughness_statistics": surface.roughness_statistics,
     "psd_summary": surface.psd_summary,
-    "rough_contact_curves": curves.rough_contact_curves,
-    "modified_dmt_curves": rough.modified_dmt_curves,
-    "contact_distance_grid": rough.contact_distance_grid,
-    "gw_contact_curves": gw.gw_contact_curves,
-    "bem_contact_curves": bem.bem_contact_curves,
+    "curves": contact.curves,  # and <model>_curves of every registered contact model
+    "contact_distance_grid": contact.contact_distance_grid,
 }
 #: A PSD ``(qy, qx)`` or ``(q)``.
 PSD = {
@@ -43,7 +45,7 @@ PSD = {
     "interpolate_psd": surface.interpolate_psd,
     "choose_cutoff": surface.choose_cutoff,
     "generate_surfaces": surface.generate_surfaces,
-    "run_ensemble": ensemble.run,
+    "run": ensemble.run,
 }
 #: A relative humidity.
 RELATIVE_HUMIDITY = {
@@ -57,8 +59,8 @@ RELATIVE_HUMIDITY = {
 SAMPLE = {
     "confidence_band": ensemble.confidence_band,
     "quantile_interval": ensemble.quantile_interval,
-    "ensemble_histogram": ensemble.histogram,
-    "ensemble_ecdf": ensemble.ecdf,
+    "histogram": ensemble.histogram,
+    "ecdf": ensemble.ecdf,
     "stuck_probability": stuck.stuck_probability,
     "crossing_length": risk.crossing_length,
     "risk_summary": risk.risk_summary,
@@ -68,15 +70,14 @@ SAMPLE = {
 # -------------------------------------------------------------------- Dataset: one table per kind
 #: Force-distance curves ``(..., rh, distance)``.
 CURVES = {
-    "adhesion_summary": adhesion.adhesion_summary,
+    "summary": contact.summary,
 }
-#: Spectral moments ``m0``, ``m2``, ``m4``.
+#: Spectral moments ``m0``, ``m2``, ``m4`` (and <model>_curves of the models that take moments).
 MOMENTS = {
     "asperity_statistics": surface.asperity_statistics,
     "plasticity_index": surface.plasticity_index,
     "summit_density": surface.summit_density,
-    "gw_contact_curves": gw.gw_contact_curves,
-    "gw_cutoff_study": gw.gw_cutoff_study,
+    "gw_cutoff_study": contact.gw_cutoff_study,
 }
 #: Ensembles and summaries over ``realization``.
 ENSEMBLE = {
@@ -84,6 +85,15 @@ ENSEMBLE = {
     "stuck_probability": stuck.stuck_probability,
     "risk_summary": risk.risk_summary,
     "crossing_humidity": risk.crossing_humidity,
+}
+
+#: Method names of earlier releases and the method that replaced each (served with a warning).
+RENAMED_METHODS = {
+    "rough_contact_curves": "curves",
+    "gw_contact_curves": "gw_curves", "bem_contact_curves": "bem_curves",
+    "fft_bem_contact_curves": "fft_bem_curves", "adhesion_summary": "summary",
+    "run_ensemble": "run", "ensemble_histogram": "histogram", "ensemble_ecdf": "ecdf",
+    "stiction_probability": "stuck_probability", "stiction_risk": "risk_summary",
 }
 
 
@@ -106,13 +116,33 @@ def _forward(name: str, func):
 
 
 class _Accessor:
+    #: Whether the object is the input of a contact model (a map; moments for a Dataset).
+    _moments = False
+
     def __init__(self, obj):
         self._obj = obj
+
+    def _models(self) -> dict:
+        """``<model>_curves`` of every registered contact model that takes this object."""
+        return {f"{name}_curves": m for name, m in MODELS.items()
+                if not self._moments or m.accepts_moments}
+
+    def __dir__(self):
+        return sorted({*super().__dir__(), *self._models()})
 
     def __getattr__(self, name):
         if name.startswith("_"):
             raise AttributeError(name)
-        methods = sorted(n for n in dir(type(self)) if not n.startswith("_"))
+        model = self._models().get(name)
+        if model is not None:  # read from the contact-model registry
+            return functools.partial(model.function or functools.partial(contact.curves, model=model.name),
+                                     self._obj)
+        new = RENAMED_METHODS.get(name)
+        if new is not None and new != name and (hasattr(type(self), new) or new in self._models()):
+            warnings.warn(f".rough.{name} is now .rough.{new}; the old name will be removed",
+                          DeprecationWarning, stacklevel=2)
+            return getattr(self, new)
+        methods = sorted(n for n in dir(self) if not n.startswith("_"))
         raise AttributeError(
             f"roughstick has no public function {name!r} that .rough forwards for a "
             f"{type(self._obj).__name__}; its methods are {methods}. Call the function of its "
@@ -120,14 +150,15 @@ class _Accessor:
         )
 
 
-def _accessor(cls_name: str, doc: str, *tables: dict) -> type:
+def _accessor(cls_name: str, doc: str, *tables: dict, moments: bool = False) -> type:
     methods = {}
     for table in tables:
         for name, func in table.items():
             if name in methods:
                 raise ValueError(f".rough.{name} is in two tables of one accessor")
             methods[name] = _forward(name, func)
-    return type(cls_name, (_Accessor,), {"__doc__": doc, "__module__": __name__, **methods})
+    return type(cls_name, (_Accessor,), {"__doc__": doc, "__module__": __name__, "_moments": moments,
+                                         **methods})
 
 
 RoughDataArrayAccessor = xr.register_dataarray_accessor("rough")(_accessor(
@@ -137,4 +168,4 @@ RoughDataArrayAccessor = xr.register_dataarray_accessor("rough")(_accessor(
 RoughDatasetAccessor = xr.register_dataset_accessor("rough")(_accessor(
     "RoughDatasetAccessor",
     "Forwarding methods for curves, moments and ensembles.",
-    CURVES, MOMENTS, ENSEMBLE))
+    CURVES, MOMENTS, ENSEMBLE, moments=True))

@@ -13,7 +13,7 @@ a wheel install runs the demo on the same data as a checkout.
   families the accuracy and speed of the contact models are measured on (below;
   docs/accuracy.md);
 - :func:`validity_map_path`: the measured model-error table read by
-  :func:`roughstick.validity_map`;
+  :func:`roughstick.contact.validity_map`;
 - :func:`example_configs`: the example TOML configurations of ``roughstick run``, ``risk`` and
   ``beam`` (``examples/*.toml`` of the repository; ``roughstick examples --out DIR`` copies them).
 
@@ -23,19 +23,19 @@ Wherever a height map path is accepted (:func:`roughstick.io.read_afm`, ``roughs
 
 Surface families (Eq. 37 parameters; all cut at :math:`\xi_{max}` = 289 rad/µm):
 
-=========  ===============================================  =======================================
-family     Eq. 37 parameters                                 why it matters
-=========  ===============================================  =======================================
-``S1``     the PSD the S1 samples were drawn from:           the paper's rough sample
-           ξ0 = 58.5 rad/µm, rms 3.96 nm
-``S2``     that of the S2 samples: ξ0 = 77.4 rad/µm,         many small asperities
-           rms 2.08 nm
-``table4`` Table 4 → Nayak moments → Eq. 37 (N = 80.1 µm⁻²): the paper's cantilever surface (§5):
-           ξ0 ≈ 21.2 rad/µm, rms 3.54 nm                     smoother, larger asperities
-``smooth`` rms 2 nm, Hurst 0.8, roll-off 2e7 rad/m (314 nm)  deep contact (5-10 % contact fraction),
-                                                             large merged asperities
-``rough``  rms 8 nm, Hurst 0.5, roll-off 5e7 rad/m (126 nm)  a rougher self-affine film
-=========  ===============================================  =======================================
+==========  ==================================================  ==========================================
+family      Eq. 37 parameters                                   why it matters
+==========  ==================================================  ==========================================
+``S1``      the PSD the S1 samples were drawn from:             the paper's rough sample
+            ξ0 = 58.5 rad/µm, rms 3.96 nm
+``S2``      that of the S2 samples: ξ0 = 77.4 rad/µm,           many small asperities
+            rms 2.08 nm
+``table4``  Table 4 → Nayak moments → Eq. 37 (N = 80.1 µm⁻²):   the paper's cantilever surface (§5):
+            ξ0 ≈ 21.2 rad/µm, rms 3.54 nm                       smoother, larger asperities
+``smooth``  rms 2 nm, Hurst 0.8, roll-off 2e7 rad/m (314 nm)    deep contact (5-10 % contact fraction),
+                                                                large merged asperities
+``rough``   rms 8 nm, Hurst 0.5, roll-off 5e7 rad/m (126 nm)    a rougher self-affine film
+==========  ==================================================  ==========================================
 
 A *soft material* case is any family with a :class:`roughstick.Material` of E* 1-20 GPa (the
 modified DMT's stiff-body assumption fails there).
@@ -130,7 +130,7 @@ def load_sample(name: str) -> xr.DataArray:
     >>> h.shape, int(h.attrs["periodic"]), h.attrs["units"]
     ((1024, 1024), 0, 'm')
     """
-    return read_afm(sample_path(name))
+    return read_afm(sample_path(name), levelling="none")
 
 
 def sample_maps(sample: str = "S1", *, method: str = "plane") -> xr.DataArray:

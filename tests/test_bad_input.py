@@ -99,12 +99,12 @@ def test_surfaces_too_large_for_memory_are_refused_before_allocating(h):
 
 
 @pytest.mark.parametrize("call", [
-    lambda m: rs.rough_contact_curves(m, relative_humidity=0.5),
-    lambda m: rs.rough_contact_curves(m, relative_humidity=0.5, model="auto"),
-    lambda m: rs.modified_dmt_curves(m, relative_humidity=0.5),
-    lambda m: rs.fft_bem_contact_curves(m, relative_humidity=0.5),
-    lambda m: rs.gw_contact_curves(m, relative_humidity=0.5),
-], ids=["rough_contact_curves", "auto", "modified_dmt", "fft_bem", "gw"])
+    lambda m: rs.contact.curves(m, relative_humidity=0.5),
+    lambda m: rs.contact.curves(m, relative_humidity=0.5, model="auto"),
+    lambda m: rs.contact.modified_dmt_curves(m, relative_humidity=0.5),
+    lambda m: rs.contact.fft_bem_curves(m, relative_humidity=0.5),
+    lambda m: rs.contact.gw_curves(m, relative_humidity=0.5),
+], ids=["curves", "auto", "modified_dmt", "fft_bem", "gw"])
 def test_contact_maps_too_large_for_memory_are_refused_before_allocating(call, monkeypatch):
     """The memory a contact model needs is estimated from the map size first (here on a machine
     of 8 MiB), not found out by numpy after the work has started."""
@@ -141,9 +141,9 @@ def test_a_lazy_map_too_large_for_memory_is_not_told_to_rechunk():
                         coords={"y": c, "x": c}, attrs={"units": "m"})
     with rs.testing.raise_if_dask_computes():
         with pytest.raises(MemoryError, match=r"200000 x 200000 map needs about .* GiB.*rechunking cannot help"):
-            rs.rough_contact_curves(lazy, relative_humidity=0.5, distance=[0.0, 1e-9])
+            rs.contact.curves(lazy, relative_humidity=0.5, distance=[0.0, 1e-9])
         with pytest.raises(MemoryError, match=r"fft_bem contact model on a 200000 x 200000 map"):
-            rs.fft_bem_contact_curves(lazy, relative_humidity=0.5, distance=[0.0, 1e-9])
+            rs.contact.fft_bem_curves(lazy, relative_humidity=0.5, distance=[0.0, 1e-9])
 
 
 def test_plain_numpy_array_to_the_contact_models_names_the_wrapper():
@@ -151,7 +151,7 @@ def test_plain_numpy_array_to_the_contact_models_names_the_wrapper():
     z = np.random.default_rng(0).normal(size=(16, 16)) * 1e-9
     for model in ("modified_dmt", "gw", "fft_bem"):
         with pytest.raises(TypeError, match="xarray.DataArray.*make_topography"):
-            rs.rough_contact_curves(z, relative_humidity=0.5, model=model)
+            rs.contact.curves(z, relative_humidity=0.5, model=model)
 
 
 def test_unknown_window_names_the_choices(h, tmp_path, capsys):
@@ -191,7 +191,7 @@ def test_heights_in_m_labelled_nm_are_refused_with_the_fix(h):
     with pytest.raises(ValueError, match=r"rms height is .* m: below anything an AFM can measure.*attrs\['units'\]"):
         rs.surface.power_spectrum(h.assign_attrs(units="nm"))  # values in m, labelled nm
     with pytest.raises(ValueError, match="below anything an AFM can measure"):
-        rs.rough_contact_curves(h.assign_attrs(units="nm"), relative_humidity=0.5)
+        rs.contact.curves(h.assign_attrs(units="nm"), relative_humidity=0.5)
 
 
 # -- dtypes a height cannot have, at every entry point -----------------------------------------
@@ -202,10 +202,10 @@ def test_every_map_entry_point_refuses_a_dtype_a_height_cannot_have(h, dtype, wh
     'flat'; a date-time map as 'rms 9.9e8 m, probably in nm')."""
     bad = h.copy(data=np.zeros(h.shape, dtype)) if dtype == "datetime64[ns]" else h.astype(dtype)
     calls = [rs.surface.power_spectrum, rs.surface.roughness_moments, rs.surface.validate_height,
-             lambda m: rs.rough_contact_curves(m, relative_humidity=0.5),
-             lambda m: rs.rough_contact_curves(m, relative_humidity=0.5, model="gw"),
-             lambda m: rs.fft_bem_contact_curves(m, relative_humidity=0.5),
-             lambda m: rs.surface_groups(m, relative_humidity=0.5)]
+             lambda m: rs.contact.curves(m, relative_humidity=0.5),
+             lambda m: rs.contact.curves(m, relative_humidity=0.5, model="gw"),
+             lambda m: rs.contact.fft_bem_curves(m, relative_humidity=0.5),
+             lambda m: rs.contact.surface_groups(m, relative_humidity=0.5)]
     for f in calls:
         with pytest.raises(TypeError, match=f"dtype .*{what}.*a height map holds real numbers"):
             f(bad)

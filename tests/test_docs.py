@@ -85,14 +85,17 @@ OUTSIDE = [
     (r"\b(DESIGN|STYLE)\.md\b", "a design file outside the repository"),
     (r"\.\./shared|/work/", "a path outside the repository"),
 ]
-#: Pages another change cleans (docs/architecture.md is rewritten with the package tree).
-CLEANED_ELSEWHERE = {"architecture.md"}
+#: The bibliography names journal issues ("volume 28, issue 3"): not planning records.
+JOURNAL_ISSUES = {"roughstick/_core/references.py"}
 
 
 @pytest.mark.parametrize("pattern,what", OUTSIDE, ids=[w for _, w in OUTSIDE])
 def test_pages_name_nothing_outside_the_repository(pattern, what):
-    places = [p for p in _pages() if p.relative_to(DOCS).as_posix() not in CLEANED_ELSEWHERE]
-    places += [ROOT / "README.md", DOCS / "conf.py"]
+    """Docs, README, the package and the notebooks' sources name nothing a reader cannot open."""
+    places = [*_pages(), ROOT / "README.md", DOCS / "conf.py"]
+    places += [p for p in sorted((ROOT / "roughstick").rglob("*.py"))
+               if p.relative_to(ROOT).as_posix() not in JOURNAL_ISSUES]
+    places += sorted((ROOT / "notebooks").glob("_build_*.py"))
     found = [f"{p.relative_to(ROOT)}:{i}: {m.group(0)!r}"
              for p in places for i, line in enumerate(p.read_text().splitlines(), 1)
              for m in [re.search(pattern, line, flags=re.I)] if m]
@@ -125,3 +128,16 @@ def test_configuration_page_lists_every_key_of_the_schema():
         for table, fields in tables.items():
             for key in fields:
                 assert f"| `{key}` |" in text, (command, table, key)
+
+
+def test_the_readme_python_block_runs_on_the_current_api(capsys):
+    """The README's "From Python" example runs as printed, with no name that only forwards."""
+    import warnings
+
+    text = (ROOT / "README.md").read_text()
+    code = re.search(r"## From Python\n\n```python\n(.*?)```", text, flags=re.S).group(1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        warnings.simplefilter("error", DeprecationWarning)
+        exec(compile(code, "README.md", "exec"), {})
+    assert "95% band" in capsys.readouterr().out

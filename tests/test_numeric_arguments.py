@@ -33,8 +33,8 @@ LEGAL = {
     # bisection round, no wait for a distributed scheduler
     ("build_patch_bank", "check_tail"): {"zero"},
     ("failure_probability", "check_failures"): {"zero"},
-    ("bem_contact_curves", "retries"): {"zero"},
-    ("fft_bem_contact_curves", "refine"): {"zero"},
+    ("bem_curves", "retries"): {"zero"},
+    ("fft_bem_curves", "refine"): {"zero"},
     ("run", "connect_timeout"): {"zero"},
     # no adsorbed layer; a layer at every humidity
     ("step_adsorbed_layer", "thickness"): {"zero"},
@@ -109,9 +109,9 @@ CASES = list(_cases())
 def test_the_sweep_covers_the_public_api():
     # the numeric arguments of the solvers, samplers and statistics are all in the sweep
     names = {c.values[0] for c in CASES}
-    assert {"fft_bem_contact_curves", "bem_contact_curves", "beam.simulate", "reliability.subset_simulation",
-            "beam.build_patch_bank", "run", "confidence_band", "kelvin_radius",
-            "stuck_probability"} <= names
+    assert {"contact.fft_bem_curves", "contact.bem_curves", "beam.simulate",
+            "reliability.subset_simulation", "beam.build_patch_bank", "ensemble.run",
+            "confidence_band", "contact.kelvin_radius", "stuck_probability"} <= names
     assert len(CASES) > 200
 
 
@@ -126,8 +126,8 @@ def test_legal_values_of_the_allow_list_are_accepted():
     rs.Material(poisson_ratio=-0.2)
     rs.Material(poisson_ratio=0.0)
     assert "residual_m2" in rs.surface.fit_self_affine(m0=1e-17, m2=0.5, m4=1e12, qmax=2.89e8, solver_tolerance=math.inf)
-    model = rs.step_adsorbed_layer(thickness=0.0, onset=0.0)
-    assert float(rs.adsorbed_layer(0.5, model=model)) == 0.0
+    model = rs.contact.step_adsorbed_layer(thickness=0.0, onset=0.0)
+    assert float(rs.contact.adsorbed_layer(0.5, layer_model=model)) == 0.0
     d = rs.ensemble.distance_grid(m0=16e-18, shape=(64, 64), n=10, relative_humidity=[0.5], lower=0.0)
     assert float(d[0]) == 0.0
 

@@ -37,7 +37,7 @@ out["examples"] = sorted(rs.datasets.example_configs())
 m = rs.psd_moments(rs.datasets.sample_psd("S2"))
 out["S2_moments"] = [float(m[k]) for k in ("m0", "m2", "m4")]
 out["table4_q0"] = rs.datasets.family_parameters("table4")["q0"]
-out["validity_rows"] = int(rs.validity_map()["rh"].size)
+out["validity_rows"] = int(rs.contact.validity_map()["rh"].size)
 print(json.dumps(out))
 """
 

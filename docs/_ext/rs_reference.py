@@ -113,7 +113,8 @@ class NamespaceDirective(SphinxDirective):
         """For the top-level package: the namespace that also exports each name."""
         if "." in modname:
             return {}
-        homes = {}
+        homes = {name: f"{modname}.{name}" for name in names
+                 if inspect.ismodule(getattr(mod, name))}  # a namespace: its own page
         for ns in public_namespaces(modname):
             sub = importlib.import_module(ns)
             for name in getattr(sub, "__all__", []):

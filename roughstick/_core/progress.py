@@ -91,7 +91,7 @@ DMT_CURVE_SECONDS_256 = 0.05
 
 def estimate_model_seconds(model: str, shape, curves: int, points: int = 47) -> float:
     """Estimated wall time [s] of ``curves`` curves (maps x humidities) of ``points`` distances
-    by a contact model of :func:`roughstick.rough_contact_curves` on maps of ``shape``.
+    by a contact model of :func:`roughstick.contact.curves` on maps of ``shape``.
 
     ``"bem"`` and ``"fft_bem"``: :func:`estimate_seconds` for every point solved (the BEM's
     default grid is fft_bem's, which it computes first); ``"modified_dmt"`` and ``"gw"``:

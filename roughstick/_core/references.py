@@ -197,6 +197,21 @@ BIBLIOGRAPHY: dict[str, Reference] = {
         note="DOI checked against independent citing records (volume 17, issue 3); citing "
              "records disagree on the last page (1241 or 1261)",
     ),
+    "peherstorfer2018": Reference(
+        "B. Peherstorfer, K. Willcox, M. Gunzburger",
+        "Survey of multifidelity methods in uncertainty propagation, inference, and optimization",
+        "SIAM Rev. 60 (2018) 550-591", 2018, "10.1137/16M1082469",
+    ),
+    "sarndal1992": Reference(
+        "C.-E. Särndal, B. Swensson, J. Wretman",
+        "Model Assisted Survey Sampling (two-phase sampling and difference estimators, ch. 9)",
+        "Springer (1992)", 1992, None,
+    ),
+    "woodruff1952": Reference(
+        "R.S. Woodruff", "Confidence intervals for medians and other position measures",
+        "J. Am. Stat. Assoc. 47 (1952) 635-646", 1952, None,
+        note="cited without DOI: none was checked against a bibliographic record",
+    ),
     "conover1999": Reference(
         "W.J. Conover", "Practical Nonparametric Statistics, 3rd ed. (order-statistic intervals, §3.2)",
         "Wiley (1999)", 1999, None,

@@ -8,7 +8,7 @@ contact model ``--model fft_bem``, ``roughstick run`` ``model = "fft_bem"`` in i
 [ensemble] table, :func:`roughstick.ensemble.run` ``model='fft_bem'``. The
 outermost caller wins: a command's spelling is kept inside every function it calls, and the
 function the user called from Python is kept inside the functions it calls in turn. Without any,
-the setting's Python argument is named (``rough_contact_curves(..., model='fft_bem')``).
+the setting's Python argument is named (``roughstick.contact.curves(..., model='fft_bem')``).
 
 The spellings live in a :class:`contextvars.ContextVar`: they are seen by the code the caller
 runs in its own thread, which is where the warnings that name a remedy are raised (once per
@@ -17,10 +17,10 @@ call, before the work is spread over threads).
 Examples
 --------
 >>> from roughstick._core.remedy import argument, spell, spelled
->>> spell("contact_model", "auto", tolerance=0.1)
-"rough_contact_curves(..., model='auto', tolerance=0.1)"
+>>> spell("contact_model", "auto", accuracy=0.1)
+"roughstick.contact.curves(..., model='auto', accuracy=0.1)"
 >>> with spelled(contact_model=lambda v, **kw: f"--model {v}"):
-...     with spelled(contact_model=argument("model", call="rough_contact_curves")):
+...     with spelled(contact_model=argument("model", call="roughstick.contact.curves")):
 ...         spell("contact_model", "fft_bem")
 '--model fft_bem'
 """
@@ -35,18 +35,19 @@ __all__ = ["spell", "spelled", "argument", "flag", "config_key", "SETTINGS"]
 
 #: The settings a remedy may name, and what the value passed to :func:`spell` is.
 SETTINGS = {
-    "contact_model": "the contact model's name (keyword: tolerance, the accepted error of 'auto')",
+    "contact_model": "the contact model's name (keyword: accuracy, the accepted error of 'auto')",
     "spacing": "a pixel size [m] fine enough",
     "resolution": "how to measure what the pixel costs (no value)",
     "height_distribution": "the height distribution of generated surfaces ('maps': the measured maps' own)",
     "surface_size": "a side length [m] of generated surfaces (the measured maps')",
+    "levelling": "what is removed from a measured map as it is read ('plane', 'none', ...)",
 }
 
 _SPELLINGS: contextvars.ContextVar[dict | None] = contextvars.ContextVar("roughstick_remedy_spellings",
                                                                          default=None)
 
 
-def argument(name: str, *, call: str | None = None, extra: tuple = ("tolerance",),
+def argument(name: str, *, call: str | None = None, extra: tuple = ("accuracy",),
              fmt: Callable | None = None) -> Callable:
     """The spelling of a Python keyword argument: ``name=value`` (and the ``extra`` keywords
     given to :func:`spell`), inside ``call(..., )`` when ``call`` is given; ``fmt`` formats the
@@ -79,16 +80,18 @@ def config_key(table: str, key: str, *, fmt: Callable | None = None) -> Callable
 
 def _default(setting: str) -> Callable:
     if setting == "contact_model":
-        return argument("model", call="rough_contact_curves")
+        return argument("model", call="roughstick.contact.curves")
     if setting == "spacing":
         return argument("spacing", fmt=lambda v: f"{v:.2g}")
     if setting == "height_distribution":
         return lambda value=None, **kw: (f"roughstick.ensemble.run(..., maps=maps, height_distribution={value!r})"
                                          if value == "maps" else f"height_distribution={value!r}")
+    if setting == "levelling":
+        return argument("levelling", call="roughstick.io.read_afm")
     if setting == "surface_size":
         return argument("size", fmt=lambda v: f"{v:.3g}")
     if setting == "resolution":
-        return lambda value=None, **kw: ("roughstick.resolution_study(height, relative_humidity=...) "
+        return lambda value=None, **kw: ("roughstick.contact.resolution_study(height, relative_humidity=...) "
                                          "(the same map at half and twice the pixel)")
     raise KeyError(f"no remedy setting {setting!r}; known: {sorted(SETTINGS)}")
 

@@ -23,7 +23,7 @@
   :func:`check_plausible_value` here;
 - figures: :func:`figure_format` and :func:`figure_dpi` (what a saved figure may be);
 - :class:`ValidityWarning`, the warning of a model used outside its validity (declared here so
-  that the models and :mod:`roughstick.contact.validity` share it).
+  that the models and :mod:`roughstick.contact.trust.validity` share it).
 
 Every error names the problem and the fix.
 """
@@ -345,7 +345,7 @@ def as_relative_humidity(relative_humidity) -> xr.DataArray:
 
     Examples
     --------
-    >>> rs.as_relative_humidity([0.3, 0.7]).rh.values
+    >>> rs.contact.as_relative_humidity([0.3, 0.7]).rh.values
     array([0.3, 0.7])
     """
     percent = False
@@ -790,7 +790,7 @@ def adhesive_energy_values(energy, *, name: str = "bank", units_fix: str = "") -
     values = np.asarray(getattr(energy, "values", energy), dtype=float)
     if values.size == 0:
         raise ValueError(f"{name} holds no adhesive energy (size 0); build it with "
-                         "roughstick.build_patch_bank(..., n_law=1000).")
+                         "roughstick.beam.build_patch_bank(..., n_law=1000).")
     if np.isnan(values).any():
         raise ValueError(f"{name} has NaN adhesive energies: drop those laws ({name}.dropna('law'))")
     if np.isinf(values).any() or (values < 0).any():

@@ -29,12 +29,12 @@ from .._core.remedy import argument, spell, spelled
 from .._core.validate import as_length, external_stacklevel, relative_humidity_array
 from ..contact import (
     ValidityWarning,
-    adhesion_summary,
     contact_distance_grid,
     expected_surface_groups,
-    rough_contact_curves,
     warn_if_outside_validity,
 )
+from ..contact import curves as contact_curves
+from ..contact import summary as adhesion_summary
 from ..io.netcdf import publish
 from ..surface import generate_surfaces
 
@@ -72,8 +72,8 @@ def _law_energies(psd, laws, rh, shape, spacing, seed, model, material=POLYSILIC
                              seed=seed).compute(scheduler="sync")
     values = np.empty((len(laws), len(rh)))
     for k in range(len(laws)):
-        curves = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh),
-                                      model=model, material=material, check_validity=False)
+        curves = contact_curves(surf.isel(realization=k), relative_humidity=list(rh),
+                                model=model, material=material, check_validity=False)
         values[k] = adhesion_summary(curves)["adhesive_energy"].transpose("rh").values
     return values
 
@@ -222,7 +222,7 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
     Examples
     --------
     >>> import numpy as np
-    >>> psd = rs.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
+    >>> psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
     >>> bank = rs.beam.build_patch_bank(psd, relative_humidity=[0.5, 0.7], n=2, shape=(32, 32),
     ...                                 spacing=20e-9, check_tail=0)
     >>> bank.dims, (bank.values * 1e3).round(2)  # mJ m-2 over (law, rh)
@@ -237,7 +237,7 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
     check = int(check_tail) if model == "modified_dmt" else 0
     spacing = as_length(spacing, name="spacing")
     if not isinstance(psd, xr.DataArray):
-        raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.self_affine_psd(q, ...)) "
+        raise TypeError("psd must be an xarray.DataArray (e.g. roughstick.surface.self_affine_psd(q, ...)) "
                         f"so the cache can key on its values, got {type(psd).__name__}")
     shape = tuple(int(v) for v in shape)
     material = POLYSILICON if material is None else material
@@ -342,7 +342,7 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
     Examples
     --------
     >>> import numpy as np
-    >>> psd = rs.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
+    >>> psd = rs.surface.self_affine_psd(np.geomspace(1e5, 4e9, 400), **rs.datasets.family_parameters("table4"))
     >>> bank = rs.beam.pressure_law_bank(psd, relative_humidity=[0.5], n=2, shape=(32, 32),
     ...                                  spacing=20e-9, n_gap=50)
     >>> bank.dims, bank.shape
@@ -368,7 +368,7 @@ def pressure_law_bank(psd: xr.DataArray, *, relative_humidity, n: int = 100, sha
     gap = np.linspace(lo, hi, int(n_gap))
     out = np.empty((int(n), len(rh), gap.size))
     for k in range(int(n)):
-        c = rough_contact_curves(surf.isel(realization=k), relative_humidity=list(rh), distance=gap,
+        c = contact_curves(surf.isel(realization=k), relative_humidity=list(rh), distance=gap,
                                  model=model)
         out[k] = c["pressure"].transpose("rh", "distance").values
     bank = xr.DataArray(out, {"law": np.arange(int(n)), "rh": rh, "gap": gap},

@@ -516,6 +516,7 @@ def config_spellings(*, contact_model: str, surface: str = "surface", key: str |
                                             "kept), compared with this one"),
         "height_distribution": config_key(surface, "height_distribution"),
         "surface_size": config_key(surface, "size", fmt=lambda v: f'"{v * 1e6:.4g} um"'),
+        "levelling": config_key("psd", "level"),
     }
 
 

@@ -355,10 +355,11 @@ class RunConfig:
     height_distribution: dict = dataclasses.field(default_factory=lambda: dict(HEIGHTS_DEFAULT))
 
     def sample_maps(self) -> list:
-        """The ``[psd] files`` maps, levelled by a plane (``source = "samples"``; else [])."""
+        """The ``[psd] files`` maps as :func:`roughstick.io.read_afm` levels them (``[psd] level``,
+        default its least-squares plane unless periodic; ``source = "samples"``; else [])."""
         if self.psd["source"] != "samples":
             return []
-        return [rs.surface.level(rs.io.read_afm(f), method="plane") for f in self.psd["files"]]
+        return [rs.io.read_afm(f, levelling=self.psd.get("level", "auto")) for f in self.psd["files"]]
 
     def heights(self):
         """The ``height_distribution=`` of :func:`roughstick.ensemble.run` that ``[surface]``

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import contextvars
 import json
 import os
 import pathlib
@@ -262,7 +263,9 @@ def run_stoppable(func, args, *, command: str):
             os.write(2, (lead + interrupted_message(command) + "\n").encode())
         os._exit(130)
 
-    worker = threading.Thread(target=work, name=f"roughstick {command}", daemon=True)
+    # the command's thread sees the caller's context (e.g. how its warnings spell their remedies)
+    worker = threading.Thread(target=contextvars.copy_context().run, args=(work,),
+                              name=f"roughstick {command}", daemon=True)
     worker.roughstick_foreground = True
     previous = signal.signal(signal.SIGINT, stop)
     try:

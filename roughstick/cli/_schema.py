@@ -10,6 +10,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
+from ..contact import MODEL_CHOICES
+
 __all__ = ["Field", "SCHEMAS"]
 
 
@@ -47,7 +49,7 @@ _SMALL_P = {  # the small-probability methods' stopping rule: [risk] of risk, [e
     "n_per_level": F("int", "method 'subset': samples per level (a multiple of 5: p0 = 0.2)", default=1000, minimum=10)}
 #: The contact model's choices (its key: ``model`` in [risk] of risk and [bank] of beam, as the
 #: Python keyword; ``contact_model`` in [ensemble] of run): ``model``.
-_CONTACT_MODEL = ("contact model of rough_contact_curves: 'modified_dmt' (Eq. 16), 'gw', 'fft_bem', "
+_CONTACT_MODEL = ("contact model of roughstick.contact.curves: 'modified_dmt' (Eq. 16), 'gw', 'fft_bem', "
                   "'bem' or 'auto' (the cheapest model measured within 10 % on these surfaces)")
 _COMMON = {
     "material": {
@@ -85,6 +87,10 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "files": F("map", "height maps (source = 'samples'): paths, or 'bundled:S1A' ... 'bundled:S2C' "
                        "for the sample maps shipped with roughstick", many=True),
             "submaps": F("int", "sub-maps per map (paper scheme 3)", default=16, minimum=1),
+            "level": F("choice", "what is removed from each map as it is read (source = 'samples'): "
+                       "auto = its least-squares plane unless the map is periodic or levelled "
+                       "already, as roughstick psd and curves do", default="auto",
+                       choices=("auto", "plane", "mean", "line", "none")),
             "window": F("choice", "FFT window of the PSD (source = 'samples'): auto = Hann on "
                         "measured maps (docs/topography_psd.md), none = the paper's", default="auto",
                         choices=("auto", "hann", "none")),
@@ -127,7 +133,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "distance_lower": F("number", "bottom of the distance grid in units of the rms height",
                                 default=1.5, minimum=0.0),
             "model": F("choice", _CONTACT_MODEL, default="modified_dmt",
-                       choices=("modified_dmt", "gw", "fft_bem", "bem", "auto"),
+                       choices=MODEL_CHOICES,
                        replaces=("contact_model",)),
         },
         "material": _COMMON["material"],
@@ -183,7 +189,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                                "ms; needed where Eq. 16's tail is an artefact, docs/rare_events.md)",
                                default="modified_dmt",
                                replaces=("contact_model",),
-                               choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
+                               choices=MODEL_CHOICES),
         },
         "material": _COMMON["material"],
         "measured": {  # an array of tables: [[measured]]
@@ -233,7 +239,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "model": F("choice", "contact model of the patch laws: " + _CONTACT_MODEL.split(": ", 1)[1],
                                default="modified_dmt",
                                replaces=("contact_model",),
-                               choices=("modified_dmt", "gw", "fft_bem", "bem", "auto")),
+                               choices=MODEL_CHOICES),
             "cache": F("path", "folder of the bank cache (relative to the file)",
                        default="beam-bank-cache"),
         },

@@ -128,10 +128,18 @@ def check_map_flags(path, *, spacing=None, units=None) -> None:
                          f"{missing}.")
 
 
+#: The help of ``--level`` (psd, curves): every command levels a measured map the same way.
+LEVEL_HELP = ("what is removed from the map as it is read, as every command does (printed): "
+              "auto (default) = its least-squares plane, unless the map is periodic (a generated "
+              "surface) or levelled already; plane, mean, line (scan-line alignment), or none "
+              "(the raw heights)")
+
+
 def read_map(path, *, spacing=None, units=None, **kwargs):
     """:func:`roughstick.io.read_afm` for a command: the flags checked first, and heights spanning
     more than 1 mm in the ``--units`` given refused naming ``--units`` (read_afm only warns, in
-    its Python words)."""
+    its Python words). The map is levelled as ``read_afm(levelling=...)`` says (``--level``,
+    default ``auto``), which the command prints (logger ``roughstick``)."""
     check_map_flags(path, spacing=spacing, units=units)
     with warnings.catch_warnings():
         if units is not None:  # said below, in flags

@@ -16,6 +16,7 @@ from .._core.units import parse_quantity
 from ..io import netcdf
 from ._common import check_output_file, length_with_unit, positive_int
 from ._types import (
+    LEVEL_HELP,
     flag_value,
     material_arg,
     pixel_size_arg,
@@ -23,8 +24,6 @@ from ._types import (
     read_map,
     relative_humidity_arg,
 )
-
-MODELS = ("modified_dmt", "gw", "fft_bem", "bem", "auto")
 
 
 def register(sub):
@@ -34,8 +33,8 @@ def register(sub):
         "of one height map",
         description=(
             "Read a height map, compute the pressure versus distance at the given humidities "
-            "(modified DMT, Eqs. 16-23, by default; --model picks another: gw, fft_bem, bem, or "
-            "auto = the cheapest model measured within --tolerance of the boundary-element "
+            "(modified DMT, Eqs. 16-23, by default; --model picks another registered contact "
+            "model, or auto = the cheapest model measured within --accuracy of the boundary-element "
             "reference for this surface) and its adhesive energy (Eq. 13), and write both to a "
             "CF NetCDF file. --resolution also reports how the summaries change with the pixel "
             "size."
@@ -53,6 +52,8 @@ def register(sub):
     p.add_argument("--spacing", default=None, type=pixel_size_arg,
                    help="pixel size for .npy/text, with its unit, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
+    p.add_argument("--level", default="auto", choices=["auto", "plane", "mean", "line", "none"],
+                   help=LEVEL_HELP)
     p.add_argument("--n-distance", type=positive_int, default=None,
                    help="points of the automatic grid, at least (default: 200 for modified_dmt and "
                    "gw, 40 for bem, about 50 adaptive points for fft_bem, the chosen model's "
@@ -64,12 +65,13 @@ def register(sub):
     p.add_argument("--connectivity", type=int, default=4, choices=[4, 8])
     p.add_argument("--periodic", default=None, choices=["yes", "no"],
                    help="override the map's 'periodic' attribute")
-    p.add_argument("--model", default="modified_dmt", choices=MODELS,
+    p.add_argument("--model", default="modified_dmt", choices=rs.contact.model_names(auto=True),
                    help="contact model (default modified_dmt); auto: the cheapest model whose "
-                   "measured error bound for this surface meets --tolerance (docs/accuracy.md)")
-    p.add_argument("--tolerance", type=positive_float_arg, default=0.1,
+                   "measured error bound for this surface meets --accuracy (docs/accuracy.md)")
+    p.add_argument("--accuracy", "--tolerance", dest="accuracy", type=positive_float_arg, default=0.1,
                    help="accepted relative error against the boundary-element reference "
-                   "(default 0.1): --model auto meets it; modified_dmt warns where it may not")
+                   "(default 0.1): --model auto meets it; modified_dmt warns where it may not "
+                   "(--tolerance: its old name)")
     p.add_argument("--resolution", action="store_true",
                    help="also report how the adhesive energy, pull-off pressure and equilibrium "
                    "distance change with the pixel size (resampled map, same model)")
@@ -89,7 +91,8 @@ def remedies(args) -> dict:
     (:mod:`roughstick._core.remedy`)."""
     measured = ("the --resolution table this command prints below" if args.resolution else
                 "--resolution (add it to this command: Γ, pull-off and d_eq at half and twice the pixel)")
-    return {"contact_model": flag("--model", extra={"tolerance": "--tolerance"}),
+    return {"contact_model": flag("--model", extra={"accuracy": "--accuracy"}),
+            "levelling": flag("--level"),
             "spacing": lambda v, **kw: f"a map generated at a pixel of {v * 1e9:.2g} nm",
             "resolution": lambda v=None, **kw: measured}
 
@@ -116,38 +119,41 @@ def _run(args):
     check_output_file(out, overwrite=args.overwrite)
     distance = None if args.distance is None else _distance_grid(*args.distance)  # before any work
     material = material_arg(args.material) if args.material else rs.POLYSILICON
-    h = read_map(args.map, spacing=args.spacing, units=args.units)
+    # levelled as every command levels a measured map (printed; --level); --periodic yes: not
+    levelling = "none" if args.level == "auto" and args.periodic == "yes" else args.level
+    h = read_map(args.map, spacing=args.spacing, units=args.units, levelling=levelling)
     n_distance = args.n_distance
     if n_distance is None and args.model in ("modified_dmt", "gw"):
         n_distance = 200  # auto: the chosen model's own default, as from Python
     periodic = None if args.periodic is None else args.periodic == "yes"
-    kw = {}
-    if args.model in ("modified_dmt", "gw", "auto"):
-        kw.update(connectivity=args.connectivity, periodic=periodic)
+    # the asperity settings go to the models that take them (all of them for --model auto)
+    takes = set().union(*(m.options for m in rs.contact.MODELS.values())) if args.model == "auto" \
+        else set(rs.contact.MODELS[args.model].options)
+    kw = {k: v for k, v in {"connectivity": args.connectivity, "periodic": periodic}.items() if k in takes}
     with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", rs.ValidityWarning)
-        ds = rs.rough_contact_curves(
+        warnings.simplefilter("always", rs.contact.ValidityWarning)
+        ds = rs.contact.curves(
             h,
             relative_humidity=list(args.rh),
             distance=distance,
             n_distance=n_distance,
             adsorbed_layer=args.adsorbed_layer,
             model=args.model,
-            tolerance=args.tolerance,
+            accuracy=args.accuracy,
             material=material,
             **kw,
         )
     for w in caught:
-        if issubclass(w.category, rs.ValidityWarning):
+        if issubclass(w.category, rs.contact.ValidityWarning):
             # on the command line the remedy is a flag: say it as a message, not a traceback line
             print(f"roughstick curves: warning: {w.message}", file=sys.stderr)
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    summary = rs.adhesion_summary(ds)
+    summary = rs.contact.summary(ds)
     for name in summary.data_vars:
         ds[name] = summary[name]
     if args.resolution:
-        res = rs.resolution_study(h, relative_humidity=list(args.rh),
+        res = rs.contact.resolution_study(h, relative_humidity=list(args.rh),
                                   factors=args.resolution_factors,
                                   model=ds.attrs.get("contact_model", args.model),
                                   adsorbed_layer=args.adsorbed_layer, material=material)
@@ -168,7 +174,7 @@ def _run(args):
     ds.attrs.update(material_attrs(material))
     rs.conventions.append_history(
         ds, f"roughstick curves {args.map} --rh {' '.join(map(str, args.rh))} --model "
-            f"{args.model} --tolerance {args.tolerance}"
+            f"{args.model} --accuracy {args.accuracy}"
             + (f" --material {' '.join(args.material)}" if args.material else "") + f" --out {args.out}"
     )
     out.parent.mkdir(parents=True, exist_ok=True)

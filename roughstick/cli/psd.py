@@ -11,9 +11,11 @@ from scipy.special import stdtrit
 
 import roughstick as rs
 
+from .._core.remedy import flag
 from ..io import netcdf
 from ._common import LOG, check_output_file, positive_int
 from ._types import (
+    LEVEL_HELP,
     check_map_flags,
     flag_value,
     pixel_size_arg,
@@ -44,7 +46,8 @@ def register(sub):
                    help="pixel size for .npy/text, with its unit, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
     p.add_argument("--channel", default=None, help="channel name or index (vendor files)")
-    p.add_argument("--level", default="plane", choices=["plane", "mean", "line", "none"])
+    p.add_argument("--level", default="auto", choices=["auto", "plane", "mean", "line", "none"],
+                   help=LEVEL_HELP)
     p.add_argument("--nan", default="raise", choices=["raise", "fill"], help="NaN pixels")
     p.add_argument("--submaps", type=positive_int, default=16,
                    help="sub-maps per map: 1, 4, 16 (default 16; maps only)")
@@ -61,7 +64,7 @@ def register(sub):
                    "without a window the edge step of a non-periodic scan inflates m2 and m4 by "
                    "up to 112 %% and 1368 %%, docs/topography_psd.md), none, or a scipy window "
                    "name, e.g. hann, blackman")
-    p.set_defaults(func=_run)
+    p.set_defaults(func=_run, remedies=lambda args: {"levelling": flag("--level")})
 
 
 def _count0(text: str) -> int:
@@ -86,7 +89,8 @@ def _run(args):
         channel = int(channel)
     maps = []
     for path in args.maps:
-        h = read_map(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True)
+        h = read_map(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True,
+                     levelling=args.level)
         used = h.attrs.get("channel")
         size = f"{h.sizes['y']} x {h.sizes['x']} px" if "y" in h.dims else f"line scan of {h.sizes['x']} points"
         LOG.info(f"{path}: {size} of {float(h.x[1] - h.x[0]) * 1e9:.4g} nm"
@@ -99,9 +103,12 @@ def _run(args):
         raise ValueError("the files mix line scans (" + ", ".join(n for n, s in zip(names, scans) if s)
                          + ") and 2-D maps; run roughstick psd on each kind separately.")
     if all(scans):
-        ds = _line_scans([rs.surface.level_profile(m, method=args.level, nan=args.nan) for m in maps], names, args, qmax)
+        method = "line" if args.level in ("auto", "plane") else args.level  # a profile's plane is a line
+        ds = _line_scans([rs.surface.level_profile(m, method=method, nan=args.nan) for m in maps], names, args, qmax)
     else:
-        maps = [rs.surface.level(m, method=args.level, nan=args.nan) for m in maps]
+        # levelled as read (read_afm, --level); here only the NaN pixels (--nan)
+        maps = [rs.surface.level(m, method="none", nan=args.nan) for m in maps]
+        rs.surface.topography.warn_if_incompatible(maps, names)  # said before they are averaged
         same = len({m.shape for m in maps}) == 1 and len({round(float(m.x[1] - m.x[0]), 15) for m in maps}) == 1 \
             and len({round(float(m.y[1] - m.y[0]), 15) for m in maps}) == 1
         if same:

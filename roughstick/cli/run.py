@@ -80,6 +80,8 @@ def run_params(cfg) -> dict:
     heights = out.pop("height_distribution")
     if heights != HEIGHTS_DEFAULT:  # a run that does not set them resumes its earlier folders
         out["height_distribution"] = heights
+    if out["psd"].get("level", "auto") == "auto":  # the default: earlier folders resume
+        out["psd"] = {k: v for k, v in out["psd"].items() if k != "level"}
     material = out.pop("material", POLYSILICON)
     if material != POLYSILICON:
         out["material"] = material_attrs(material)

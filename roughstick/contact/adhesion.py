@@ -1,6 +1,6 @@
 """Reduce force-distance curves of rough surfaces to what decides stiction (Eq. 13).
 
-:func:`adhesion_summary` takes the Dataset of :func:`roughstick.rough_contact_curves` (or of the
+:func:`summary` takes the Dataset of :func:`roughstick.contact.curves` (or of the
 Greenwood-Williamson model, same layout) and returns, per humidity and any leading dimension
 (e.g. ``realization``), the apparent adhesive energy, the pull-off pressure, the equilibrium
 distance and the wetted fraction there.
@@ -17,7 +17,7 @@ from .._core.conventions import append_history, set_attrs
 from .._core.remedy import spell
 from .._core.validate import check_core_not_chunked
 
-__all__ = ["CurveGridWarning", "adhesion_summary", "adhesion_summary_kernel", "adhesive_energy_kernel"]
+__all__ = ["CurveGridWarning", "summary"]
 
 
 class CurveGridWarning(UserWarning):
@@ -30,8 +30,7 @@ def equilibrium_crossings(p: np.ndarray) -> np.ndarray:
 
     A zero counts as repulsive only where the last non-zero pressure below it is repulsive (or
     there is none): a state that lost all contact and water has exactly zero pressure, and a
-    neck caught again just above it is not an equilibrium (on a 128² S2 map at RH 1e-4 it was
-    taken for one, and Γ came out at 0.75 % of the curve's).
+    neck caught again just above it is not an equilibrium.
 
     >>> equilibrium_crossings(np.array([1.0, 0.0, -1.0, 0.0, -2.0, 0.0])).tolist()
     [False, True, False, False, False]
@@ -126,7 +125,7 @@ def _grid_coverage_warning(p: xr.DataArray, d: np.ndarray, attrs: dict) -> None:
                 "no equilibrium: the surfaces collapse into full contact, which a very smooth or "
                 "flat map, a soft material or a very low humidity can cause; the model (rigid "
                 "asperities, Hertz per asperity) is outside its range there"
-                + (f": use {spell('contact_model', 'fft_bem')}" if model in ("modified_dmt", "greenwood_williamson")
+                + (f": use {spell('contact_model', 'fft_bem')}" if model in ("modified_dmt", "gw")
                    else "") + "; widen the grid only to inspect the curve, e.g. " + lower))
     with np.errstate(invalid="ignore"):
         bad = (v[:, -1] > 0) & (~cross | (v[:, -1] > 1e-2 * scale)) & ~p_att
@@ -142,7 +141,7 @@ def _grid_coverage_warning(p: xr.DataArray, d: np.ndarray, attrs: dict) -> None:
                 f"The automatic grid of {model} stops in contact: pass an explicit grid reaching "
                 "higher, e.g. " + higher + " (or a larger n_distance)"))
     if problems:
-        warnings.warn("adhesion_summary: " + "; ".join(problems) + ".", CurveGridWarning,
+        warnings.warn("roughstick.contact.summary: " + "; ".join(problems) + ".", CurveGridWarning,
                       stacklevel=3)
 
 
@@ -167,7 +166,8 @@ def adhesive_energy_kernel(pressure, distance):
 
     Examples
     --------
-    >>> float(rs.adhesive_energy_kernel(np.array([0.0, -2.0, 2.0]), np.array([0.0, 1.0, 2.0])))
+    >>> from roughstick.contact.adhesion import adhesive_energy_kernel
+    >>> float(adhesive_energy_kernel(np.array([0.0, -2.0, 2.0]), np.array([0.0, 1.0, 2.0])))
     1.5
     """
     p = np.asarray(pressure, dtype=float)
@@ -184,9 +184,9 @@ def adhesive_energy_kernel(pressure, distance):
     return np.sum(both + tri, axis=-1)
 
 
-def adhesion_summary_kernel(p, wet, d, from_equilibrium=True):
-    """:func:`adhesion_summary` on numpy arrays, without checks (for callers that evaluate
-    thousands of curves, e.g. :func:`roughstick.failure_probability`).
+def summary_kernel(p, wet, d, from_equilibrium=True):
+    """:func:`summary` on numpy arrays, without checks (for callers that evaluate
+    thousands of curves, e.g. :func:`roughstick.reliability.failure_probability`).
 
     Parameters
     ----------
@@ -195,18 +195,19 @@ def adhesion_summary_kernel(p, wet, d, from_equilibrium=True):
     d : numpy.ndarray
         Ascending distances [m], 1-D, at least two.
     from_equilibrium : bool, default True
-        As in :func:`adhesion_summary`.
+        As in :func:`summary`.
 
     Returns
     -------
     tuple of numpy.ndarray
         Per curve: adhesive energy [J m-2] (Eq. 13), pull-off pressure [Pa], equilibrium
         distance [m] (NaN if none), wet fraction there, attraction below the equilibrium
-        [J m-2]: the variables of :func:`adhesion_summary`, in that order.
+        [J m-2]: the variables of :func:`summary`, in that order.
 
     Examples
     --------
-    >>> g, pull, deq, weq, below = rs.adhesion_summary_kernel(
+    >>> from roughstick.contact.adhesion import summary_kernel
+    >>> g, pull, deq, weq, below = summary_kernel(
     ...     np.array([1.0, -2.0, 0.0]), np.zeros(3), np.array([0.0, 1.0, 2.0]))
     >>> float(deq), float(pull), round(float(g), 3)
     (0.3333333333333333, 2.0, 1.667)
@@ -238,14 +239,14 @@ def adhesion_summary_kernel(p, wet, d, from_equilibrium=True):
     return gamma, pull, deq, weq, gamma_all - gamma_sep
 
 
-def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
+def summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
                      check_grid: bool = True) -> xr.Dataset:
     r"""Apparent adhesive energy (Eq. 13), pull-off pressure and equilibrium of each curve.
 
     Parameters
     ----------
     curves : xarray.Dataset
-        Output of :func:`roughstick.rough_contact_curves` (or GW): ``pressure`` [Pa] and
+        Output of :func:`roughstick.contact.curves` (or GW): ``pressure`` [Pa] and
         ``wet_fraction`` over ``(..., distance)``; ``distance`` a single dask chunk.
     from_equilibrium : bool, default True
         Integrate Eq. 13 along the separation path only, from the equilibrium distance
@@ -293,15 +294,15 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     Examples
     --------
     >>> h = rs.testing.sphere_topography(200e-9, n=33, spacing=2e-9)
-    >>> c = rs.rough_contact_curves(h, relative_humidity=0.5, distance=np.linspace(-3e-9, 3e-9, 61))
-    >>> s = rs.adhesion_summary(c)
+    >>> c = rs.contact.curves(h, relative_humidity=0.5, distance=np.linspace(-3e-9, 3e-9, 61))
+    >>> s = rs.contact.summary(c)
     >>> bool(s.adhesive_energy > 0), bool(s.equilibrium_distance < c.max_interference.distance.max())
     (True, True)
     """
     if "pressure" not in curves or "distance" not in curves["pressure"].dims:
         raise ValueError(
             "curves must hold 'pressure' over a 'distance' dimension, as returned by "
-            "roughstick.rough_contact_curves."
+            "roughstick.contact.curves."
         )
     p = curves["pressure"]
     check_core_not_chunked(p, ["distance"])
@@ -315,7 +316,7 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     if d.size < 2:
         raise ValueError("curves need at least two distances to integrate Eq. 13.")
     outs = xr.apply_ufunc(
-        adhesion_summary_kernel,
+        summary_kernel,
         p,
         wet,
         kwargs={"d": d, "from_equilibrium": bool(from_equilibrium)},
@@ -341,7 +342,7 @@ def adhesion_summary(curves: xr.Dataset, *, from_equilibrium: bool = True,
     ds.attrs["adhesive_energy_range"] = "from_equilibrium" if from_equilibrium else "whole_grid"
     append_history(
         ds,
-        "adhesion_summary: Eq. 13 on the piecewise-linear pressure "
+        "roughstick.contact.summary: Eq. 13 on the piecewise-linear pressure "
         + ("from the equilibrium outwards" if from_equilibrium else "over the whole grid")
         + ", pull-off, equilibrium",
     )

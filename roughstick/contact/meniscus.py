@@ -13,6 +13,7 @@ import numpy as np
 import xarray as xr
 
 from .._core import constants as C
+from .._core.api import renamed_keywords
 from .._core.arguments import check_numbers
 from .._core.conventions import set_attrs
 from .._core.units import as_si
@@ -72,7 +73,7 @@ def kelvin_radius(
 
     Examples
     --------
-    >>> float(rs.kelvin_radius(0.5)) * 1e9
+    >>> float(rs.contact.kelvin_radius(0.5)) * 1e9
     -0.7646...
     """
     rh = as_relative_humidity(relative_humidity)
@@ -109,7 +110,7 @@ def laplace_pressure(
 
     Examples
     --------
-    >>> float(rs.laplace_pressure(0.3)) / 1e6
+    >>> float(rs.contact.laplace_pressure(0.3)) / 1e6
     -166.8...
     """
     rh = as_relative_humidity(relative_humidity)
@@ -178,9 +179,10 @@ def step_adsorbed_layer(
     return model
 
 
-def no_adsorbed_layer(rh):
+@renamed_keywords(rh="relative_humidity")
+def no_adsorbed_layer(relative_humidity):
     """Adsorbed-layer model with no layer at any humidity (the paper's Fig. 20a)."""
-    return xr.zeros_like(rh)
+    return xr.zeros_like(relative_humidity)
 
 
 _LAYER_MODELS = {"paper": step_adsorbed_layer, "none": lambda: no_adsorbed_layer}
@@ -207,23 +209,25 @@ def _layer_model(adsorbed_layer) -> Callable:
     )
 
 
-def adsorbed_layer(relative_humidity, *, model="paper") -> xr.DataArray:
+@renamed_keywords(model="layer_model")
+def adsorbed_layer(relative_humidity, *, layer_model="paper") -> xr.DataArray:
     """Total adsorbed layer thickness :math:`h_{a1} + h_{a2}` [m] (Eq. 6).
 
     Parameters
     ----------
     relative_humidity : float, sequence or xarray.DataArray
         RH as a fraction in (0, 1).
-    model : {"paper", "none"} or callable
+    layer_model : {"paper", "none"} or callable
         ``"paper"``: 0.9 nm per surface above 65 % RH; ``"none"``: no layer; or a callable taking
         the RH DataArray and returning the total thickness in metres (checked: finite, >= 0 and
         at most 1e-7 m; more is nm returned as m, refused naming the callable).
     """
     rh = as_relative_humidity(relative_humidity)
-    out = _layer_thickness(model, rh)
+    out = _layer_thickness(layer_model, rh)
     if not isinstance(out, xr.DataArray):
         out = xr.zeros_like(rh) + out
-    return set_attrs(out, "adsorbed_layer", model=getattr(_layer_model(model), "__name__", str(model)))
+    return set_attrs(out, "adsorbed_layer",
+                     model=getattr(_layer_model(layer_model), "__name__", str(layer_model)))
 
 
 @check_numbers(contact_angle_1="angle", contact_angle_2="angle", subtended_angle="angle")
@@ -258,7 +262,7 @@ def water_height(
 
     Examples
     --------
-    >>> rs.water_height([0.3, 0.5, 0.7]).values * 1e9
+    >>> rs.contact.water_height([0.3, 0.5, 0.7]).values * 1e9
     array([0.880..., 1.529..., 4.772...])
     """
     h_men = meniscus_height(

@@ -8,12 +8,14 @@ measured maps an ensemble was built from fall in it.
 
 Modules: :mod:`.pipeline` (one block, the lazy layout, :func:`distance_grid`), :mod:`.store`
 (the ensemble folder), :mod:`.execute` (threads or a cluster, auto-n), :mod:`.runner`
-(:func:`run`, :func:`surface_size_study`), :mod:`.statistics`, :mod:`.distributions` and
-:mod:`.maps` (the measured maps in their ensemble).
+(:func:`run`, :func:`surface_size_study`), :mod:`.statistics`, :mod:`.distributions`,
+:mod:`.multifidelity` (a cheap model on every realization corrected by an accurate one on a
+seeded subset) and :mod:`.maps` (the measured maps in their ensemble).
 """
 
 from .distributions import ecdf, histogram
 from .maps import ContainmentWarning, map_containment
+from .multifidelity import accurate_subset, accurate_subset_size, multifidelity_band
 from .pipeline import distance_grid
 from .runner import run, surface_size_study
 from .statistics import (
@@ -39,4 +41,7 @@ __all__ = [
     "binomial_interval",
     "histogram",
     "ecdf",
+    "multifidelity_band",
+    "accurate_subset",
+    "accurate_subset_size",
 ]

@@ -29,10 +29,10 @@ import xarray as xr
 
 from .._core.remedy import spell
 from .._core.validate import external_stacklevel
-from ..contact.adhesion import adhesion_summary
+from ..contact import summary as contact_summary
 from ..surface.distribution import height_distribution as _measured_distribution
 from ..surface.gaussianity import is_gaussian
-from ..surface.topography import level, level_unless_periodic, validate_height
+from ..surface.topography import level, level_unless_periodic, validate_height, warn_if_incompatible
 
 __all__ = ["map_containment", "ContainmentWarning"]
 
@@ -63,6 +63,7 @@ def as_maps(maps) -> list:
             raise ValueError("each measured map must be 2-D (y, x); pass a stack as one DataArray.")
         name = pathlib.Path(str(m.attrs.get("source", ""))).name or f"map {i}"
         out.append(m.assign_attrs(map_name=name))
+    warn_if_incompatible(out, [m.attrs["map_name"] for m in out])  # one surface's maps?
     return out
 
 
@@ -114,7 +115,7 @@ def map_summaries(maps: list, *, relative_humidity, curves, summary, curves_kwar
     for m in maps:
         c = curves(m, relative_humidity=relative_humidity, distance=None, material=material,
                    adsorbed_layer=adsorbed_layer, **curves_kwargs)
-        s = summary(c, check_grid=False) if summary is adhesion_summary else summary(c)
+        s = summary(c, check_grid=False) if summary is contact_summary else summary(c)
         keep = [v for v in MAP_SUMMARIES if v in s]
         parts.append(s[keep].drop_vars([c for c in s.coords if c != "rh"], errors="ignore"))
     names = [m.attrs["map_name"] for m in maps]

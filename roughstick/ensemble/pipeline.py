@@ -31,8 +31,9 @@ from .._core.conventions import ATTRS, dataset_attrs
 from .._core.references import PAPER, cite
 from .._core.validate import relative_humidity_array
 from .._core.version import __version__
-from ..contact.adhesion import adhesion_summary, equilibrium_crossings
-from ..contact.curves import rough_contact_curves
+from ..contact import curves as contact_curves
+from ..contact import summary as contact_summary
+from ..contact.adhesion import equilibrium_crossings
 from ..contact.meniscus import as_relative_humidity, water_height
 from ..surface.distribution import as_height_distribution, evaluate, standardised
 from ..surface.generate import extrapolation_said_once
@@ -102,7 +103,7 @@ def distance_grid(
     relative_humidity : sequence of float
         Humidities (fractions) of the run.
     adsorbed_layer : {"paper", "none"} or callable
-        Adsorbed-layer model (:func:`roughstick.water_height`).
+        Adsorbed-layer model (:func:`roughstick.contact.water_height`).
     m0 : float, optional
         Height variance [m2], instead of ``psd``.
     n_distance : int, optional
@@ -181,6 +182,8 @@ class Spec:
     water_max: float
     token: str
     own_grid: bool = False  # summaries on each map's own automatic grid (distance=None)
+    # multi-fidelity: (accurate model, frozenset of the realizations it runs on); () when not used
+    accurate: tuple = ()
 
     def rh_blocks(self):
         r = self.rh.size
@@ -236,6 +239,10 @@ def _hash_params(spec_fields: dict) -> str:
         for k in ("shape", "spacing", "chunk", "rh_chunk", "seed_entropy", "seed_spawn_key")
     }
     rest["own_grid"] = bool(spec_fields.get("own_grid", False))
+    if spec_fields.get("accurate"):  # absent from single-model runs: their hash is unchanged
+        model, members = spec_fields["accurate"]
+        digest = hashlib.sha256(np.asarray(sorted(members), dtype=np.int64).tobytes()).hexdigest()
+        rest["accurate"] = [str(model), digest]
     rest["version"] = __version__
     rest["adsorbed_layer"] = (
         spec_fields["adsorbed_layer"]
@@ -293,7 +300,7 @@ def _curves_self_extending(spec, hk, rh, grid, top, bottom, *, extend=True):
     up to it (Γ of Eq. 13 integrates the attraction from there). Below: if a humidity's curve has
     no stable zero crossing (repulsive below, attractive above) on the grid, levels are added down
     to the lowest pixel. Equilibrium and Γ are then decided on the separation path (the outermost
-    stable crossing, :func:`roughstick.adhesion_summary`); a curve attractive again deep in
+    stable crossing, :func:`roughstick.contact.summary`); a curve attractive again deep in
     contact is reported (``attractive_at_floor``), not an error; so is a curve that never turns
     repulsive even at the lowest pixel (the surfaces would collapse into full contact: no
     equilibrium, ``equilibrium_distance`` NaN, Γ a lower bound). With ``extend=False`` (summaries
@@ -335,7 +342,7 @@ def _curves_self_extending(spec, hk, rh, grid, top, bottom, *, extend=True):
 OWN_GRID_NOTE = (
     "adhesive_energy, pull_off_pressure, equilibrium_distance and the other summaries of each "
     "(realization, rh) come from that map's own automatic distance grid at that humidity alone "
-    "(roughstick.contact_distance_grid), so they do not depend on the other humidities, on n or "
+    "(roughstick.contact.contact_distance_grid), so they do not depend on the other humidities, on n or "
     "on the chunks; the stored curves are on the common distance grid (extended per realization "
     "where it fell short: grid_extension)")
 
@@ -344,7 +351,7 @@ def _own_grid_capable(spec: Spec) -> bool:
     """Summaries on each map's own grid: asked for (no ``distance=`` given) and possible (the
     default contact stage, rough_contact_curves, builds its own grid from ``distance=None``)."""
     f = spec.curves
-    return spec.own_grid and isinstance(f, functools.partial) and f.func is rough_contact_curves
+    return spec.own_grid and isinstance(f, functools.partial) and f.func is contact_curves
 
 
 def _own_grid_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dataset:
@@ -355,9 +362,43 @@ def _own_grid_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dat
                         adsorbed_layer=spec.adsorbed_layer, **spec.curves_kwargs)
         # the automatic grid reaches the lowest pixel: a curve that is attractive there has no
         # equilibrium (equilibrium_distance NaN, Γ a lower bound), which the grid cannot fix
-        s = spec.summary(c, check_grid=False) if spec.summary is adhesion_summary else spec.summary(c)
+        s = spec.summary(c, check_grid=False) if spec.summary is contact_summary else spec.summary(c)
         parts.append(s.drop_vars([v for v in s.coords if v != "rh"], errors="ignore"))
     return parts[0] if len(parts) == 1 else xr.concat(parts, "rh", combine_attrs="drop_conflicts")
+
+
+#: The summaries the accurate model adds on its subset of a multi-fidelity ensemble.
+ACCURATE_VARIABLES = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
+
+
+def accurate_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dataset:
+    """The accurate model's summaries of one map (``<name>_accurate``), each humidity alone on
+    the model's own automatic grid (so they do not depend on the humidity blocks)."""
+    model = spec.accurate[0]
+    parts = []
+    for r in np.atleast_1d(rh.values):
+        c = contact_curves(h2d, relative_humidity=[float(r)], model=model, material=spec.material,
+                           adsorbed_layer=spec.adsorbed_layer, check_validity=False)
+        s = contact_summary(c, check_grid=False)[list(ACCURATE_VARIABLES)]
+        parts.append(s.drop_vars([v for v in s.coords if v != "rh"], errors="ignore"))
+    s = parts[0] if len(parts) == 1 else xr.concat(parts, "rh", combine_attrs="drop_conflicts")
+    return _accurate_names(s, model)
+
+
+def _accurate_names(s: xr.Dataset, model: str) -> xr.Dataset:
+    out = s.rename({v: f"{v}_accurate" for v in ACCURATE_VARIABLES})
+    for v in ACCURATE_VARIABLES:
+        a = s[v].attrs
+        out[f"{v}_accurate"].attrs = {**a, "long_name": f"{a.get('long_name', v)} by the accurate "
+                                      f"model ({model}) on the seeded subset (NaN elsewhere)",
+                                      "contact_model": model}
+    return out
+
+
+def _no_accurate(summary: xr.Dataset, model: str) -> xr.Dataset:
+    """NaN ``<name>_accurate`` variables shaped like ``summary``'s (a realization off the subset)."""
+    s = xr.Dataset({v: xr.full_like(summary[v], np.nan, dtype=float) for v in ACCURATE_VARIABLES})
+    return _accurate_names(s, model)
 
 
 def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> xr.Dataset:
@@ -383,6 +424,12 @@ def compute_block(spec: Spec, start: int, stop: int, rh_lo: int, rh_hi: int) -> 
                 "realization", ...)
         else:
             summary = spec.summary(curves)
+        if spec.accurate:  # multi-fidelity: the accurate model on its seeded subset only
+            member = start + k in spec.accurate[1]
+            acc = (accurate_summary(spec, h.isel(realization=k, drop=True), rh).expand_dims(
+                       realization=hk["realization"].values).transpose("realization", ...)
+                   if member else _no_accurate(summary, spec.accurate[0]))
+            summary = xr.merge([summary, acc], compat="override", combine_attrs="drop_conflicts")
         if flag:  # the summary saw the extended grid; the stored curves stay on the common grid
             keep = np.isin(curves.distance.values, grid)
             curves = curves.isel(distance=np.flatnonzero(keep))
@@ -503,4 +550,16 @@ def _attrs(spec: Spec, n) -> dict:
         summary_grid=(OWN_GRID_NOTE if _own_grid_capable(spec) else
                       "summaries on the common distance grid (given distances or a custom "
                       "contact function)"),
+        **({} if not spec.accurate else {
+            "accurate_model": spec.accurate[0], "n_accurate": len(spec.accurate[1]),
+            "multifidelity": MULTIFIDELITY_NOTE.format(model=spec.accurate[0],
+                                                       n=len(spec.accurate[1]), total=int(n))}),
     )
+
+
+MULTIFIDELITY_NOTE = (
+    "every realization runs the cheap contact model (contact_function); the {n} of {total} "
+    "realizations of a permutation drawn from the seed alone also run the accurate model "
+    "({model}): <name>_accurate, NaN elsewhere. roughstick.ensemble.confidence_band combines them "
+    "into the accurate model's band (cross-fitted two-phase difference estimator, "
+    "roughstick.ensemble.multifidelity)")

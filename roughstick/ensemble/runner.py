@@ -11,6 +11,7 @@ several surface sizes on one distance grid.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import logging
@@ -37,15 +38,16 @@ from .._core.validate import (
     relative_humidity_array,
     surface_shape,
 )
-from ..contact.adhesion import adhesion_summary
-from ..contact.curves import CONTACT_MODELS, rough_contact_curves
-from ..contact.pixel import warn_if_unresolved
-from ..contact.validity import (
+from ..contact import (
     VALIDITY_BOUND,
     expected_surface_groups,
+    model_names,
     select_model,
     warn_if_outside_validity,
+    warn_if_unresolved,
 )
+from ..contact import curves as contact_curves
+from ..contact import summary as contact_summary
 from ..surface.gaussianity import is_gaussian
 from ..surface.generate import ExtrapolatedPSDWarning, generate_surfaces
 from .execute import auto_ensemble, stream
@@ -57,7 +59,16 @@ from .maps import (
     map_summaries,
     resolve_height_distribution,
 )
-from .pipeline import Spec, _attrs, _hash_params, _water_heights, distance_grid, lazy_ensemble
+from .multifidelity import accurate_subset, accurate_subset_size
+from .pipeline import (
+    Spec,
+    _attrs,
+    _hash_params,
+    _water_heights,
+    compute_block,
+    distance_grid,
+    lazy_ensemble,
+)
 from .store import open_ensemble
 
 __all__ = ["run", "surface_size_study"]
@@ -87,19 +98,19 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, model, accura
                 warn=True):
     """Choose and check the contact model once per run, before the graph and without computing a
     surface. Returns ``(model, model_selection)``: the model every realization runs (``"auto"``
-    resolved by :func:`roughstick.select_model` on the groups expected from the PSD) and, for
+    resolved by :func:`roughstick.contact.select_model` on the groups expected from the PSD) and, for
     ``"auto"``, why.
 
     With ``warn`` (the default surfaces): generated surfaces larger than the PSD's scan
     (ExtrapolatedPSDWarning) and the measured validity of the model actually used at the groups
     expected from the PSD (ValidityWarning, docs/accuracy.md; none for the reference ``"bem"``
     nor for ``"auto"``, whose choice meets the accuracy), and whether the pixel resolves the
-    water necks (:func:`roughstick.warn_if_unresolved`; not for ``"gw"``). Blocks then compute
+    water necks (:func:`roughstick.contact.warn_if_unresolved`; not for ``"gw"``). Blocks then compute
     without warnings.
     """
     model = DEFAULT_MODEL if model is None else model
-    if model not in CONTACT_MODELS:
-        raise ValueError(f"model must be one of {CONTACT_MODELS}, got {model!r}.")
+    if model not in model_names(auto=True):
+        raise ValueError(f"model must be one of {model_names(auto=True)}, got {model!r}.")
     tolerance = VALIDITY_BOUND if accuracy is None else accuracy
     if not (isinstance(tolerance, (int, float)) and not isinstance(tolerance, bool) and tolerance > 0):
         raise ValueError(f"accuracy must be a positive relative error (e.g. 0.1 for 10 %), got "
@@ -113,12 +124,12 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, model, accura
                                          material=material, adsorbed_layer=adsorbed_layer)
     selection = None
     if model == "auto":
-        model, reason = select_model(None, relative_humidity=rh, tolerance=tolerance,
+        model, reason = select_model(None, relative_humidity=rh, accuracy=tolerance,
                                      quantity=quantity, groups=groups)
         selection = (
             f"auto -> {model} for every realization, chosen once for the ensemble from the "
             f"surface groups expected from the PSD at shape {tuple(shape)} "
-            f"(roughstick.expected_surface_groups), not per map: {reason}")
+            f"(roughstick.contact.expected_surface_groups), not per map: {reason}")
         # said before any surface is computed, with what one surface will cost
         logging.getLogger("roughstick").info(
             f"{selection.split(': ', 1)[0]}: estimated "
@@ -126,7 +137,7 @@ def _check_once(psd, shape, spacing, rh, material, adsorbed_layer, model, accura
             f"(within a factor ~3); {reason}")
     with spelled(**PYTHON_SPELLING):  # the remedies named in run's arguments
         if selection is None and warn and model != "bem":  # "auto"'s choice meets the tolerance
-            warn_if_outside_validity(None, relative_humidity=rh, model=model, tolerance=tolerance,
+            warn_if_outside_validity(None, relative_humidity=rh, model=model, accuracy=tolerance,
                                      quantity=quantity, material=material,
                                      adsorbed_layer=adsorbed_layer, groups=groups)
         if warn and model != "gw":  # the pixel models: does the pixel resolve the water necks?
@@ -140,7 +151,7 @@ PYTHON_SPELLING = {
         f"model={v!r}" + ("" if (accuracy if accuracy is not None else tolerance) is None
                           else f", accuracy={accuracy if accuracy is not None else tolerance!r}")),
     "spacing": argument("spacing", fmt=lambda v: f"{v:.2g}"),
-    "resolution": lambda v=None, **kw: ("roughstick.resolution_study(psd=psd, shape=shape, spacing=spacing, "
+    "resolution": lambda v=None, **kw: ("roughstick.contact.resolution_study(psd=psd, shape=shape, spacing=spacing, "
                                         "relative_humidity=...) (a generated surface at half and twice the pixel)"),
 }
 
@@ -178,6 +189,8 @@ def run(
     summary: Callable | None = None,
     generate_kwargs: dict | None = None,
     curves_kwargs: dict | None = None,
+    accurate_model: str | None = None,
+    n_accurate="auto",
     maps=None,
     height_distribution="auto",
     distribution_method: str = "translation",
@@ -210,7 +223,7 @@ def run(
         The contact model every realization runs (default ``"modified_dmt"``; ``"bem"`` needs the
         Tamaas extra). ``"auto"`` is resolved once for the whole ensemble, before the graph is
         built, as the cheapest model whose measured error bound at the surface groups expected
-        from the PSD (:func:`roughstick.expected_surface_groups`) meets ``accuracy`` at every
+        from the PSD (:func:`roughstick.contact.expected_surface_groups`) meets ``accuracy`` at every
         humidity. The model run is ``attrs["contact_model"]``; for ``"auto"`` the reason is
         ``attrs["model_selection"]``.
     accuracy : float, optional
@@ -252,12 +265,25 @@ def run(
     generate_kwargs, curves_kwargs : dict, optional
         Extra keyword arguments for ``generate`` and for the contact model (e.g. ``quantity``,
         whose measured error ``accuracy`` bounds).
+    accurate_model : str, optional
+        Multi-fidelity: every realization runs ``model`` (the cheap one), and a subset drawn from
+        the seed alone (:func:`roughstick.ensemble.multifidelity.accurate_subset`) also runs this
+        registered contact model (e.g. ``"fft_bem"``), adding ``adhesive_energy_accurate``,
+        ``pull_off_pressure_accurate`` and ``equilibrium_distance_accurate`` (NaN off the
+        subset). :func:`confidence_band` combines them into the accurate model's band, with an
+        interval that holds the sampling and the model correction together.
+    n_accurate : int or "auto", default "auto"
+        How many realizations run ``accurate_model``; ``"auto"``: from a pilot of
+        ``PILOT_SIZE`` realizations run with both models (computed before the graph is built),
+        as many as make the model correction of Γ's median and band edges lie within
+        ``accuracy`` (:func:`roughstick.ensemble.multifidelity.accurate_subset_size`), at most n.
     maps : xarray.DataArray or list of xarray.DataArray, optional
         The measured maps the PSD was estimated from (``(..., y, x)`` or a list of 2-D maps;
-        levelled by a plane here unless periodic). Each map's own summaries are computed with
-        the same model,
-        humidities, material and layer (one set of curves per map, at once; of a map larger than
-        the surfaces, its centre at their size) and placed in the
+        levelled by a plane here unless periodic or levelled already, as
+        :func:`roughstick.io.read_afm` does; maps whose rms heights or correlation lengths differ
+        more than twofold are an ``IncompatibleMapsWarning``). Each map's own summaries are
+        computed with the same model, humidities, material and layer (one set of curves per map,
+        at once; of a map larger than the surfaces, its centre at their size) and placed in the
         ensemble: ``map_adhesive_energy`` ... over ``(map, rh)`` and ``map_percentile``, the
         percentile of each map's Γ among the realizations (:func:`map_containment`). A computed
         result (``output=`` or ``n="auto"``) warns at once for a map outside the ``confidence``
@@ -337,9 +363,9 @@ def run(
     generate = generate_surfaces if generate is None else generate
     # the per-surface validity check would warn once per realization from inside dask: the run is
     # checked once above, before any graph is built
-    curves = (functools.partial(rough_contact_curves, check_validity=False) if curves is None
+    curves = (functools.partial(contact_curves, check_validity=False) if curves is None
               else curves)
-    summary = adhesion_summary if summary is None else summary
+    summary = contact_summary if summary is None else summary
     root = as_seed_sequence(seed)
     generate_kwargs = dict(generate_kwargs or {})
     if heights is not None:
@@ -370,6 +396,9 @@ def run(
         water_max=float(np.max(_water_heights(rh, adsorbed_layer))), token=_hash_params(fields),
         own_grid=fields["own_grid"],
     )
+    if accurate_model is not None:
+        spec = _with_accurate_subset(spec, accurate_model, n_accurate, n_total, auto=auto,
+                                     accuracy=VALIDITY_BOUND if accuracy is None else accuracy)
     attrs = _attrs(spec, n_total)
     if chosen is not None:
         attrs["contact_model"] = chosen
@@ -421,6 +450,53 @@ def _with_maps(ds, spec, maps, maps_gaussian, confidence, *, computed) -> xr.Dat
                               "(map_adhesive_energy ..., map_percentile)")
 
 
+#: Realizations a multi-fidelity pilot runs with both models (``n_accurate="auto"``).
+PILOT_SIZE = 40
+
+
+def _with_accurate_subset(spec: Spec, model: str, n_accurate, n_total: int, *, auto: bool,
+                          accuracy: float) -> Spec:
+    """``spec`` with its multi-fidelity subset: the first ``n_accurate`` realizations of the
+    seed's permutation (``"auto"``: sized from a pilot run with both models)."""
+    if model not in model_names():
+        raise ValueError(f"accurate_model must be a registered contact model {model_names()}, got "
+                         f"{model!r}.")
+    if auto:
+        raise ValueError("n='auto' with accurate_model= is not supported: give n (the number of "
+                         "realizations), e.g. n=1000.")
+    if n_accurate == "auto":
+        pilot = accurate_subset(n_total, min(PILOT_SIZE, n_total), seed=spec.seed)
+        probe = dataclasses.replace(spec, accurate=(model, frozenset(int(k) for k in pilot)))
+        parts = [compute_block(probe, int(k), int(k) + 1, 0, spec.rh.size) for k in pilot]
+        both = xr.concat([p[["adhesive_energy", "adhesive_energy_accurate"]] for p in parts],
+                         "realization")
+        n_accurate = max(
+            accurate_subset_size(both["adhesive_energy"].sel(rh=r).values,
+                                 both["adhesive_energy_accurate"].sel(rh=r).values,
+                                 n_total=n_total, accuracy=accuracy)
+            for r in spec.rh)
+        logging.getLogger("roughstick").info(
+            f"multi-fidelity: a pilot of {pilot.size} realizations run with both models asks for "
+            f"{n_accurate} of {n_total} with {model} (accuracy {accuracy:g} on Γ's median and band "
+            "edges)")
+    elif not (isinstance(n_accurate, (int, np.integer)) and 1 <= n_accurate <= n_total):
+        raise ValueError(f"n_accurate must be 'auto' or an integer from 1 to n={n_total}, got "
+                         f"{n_accurate!r}.")
+    members = frozenset(int(k) for k in accurate_subset(n_total, int(n_accurate), seed=spec.seed))
+    return dataclasses.replace(spec, accurate=(model, members),
+                               token=_hash_params({**_spec_fields(spec), "accurate": (model, members)}))
+
+
+def _spec_fields(spec: Spec) -> dict:
+    """The fields :func:`roughstick.ensemble.pipeline._hash_params` reads, from a Spec."""
+    return dict(psd=spec.psd, shape=spec.shape, spacing=spec.spacing, rh=spec.rh,
+                distance=spec.distance, chunk=spec.chunk, rh_chunk=spec.rh_chunk,
+                adsorbed_layer=spec.adsorbed_layer, material=spec.material, generate=spec.generate,
+                curves=spec.curves, summary=spec.summary, generate_kwargs=spec.generate_kwargs,
+                curves_kwargs=spec.curves_kwargs, seed_entropy=str(spec.seed.entropy),
+                seed_spawn_key=list(spec.seed.spawn_key), own_grid=spec.own_grid)
+
+
 def _realizations(n, n_max) -> tuple[int, bool]:
     """``(number of realizations to plan for, whether n is "auto")``."""
     if isinstance(n, str):
@@ -463,8 +539,8 @@ def _chunks(chunks, shape, n_rh) -> tuple[int, int]:
 
 def _select_for_sizes(psd, shapes, spacing, rh, accuracy, kwargs):
     """``model="auto"`` resolved once for all ``shapes`` (each size and each humidity must meet
-    ``accuracy``: :func:`roughstick.select_model` on the stacked groups expected from the PSD), and
-    the reason."""
+    ``accuracy``: :func:`roughstick.contact.select_model` on the stacked groups expected from the
+    PSD), and the reason."""
     material = as_material(kwargs.get("material") or POLYSILICON)
     with warnings.catch_warnings():
         if kwargs.get("generate") is not None:  # the PSD filter of generate_surfaces is not used
@@ -475,7 +551,7 @@ def _select_for_sizes(psd, shapes, spacing, rh, accuracy, kwargs):
                             for s in shapes], dim="size")
     quantity = (kwargs.get("curves_kwargs") or {}).get("quantity", "adhesive_energy")
     chosen, reason = select_model(None, relative_humidity=rh,
-                                  tolerance=VALIDITY_BOUND if accuracy is None else accuracy,
+                                  accuracy=VALIDITY_BOUND if accuracy is None else accuracy,
                                   quantity=quantity, groups=groups)
     return chosen, (f"auto -> {chosen} for every size and realization, chosen once from the surface "
                     f"groups expected from the PSD at shapes {[tuple(s) for s in shapes]}: {reason}")

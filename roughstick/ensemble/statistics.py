@@ -22,6 +22,7 @@ from .._core.conventions import ATTRS, append_history, coord_attrs
 from .._core.dask import as_seed_sequence
 from .._core.intervals import interval_method, order_statistic_ranks
 from .._core.validate import as_fraction
+from .multifidelity import multifidelity_band
 
 __all__ = [
     "confidence_band",
@@ -297,8 +298,13 @@ def confidence_band(
     probs = np.round([(1 - confidence) / 2, 0.5, (1 + confidence) / 2], 12)  # exact labels for .sel
     out = {}
     lazy = False
+    paired = _accurate_pairs(ds, dim)
     for v, da in ds.data_vars.items():
-        if dim not in da.dims or da.dtype.kind not in "fiub":
+        if dim not in da.dims or da.dtype.kind not in "fiub" or v in paired.values():
+            continue
+        if v in paired:  # multi-fidelity: the accurate model's band from both models
+            out.update(_multifidelity_entries(v, da, ds[paired[v]], dim, probs, ci_confidence))
+            lazy = lazy or da.chunks is not None
             continue
         da = da.astype(float) if da.dtype.kind != "f" else da
         if da.chunks is not None:
@@ -338,6 +344,12 @@ def confidence_band(
     # the file's attribute names: level (the band) and confidence (its quantiles' intervals)
     res.attrs.update(level=confidence, confidence=ci_confidence, n_members=int(n),
                      uncertainty_method=str(uncertainty))
+    if paired:
+        res.attrs["band_method"] = (
+            f"multi-fidelity: {', '.join(paired)} from the cheap model on every member corrected by "
+            f"{ds.attrs['accurate_model']} on {ds.attrs.get('n_accurate', '?')} of them (cross-fitted "
+            "two-phase difference estimator; the intervals hold the sampling and the model "
+            "correction); <name>_cheap is the cheap model's own band")
     used = n
     if not lazy:
         # the fewest members used anywhere (in memory: the counts are already known)
@@ -351,6 +363,61 @@ def confidence_band(
         res.attrs["n_samples_to_bound_band_edges"] = int(need)
         res.attrs["band_edges_bounded"] = int(used >= need)
     return append_history(res, f"confidence_band(confidence={confidence}, dim={dim!r}, n={n})")
+
+
+def _accurate_pairs(ds: xr.Dataset, dim: str) -> dict:
+    """``{v: v + "_accurate"}`` of a multi-fidelity ensemble (``attrs["accurate_model"]``)."""
+    if "accurate_model" not in ds.attrs:
+        return {}
+    return {v: f"{v}_accurate" for v in ds.data_vars
+            if f"{v}_accurate" in ds.data_vars and dim in ds[v].dims}
+
+
+def _multifidelity_entries(v, cheap, accurate, dim, probs, ci_confidence) -> dict:
+    """The band entries of ``v`` from the cheap model on every member and the accurate one on a
+    subset (:func:`roughstick.ensemble.multifidelity.multifidelity_band`), in the layout of the
+    single-model band, plus the model correction's own interval and the cheap model's band."""
+    if cheap.chunks is not None:
+        cheap, accurate = cheap.chunk({dim: -1}), accurate.chunk({dim: -1})
+    mf = multifidelity_band(cheap, accurate, dim=dim, quantiles=probs, confidence=ci_confidence)
+    keep = {k: a for k, a in cheap.attrs.items() if k in ("units", "standard_name")}
+    long = cheap.attrs.get("long_name", v)
+    model = accurate.attrs.get("contact_model", "the accurate model")
+    z = stats.norm.ppf(0.5 + ci_confidence / 2)
+
+    def labelled(a, text):
+        a = a.drop_vars(dim, errors="ignore")
+        a.attrs = {**keep, "long_name": text}
+        return a
+
+    out = {
+        v: labelled(mf["value"].transpose("quantile", ...),
+                    f"quantiles over {dim} of {long} by {model} (multi-fidelity estimate)"),
+        f"{v}_mean": labelled(mf["mean"], f"mean over {dim} of {long} by {model}"),
+        f"{v}_mean_stderr": labelled((mf["mean_upper"] - mf["mean_lower"]) / (2 * z),
+                                     f"standard error of the mean of {long} by {model}"),
+        f"{v}_ci_lower": labelled(mf["lower"].transpose("quantile", ...),
+                                  f"lower {ci_confidence:g} bound of each quantile (sampling and "
+                                  "model correction)"),
+        f"{v}_ci_upper": labelled(mf["upper"].transpose("quantile", ...),
+                                  f"upper {ci_confidence:g} bound of each quantile (sampling and "
+                                  "model correction)"),
+        f"{v}_correction_lower": labelled(mf["correction_lower"].transpose("quantile", ...),
+                                          "lower bound of each quantile of the same members all "
+                                          f"run with {model} (model correction alone)"),
+        f"{v}_correction_upper": labelled(mf["correction_upper"].transpose("quantile", ...),
+                                          "upper bound of each quantile of the same members all "
+                                          f"run with {model} (model correction alone)"),
+        f"{v}_cheap": labelled(cheap.quantile(probs, dim=dim).transpose("quantile", ...),
+                               f"quantiles over {dim} of {long} by the cheap model alone"),
+    }
+    count = cheap.count(dim)
+    count.attrs = {"units": "1", "long_name": f"number of valid members over {dim} used for {long}"}
+    out[f"{v}_n_samples"] = count
+    n_acc = mf["n_accurate"]
+    n_acc.attrs = {"units": "1", "long_name": f"members run with {model} for {long}"}
+    out[f"{v}_n_accurate"] = n_acc
+    return out
 
 
 def _fmt(v: float, fmt: str) -> str:

@@ -81,7 +81,7 @@ def fig10_mdmt_vs_gw(maps: dict, curves: dict, *, relative_humidity, rh_shown=(0
     moments = xr.concat(mom, "map").mean("map", keep_attrs=True)
     lo = min(float(c.distance.min()) for c in curves.values())
     hi = max(float(c.distance.max()) for c in curves.values())
-    gw = rs.gw_contact_curves(moments, relative_humidity=list(relative_humidity),
+    gw = rs.contact.gw_curves(moments, relative_humidity=list(relative_humidity),
                               distance=np.linspace(lo, hi, 300))
     fig = plot_mdmt_vs_gw(curves, gw, rh=rh_shown)
     fig.suptitle("Fig. 10: modified DMT per map vs GW on the sample moments")

@@ -33,11 +33,11 @@ def _coord(name, values, units, long_name):
 
 
 def table1() -> xr.Dataset:
-    """Table 1 computed by :func:`roughstick.sphere_adhesive_energy` next to the printed values."""
+    """Table 1 computed by :func:`roughstick.contact.sphere_adhesive_energy` next to the printed values."""
     radius = xr.DataArray(RADII, dims="radius", coords={"radius": RADII}, attrs={"units": "m"})
     rh = xr.DataArray(RHS, dims="rh", coords={"rh": RHS}, attrs={"units": "1"})
     computed = xr.concat(
-        [rs.sphere_adhesive_energy(model=m, radius=radius, relative_humidity=rh) for m in MODELS],
+        [rs.contact.sphere_adhesive_energy(sphere_model=m, radius=radius, relative_humidity=rh) for m in MODELS],
         dim=_coord("model", MODELS, "1", "sphere contact model"),
     )
     computed.attrs = {"units": "J", "long_name": "adhesive energy computed by roughstick"}
@@ -48,7 +48,7 @@ def table1() -> xr.Dataset:
     rel = (computed - printed) / printed
     rel.attrs = {"units": "1", "long_name": "relative difference (computed - printed) / printed"}
     ds = xr.Dataset({"adhesive_energy": computed, "printed": printed, "relative_error": rel})
-    ds["transition_parameter"] = rs.transition_parameter(radius=radius, relative_humidity=rh)
+    ds["transition_parameter"] = rs.contact.transition_parameter(radius=radius, relative_humidity=rh)
     ds["model"].attrs = {"units": "1", "long_name": "sphere contact model"}
     set_coord_attrs(ds)
     ds.attrs = dataset_attrs("Table 1: adhesive energy of a poly-Si sphere on a poly-Si flat",
@@ -58,10 +58,10 @@ def table1() -> xr.Dataset:
 
 def curves(n: int = 1401) -> xr.Dataset:
     """Force-interference curves of Fig. 3 as a Dataset over (model, radius, rh, interference)."""
-    h_max = float(rs.water_height(max(RHS)))
+    h_max = float(rs.contact.water_height(max(RHS)))
     d = np.linspace(-1.3 * h_max, 2.5e-9, n)
     force = xr.concat(
-        [rs.sphere_force(d, model=m, radius=RADII, relative_humidity=RHS) for m in MODELS],
+        [rs.contact.sphere_force(d, sphere_model=m, radius=RADII, relative_humidity=RHS) for m in MODELS],
         dim=_coord("model", MODELS, "1", "sphere contact model"),
     )
     ds = force.to_dataset(name="force")
@@ -69,8 +69,8 @@ def curves(n: int = 1401) -> xr.Dataset:
     ds["contact_radius"].attrs = dict(rs.conventions.ATTRS["contact_radius"])
     ds["adhesive_radius"].attrs = dict(rs.conventions.ATTRS["adhesive_radius"])
     ds["force"].attrs = dict(rs.conventions.ATTRS["force"])
-    ds["water_height"] = rs.water_height(ds["rh"].values).assign_coords(rh=ds["rh"])
-    ds["laplace_pressure"] = rs.laplace_pressure(ds["rh"].values).assign_coords(rh=ds["rh"])
+    ds["water_height"] = rs.contact.water_height(ds["rh"].values).assign_coords(rh=ds["rh"])
+    ds["laplace_pressure"] = rs.contact.laplace_pressure(ds["rh"].values).assign_coords(rh=ds["rh"])
     ds["model"].attrs = {"units": "1", "long_name": "sphere contact model"}
     set_coord_attrs(ds)
     ds.attrs = dataset_attrs("Fig. 3: force-interference curves of a poly-Si sphere on a flat",
@@ -86,7 +86,7 @@ def fig1b_meniscus(*, n: int = 181):
     (xarray.Dataset, matplotlib.figure.Figure)
     """
     rh = np.linspace(0.05, 0.95, n)
-    p, h = rs.laplace_pressure(rh), rs.water_height(rh)
+    p, h = rs.contact.laplace_pressure(rh), rs.contact.water_height(rh)
     ax, _ = plot_meniscus(p, h)
     ds = xr.Dataset({"laplace_pressure": p, "water_height": h})
     return ds, ax.figure

@@ -1,7 +1,7 @@
 """Plots of the cantilever comparison and the stiction risk (paper Figs. 18-20).
 
 Inputs are the Datasets of :func:`roughstick.stiction.risk_summary` (optionally stacked along an
-``adsorbed_layer`` dimension) and :func:`roughstick.measured_adhesion`. Axes show RH in %,
+``adsorbed_layer`` dimension) and :func:`roughstick.stiction.measured_adhesion`. Axes show RH in %,
 lengths in µm and adhesive energies in mJ m-2; the data stay SI.
 """
 
@@ -196,7 +196,7 @@ def plot_adhesive_energy_band(risk: xr.Dataset, *, measured=None, ax=None, layer
     risk : xarray.Dataset
         From :func:`roughstick.stiction.risk_summary`.
     measured : xarray.Dataset or sequence of them, optional
-        From :func:`roughstick.measured_adhesion`; the attribute ``label`` is the legend text.
+        From :func:`roughstick.stiction.measured_adhesion`; the attribute ``label`` is the legend text.
     ax : matplotlib.axes.Axes, optional
     layer : str, optional
         ``adsorbed_layer`` to plot if the Dataset has that dimension.
@@ -254,7 +254,7 @@ def plot_crack_length_band(risk: xr.Dataset, *, measured=None, ax=None, layer=No
     risk : xarray.Dataset
         From :func:`roughstick.stiction.risk_summary`.
     measured : xarray.Dataset or sequence, optional
-        From :func:`roughstick.measured_adhesion` (RH, s).
+        From :func:`roughstick.stiction.measured_adhesion` (RH, s).
     ax, layer
         See :func:`plot_adhesive_energy_band`.
     beam_lengths : bool
@@ -311,7 +311,7 @@ def plot_cantilever_comparison(risk: xr.Dataset, *, measured=None, axes=None):
         :func:`roughstick.stiction.risk_summary` outputs concatenated along ``adsorbed_layer`` (as written
         by ``roughstick risk``), or a single one.
     measured : xarray.Dataset or sequence, optional
-        From :func:`roughstick.measured_adhesion`.
+        From :func:`roughstick.stiction.measured_adhesion`.
     axes : sequence of matplotlib.axes.Axes, optional
 
     Returns

@@ -5,15 +5,15 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ..contact.adhesion import adhesion_summary
+from ..contact import summary as contact_summary
 from ._legend import legend_beside
 
 __all__ = ["plot_gw_cutoff_study"]
 
 
 def _adhesive_energy(pressure: xr.DataArray) -> xr.DataArray:
-    """Eq. 13 per curve (:func:`roughstick.adhesion_summary`)."""
-    return adhesion_summary(pressure.to_dataset(name="pressure"))["adhesive_energy"]
+    """Eq. 13 per curve (:func:`roughstick.contact.summary`)."""
+    return contact_summary(pressure.to_dataset(name="pressure"))["adhesive_energy"]
 
 
 def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
@@ -22,7 +22,7 @@ def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
     Parameters
     ----------
     study : xarray.Dataset
-        Output of :func:`roughstick.gw_cutoff_study`: ``pressure`` over
+        Output of :func:`roughstick.contact.gw_cutoff_study`: ``pressure`` over
         ``(height_cutoff, rh, distance)`` (``height_cutoff`` in units of √m0, ``inf`` = none).
     rh : sequence of float, optional
         Humidities to draw curves for (one panel each); default: the lowest and highest.
@@ -43,7 +43,7 @@ def plot_gw_cutoff_study(study: xr.Dataset, *, rh=None, axes=None):
 
     p = study["pressure"]
     if "height_cutoff" not in p.dims:
-        raise ValueError("study must have a 'height_cutoff' dimension: use roughstick.gw_cutoff_study.")
+        raise ValueError("study must have a 'height_cutoff' dimension: use roughstick.contact.gw_cutoff_study.")
     if "rh" not in p.dims:
         p = p.expand_dims(rh=[np.nan])
     rh_all = p["rh"].values

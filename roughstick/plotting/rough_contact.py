@@ -24,7 +24,7 @@ def plot_rough_curves(curves: xr.Dataset, *, rh=None, ax=None, label_prefix="", 
     Parameters
     ----------
     curves : xarray.Dataset
-        Output of :func:`roughstick.rough_contact_curves` over ``(rh, distance)``.
+        Output of :func:`roughstick.contact.curves` over ``(rh, distance)``.
     rh : sequence of float, optional
         Humidities to draw (default all).
     ax : matplotlib Axes, optional
@@ -82,7 +82,7 @@ def plot_adhesion_vs_rh(summaries: dict, *, axes=None):
     Parameters
     ----------
     summaries : dict of str -> xarray.Dataset
-        Outputs of :func:`roughstick.adhesion_summary` over ``rh``, keyed by map name.
+        Outputs of :func:`roughstick.contact.summary` over ``rh``, keyed by map name.
     axes : pair of matplotlib Axes, optional
 
     Returns

@@ -24,8 +24,8 @@ def plot_meniscus(laplace_pressure, water_height, *, ax=None):
     Parameters
     ----------
     laplace_pressure, water_height : xarray.DataArray
-        Over dimension ``rh`` (fraction), from :func:`roughstick.laplace_pressure` and
-        :func:`roughstick.water_height`.
+        Over dimension ``rh`` (fraction), from :func:`roughstick.contact.laplace_pressure` and
+        :func:`roughstick.contact.water_height`.
     ax : matplotlib.axes.Axes, optional
 
     Returns

@@ -76,7 +76,7 @@ ATTRS = {
     "correlation_factor": {"units": "1", "long_name": "Au-Beck chain correlation factor gamma of the level"},
     "level_cv": {"units": "1", "long_name": "coefficient of variation of the level's conditional probability"},
     "proposal_scale": {"units": "1", "long_name": "proposal scale of each round of the level's chains (pCN sigma, or the adaptive lambda)"},
-    "round": {"units": "1", "long_name": "step of the level's chains (round 0: the seeds)"},
+    "round": {"units": "1", "long_name": "step of the level's chains (step 0: the seeds)"},
     "acceptance_rate": {"units": "1", "long_name": "fraction of the level's proposals accepted"},
     "level_evaluations": {"units": "1", "long_name": "model evaluations of the level"},
     "run_probability": {"units": "1", "long_name": "failure probability estimated by the run"},
@@ -242,7 +242,7 @@ class _Level:
     gamma: float
     cv2: float
     evaluations: int
-    scales: np.ndarray        # proposal scale of each round (NaN at round 0 / level 0)
+    scales: np.ndarray        # proposal scale of each step (NaN at step 0 / level 0)
     spread: np.ndarray        # per-coordinate spread of the seeds (ones at level 0)
     keep_noise: np.ndarray = None   # seeds of the next level, or failure samples of the last
     keep_response: np.ndarray = None

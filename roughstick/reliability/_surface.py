@@ -17,19 +17,15 @@ import scipy.fft
 import xarray as xr
 
 from roughstick._core.intervals import median_interval
+from roughstick.contact import summary as adhesion_summary
+from roughstick.contact.adhesion import summary_kernel as adhesion_summary_kernel
+from roughstick.contact.modified_dmt import kernel as modified_dmt_kernel
 
 from .._core.conventions import CURVE_VARIABLES
 from .._core.materials import POLYSILICON, hertz_modulus
 from .._core.remedy import argument, spell, spelled
 from .._core.validate import external_stacklevel
-from ..contact import (
-    ValidityWarning,
-    adhesion_summary,
-    adhesion_summary_kernel,
-    fft_bem_contact_curves,
-    laplace_pressure,
-    modified_dmt_kernel,
-)
+from ..contact import ValidityWarning, fft_bem_curves, laplace_pressure
 from ..surface import surface_filter
 
 __all__: list[str] = []
@@ -49,7 +45,7 @@ class NoiseToSurface:
     r"""Map a standard-normal field ``w`` of shape ``(ny, nx)`` to a surface with the PSD.
 
     :math:`z = \mathcal F^{-1}[\sqrt{P(\mathbf q)}\,\mathcal F_{\rm ortho}[w]]` with ``P`` the
-    power of each mode of :func:`roughstick.surface_filter` (its sum is the height variance) and
+    power of each mode of :func:`roughstick.surface.surface_filter` (its sum is the height variance) and
     the mean mode removed: a circulant (periodic) Gaussian field with exactly the PSD of
     Eqs. 33-34, whose random input is the white noise ``w`` itself. A pCN move on ``w`` keeps
     ``w`` standard normal, hence the surface's law. (Equal in law to ``generate_surfaces``, not
@@ -88,13 +84,13 @@ class SurfaceResponse:
     down by ``h_water / points_per_water_height`` to ``lower * sqrt(m0)``, then by blocks of
     ``extend * sqrt(m0)`` until the curve has an equilibrium (or the flat is below every pixel).
     A conditioned (rare) surface never falls off a grid made for typical ones. Γ and the
-    pull-off are taken from the equilibrium outwards (:func:`roughstick.adhesion_summary`).
+    pull-off are taken from the equilibrium outwards (:func:`roughstick.contact.summary`).
     ``patches > 1`` cuts the surface into that many strips along ``y`` evaluated alone (not
     periodic) and returns the largest response: a weakest-link structure simulated directly.
     ``model="fft_bem"`` evaluates the periodic zone with
-    :func:`roughstick.fft_bem_contact_curves` on its own automatic grid instead (docs/rare_events.md
+    :func:`roughstick.contact.fft_bem_curves` on its own automatic grid instead (docs/rare_events.md
     for its cost). ``water_height`` is :math:`h_{water}` at this RH with
-    this ``adsorbed_layer`` (:func:`roughstick.water_height`): Eq. 16 takes it as given.
+    this ``adsorbed_layer`` (:func:`roughstick.contact.water_height`): Eq. 16 takes it as given.
     """
 
     def __init__(self, to_surface, *, relative_humidity, quantity="adhesive_energy",
@@ -138,8 +134,8 @@ class SurfaceResponse:
         return out[_PRESSURE][0], out[_WET][0]  # at the one RH
 
     def _bem_response(self, zc) -> float:
-        c = fft_bem_contact_curves(self.to_surface.height_array(zc), relative_humidity=self.rh,
-                                   progress=False, **self.bem_kw)
+        c = fft_bem_curves(self.to_surface.height_array(zc), relative_humidity=self.rh,
+                           progress=False, **self.bem_kw)
         return float(adhesion_summary(c, check_grid=False)[self.quantity])
 
     def map_response(self, z, *, periodic) -> float:

@@ -4,7 +4,7 @@ The zone behind the crack front, :math:`\Delta s \times w`, is an equivalent rou
 roughness :math:`\sqrt{m_{01} + m_{02}}` with Table 4's summit radius and density; its moments
 (:func:`cantilever_moments`, Nayak) fix the self-affine PSD of Eq. 37 (:func:`cantilever_psd`),
 from which :func:`predict_adhesive_energy` draws surfaces of the zone and computes their
-adhesive energies with the ensemble machinery (:func:`roughstick.run_ensemble`).
+adhesive energies with the ensemble machinery (:func:`roughstick.ensemble.run`).
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ def cantilever_moments(
     Two rough surfaces in contact are replaced by their sum against a flat (paper §5.2), so the
     variances add: :math:`\mu_0 = m_{01} + m_{02}` (3.54 nm from 2.6 and 2.4 nm). With Nayak's
     relations, :math:`\mu_4 = (3\sqrt\pi/(8R))^2` and :math:`\mu_2 = \mu_4/(6\sqrt3\pi N)`.
-    Thin wrapper over :func:`roughstick.moments_from_asperities` with the Table 4 defaults.
+    Thin wrapper over :func:`roughstick.surface.moments_from_asperities` with the Table 4 defaults.
 
     Parameters
     ----------
@@ -103,8 +103,8 @@ def cantilever_psd(
     -------
     xarray.Dataset
         The Eq. 37 parameters ``q0``, ``s0``, ``s1``, ``qmax``, ``exponent`` and the fit residuals
-        (:func:`roughstick.fit_self_affine`), plus the target moments ``m0``, ``m2``, ``m4``.
-        Evaluate the PSD with ``rs.self_affine_psd(q, s0=ds.s0, s1=ds.s1, q0=ds.q0, qmax=ds.qmax)``.
+        (:func:`roughstick.surface.fit_self_affine`), plus the target moments ``m0``, ``m2``, ``m4``.
+        Evaluate the PSD with ``rs.surface.self_affine_psd(q, s0=ds.s0, s1=ds.s1, q0=ds.q0, qmax=ds.qmax)``.
 
     Notes
     -----
@@ -133,7 +133,7 @@ def cantilever_psd(
             note=_PRINTED_NOTE,
         )
     )
-    append_history(ds, "roughstick.cantilever_psd: Table 4 -> Nayak moments -> Eq. 37")
+    append_history(ds, "roughstick.stiction.cantilever_psd: Table 4 -> Nayak moments -> Eq. 37")
     return ds
 
 #: Humidities of the cantilever tests (paper §5.1): 30 to 95 % in 5 % steps.
@@ -219,7 +219,7 @@ def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer
                              lower: float = 1.0, n_distance: int = 200) -> xr.DataArray:
     r"""Distance grid for the interaction-zone ensembles, shared by both adsorbed-layer models.
 
-    :func:`roughstick.ensemble_distance_grid` with its top set by the larger of the water heights
+    :func:`roughstick.ensemble.distance_grid` with its top set by the larger of the water heights
     of ``adsorbed_layer`` and of the paper's layer, so the runs with and without the layer use the
     same grid (identical Γ below 65 % RH, same surfaces), and its bottom at ``lower``
     :math:`\sqrt{m_0}`.
@@ -231,7 +231,7 @@ def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer
     into a few huge, flat fitted spheres), so a grid reaching far below the equilibrium picks up a
     spurious second attractive region. ``lower = 1`` keeps the bottom in the repulsive range for
     the paper's cantilever zone. Where a zone's curve has no stable zero crossing on this grid,
-    :func:`roughstick.run_ensemble` extends that realization's grid down to its lowest pixel
+    :func:`roughstick.ensemble.run` extends that realization's grid down to its lowest pixel
     (and up past its highest point plus the water height), flags it in ``grid_extension``, and
     reports a curve attractive again deep in contact in ``attractive_at_floor`` (Γ and the
     equilibrium come from the outermost stable crossing, the separation path).
@@ -268,7 +268,7 @@ def predict_adhesive_energy(
 
     Generates ``n`` equivalent surfaces of the interaction zone :math:`\Delta s \times w` from
     the PSD, computes their rough-surface modified-DMT curves at each humidity and reduces them
-    to the apparent adhesive energy (Eq. 13), through :func:`roughstick.run_ensemble`.
+    to the apparent adhesive energy (Eq. 13), through :func:`roughstick.ensemble.run`.
 
     Parameters
     ----------
@@ -276,13 +276,13 @@ def predict_adhesive_energy(
         ``None``: the Table 4 -> Eq. 37 PSD (:func:`cantilever_psd`); a Dataset of Eq. 37
         parameters (``q0``, ``s0``, ``s1``, ``qmax``, e.g. ``cantilever_psd(asperity_density=...)``),
         evaluated exactly on the surface's wave-vector grid; or any PSD DataArray accepted by
-        :func:`roughstick.run_ensemble` (e.g. measured from AFM maps of the real films).
+        :func:`roughstick.ensemble.run` (e.g. measured from AFM maps of the real films).
     beam : Cantilever
         Sets the interaction zone (``interaction_length`` x ``width``).
     relative_humidity : sequence of float
         Fractions in (0, 1); default 30 to 95 % in 5 % steps.
     n : int or "auto"
-        Number of surfaces (see :func:`roughstick.run_ensemble`).
+        Number of surfaces (see :func:`roughstick.ensemble.run`).
     spacing : float
         Pixel size [m] (5 nm in the paper).
     shape : (int, int), optional
@@ -292,7 +292,7 @@ def predict_adhesive_energy(
     adsorbed_layer : {"paper", "none"} or callable
         ``"paper"``: 0.9 nm per surface above 65 % RH (Fig. 20b); ``"none"``: Fig. 20a.
     seed, chunks, output, **ensemble_kwargs
-        Passed to :func:`roughstick.run_ensemble` (``output`` streams and resumes). The default
+        Passed to :func:`roughstick.ensemble.run` (``output`` streams and resumes). The default
         ``distance`` grid is :func:`cantilever_distance_grid`.
 
     Returns
@@ -332,5 +332,5 @@ def predict_adhesive_energy(
                      "interaction_zone_area": float(shp[0] * shp[1] * spacing**2)})
     if isinstance(adsorbed_layer, str):
         ds.attrs["adsorbed_layer_model"] = adsorbed_layer
-    append_history(ds, f"roughstick.predict_adhesive_energy: interaction zone {shp[0]} x {shp[1]} px at {spacing:.3g} m")
+    append_history(ds, f"roughstick.stiction.predict_adhesive_energy: interaction zone {shp[0]} x {shp[1]} px at {spacing:.3g} m")
     return ds

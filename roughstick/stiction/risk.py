@@ -488,7 +488,7 @@ def measured_adhesion(
     )
     ds.attrs.update(dataset_attrs("Measured cantilever adhesion (Eq. 36)", references=REFERENCES,
                                   given=given, label=label, **beam.attrs()))
-    append_history(ds, f"roughstick.measured_adhesion: {rh.size} points, {given} given")
+    append_history(ds, f"roughstick.stiction.measured_adhesion: {rh.size} points, {given} given")
     return ds
 
 

@@ -8,20 +8,23 @@ statistics of a map are in :mod:`roughstick.surface.moments`.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import xarray as xr
-from scipy.ndimage import distance_transform_edt
 
 from .._core import units as _units
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import is_lazy
+from .._core.levelling import level_kernel as _level_kernel
 from .._core.validate import (
     MIN_MAP_PIXELS,
     check_core_not_chunked,
     check_has_roughness,
     check_height_dtype,
     check_plausible_height,
+    external_stacklevel,
     grid_spacing,
 )
 
@@ -84,56 +87,6 @@ def validate_height(height: xr.DataArray) -> xr.DataArray:
 # ------------------------------------------------------------------------------ levelling
 
 
-def _nearest_fill(z, mask):
-    idx = distance_transform_edt(mask, return_distances=False, return_indices=True)
-    return z[tuple(idx)]
-
-
-def _level_kernel(z, *, method, nan, max_nan_fraction, x, y):
-    """Level maps over the last two axes (y, x). Returns a float array of the same shape."""
-    out = np.array(z, dtype=float, copy=True)
-    flat = out.reshape((-1,) + out.shape[-2:])
-    X, Y = np.meshgrid(x - x.mean(), y - y.mean())
-    for k in range(flat.shape[0]):
-        zz = flat[k]
-        bad = ~np.isfinite(zz)
-        frac = bad.mean()
-        if frac > max_nan_fraction:
-            raise ValueError(
-                f"{100 * frac:.1f} % of the map is NaN (more than max_nan_fraction="
-                f"{max_nan_fraction}); it cannot be levelled reliably. Crop the valid region "
-                "(height.isel(x=..., y=...)) or raise max_nan_fraction."
-            )
-        if bad.any() and nan == "raise":
-            raise ValueError(
-                f"the map has {int(bad.sum())} NaN pixels (dropouts); pass nan='fill' (nearest valid "
-                "value after levelling) or nan='mask' (keep NaN; spectra then refuse the map)."
-            )
-        good = ~bad
-        if method == "mean":
-            zz = zz - zz[good].mean()
-        elif method == "plane":
-            A = np.column_stack([np.ones(good.sum()), X[good], Y[good]])
-            coef, *_ = np.linalg.lstsq(A, zz[good], rcond=None)
-            zz = zz - (coef[0] + coef[1] * X + coef[2] * Y)
-        elif method == "line":
-            # scan lines run along x (rows): remove a least-squares line from each row,
-            # then the mean plane of the result
-            xs = X[0]
-            for j in range(zz.shape[0]):
-                g = good[j]
-                if g.sum() >= 2:
-                    p = np.polyfit(xs[g], zz[j, g], 1)
-                    zz[j] = zz[j] - np.polyval(p, xs)
-                elif g.sum() == 1:
-                    zz[j] = zz[j] - zz[j, g][0]
-            zz = zz - zz[good].mean()
-        if bad.any() and nan == "fill":
-            zz = _nearest_fill(zz, bad)
-        flat[k] = zz
-    return out
-
-
 @check_numbers(max_nan_fraction="fraction01")
 def level(
     height: xr.DataArray,
@@ -186,6 +139,8 @@ def level(
         kwargs=dict(method=method, nan=nan, max_nan_fraction=max_nan_fraction, x=x, y=y),
     )
     out.attrs = dict(h.attrs)
+    if method != "none":
+        out.attrs["levelling"] = method
     out = out.rename("height")
     line = f"level: method={method!r}"
     if not is_lazy(h):
@@ -207,9 +162,12 @@ def is_periodic(height: xr.DataArray) -> bool:
 
 def level_unless_periodic(height: xr.DataArray) -> xr.DataArray:
     """A measured map levelled by its least-squares plane; a periodic map (a generated surface,
-    which has no instrument tilt and whose long waves are its roughness) as it is."""
+    which has no instrument tilt and whose long waves are its roughness) or a map levelled
+    already (``attrs['levelling']``, e.g. by :func:`roughstick.io.read_afm`) as it is: the rule
+    of ``read_afm(levelling="auto")``."""
     h = validate_height(height)
-    return h if is_periodic(h) else level(h, method="plane")
+    done = str(h.attrs.get("levelling", "none")) != "none"
+    return h if is_periodic(h) or done else level(h, method="plane")
 
 
 def _refuse_constant_or_nan(h: xr.DataArray) -> None:
@@ -223,3 +181,86 @@ def _refuse_constant_or_nan(h: xr.DataArray) -> None:
             "the height map has NaN/inf pixels; level it first with "
             "roughstick.surface.level(height, nan='fill') (or crop the dropouts)."
         )
+
+
+#: Maps whose rms heights or correlation lengths differ by more than this factor are not said to
+#: be of one surface when they are averaged (:func:`warn_if_incompatible`).
+COMPATIBLE_RATIO = 2.0
+
+
+class IncompatibleMapsWarning(UserWarning):
+    """Maps averaged into one PSD differ more than maps of one surface do."""
+
+
+def autocorrelation_length(height: xr.DataArray, *, threshold: float = 0.2) -> float:
+    r"""The autocorrelation length :math:`S_{al}` [m] of one map (ISO 25178-2): the shortest
+    horizontal distance at which its areal autocorrelation falls to ``threshold``.
+
+    The autocorrelation is that of the map padded with zeros to twice its size (no wrap-round),
+    normalised by the overlap, on the pixel grid.
+
+    Examples
+    --------
+    >>> y, x = np.meshgrid(np.arange(64), np.arange(64), indexing="ij")
+    >>> h = rs.testing.make_topography(np.cos(2 * np.pi * x / 32) * 1e-9, spacing=1e-9)
+    >>> round(rs.surface.topography.autocorrelation_length(h) * 1e9)  # cos(2 pi r/32) = 0.2: 6.97
+    7
+    """
+    h = validate_height(height)
+    z = np.asarray(h.values, dtype=float)
+    z = np.where(np.isfinite(z), z - np.nanmean(z), 0.0)
+    ny, nx = z.shape
+    f = np.fft.rfft2(z, s=(2 * ny, 2 * nx))
+    acf = np.fft.irfft2(np.abs(f) ** 2, s=(2 * ny, 2 * nx))
+    ones = np.fft.rfft2(np.ones_like(z), s=(2 * ny, 2 * nx))
+    overlap = np.maximum(np.fft.irfft2(np.abs(ones) ** 2, s=(2 * ny, 2 * nx)), 1.0)
+    acf = np.fft.fftshift(acf / overlap)
+    acf /= acf[ny, nx]
+    dy, dx = grid_spacing(h, "y"), grid_spacing(h, "x")
+    yy, xx = np.meshgrid((np.arange(2 * ny) - ny) * dy, (np.arange(2 * nx) - nx) * dx, indexing="ij")
+    r = np.hypot(yy, xx)
+    # only lags with at least half the map overlapping are trusted
+    trusted = (abs(yy) <= ny * dy / 2) & (abs(xx) <= nx * dx / 2)
+    below = trusted & (acf <= threshold)
+    return float(r[below].min()) if below.any() else float(r[trusted].max())
+
+
+def warn_if_incompatible(maps, names=None) -> dict:
+    """An :class:`IncompatibleMapsWarning` when maps about to be averaged into one PSD differ in
+    rms height or autocorrelation length by more than :data:`COMPATIBLE_RATIO` (maps of different
+    samples, or of one sample at scales where it is not stationary); returns each map's
+    ``{"rms_height": ..., "autocorrelation_length": ...}`` [m] by name.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> a = rs.testing.make_topography(rng.normal(size=(32, 32)) * 1e-9, spacing=1e-9)
+    >>> b = rs.testing.make_topography(rng.normal(size=(32, 32)) * 5e-9, spacing=1e-9)
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     _ = rs.surface.topography.warn_if_incompatible([a, b], ["a", "b"])
+    >>> [w.category.__name__ for w in caught]
+    ['IncompatibleMapsWarning']
+    """
+    maps = list(maps)
+    names = [str(n) for n in (names or range(len(maps)))]
+    stats = {n: {"rms_height": float(np.nanstd(np.asarray(m.values, dtype=float))),
+                 "autocorrelation_length": autocorrelation_length(m)} for n, m in zip(names, maps)}
+    if len(maps) < 2:
+        return stats
+    bad = []
+    for key, label in (("rms_height", "rms height Sq"), ("autocorrelation_length", "autocorrelation length Sal")):
+        v = np.array([s[key] for s in stats.values()])
+        if v.min() > 0 and v.max() / v.min() > COMPATIBLE_RATIO:
+            bad.append(f"{label} {v.min() * 1e9:.3g}-{v.max() * 1e9:.3g} nm ({v.max() / v.min():.3g}x)")
+    if bad:
+        each = "; ".join(f"{n}: Sq {s['rms_height'] * 1e9:.3g} nm, Sal {s['autocorrelation_length'] * 1e9:.3g} nm"
+                         for n, s in stats.items())
+        warnings.warn(
+            f"the {len(maps)} maps averaged into one PSD differ more than maps of one surface do "
+            f"({' and '.join(bad)}, more than {COMPATIBLE_RATIO:g}x; {each}): their average is the "
+            "PSD of none of them. Average only maps of one sample (give each sample's maps to a "
+            "command or run of their own), or crop the maps to a common scan size.",
+            IncompatibleMapsWarning, stacklevel=external_stacklevel())
+    return stats

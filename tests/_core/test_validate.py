@@ -48,7 +48,7 @@ def test_positive_checks_lazy_data_lazily():
 
 def test_relative_humidity_forms():
     pct = xr.DataArray([30.0, 70.0], dims="rh", coords={"rh": [30.0, 70.0]}, attrs={"units": "%"})
-    np.testing.assert_allclose(rs.as_relative_humidity(pct).values, [0.3, 0.7])
+    np.testing.assert_allclose(rs.contact.as_relative_humidity(pct).values, [0.3, 0.7])
     np.testing.assert_allclose(relative_humidity_values(pct), [0.3, 0.7])
     lazy = xr.DataArray([0.3, 0.5], dims="rh", coords={"rh": [0.3, 0.5]}, attrs={"units": "1"}).chunk()
     with raise_if_dask_computes():
@@ -139,7 +139,7 @@ def test_cantilever_unit_slip_is_refused_by_name(field, value, hint):
 def test_relative_humidity_advice_fits_the_value(value, says):
     """One converter: RH 1 is saturation (not "0.01"), 120 % is not a humidity (not "0.012")."""
     with pytest.raises(ValueError, match=says) as err:
-        rs.as_relative_humidity(value)
+        rs.contact.as_relative_humidity(value)
     assert "0.01" not in str(err.value) and "0.012" not in str(err.value)
 
 

@@ -15,7 +15,7 @@ from roughstick.beam.patch_bank import build_patch_bank
 def _psd():
     c = rs.stiction.cantilever_psd()
     q = np.geomspace(1e5, 4e9, 200)
-    return rs.self_affine_psd(q, s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
+    return rs.surface.self_affine_psd(q, s0=float(c.s0), s1=float(c.s1), q0=float(c.q0), qmax=float(c.qmax))
 
 
 def test_bank_cached_and_reused(tmp_path):
@@ -144,7 +144,7 @@ def test_the_bank_tail_is_rechecked_with_the_boundary_element_model(tmp_path):
     g = bank.values[:, 0]
     typical = np.argsort(g, kind="stable")[296:304]
     surf = rs.generate_surfaces(_psd(), realizations=typical, shape=(64, 64), spacing=5e-9, seed=2).compute()
-    bem = [float(rs.adhesion_summary(rs.rough_contact_curves(surf.isel(realization=i), relative_humidity=[0.5],
+    bem = [float(rs.contact.summary(rs.contact.curves(surf.isel(realization=i), relative_humidity=[0.5],
                                                              model="fft_bem", check_validity=False))
                  ["adhesive_energy"].squeeze()) for i in range(8)]
     assert np.median(np.asarray(bem) / g[typical]) > 0.6

@@ -86,8 +86,8 @@ def test_flags_are_named_not_python_attributes(command, capsys, nm_map, tmp_path
         assert msg.endswith("error: --qmax '289' has no unit; write it with one, e.g. '289 rad/um'")
         assert "'289 rad/um'" in msg and "'289 rad/um'" in msg and not _python_words(msg)
     else:
-        msg = _err(capsys, [*base, "--spacing", "5 nm", "--units", "nm", "--tolerance", "-1"], 2)
-        assert "argument --tolerance" in msg and not _python_words(msg)
+        msg = _err(capsys, [*base, "--spacing", "5 nm", "--units", "nm", "--accuracy", "-1"], 2)
+        assert "argument --accuracy" in msg and not _python_words(msg)
         msg = _err(capsys, [*base, "--spacing", "5 nm", "--units", "nm", "--resolution",
                             "--resolution-factors", "0"], 2)
         assert "argument --resolution-factors" in msg and not _python_words(msg)

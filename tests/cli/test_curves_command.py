@@ -1,4 +1,4 @@
-"""`roughstick curves MAP --model auto|fft_bem|bem --tolerance T --resolution`."""
+"""`roughstick curves MAP --model auto|fft_bem|bem --accuracy A --resolution`."""
 
 from __future__ import annotations
 
@@ -16,13 +16,13 @@ def _map(tmp_path, family="smooth", n=64):
     return path, h
 
 
-def test_model_auto_and_tolerance_reach_the_dispatcher(tmp_path, capsys):
+def test_model_auto_and_accuracy_reach_the_dispatcher(tmp_path, capsys):
     from roughstick.cli import main
 
     path, h = _map(tmp_path)
     out = tmp_path / "auto.nc"
     assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.7",
-                 "--model", "auto", "--tolerance", "0.1", "--out", str(out)]) == 0
+                 "--model", "auto", "--accuracy", "0.1", "--out", str(out)]) == 0
     text = capsys.readouterr()
     # the choice, why and its cost are said before the work, so before the results
     said = text.out.index("contact model auto -> ")
@@ -31,12 +31,12 @@ def test_model_auto_and_tolerance_reach_the_dispatcher(tmp_path, capsys):
     with xr.open_dataset(out) as ds:
         chosen = ds.attrs["contact_model"]
         assert ds.attrs["model_selection"].startswith(f"auto -> {chosen}:")
-        assert "--model auto --tolerance 0.1" in ds.attrs["history"]
-        api = rs.rough_contact_curves(rs.io.read_afm(path, spacing=5e-9, units="nm"),
-                                      relative_humidity=[0.7], model="auto", tolerance=0.1)
+        assert "--model auto --accuracy 0.1" in ds.attrs["history"]
+        api = rs.contact.curves(rs.io.read_afm(path, spacing=5e-9, units="nm"),
+                                      relative_humidity=[0.7], model="auto", accuracy=0.1)
         assert api.attrs["contact_model"] == chosen
         np.testing.assert_allclose(ds.adhesive_energy.values,
-                                   rs.adhesion_summary(api).adhesive_energy.values, rtol=1e-6)
+                                   rs.contact.summary(api).adhesive_energy.values, rtol=1e-6)
 
 
 def test_modified_dmt_warning_is_a_message_naming_the_flags(tmp_path, capsys):
@@ -44,10 +44,10 @@ def test_modified_dmt_warning_is_a_message_naming_the_flags(tmp_path, capsys):
 
     path, _ = _map(tmp_path)
     assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.7",
-                 "--tolerance", "1e-4", "--out", str(tmp_path / "m.nc")]) == 0
+                 "--accuracy", "1e-4", "--out", str(tmp_path / "m.nc")]) == 0
     err = capsys.readouterr().err
     assert err.startswith("roughstick curves: warning: modified_dmt may be off")
-    assert "--model auto --tolerance 0.0001" in err
+    assert "--model auto --accuracy 0.0001" in err
 
 
 def test_bem_model_and_resolution_option(tmp_path, capsys):
@@ -78,10 +78,10 @@ def test_validity_remedy_is_said_in_flags_only(tmp_path, capsys):
 
     path, _ = _map(tmp_path)
     assert main(["curves", str(path), "--spacing", "5 nm", "--units", "nm", "--rh", "0.7",
-                 "--tolerance", "1e-4", "--out", str(tmp_path / "m.nc")]) == 0
+                 "--accuracy", "1e-4", "--out", str(tmp_path / "m.nc")]) == 0
     err = capsys.readouterr().err
     assert "rough_contact_curves(" not in err and "model='" not in err
-    assert "Remedy: --model auto --tolerance 0.0001 picks the cheapest model" in err
+    assert "Remedy: --model auto --accuracy 0.0001 picks the cheapest model" in err
 
 
 def test_curves_reads_a_bundled_map_by_name(tmp_path, capsys):

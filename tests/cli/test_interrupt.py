@@ -170,8 +170,8 @@ def test_ctrl_c_at_many_moments_then_the_resumed_run_is_bit_identical(tmp_path):
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     assert main(["run", str(cfg), "-q", "--out", str(tmp_path / "ref")]) == 0
-    got = rs.open_ensemble(tmp_path / "out" / "ensemble").load()
-    ref = rs.open_ensemble(tmp_path / "ref" / "ensemble").load()
+    got = rs.ensemble.open_ensemble(tmp_path / "out" / "ensemble").load()
+    ref = rs.ensemble.open_ensemble(tmp_path / "ref" / "ensemble").load()
     assert got.sizes["realization"] == n
     xr.testing.assert_equal(got, ref)
     assert np.array_equal(got["adhesive_energy"].values, ref["adhesive_energy"].values, equal_nan=True)

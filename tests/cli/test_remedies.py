@@ -55,6 +55,22 @@ def test_run_takes_the_contact_model_its_warnings_name_and_says_it_in_config_key
     assert "It is now 'model': write model = ... instead" in capsys.readouterr().err
 
 
+def test_the_console_script_spells_the_remedies_as_config_keys_too(tmp_path):
+    """Run as a program the command computes in its own thread (so that Ctrl-C ends it at once);
+    its warnings still name the configuration keys, not the Python arguments."""
+    import os
+    import subprocess
+    import sys
+
+    cfg = _run_cfg(tmp_path, "plain")
+    res = subprocess.run([sys.executable, "-m", "roughstick.cli", "run", str(cfg)], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=300,
+                         env={**os.environ, "CI": "true", "MPLBACKEND": "Agg"})
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert 'Remedy: [ensemble] model = "auto" picks the cheapest model' in res.stderr
+    assert "model='" not in res.stderr and "spacing=" not in res.stderr
+
+
 def test_python_callers_get_their_own_arguments_named():
     """The same warnings from Python name the argument of the function called."""
     psd = rs.surface.self_affine_psd(np.geomspace(1e5, 3e9, 300), s0=1e-36, s1=1e-37, q0=1e7, qmax=2.9e8)
@@ -119,7 +135,7 @@ def test_material_is_set_from_every_command_and_recorded(tmp_path, capsys):
 def _pixel_message(h, rh=0.05):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        rs.warn_if_unresolved(h, relative_humidity=rh)
+        rs.contact.warn_if_unresolved(h, relative_humidity=rh)
     (w,) = [w for w in caught if issubclass(w.category, rs.PixelResolutionWarning)]
     return str(w.message)
 
@@ -137,8 +153,8 @@ def test_the_pixel_warning_asks_for_finer_data_only_where_they_can_be_had(tmp_pa
     msg = _pixel_message(coarse)
     assert "a scan with finer pixels is the remedy" in msg and "where none can be made" in msg
     msg = _pixel_message(gen)  # generated: the spacing that makes the neck 3 pixels wide
-    neck = float(rs.surface_groups(gen, relative_humidity=0.05).neck_pixels)
-    assert f"spacing={neck * 5e-9 / rs.RESOLVED_NECK_PIXELS:.2g} or finer" in msg
+    neck = float(rs.contact.surface_groups(gen, relative_humidity=0.05).neck_pixels)
+    assert f"spacing={neck * 5e-9 / rs.contact.RESOLVED_NECK_PIXELS:.2g} or finer" in msg
     # from `roughstick curves` the same check is its --resolution flag
     rs.io.netcdf.write(fine.to_dataset(name="height"), tmp_path / "afm.nc", compute=True)
     assert main(["curves", str(tmp_path / "afm.nc"), "--rh", "0.05", "--model", "fft_bem",

@@ -26,7 +26,7 @@ def test_bem_estimate_comes_first_then_progress_lines(caplog):
     pytest.importorskip("tamaas")
     caplog.set_level(logging.INFO, logger="roughstick")
     h = _map()
-    ds = rs.rough_contact_curves(h, relative_humidity=[0.5, 0.9], model="bem", n_distance=6,
+    ds = rs.contact.curves(h, relative_humidity=[0.5, 0.9], model="bem", n_distance=6,
                                  progress=True)
     msgs = _messages(caplog)
     # one estimate for both humidities, each on its own automatic grid (``solved``)
@@ -73,7 +73,7 @@ def test_fft_bem_progress_per_humidity_and_map(caplog):
     caplog.set_level(logging.INFO, logger="roughstick")
     stack = rs.datasets.surface_family("smooth", shape=(32, 32), seed=2, n=3).compute()
     dist = np.linspace(float(stack.max()) - 1e-9, float(stack.max()) + 3e-9, 5)
-    rs.rough_contact_curves(stack, relative_humidity=[0.4, 0.8], distance=dist, model="fft_bem",
+    rs.contact.curves(stack, relative_humidity=[0.4, 0.8], distance=dist, model="fft_bem",
                             progress=True)
     msgs = _messages(caplog)
     assert msgs[0].startswith("fft_bem: 3 map(s) of 32 x 32 pixels x 2 humidities (about 30 states): 6 curves")
@@ -83,17 +83,17 @@ def test_fft_bem_progress_per_humidity_and_map(caplog):
 def test_short_runs_stay_quiet_by_default_long_ones_announce(caplog, monkeypatch):
     caplog.set_level(logging.INFO, logger="roughstick")
     h = _map(family="smooth")
-    rs.fft_bem_contact_curves(h, relative_humidity=0.5)
+    rs.contact.fft_bem_curves(h, relative_humidity=0.5)
     assert _messages(caplog) == []  # estimated well under 5 s: no noise in ensembles
     monkeypatch.setattr(prog, "PROGRESS_THRESHOLD", 0.0)  # as if it were a long run
-    rs.fft_bem_contact_curves(h, relative_humidity=0.5)
+    rs.contact.fft_bem_curves(h, relative_humidity=0.5)
     msgs = _messages(caplog)
     assert "estimated" in msgs[0] and msgs[-1].startswith("fft_bem: 1/1 done")
 
 
 def test_resolution_study_announces_every_pixel_size(caplog):
     caplog.set_level(logging.INFO, logger="roughstick")
-    rs.resolution_study(_map(family="smooth"), relative_humidity=0.5, factors=(1, 2),
+    rs.contact.resolution_study(_map(family="smooth"), relative_humidity=0.5, factors=(1, 2),
                         model="fft_bem", progress=True)
     starts = [m for m in _messages(caplog) if "estimated" in m]
     assert [m.split(" pixels")[0] for m in starts] == ["fft_bem: 1 map(s) of 32 x 32",

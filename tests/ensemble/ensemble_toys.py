@@ -36,9 +36,9 @@ def toy_generate(psd, *, n, shape, spacing, seed, chunks=None, **kw):
 
 def toy_curves(height, *, relative_humidity, distance, material=None, adsorbed_layer="paper", **kw):
     """A monotone toy of Eq. 16: linear 'Hertz' on the interference plus Laplace pressure on the wet area."""
-    rh = rs.as_relative_humidity(relative_humidity)
-    hw = rs.water_height(rh, adsorbed_layer=adsorbed_layer)
-    dp = rs.laplace_pressure(rh)
+    rh = rs.contact.as_relative_humidity(relative_humidity)
+    hw = rs.contact.water_height(rh, adsorbed_layer=adsorbed_layer)
+    dp = rs.contact.laplace_pressure(rh)
     z = height.stack(p=("y", "x"))
     contact = (z >= distance).mean("p")
     wet = (z >= distance - hw).mean("p") - contact

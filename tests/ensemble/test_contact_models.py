@@ -52,7 +52,7 @@ def test_every_model_runs_with_the_variables_it_returns(psd, model):
     h = rs.surface.generate_surfaces(psd, n=1, shape=SHAPE, spacing=SPACING, seed=0).isel(realization=0)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", rs.ValidityWarning)
-        direct = rs.rough_contact_curves(h.compute(), relative_humidity=RH, model=model)
+        direct = rs.contact.curves(h.compute(), relative_humidity=RH, model=model)
     assert set(direct.data_vars) <= set(out.data_vars)
 
 
@@ -62,9 +62,9 @@ def test_validity_warning_describes_the_model_run(psd, model):
     warns exactly when that model's measured bound at the PSD's expected groups exceeds the
     tolerance, and only about that model (never for the reference BEM)."""
     _, said = _run(psd, model)
-    groups = rs.expected_surface_groups(psd, shape=SHAPE, spacing=SPACING, relative_humidity=RH)
-    bound = max(rs.model_error(model, groups.isel(rh=j)).upper for j in range(len(RH)))
-    assert len(said) == int(bound > rs.VALIDITY_BOUND), [str(w.message) for w in said]
+    groups = rs.contact.expected_surface_groups(psd, shape=SHAPE, spacing=SPACING, relative_humidity=RH)
+    bound = max(rs.contact.model_error(model, groups.isel(rh=j)).upper for j in range(len(RH)))
+    assert len(said) == int(bound > rs.contact.VALIDITY_BOUND), [str(w.message) for w in said]
     assert all(str(w.message).startswith(f"{model} may be off") for w in said)
 
 
@@ -75,14 +75,14 @@ def test_auto_is_chosen_once_meets_the_tolerance_and_is_recorded(psd):
     ds, said = _run(psd, "auto")
     assert not said, [str(w.message) for w in said]
     chosen = ds.attrs["contact_model"]
-    assert chosen in rs.CONTACT_MODELS and chosen != "auto"
+    assert chosen in rs.contact.MODELS and chosen != "auto"
     assert ds.attrs["model_selection"].startswith(f"auto -> {chosen}")
-    groups = rs.expected_surface_groups(psd, shape=SHAPE, spacing=SPACING, relative_humidity=RH)
-    worst = {m: max(rs.model_error(m, groups.isel(rh=j)).upper for j in range(len(RH)))
+    groups = rs.contact.expected_surface_groups(psd, shape=SHAPE, spacing=SPACING, relative_humidity=RH)
+    worst = {m: max(rs.contact.model_error(m, groups.isel(rh=j)).upper for j in range(len(RH)))
              for m in ("gw", "modified_dmt", "fft_bem", "bem")}
-    assert worst[chosen] <= rs.VALIDITY_BOUND
+    assert worst[chosen] <= rs.contact.VALIDITY_BOUND
     cheaper = list(worst)[:list(worst).index(chosen)]
-    assert all(worst[m] > rs.VALIDITY_BOUND for m in cheaper)
+    assert all(worst[m] > rs.contact.VALIDITY_BOUND for m in cheaper)
     out = _compute(ds)
     # every realization ran the chosen model: the same numbers as naming it explicitly
     explicit, _ = _run(psd, chosen)

@@ -52,7 +52,7 @@ def test_all_45_realistic_self_affine_psds_finish():
             h = rs.surface.generate_surfaces(self_affine(rms, q0, hurst), n=4, shape=96, spacing=5e-9, seed=1)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", rs.ValidityWarning)
-                c = rs.rough_contact_curves(h.isel(realization=k, drop=True).compute(),
+                c = rs.contact.curves(h.isel(realization=k, drop=True).compute(),
                                             relative_humidity=[float(ds.rh[j])])
             p = c.pressure.transpose(..., "distance").values.ravel()
             assert (p <= 0).all() and p[0] < 0, (rms, q0, hurst, k)

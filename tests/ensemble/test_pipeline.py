@@ -115,7 +115,7 @@ def test_material_by_name_or_refused_naming_the_names():
         toy_run(n=2, material=164e9)
     named, default = toy_run(n=2, material="poly-Si"), toy_run(n=2)
     assert named.attrs["material"] == default.attrs["material"] == repr(rs.POLYSILICON)
-    assert rs.reduced_modulus("polysilicon") == rs.reduced_modulus(rs.POLYSILICON)
+    assert rs.materials.reduced_modulus("polysilicon") == rs.materials.reduced_modulus(rs.POLYSILICON)
 
 
 def test_lengths_with_their_unit_everywhere():
@@ -131,12 +131,12 @@ def test_lengths_with_their_unit_everywhere():
     a = rs.surface.generate_surfaces(psd, n=1, shape=32, spacing="5 nm", seed=3)
     b = rs.surface.generate_surfaces(psd, n=1, size="160 nm", spacing=5e-9, seed=3)
     np.testing.assert_array_equal(a.values, b.values)
-    xr.testing.assert_identical(rs.expected_surface_groups(psd, shape=32, spacing="5 nm", relative_humidity=0.5),
-                                rs.expected_surface_groups(psd, shape=32, spacing=5e-9, relative_humidity=0.5))
+    xr.testing.assert_identical(rs.contact.expected_surface_groups(psd, shape=32, spacing="5 nm", relative_humidity=0.5),
+                                rs.contact.expected_surface_groups(psd, shape=32, spacing=5e-9, relative_humidity=0.5))
     h = rs.testing.sphere_topography("200 nm", n=17, spacing="2 nm")  # 200 * 1e-9: 1 ulp from 200e-9
     xr.testing.assert_allclose(h, rs.testing.sphere_topography(200e-9, n=17, spacing=2e-9), rtol=1e-14)
-    f = rs.sphere_force([1e-9], model="dmt", radius="200 nm", relative_humidity=0.5)
-    xr.testing.assert_allclose(f, rs.sphere_force([1e-9], model="dmt", radius=200e-9, relative_humidity=0.5),
+    f = rs.contact.sphere_force([1e-9], model="dmt", radius="200 nm", relative_humidity=0.5)
+    xr.testing.assert_allclose(f, rs.contact.sphere_force([1e-9], model="dmt", radius=200e-9, relative_humidity=0.5),
                                rtol=1e-14)
     with pytest.raises(ValueError, match=r"spacing = '2 parsecs': unknown length unit"):
         rs.ensemble.run(psd, n=2, shape=32, spacing="2 parsecs", relative_humidity=[0.5])
@@ -157,7 +157,7 @@ def test_bad_shapes():
 
 def test_distance_grid_covers_highest_point_and_bottom_check():
     ds = toy_run(n=6).compute()
-    top = float(ds.max_height.max()) + float(rs.water_height(max(RH)))
+    top = float(ds.max_height.max()) + float(rs.contact.water_height(max(RH)))
     assert top < float(ds.distance.max())
     # every curve crosses from attractive to repulsive on the grid
     assert bool((ds.pressure.isel(distance=0) > 0).all())
@@ -211,12 +211,12 @@ def test_real_pipeline_layout_and_single_realization(sample_psds):
     ds = ds.compute()
     # realization 2 regenerated alone and run through the public functions directly
     h = rs.surface.generate_surfaces(psd, realizations=[2], shape=64, spacing=5e-9, seed=9).compute()
-    c = rs.rough_contact_curves(h, relative_humidity=RH6, distance=ds.distance)
-    s = rs.adhesion_summary(c)
+    c = rs.contact.curves(h, relative_humidity=RH6, distance=ds.distance)
+    s = rs.contact.summary(c)
     np.testing.assert_array_equal(c.pressure.isel(realization=0).transpose("rh", "distance").values,
                                   ds.pressure.sel(realization=2).values)
     # its summaries: each humidity alone on the map's own automatic grid
-    own = [float(rs.adhesion_summary(rs.rough_contact_curves(
+    own = [float(rs.contact.summary(rs.contact.curves(
         h.isel(realization=0, drop=True), relative_humidity=[r], check_validity=False)
     ).adhesive_energy[0]) for r in RH6]
     np.testing.assert_array_equal(own, ds.adhesive_energy.sel(realization=2).values)
@@ -292,7 +292,7 @@ def test_summary_is_the_single_map_automatic_grid_result():
                          shape=(64, 64), seed=5, scheduler="sync").compute()
     h = rs.surface.generate_surfaces(_smooth_psd(), n=2, shape=(64, 64), spacing=5e-9,
                              seed=5).isel(realization=1, drop=True).compute()
-    direct = rs.adhesion_summary(rs.rough_contact_curves(h, relative_humidity=[0.5],
+    direct = rs.contact.summary(rs.contact.curves(h, relative_humidity=[0.5],
                                                          check_validity=False))
     np.testing.assert_allclose(ds.adhesive_energy.isel(realization=1).values,
                                direct.adhesive_energy.values, rtol=1e-12)
@@ -329,9 +329,9 @@ def test_the_parameter_hash_is_the_same_in_a_new_process():
     from roughstick.ensemble.pipeline import _callable_id
 
     code = ("import functools, roughstick as rs; from roughstick.ensemble.pipeline import _callable_id; "
-            "print(_callable_id(functools.partial(rs.rough_contact_curves, check_validity=False)))")
-    here = _callable_id(functools.partial(rs.rough_contact_curves, check_validity=False))
+            "print(_callable_id(functools.partial(rs.contact.curves, check_validity=False)))")
+    here = _callable_id(functools.partial(rs.contact.curves, check_validity=False))
     there = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert here == there and "0x" not in here and "check_validity=False" in here
-    other = _callable_id(functools.partial(rs.rough_contact_curves, check_validity=True))
+    other = _callable_id(functools.partial(rs.contact.curves, check_validity=True))
     assert other != here  # different parameters still hash apart

@@ -52,8 +52,8 @@ def test_ensemble_figures(ens):
 
 def test_rough_contact_figures_and_map_dataset():
     maps = {k: rs.datasets.load_sample(k).isel(x=slice(0, 128), y=slice(0, 128)) for k in ("S1A", "S1B")}
-    curves = {k: rs.rough_contact_curves(h, relative_humidity=RH) for k, h in maps.items()}
-    summaries = {k: rs.adhesion_summary(c) for k, c in curves.items()}
+    curves = {k: rs.contact.curves(h, relative_humidity=RH) for k, h in maps.items()}
+    summaries = {k: rs.contact.summary(c) for k, c in curves.items()}
     ds, fig = rough_contact.fig08_rough_curves(curves["S1A"], name="S1A", relative_humidity=RH)
     assert ds is curves["S1A"] and isinstance(fig, Figure) and readable(fig)
     gw, fig = rough_contact.fig10_mdmt_vs_gw(maps, curves, relative_humidity=RH, rh_shown=(0.3, 0.9))
@@ -71,7 +71,7 @@ def test_sphere_and_topography_figures():
     from roughstick.paper import sphere, topography
 
     ds, fig = sphere.fig1b_meniscus(n=10)
-    np.testing.assert_allclose(ds.laplace_pressure, rs.laplace_pressure(ds.rh.values))
+    np.testing.assert_allclose(ds.laplace_pressure, rs.contact.laplace_pressure(ds.rh.values))
     assert readable(fig)
     ds, fig = sphere.fig3_sphere_models(n=51)
     assert ds.force.sizes["model"] == 3 and isinstance(fig, Figure) and readable(fig)

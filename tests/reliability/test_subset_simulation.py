@@ -15,7 +15,7 @@ from roughstick.reliability import _surface as _s
 
 # The modified DMT on these small Table-4 zones is outside its measured validity map (issue 13);
 # the estimators are tested here, not the contact model, so its warning is not the subject.
-pytestmark = pytest.mark.filterwarnings("ignore::roughstick.contact.validity.ValidityWarning")
+pytestmark = pytest.mark.filterwarnings("ignore::roughstick.ValidityWarning")
 
 SPACING = 5e-9
 
@@ -79,7 +79,7 @@ def test_numpy_response_is_the_public_xarray_path(quantity, periodic, material2)
     and typical maps, both quantities, a softer counter-body and a measured (non-periodic) zone."""
     psd = table4()
     f = _s.NoiseToSurface(psd, shape=(48, 40), spacing=SPACING)
-    hw = float(rs.water_height(0.4).values)
+    hw = float(rs.contact.water_height(0.4).values)
     model = _s.SurfaceResponse(f, relative_humidity=0.4, water_height=hw, quantity=quantity,
                                material2=material2, periodic=periodic)
     rng = np.random.default_rng(3)
@@ -92,10 +92,10 @@ def test_numpy_response_is_the_public_xarray_path(quantity, periodic, material2)
         d = d[d > zc.min() - 2 * model.step]
         h = xr.DataArray(zc, dims=("y", "x"), attrs={"units": "m", "periodic": int(periodic)},
                          coords={"y": (np.arange(48) + 0.5) * SPACING, "x": (np.arange(40) + 0.5) * SPACING})
-        c = rs.rough_contact_curves(h, relative_humidity=0.4, distance=d, material2=material2,
+        c = rs.contact.curves(h, relative_humidity=0.4, distance=d, material2=material2,
                                     check_validity=False)
-        ref = rs.adhesion_summary(c, check_grid=False)
-        g = rs.adhesion_summary_kernel(*model._curves(zc, d, periodic), d)
+        ref = rs.contact.summary(c, check_grid=False)
+        g = rs.contact.adhesion.summary_kernel(*model._curves(zc, d, periodic), d)
         assert float(g[0]) == float(ref.adhesive_energy) and float(g[1]) == float(ref.pull_off_pressure)
         assert float(g[2]) == float(ref.equilibrium_distance)
         assert np.isfinite(model.map_response(z, periodic=periodic))
@@ -184,7 +184,7 @@ def test_certain_failure_is_not_certain_from_a_sample():
     ds = rs.reliability.subset_simulation(Linear(shape), noise_shape=shape, threshold=-20.0, seed=0,
                                n_per_level=300, scheduler="sync")
     assert float(ds.failure_probability) == 1.0
-    lo, hi = rs.binomial_interval(300, 300)
+    lo, hi = rs.ensemble.binomial_interval(300, 300)
     assert math.isclose(float(ds.failure_probability_lower), float(lo), rel_tol=1e-12) and float(lo) < 0.99
 
 def test_monte_carlo_against_exact_and_wilson():
@@ -195,7 +195,7 @@ def test_monte_carlo_against_exact_and_wilson():
     lo, hi = float(ds.failure_probability_lower), float(ds.failure_probability_upper)
     assert lo < exact < hi
     k = round(float(ds.failure_probability) * 4000)
-    wl, wh = rs.binomial_interval(k, 4000)
+    wl, wh = rs.ensemble.binomial_interval(k, 4000)
     assert math.isclose(lo, float(wl), rel_tol=1e-12) and math.isclose(hi, float(wh), rel_tol=1e-12)
     p = float(ds.failure_probability)
     assert math.isclose(float(ds.coefficient_of_variation), math.sqrt((1 - p) / (4000 * p)))
@@ -344,7 +344,7 @@ def test_bem_check_confirms_or_flags_the_failure_states():
     the threshold) each raise a ValidityWarning naming the remedy, with different causes."""
     psd = table4()
     f = _s.NoiseToSurface(psd, shape=(24, 24), spacing=SPACING)
-    model = _s.SurfaceResponse(f, relative_humidity=0.5, water_height=float(rs.water_height(0.5).values))
+    model = _s.SurfaceResponse(f, relative_humidity=0.5, water_height=float(rs.contact.water_height(0.5).values))
     bem = _s.SurfaceResponse(f, relative_humidity=0.5, water_height=model.hw, model="fft_bem")
     rng = np.random.default_rng(4)
     noise = rng.standard_normal((5, 24 * 24))
@@ -382,7 +382,7 @@ def test_bem_check_confirms_or_flags_the_failure_states():
 
 def test_fft_bem_limit_state_is_the_public_model():
     """model="fft_bem": every failure sample's stored response is the boundary-element
-    Γ of its surface computed by the public functions (noise -> surface -> fft_bem_contact_curves
+    Γ of its surface computed by the public functions (noise -> surface -> rs.contact.fft_bem_curves
     -> adhesion_summary), and the result says which model it used."""
     psd = table4()
     ds = rs.reliability.failure_probability(psd, threshold=0.04, relative_humidity=0.5, shape=(24, 24),
@@ -392,8 +392,8 @@ def test_fft_bem_limit_state_is_the_public_model():
     assert 0 < ds.failure_noise.shape[0] < 40  # a threshold inside the distribution
     for w, y in zip(ds.failure_noise.values[:3], ds.failure_response.values[:3], strict=False):
         h = rs.reliability.surface_from_noise(w.reshape(24, 24), psd, shape=(24, 24), spacing=SPACING)
-        c = rs.fft_bem_contact_curves(h - h.mean(), relative_humidity=0.5, progress=False)
-        assert float(rs.adhesion_summary(c, check_grid=False).adhesive_energy) == y > 0.04
+        c = rs.contact.fft_bem_curves(h - h.mean(), relative_humidity=0.5, progress=False)
+        assert float(rs.contact.summary(c, check_grid=False).adhesive_energy) == y > 0.04
 
 
 # ------------------------------------------------------------------------------ weakest link

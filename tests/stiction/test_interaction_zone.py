@@ -40,7 +40,7 @@ def test_table4_moments_and_eq37_both_densities():
     assert float(printed.s0) == pytest.approx(6.46e3 * 1e-36, rel=1.5e-2)
     assert float(printed.s1) == pytest.approx(6.29e-3 * 1e-36, rel=1.5e-2)
     # the fitted PSD has the Table 4 moments (closed-form moments, independent of the solver)
-    mom = rs.self_affine_moments(s0=p.s0, s1=p.s1, q0=p.q0, qmax=p.qmax)
+    mom = rs.surface.self_affine_moments(s0=p.s0, s1=p.s1, q0=p.q0, qmax=p.qmax)
     for k in ("m0", "m2", "m4"):
         assert float(mom[k]) == pytest.approx(float(m[k]), rel=1e-5)
 
@@ -53,7 +53,7 @@ def test_table4_eq37_generated_rectangle_reproduces_moments():
     m = rs.stiction.cantilever_moments()
 
     def iso(q):
-        return rs.self_affine_psd(np.asarray(q).ravel(), s0=p.s0, s1=p.s1, q0=p.q0, qmax=p.qmax).values.reshape(np.shape(q))
+        return rs.surface.self_affine_psd(np.asarray(q).ravel(), s0=p.s0, s1=p.s1, q0=p.q0, qmax=p.qmax).values.reshape(np.shape(q))
 
     ny, nx, d = 524, 6000, 5e-9
     n = 4

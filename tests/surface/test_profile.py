@@ -127,7 +127,7 @@ def test_line_scan_refused_where_a_map_is_needed():
     with pytest.raises(ValueError, match="line scan.*profile_psd"):
         rs.surface.validate_height(p)
     with pytest.raises(ValueError, match="line scan.*profile_psd"):
-        rs.rough_contact_curves(p, relative_humidity=0.5, distance=np.linspace(1e-9, 5e-9, 5))
+        rs.contact.curves(p, relative_humidity=0.5, distance=np.linspace(1e-9, 5e-9, 5))
     c = rs.surface.profile_psd(p)
     with pytest.raises(ValueError, match="profile PSD.*2-D"):
         rs.surface.generate_surfaces(c, n=1, shape=(16, 16), spacing=2e-9, seed=0)

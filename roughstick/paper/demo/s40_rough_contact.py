@@ -43,7 +43,7 @@ def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
     # 10 %, say it once in the log, with the way out, not as one warning per map
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", rs.ValidityWarning)
-        curves = {k: rs.rough_contact_curves(h, relative_humidity=RH) for k, h in maps.items()}
+        curves = {k: rs.contact.curves(h, relative_humidity=RH) for k, h in maps.items()}
     validity = [w for w in caught if issubclass(w.category, rs.ValidityWarning)]
     for w in caught:
         if w not in validity:
@@ -54,7 +54,7 @@ def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
                  f"shown here) may be off by up to {max(bounds, key=lambda b: int(b[:-1])) if bounds else 'more than 10 %'} "
                  "at some humidity (docs/accuracy.md); for your own maps `roughstick curves MAP "
                  "--rh ... --model auto` picks a model measured within 10 %.")
-    summaries = {k: rs.adhesion_summary(c) for k, c in curves.items()}
+    summaries = {k: rs.contact.summary(c) for k, c in curves.items()}
     written = []
     first = next(iter(curves))
     _, fig = figures.fig08_rough_curves(curves[first], name=first, relative_humidity=RH)
@@ -66,7 +66,7 @@ def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
 
     ds = figures.curves_by_map(curves, summaries)
     ds.attrs = rs.conventions.dataset_attrs(
-        "modified-DMT curves and adhesion summary of the S1 samples", references=rs.contact.rough.REFERENCES)
+        "modified-DMT curves and adhesion summary of the S1 samples", references=rs.contact.modified_dmt.REFERENCES)
     rs.conventions.append_history(ds, f"roughstick demo s40_rough_contact quick={quick}")
     written.append(out / "rough_contact_S1.nc")
 

@@ -43,7 +43,7 @@ def _table4(out: pathlib.Path) -> pathlib.Path:
         w.writerow(["case", "N_per_um2", "sqrt_m0_nm", "m2", "m4_per_um2", "q0_rad_per_um",
                     "s0_nm4", "s1_nm4"])
         for n in (80.1, 88.1):
-            p = rs.cantilever_psd(asperity_density=n * 1e12)
+            p = rs.stiction.cantilever_psd(asperity_density=n * 1e12)
             w.writerow([f"solved, N = {n}", n, f"{float(p.m0) ** 0.5 * 1e9:.3f}", f"{float(p.m2):.5f}",
                         f"{float(p.m4) / 1e12:.3f}", f"{float(p.q0) / 1e6:.2f}",
                         f"{float(p.s0) * 1e36:.4g}", f"{float(p.s1) * 1e36:.4g}"])
@@ -58,9 +58,9 @@ def run(out: pathlib.Path, *, quick: bool, figure_format: str = "png",
     out = pathlib.Path(out)
     files = [_table4(out)]
     shape, n = ((64, 512), 8) if quick else ((128, 1500), 20)
-    rh = list(rs.PAPER_HUMIDITIES)
+    rh = list(rs.stiction.PAPER_HUMIDITIES)
     layers = ["none", "paper"]
-    gammas = [rs.predict_adhesive_energy(n=n, shape=shape, relative_humidity=rh, adsorbed_layer=layer,
+    gammas = [rs.stiction.predict_adhesive_energy(n=n, shape=shape, relative_humidity=rh, adsorbed_layer=layer,
                                          seed=2015).adhesive_energy.compute()
               for layer in layers]
     g = xr.concat(gammas, dim=xr.DataArray(layers, dims="adsorbed_layer", name="adsorbed_layer"))
