@@ -37,6 +37,7 @@ from .._core.units import KINDS, UnitsError, parse_quantity
 from .._core.validate import as_fraction
 from ..io.afm import bundled_map_names, resolve_map_path
 from ._schema import SCHEMAS, Field
+from ._types import read_map
 
 __all__ = ["ConfigError", "Field", "SCHEMAS", "parse", "read_toml", "RunConfig", "load_config",
            "parse_quantity", "config_material"]
@@ -359,7 +360,7 @@ class RunConfig:
         default its least-squares plane unless periodic; ``source = "samples"``; else [])."""
         if self.psd["source"] != "samples":
             return []
-        return [rs.io.read_afm(f, levelling=self.psd.get("level", "auto")) for f in self.psd["files"]]
+        return [read_map(f, levelling=self.psd.get("level", "auto")) for f in self.psd["files"]]
 
     def heights(self):
         """The ``height_distribution=`` of :func:`roughstick.ensemble.run` that ``[surface]``

@@ -89,14 +89,8 @@ def _run(args):
         channel = int(channel)
     maps = []
     for path in args.maps:
-        h = read_map(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True,
-                     levelling=args.level)
-        used = h.attrs.get("channel")
-        size = f"{h.sizes['y']} x {h.sizes['x']} px" if "y" in h.dims else f"line scan of {h.sizes['x']} points"
-        LOG.info(f"{path}: {size} of {float(h.x[1] - h.x[0]) * 1e9:.4g} nm"
-                 + (f", channel {used}" + (f" (of {h.attrs['channels_in_file']})"
-                                            if "channels_in_file" in h.attrs else "") if used else ""))
-        maps.append(h)
+        maps.append(read_map(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True,
+                             levelling=args.level))  # says its size, channel and levelling
     names = [pathlib.Path(p).name for p in args.maps]
     scans = ["y" not in m.dims for m in maps]
     if any(scans) and not all(scans):
