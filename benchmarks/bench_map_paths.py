@@ -44,8 +44,8 @@ def curves(path: pathlib.Path, out: pathlib.Path, *extra: str) -> tuple[float, s
 
 def main():
     found = [f for f in AFM_FILES if (AFM_DIR / f).is_file()]
-    print(f"{time.strftime('%H:%M:%S')} load average {os.getloadavg()[0]:.2f}; AFM maps in {AFM_DIR}: "
-          f"{len(found)} of {len(AFM_FILES)}")
+    print(f"{time.strftime('%H:%M:%S')} load average {os.getloadavg()[0]:.2f}; real AFM maps: "
+          f"{len(found)} of {len(AFM_FILES)} found")
     with tempfile.TemporaryDirectory() as tmp:
         out = pathlib.Path(tmp) / "c.nc"
         print(f"\n== roughstick curves MAP --rh {' '.join(RH)} --model auto (levelled by default) ==")
