@@ -524,6 +524,15 @@ HEIGHTS_DEFAULT = {"height_distribution": "auto", "skewness": None, "kurtosis": 
 
 def _height_problems(surf: dict, source: str) -> list[str]:
     """What is wrong with the height-distribution keys of [surface] (empty: nothing)."""
+    problems = johnson_problems(surf)
+    if not problems and surf["height_distribution"] == "maps" and source != "samples":
+        return ['[surface] height_distribution = "maps" needs the maps: [psd] source = "samples"']
+    return problems
+
+
+def johnson_problems(surf: dict) -> list[str]:
+    """What is wrong with [surface] skewness and kurtosis of ``height_distribution = "johnson"``
+    (``run`` and ``risk``; empty: nothing)."""
     kind = surf["height_distribution"]
     moments = [k for k in ("skewness", "kurtosis") if k in surf]
     if kind == "johnson" and len(moments) < 2:
@@ -531,8 +540,6 @@ def _height_problems(surf: dict, source: str) -> list[str]:
                 "skewness = 0.4, kurtosis = 3.8)"]
     if kind != "johnson" and moments:
         return [f'[surface] {moments} only apply with height_distribution = "johnson"']
-    if kind == "maps" and source != "samples":
-        return ['[surface] height_distribution = "maps" needs the maps: [psd] source = "samples"']
     if kind == "johnson" and not surf["kurtosis"] > 1 + surf["skewness"] ** 2:
         return [f"[surface] no distribution has skewness {surf['skewness']:g} and kurtosis "
                 f"{surf['kurtosis']:g} (kurtosis must exceed 1 + skewness**2; 3 for a Gaussian)"]

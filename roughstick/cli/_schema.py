@@ -158,6 +158,16 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "spacing": F("length", "pixel size", default=5e-9),
             "shape": F("shape", "pixels (along, across the beam); default the whole zone"),
             "psd": F("path", "a NetCDF PSD measured on your films (variable 'psd')"),
+            "height_distribution": F(
+                "choice", "height distribution of the zones' surfaces (method = 'count'): "
+                "'gaussian' (the paper's), 'maps' (that of the measured maps of [surface] maps) or "
+                "'johnson' (from skewness and kurtosis)", default="gaussian",
+                choices=("gaussian", "maps", "johnson")),
+            "maps": F("map", "measured height maps of your film (height_distribution = 'maps')",
+                      many=True),
+            "skewness": F("number", "height skewness of height_distribution = 'johnson'"),
+            "kurtosis": F("number", "height kurtosis (3 for a Gaussian) of height_distribution = "
+                          "'johnson'", minimum=1.0),
         },
         "ensemble": {
             "n": F("n", "surfaces per adsorbed-layer model (>= 1) or 'auto'", default=20),
