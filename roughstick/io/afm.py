@@ -455,6 +455,10 @@ def _level_on_read(da: xr.DataArray, levelling: str) -> xr.DataArray:
             logging.getLogger("roughstick").info(f"read_afm: {name} not levelled ({why})")
             return da
         levelling = "plane"
+    if levelling == "none":  # the raw heights, as the file holds them
+        logging.getLogger("roughstick").info(f"read_afm: {name} not levelled (raw heights, "
+                                             f"{spell('levelling', 'none')})")
+        return da
     raw = np.asarray(da.values, dtype=float)
     x, y = (np.asarray(da[d].values, dtype=float) for d in ("x", "y"))
     if np.count_nonzero(~np.isfinite(raw)) > 0.5 * raw.size:  # level() refuses it, naming the fix
@@ -464,12 +468,9 @@ def _level_on_read(da: xr.DataArray, levelling: str) -> xr.DataArray:
     span = float(np.nanmax(removed) - np.nanmin(removed)) if np.isfinite(removed).any() else 0.0
     out = da.copy(data=z)
     out.attrs["levelling"] = levelling
-    if levelling == "none":
-        line = f"read_afm: {name} not levelled (raw heights, {spell('levelling', 'none')})"
-    else:
-        line = (f"read_afm: {name} levelled: removed {METHODS[levelling]} (spanning "
-                f"{span * 1e9:.3g} nm; rms height {float(np.nanstd(z)) * 1e9:.3g} nm after; raw "
-                f"heights: {spell('levelling', 'none')})")
+    line = (f"read_afm: {name} levelled: removed {METHODS[levelling]} (spanning {span * 1e9:.3g} nm; "
+            f"rms height {float(np.nanstd(z)) * 1e9:.3g} nm after; raw heights: "
+            f"{spell('levelling', 'none')})")
     append_history(out, line)
     logging.getLogger("roughstick").info(line)
     return out
