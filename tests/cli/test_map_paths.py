@@ -119,3 +119,17 @@ def test_maps_of_different_surfaces_are_said_before_they_are_averaged():
         as_maps([a, b])  # one surface: silent
     with pytest.warns(rs.surface.topography.IncompatibleMapsWarning, match=r"rms height Sq .* \(3\.9"):
         as_maps([a, c])
+
+
+def test_psd_says_when_the_maps_it_averages_are_of_different_surfaces(tmp_path, capsys):
+    rng = np.random.default_rng(1)
+    for name, rms in (("a", 1.0), ("b", 1.1), ("c", 5.0)):
+        np.save(tmp_path / f"{name}.npy", rng.normal(size=(48, 48)) * rms)
+    common = ["--spacing", "2 nm", "--units", "nm", "--surrogates", "0"]
+    assert main(["psd", str(tmp_path / "a.npy"), str(tmp_path / "b.npy"), "--out", str(tmp_path / "ab.nc"),
+                 *common]) == 0
+    assert "IncompatibleMapsWarning" not in "".join(capsys.readouterr())
+    assert main(["psd", str(tmp_path / "a.npy"), str(tmp_path / "c.npy"), "--out", str(tmp_path / "ac.nc"),
+                 *common]) == 0
+    said = "".join(capsys.readouterr())
+    assert "IncompatibleMapsWarning" in said and "c.npy: Sq" in said
