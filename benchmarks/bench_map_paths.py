@@ -42,6 +42,34 @@ def curves(path: pathlib.Path, out: pathlib.Path, *extra: str) -> tuple[float, s
     return wall, "\n    ".join(said), xr.load_dataset(out) if run.returncode == 0 else None
 
 
+def compatibility(found: list) -> None:
+    """Which maps warn_if_incompatible takes for one surface: every pair of AFM maps (different
+    films), and each map against its own crop (one surface at two scan sizes)."""
+    import itertools
+    import warnings
+
+    import roughstick as rs
+
+    maps = {name: rs.io.read_afm(AFM_DIR / name, levelling="auto") for name in found}
+
+    def verdict(hs, names):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            stats = rs.surface.warn_if_incompatible(hs, names)
+        what = ", ".join(f"{n}: Sq {s['rms_height'] * 1e9:.3g} nm, Sal {s['autocorrelation_length'] * 1e9:.3g} nm"
+                         + (f", band rms {s['band_psd'] ** 0.5 * 1e9:.3g} nm" if "band_psd" in s else "")
+                         for n, s in stats.items())
+        return ("WARNS" if caught else "alike") + f" ({what})"
+
+    print("\n== maps of one surface? rs.surface.warn_if_incompatible ==")
+    for a, b in itertools.combinations(found, 2):
+        print(f"  {a} + {b}: {verdict([maps[a], maps[b]], [a, b])}")
+    for name in found:
+        h = maps[name]
+        crop = h.isel(y=slice(0, h.sizes["y"] // 4), x=slice(0, h.sizes["x"] // 4))
+        print(f"  {name} + its top-left quarter-side crop: {verdict([h, crop], ['whole', 'crop'])}")
+
+
 def main():
     found = [f for f in AFM_FILES if (AFM_DIR / f).is_file()]
     print(f"{time.strftime('%H:%M:%S')} load average {os.getloadavg()[0]:.2f}; real AFM maps: "
@@ -65,6 +93,7 @@ def main():
                               for r, g0, g1, d0, d1 in zip(RH, a.adhesive_energy.values, n.adhesive_energy.values,
                                                            a.equilibrium_distance.values, n.equilibrium_distance.values))
             print(f"  {name} unlevelled against levelled: {ratio}")
+    compatibility(found)
     print(f"{time.strftime('%H:%M:%S')} load average {os.getloadavg()[0]:.2f}")
 
 

@@ -102,7 +102,7 @@ def _run(args):
     else:
         # levelled as read (read_afm, --level); here only the NaN pixels (--nan)
         maps = [rs.surface.level(m, method="none", nan=args.nan) for m in maps]
-        rs.surface.topography.warn_if_incompatible(maps, names)  # said before they are averaged
+        rs.surface.warn_if_incompatible(maps, names)  # said before they are averaged
         same = len({m.shape for m in maps}) == 1 and len({round(float(m.x[1] - m.x[0]), 15) for m in maps}) == 1 \
             and len({round(float(m.y[1] - m.y[0]), 15) for m in maps}) == 1
         if same:

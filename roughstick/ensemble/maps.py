@@ -30,9 +30,10 @@ import xarray as xr
 from .._core.remedy import spell
 from .._core.validate import external_stacklevel
 from ..contact import summary as contact_summary
+from ..surface.compatibility import warn_if_incompatible
 from ..surface.distribution import height_distribution as _measured_distribution
 from ..surface.gaussianity import is_gaussian
-from ..surface.topography import level, level_unless_periodic, validate_height, warn_if_incompatible
+from ..surface.topography import level, level_unless_periodic, validate_height
 
 __all__ = ["map_containment", "ContainmentWarning"]
 

@@ -8,8 +8,6 @@ statistics of a map are in :mod:`roughstick.surface.moments`.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import xarray as xr
 
@@ -24,7 +22,6 @@ from .._core.validate import (
     check_has_roughness,
     check_height_dtype,
     check_plausible_height,
-    external_stacklevel,
     grid_spacing,
 )
 
@@ -182,85 +179,3 @@ def _refuse_constant_or_nan(h: xr.DataArray) -> None:
             "roughstick.surface.level(height, nan='fill') (or crop the dropouts)."
         )
 
-
-#: Maps whose rms heights or correlation lengths differ by more than this factor are not said to
-#: be of one surface when they are averaged (:func:`warn_if_incompatible`).
-COMPATIBLE_RATIO = 2.0
-
-
-class IncompatibleMapsWarning(UserWarning):
-    """Maps averaged into one PSD differ more than maps of one surface do."""
-
-
-def autocorrelation_length(height: xr.DataArray, *, threshold: float = 0.2) -> float:
-    r"""The autocorrelation length :math:`S_{al}` [m] of one map (ISO 25178-2): the shortest
-    horizontal distance at which its areal autocorrelation falls to ``threshold``.
-
-    The autocorrelation is that of the map padded with zeros to twice its size (no wrap-round),
-    normalised by the overlap, on the pixel grid.
-
-    Examples
-    --------
-    >>> y, x = np.meshgrid(np.arange(64), np.arange(64), indexing="ij")
-    >>> h = rs.testing.make_topography(np.cos(2 * np.pi * x / 32) * 1e-9, spacing=1e-9)
-    >>> round(rs.surface.topography.autocorrelation_length(h) * 1e9)  # cos(2 pi r/32) = 0.2: 6.97
-    7
-    """
-    h = validate_height(height)
-    z = np.asarray(h.values, dtype=float)
-    z = np.where(np.isfinite(z), z - np.nanmean(z), 0.0)
-    ny, nx = z.shape
-    f = np.fft.rfft2(z, s=(2 * ny, 2 * nx))
-    acf = np.fft.irfft2(np.abs(f) ** 2, s=(2 * ny, 2 * nx))
-    ones = np.fft.rfft2(np.ones_like(z), s=(2 * ny, 2 * nx))
-    overlap = np.maximum(np.fft.irfft2(np.abs(ones) ** 2, s=(2 * ny, 2 * nx)), 1.0)
-    acf = np.fft.fftshift(acf / overlap)
-    acf /= acf[ny, nx]
-    dy, dx = grid_spacing(h, "y"), grid_spacing(h, "x")
-    yy, xx = np.meshgrid((np.arange(2 * ny) - ny) * dy, (np.arange(2 * nx) - nx) * dx, indexing="ij")
-    r = np.hypot(yy, xx)
-    # only lags with at least half the map overlapping are trusted
-    trusted = (abs(yy) <= ny * dy / 2) & (abs(xx) <= nx * dx / 2)
-    below = trusted & (acf <= threshold)
-    return float(r[below].min()) if below.any() else float(r[trusted].max())
-
-
-def warn_if_incompatible(maps, names=None) -> dict:
-    """An :class:`IncompatibleMapsWarning` when maps about to be averaged into one PSD differ in
-    rms height or autocorrelation length by more than :data:`COMPATIBLE_RATIO` (maps of different
-    samples, or of one sample at scales where it is not stationary); returns each map's
-    ``{"rms_height": ..., "autocorrelation_length": ...}`` [m] by name.
-
-    Examples
-    --------
-    >>> rng = np.random.default_rng(0)
-    >>> a = rs.testing.make_topography(rng.normal(size=(32, 32)) * 1e-9, spacing=1e-9)
-    >>> b = rs.testing.make_topography(rng.normal(size=(32, 32)) * 5e-9, spacing=1e-9)
-    >>> import warnings
-    >>> with warnings.catch_warnings(record=True) as caught:
-    ...     warnings.simplefilter("always")
-    ...     _ = rs.surface.topography.warn_if_incompatible([a, b], ["a", "b"])
-    >>> [w.category.__name__ for w in caught]
-    ['IncompatibleMapsWarning']
-    """
-    maps = list(maps)
-    names = [str(n) for n in (names or range(len(maps)))]
-    stats = {n: {"rms_height": float(np.nanstd(np.asarray(m.values, dtype=float))),
-                 "autocorrelation_length": autocorrelation_length(m)} for n, m in zip(names, maps)}
-    if len(maps) < 2:
-        return stats
-    bad = []
-    for key, label in (("rms_height", "rms height Sq"), ("autocorrelation_length", "autocorrelation length Sal")):
-        v = np.array([s[key] for s in stats.values()])
-        if v.min() > 0 and v.max() / v.min() > COMPATIBLE_RATIO:
-            bad.append(f"{label} {v.min() * 1e9:.3g}-{v.max() * 1e9:.3g} nm ({v.max() / v.min():.3g}x)")
-    if bad:
-        each = "; ".join(f"{n}: Sq {s['rms_height'] * 1e9:.3g} nm, Sal {s['autocorrelation_length'] * 1e9:.3g} nm"
-                         for n, s in stats.items())
-        warnings.warn(
-            f"the {len(maps)} maps averaged into one PSD differ more than maps of one surface do "
-            f"({' and '.join(bad)}, more than {COMPATIBLE_RATIO:g}x; {each}): their average is the "
-            "PSD of none of them. Average only maps of one sample (give each sample's maps to a "
-            "command or run of their own), or crop the maps to a common scan size.",
-            IncompatibleMapsWarning, stacklevel=external_stacklevel())
-    return stats
