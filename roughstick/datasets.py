@@ -130,7 +130,7 @@ def load_sample(name: str) -> xr.DataArray:
     >>> h.shape, int(h.attrs["periodic"]), h.attrs["units"]
     ((1024, 1024), 0, 'm')
     """
-    return read_afm(sample_path(name))
+    return read_afm(sample_path(name), levelling="none")
 
 
 def sample_maps(sample: str = "S1", *, method: str = "plane") -> xr.DataArray:

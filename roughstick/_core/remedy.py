@@ -39,6 +39,9 @@ SETTINGS = {
     "spacing": "a pixel size [m] fine enough",
     "resolution": "how to measure what the pixel costs (no value)",
     "samples_per_level": "the samples per level of subset simulation",
+    "height_distribution": "the height distribution of generated surfaces ('maps': the measured maps' own)",
+    "surface_size": "a side length [m] of generated surfaces (the measured maps')",
+    "levelling": "what is removed from a measured map as it is read ('plane', 'none', ...)",
 }
 
 _SPELLINGS: contextvars.ContextVar[dict | None] = contextvars.ContextVar("roughstick_remedy_spellings",
@@ -83,6 +86,13 @@ def _default(setting: str) -> Callable:
         return argument("spacing", fmt=lambda v: f"{v:.2g}")
     if setting == "samples_per_level":
         return argument("n_per_level", fmt=str)
+    if setting == "height_distribution":
+        return lambda value=None, **kw: (f"roughstick.ensemble.run(..., maps=maps, height_distribution={value!r})"
+                                         if value == "maps" else f"height_distribution={value!r}")
+    if setting == "levelling":
+        return argument("levelling", call="roughstick.io.read_afm")
+    if setting == "surface_size":
+        return argument("size", fmt=lambda v: f"{v:.3g}")
     if setting == "resolution":
         return lambda value=None, **kw: ("roughstick.contact.resolution_study(height, relative_humidity=...) "
                                          "(the same map at half and twice the pixel)")

@@ -517,6 +517,9 @@ def config_spellings(*, contact_model: str, surface: str = "surface", key: str |
         "spacing": config_key(surface, "spacing", fmt=lambda v: f'"{v * 1e9:.2g} nm"'),
         "resolution": lambda v=None, **kw: (f"the same run with [{surface}] spacing doubled (its size "
                                             "kept), compared with this one"),
+        "height_distribution": config_key(surface, "height_distribution"),
+        "surface_size": config_key(surface, "size", fmt=lambda v: f'"{v * 1e6:.4g} um"'),
+        "levelling": config_key("psd", "level"),
     }
 
 

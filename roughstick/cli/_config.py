@@ -37,6 +37,7 @@ from .._core.units import KINDS, UnitsError, parse_quantity
 from .._core.validate import as_fraction
 from ..io.afm import bundled_map_names, resolve_map_path
 from ._schema import SCHEMAS, Field
+from ._types import read_map
 
 __all__ = ["ConfigError", "Field", "SCHEMAS", "parse", "read_toml", "RunConfig", "load_config",
            "parse_quantity", "config_material"]
@@ -352,13 +353,30 @@ class RunConfig:
     progress: bool | None
     model: str = "auto"
     material: Material = POLYSILICON
+    height_distribution: dict = dataclasses.field(default_factory=lambda: dict(HEIGHTS_DEFAULT))
 
-    def build_psd(self):
-        """The PSD DataArray [m4] described by the ``[psd]`` table."""
+    def sample_maps(self) -> list:
+        """The ``[psd] files`` maps as :func:`roughstick.io.read_afm` levels them (``[psd] level``,
+        default its least-squares plane unless periodic; ``source = "samples"``; else [])."""
+        if self.psd["source"] != "samples":
+            return []
+        return [read_map(f, levelling=self.psd.get("level", "auto")) for f in self.psd["files"]]
+
+    def heights(self):
+        """The ``height_distribution=`` of :func:`roughstick.ensemble.run` that ``[surface]``
+        asks for: "auto", "maps", "gaussian" or a Johnson distribution."""
+        h = self.height_distribution
+        if h["height_distribution"] == "johnson":
+            return rs.surface.height_distribution(skewness=h["skewness"], kurtosis=h["kurtosis"])
+        return h["height_distribution"]
+
+    def build_psd(self, maps=None):
+        """The PSD DataArray [m4] described by the ``[psd]`` table (``maps``: the levelled
+        sample maps, if read already)."""
         p = self.psd
         src = p["source"]
         if src == "samples":
-            maps = [rs.surface.level(rs.io.read_afm(f), method="plane") for f in p["files"]]
+            maps = self.sample_maps() if maps is None else maps
             shapes = {m.shape for m in maps}
             if len(shapes) != 1:
                 raise ValueError(f"the sample maps differ in shape {sorted(shapes)}; give maps of one size.")
@@ -456,6 +474,7 @@ def load_config(path, *, overrides: dict | None = None) -> RunConfig:
             problems.append(f"[ensemble] {stray} only apply with n = 'auto' (n = {ens['n']}); remove them")
     if ens["n"] == "auto" and "n_max" in ens and "batch" in ens and ens["batch"] > ens["n_max"]:
         problems.append(f"[ensemble] batch = {ens['batch']} exceeds n_max = {ens['n_max']}")
+    problems += _height_problems(surf, psd["source"])
     if problems:
         raise ConfigError(f"{path.name}: " + "; ".join(problems) + ".")
     size = surf.get("size")
@@ -494,4 +513,34 @@ def load_config(path, *, overrides: dict | None = None) -> RunConfig:
         progress=c["run"].get("progress"),
         model=ens["model"],
         material=config_material(c["material"], path.name),
+        height_distribution={k: surf.get(k) for k in HEIGHTS_DEFAULT},
     )
+
+
+#: The [surface] keys of the height distribution, as a run that does not set them has them.
+HEIGHTS_DEFAULT = {"height_distribution": "auto", "skewness": None, "kurtosis": None,
+                   "distribution_method": "translation"}
+
+
+def _height_problems(surf: dict, source: str) -> list[str]:
+    """What is wrong with the height-distribution keys of [surface] (empty: nothing)."""
+    problems = johnson_problems(surf)
+    if not problems and surf["height_distribution"] == "maps" and source != "samples":
+        return ['[surface] height_distribution = "maps" needs the maps: [psd] source = "samples"']
+    return problems
+
+
+def johnson_problems(surf: dict) -> list[str]:
+    """What is wrong with [surface] skewness and kurtosis of ``height_distribution = "johnson"``
+    (``run`` and ``risk``; empty: nothing)."""
+    kind = surf["height_distribution"]
+    moments = [k for k in ("skewness", "kurtosis") if k in surf]
+    if kind == "johnson" and len(moments) < 2:
+        return ['[surface] height_distribution = "johnson" needs skewness and kurtosis (e.g. '
+                "skewness = 0.4, kurtosis = 3.8)"]
+    if kind != "johnson" and moments:
+        return [f'[surface] {moments} only apply with height_distribution = "johnson"']
+    if kind == "johnson" and not surf["kurtosis"] > 1 + surf["skewness"] ** 2:
+        return [f"[surface] no distribution has skewness {surf['skewness']:g} and kurtosis "
+                f"{surf['kurtosis']:g} (kurtosis must exceed 1 + skewness**2; 3 for a Gaussian)"]
+    return []

@@ -87,6 +87,10 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "files": F("map", "height maps (source = 'samples'): paths, or 'bundled:S1A' ... 'bundled:S2C' "
                        "for the sample maps shipped with roughstick", many=True),
             "submaps": F("int", "sub-maps per map (paper scheme 3)", default=16, minimum=1),
+            "level": F("choice", "what is removed from each map as it is read (source = 'samples'): "
+                       "auto = its least-squares plane unless the map is periodic or levelled "
+                       "already, as roughstick psd and curves do", default="auto",
+                       choices=("auto", "plane", "mean", "line", "none")),
             "window": F("choice", "FFT window of the PSD (source = 'samples'): auto = Hann on "
                         "measured maps (docs/topography_psd.md), none = the paper's", default="auto",
                         choices=("auto", "hann", "none")),
@@ -98,7 +102,21 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "variable": F("str", "variable of the PSD file", default="psd"),
             "num_q": F("int", "wavevector points of the Eq. 37 PSD", default=4096, minimum=16),
         },
-        "surface": _COMMON["surface"],
+        "surface": {
+            **_COMMON["surface"],
+            "height_distribution": F(
+                "choice", "height distribution of the generated surfaces: 'auto' = the maps' own "
+                "when [psd] source = 'samples' and they are not Gaussian within their sampling "
+                "error, else Gaussian; 'maps' (their own), 'gaussian', or 'johnson' (from "
+                "skewness and kurtosis)", default="auto", choices=("auto", "maps", "gaussian", "johnson")),
+            "skewness": F("number", "height skewness of height_distribution = 'johnson'"),
+            "kurtosis": F("number", "height kurtosis (3 for a Gaussian) of height_distribution = "
+                          "'johnson'", minimum=1.0),
+            "distribution_method": F("choice", "how a height distribution is imposed: 'translation' "
+                                     "(a transformed Gaussian surface, pre-corrected PSD) or "
+                                     "'iaaft' (docs/generation.md)", default="translation",
+                                     choices=("translation", "iaaft")),
+        },
         "ensemble": {
             "n": F("n", "number of surfaces (>= 1) or 'auto'", required=True),
             "relative_humidity": F("relative_humidity", "humidities as fractions", required=True,
@@ -142,6 +160,16 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "spacing": F("length", "pixel size", default=5e-9),
             "shape": F("shape", "pixels (along, across the beam); default the whole zone"),
             "psd": F("path", "a NetCDF PSD measured on your films (variable 'psd')"),
+            "height_distribution": F(
+                "choice", "height distribution of the zones' surfaces (method = 'count'): "
+                "'gaussian' (the paper's), 'maps' (that of the measured maps of [surface] maps) or "
+                "'johnson' (from skewness and kurtosis)", default="gaussian",
+                choices=("gaussian", "maps", "johnson")),
+            "maps": F("map", "measured height maps of your film (height_distribution = 'maps')",
+                      many=True),
+            "skewness": F("number", "height skewness of height_distribution = 'johnson'"),
+            "kurtosis": F("number", "height kurtosis (3 for a Gaussian) of height_distribution = "
+                          "'johnson'", minimum=1.0),
         },
         "ensemble": {
             "n": F("n", "surfaces per adsorbed-layer model (>= 1) or 'auto'", default=20),

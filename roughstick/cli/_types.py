@@ -15,6 +15,7 @@ message here says what is wrong with the value and how to write it, on one line.
 from __future__ import annotations
 
 import argparse
+import logging
 import math
 import pathlib
 import warnings
@@ -128,10 +129,18 @@ def check_map_flags(path, *, spacing=None, units=None) -> None:
                          f"{missing}.")
 
 
+#: The help of ``--level`` (psd, curves): every command levels a measured map the same way.
+LEVEL_HELP = ("what is removed from the map as it is read, as every command does (printed): "
+              "auto (default) = its least-squares plane, unless the map is periodic (a generated "
+              "surface) or levelled already; plane, mean, line (scan-line alignment), or none "
+              "(the raw heights)")
+
+
 def read_map(path, *, spacing=None, units=None, **kwargs):
     """:func:`roughstick.io.read_afm` for a command: the flags checked first, and heights spanning
     more than 1 mm in the ``--units`` given refused naming ``--units`` (read_afm only warns, in
-    its Python words)."""
+    its Python words). The map is levelled as ``read_afm(levelling=...)`` says (``--level``,
+    default ``auto``), which the command prints (logger ``roughstick``)."""
     check_map_flags(path, spacing=spacing, units=units)
     with warnings.catch_warnings():
         if units is not None:  # said below, in flags
@@ -150,4 +159,11 @@ def read_map(path, *, spacing=None, units=None, **kwargs):
             raise ValueError(f"{pathlib.Path(str(path)).name}: with --units {units} the heights span "
                              f"{span:.4g} m, implausible for an AFM map (more than 1 mm); give the "
                              "unit the heights are in, e.g. --units nm.")
+    used = h.attrs.get("channel")
+    size = f"{h.sizes['y']} x {h.sizes['x']} px" if "y" in h.dims else f"line scan of {h.sizes['x']} points"
+    logging.getLogger("roughstick").info(
+        f"{path}: {size} of {float(h.x[1] - h.x[0]) * 1e9:.4g} nm"
+        + (f", channel {used}" + (f" (of {h.attrs['channels_in_file']})" if "channels_in_file" in h.attrs else "")
+           if used else "")
+        + (", periodic (a generated surface)" if str(h.attrs.get("periodic", 0)) in ("1", "True") else ""))
     return h

@@ -16,6 +16,7 @@ from .._core.units import parse_quantity
 from ..io import netcdf
 from ._common import check_output_file, length_with_unit, positive_int
 from ._types import (
+    LEVEL_HELP,
     flag_value,
     material_arg,
     pixel_size_arg,
@@ -51,6 +52,8 @@ def register(sub):
     p.add_argument("--spacing", default=None, type=pixel_size_arg,
                    help="pixel size for .npy/text, with its unit, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
+    p.add_argument("--level", default="auto", choices=["auto", "plane", "mean", "line", "none"],
+                   help=LEVEL_HELP)
     p.add_argument("--n-distance", type=positive_int, default=None,
                    help="points of the automatic grid, at least (default: 200 for modified_dmt and "
                    "gw, 40 for bem, about 50 adaptive points for fft_bem, the chosen model's "
@@ -90,6 +93,7 @@ def remedies(args) -> dict:
     measured = ("the --resolution table this command prints below" if args.resolution else
                 "--resolution (add it to this command: Γ, pull-off and d_eq at half and twice the pixel)")
     return {"contact_model": flag("--model", extra={"accuracy": "--accuracy"}),
+            "levelling": flag("--level"),
             "spacing": lambda v, **kw: f"a map generated at a pixel of {v * 1e9:.2g} nm",
             "resolution": lambda v=None, **kw: measured}
 
@@ -116,7 +120,9 @@ def _run(args):
     check_output_file(out, overwrite=args.overwrite)
     distance = None if args.distance is None else _distance_grid(*args.distance)  # before any work
     material = material_arg(args.material) if args.material else rs.POLYSILICON
-    h = read_map(args.map, spacing=args.spacing, units=args.units)
+    # levelled as every command levels a measured map (printed; --level); --periodic yes: not
+    levelling = "none" if args.level == "auto" and args.periodic == "yes" else args.level
+    h = read_map(args.map, spacing=args.spacing, units=args.units, levelling=levelling)
     n_distance = args.n_distance
     if n_distance is None and args.model in ("modified_dmt", "gw"):
         n_distance = 200  # auto: the chosen model's own default, as from Python

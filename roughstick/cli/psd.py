@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import pathlib
 
 import numpy as np
@@ -10,9 +11,11 @@ from scipy.special import stdtrit
 
 import roughstick as rs
 
+from .._core.remedy import flag
 from ..io import netcdf
 from ._common import LOG, check_output_file, positive_int
 from ._types import (
+    LEVEL_HELP,
     check_map_flags,
     flag_value,
     pixel_size_arg,
@@ -43,20 +46,36 @@ def register(sub):
                    help="pixel size for .npy/text, with its unit, e.g. '5 nm'")
     p.add_argument("--units", default=None, help="height units for .npy/text, e.g. 'nm'")
     p.add_argument("--channel", default=None, help="channel name or index (vendor files)")
-    p.add_argument("--level", default="plane", choices=["plane", "mean", "line", "none"])
+    p.add_argument("--level", default="auto", choices=["auto", "plane", "mean", "line", "none"],
+                   help=LEVEL_HELP)
     p.add_argument("--nan", default="raise", choices=["raise", "fill"], help="NaN pixels")
     p.add_argument("--submaps", type=positive_int, default=16,
                    help="sub-maps per map: 1, 4, 16 (default 16; maps only)")
     p.add_argument("--qmax", default=None,
                    help="cutoff with its unit, e.g. '289 rad/um'; default: chosen to match the "
                         "spatial variances")
+    p.add_argument("--surrogates", type=_count0, default=50,
+                   help="Gaussian surrogates of each map behind the height-distribution "
+                        "diagnostics (is the film Gaussian within its sampling error?); 0 skips "
+                        "them (default 50, about 0.5 s per 512 x 512 map)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing --out file")
     p.add_argument("--window", default="auto",
                    help="FFT window: auto (default: Hann unless the map is marked periodic; "
                    "without a window the edge step of a non-periodic scan inflates m2 and m4 by "
                    "up to 112 %% and 1368 %%, docs/topography_psd.md), none, or a scipy window "
                    "name, e.g. hann, blackman")
-    p.set_defaults(func=_run)
+    p.set_defaults(func=_run, remedies=lambda args: {"levelling": flag("--level")})
+
+
+def _count0(text: str) -> int:
+    """argparse type: an integer >= 0."""
+    try:
+        v = int(text)
+    except ValueError:
+        v = -1
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {text!r}")
+    return v
 
 
 def _run(args):
@@ -70,22 +89,20 @@ def _run(args):
         channel = int(channel)
     maps = []
     for path in args.maps:
-        h = read_map(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True)
-        used = h.attrs.get("channel")
-        size = f"{h.sizes['y']} x {h.sizes['x']} px" if "y" in h.dims else f"line scan of {h.sizes['x']} points"
-        LOG.info(f"{path}: {size} of {float(h.x[1] - h.x[0]) * 1e9:.4g} nm"
-                 + (f", channel {used}" + (f" (of {h.attrs['channels_in_file']})"
-                                            if "channels_in_file" in h.attrs else "") if used else ""))
-        maps.append(h)
+        maps.append(read_map(path, spacing=args.spacing, channel=channel, units=args.units, line_scan=True,
+                             levelling=args.level))  # says its size, channel and levelling
     names = [pathlib.Path(p).name for p in args.maps]
     scans = ["y" not in m.dims for m in maps]
     if any(scans) and not all(scans):
         raise ValueError("the files mix line scans (" + ", ".join(n for n, s in zip(names, scans) if s)
                          + ") and 2-D maps; run roughstick psd on each kind separately.")
     if all(scans):
-        ds = _line_scans([rs.surface.level_profile(m, method=args.level, nan=args.nan) for m in maps], names, args, qmax)
+        method = "line" if args.level in ("auto", "plane") else args.level  # a profile's plane is a line
+        ds = _line_scans([rs.surface.level_profile(m, method=method, nan=args.nan) for m in maps], names, args, qmax)
     else:
-        maps = [rs.surface.level(m, method=args.level, nan=args.nan) for m in maps]
+        # levelled as read (read_afm, --level); here only the NaN pixels (--nan)
+        maps = [rs.surface.level(m, method="none", nan=args.nan) for m in maps]
+        rs.surface.warn_if_incompatible(maps, names)  # said before they are averaged
         same = len({m.shape for m in maps}) == 1 and len({round(float(m.x[1] - m.x[0]), 15) for m in maps}) == 1 \
             and len({round(float(m.y[1] - m.y[0]), 15) for m in maps}) == 1
         if same:
@@ -96,6 +113,7 @@ def _run(args):
             _keep_per_map(ds, rs.surface.roughness_moments(stack), "map")
         else:
             ds = _different_grids(maps, names, args, qmax)
+    height_lines = [] if all(scans) or args.surrogates < 1 else _height_lines(ds, maps, args.surrogates)
     ds.attrs["input_files"] = " ".join(str(p) for p in args.maps)
     rs.conventions.append_history(ds, "roughstick psd " + " ".join(args.maps) + f" --out {args.out}")
     plural = "s" if len(maps) > 1 else ""
@@ -114,10 +132,43 @@ def _run(args):
     tail = ("no cutoff" if qm is None else f"qmax = {float(qm):.4g} rad/um" if qm.size == 1
             else f"qmax = {float(qm.min()):.4g}-{float(qm.max()):.4g} rad/um") + (
         f", Eq. 32 = {float(ds.relative_std.mean()):.3g}" if "relative_std" in ds else "")
-    for line in lines:
+    for line in lines + height_lines:
         LOG.info(line)
     LOG.info(f"{tail}; wrote {out}")
     return 0
+
+
+def _height_lines(ds, maps, n: int) -> list[str]:
+    """The height-distribution diagnostics of the maps pooled (stored in ``ds``) as printed lines:
+    skewness, kurtosis and the 99th/99.9th percentiles, each with the sampling interval of a
+    Gaussian surface like the maps, and the verdict with what to do about it."""
+    diag = rs.surface.height_diagnostics(list(maps), pooled=True, n=n)
+    for k, v in diag.data_vars.items():
+        ds[k] = v.astype("int8").assign_attrs(v.attrs, units="1") if v.dtype == bool else v
+    ds.attrs["height_diagnostics"] = diag.attrs["interval_method"]
+
+    def band(name, fmt=".3g", sel=None):
+        v = diag[name] if sel is None else diag[name].sel(probability=sel)
+        lo, hi = (diag[f"{name}_gaussian_{e}"] for e in ("lower", "upper"))
+        if sel is not None:
+            lo, hi = lo.sel(probability=sel), hi.sel(probability=sel)
+        return f"{float(v):{fmt}} [{float(lo):{fmt}}, {float(hi):{fmt}}]"
+
+    plural, them = ("s pooled", "them") if len(maps) > 1 else ("", "it")
+    lines = [f"height distribution of the map{plural} (in brackets: the {diag.attrs['confidence']:.0%} "
+             f"sampling interval of a Gaussian surface like {them}, {n} surrogates):",
+             f"  skewness {band('skewness')}, kurtosis {band('kurtosis')} (Gaussian 0 and 3)",
+             f"  99th height percentile {band('tail_quantile', sel=0.99)} rms (Gaussian 2.33), "
+             f"99.9th {band('tail_quantile', sel=0.999)} rms (Gaussian 3.09)"]
+    if bool(diag.gaussian):
+        lines.append("  Gaussian within the sampling error: Gaussian surfaces (the default) describe "
+                     "their heights")
+    else:
+        lines.append('  NOT Gaussian within the sampling error: generate surfaces with their height '
+                     'distribution (roughstick run: [surface] height_distribution = "maps" with '
+                     '[psd] source = "samples"; Python: generate_surfaces(..., '
+                     "height_distribution=rs.surface.height_distribution(maps)))")
+    return lines
 
 
 #: Confidence of the printed interval of the mean spatial moments over maps.

@@ -35,7 +35,16 @@ from ._common import (
     run_status,
     small_p_problems,
 )
-from ._config import ConfigError, Field, check_memory, config_material, parse, read_toml
+from ._config import (
+    ConfigError,
+    Field,
+    check_memory,
+    config_material,
+    johnson_problems,
+    parse,
+    read_toml,
+)
+from ._types import read_map
 
 
 def register(sub):
@@ -81,6 +90,7 @@ def load_risk_config(path) -> dict:
                     problems.append(f"[[measured]] #{k + 1}: {v} has {len(m[v])} values, "
                                     f"relative_humidity {len(m['relative_humidity'])}")
     r = c["risk"]
+    problems += _height_problems(c)
     if r["method"] != "count":
         if "shape" not in c["surface"]:
             problems.append(f"[risk] method = {r['method']!r} evaluates one zone per model call: set "
@@ -106,6 +116,40 @@ def load_risk_config(path) -> dict:
                      where=f"{path.name}: [surface]")
     c["path"] = path
     return c
+
+
+def _height_problems(c) -> list[str]:
+    """What is wrong with the height-distribution keys of [surface] (empty: nothing)."""
+    s, kind = c["surface"], c["surface"]["height_distribution"]
+    problems = johnson_problems(s)
+    if kind == "maps" and not s.get("maps"):
+        problems.append('[surface] height_distribution = "maps" needs the maps: maps = ["scan1.tiff", ...]')
+    if kind != "maps" and s.get("maps"):
+        problems.append('[surface] maps only apply with height_distribution = "maps"')
+    if kind != "gaussian" and c["risk"]["method"] != "count":
+        problems.append(f"[risk] method = {c['risk']['method']!r} simulates Gaussian zones: "
+                        "use method = 'count' for surfaces with [surface] height_distribution = "
+                        f"{kind!r}, or remove that key")
+    if kind != "gaussian" and "adhesive_energy" in c["ensemble"]:
+        problems.append("[surface] height_distribution is for the simulated surfaces, which "
+                        "[ensemble] adhesive_energy replaces: remove one of them")
+    return problems
+
+
+def _heights(s):
+    """The ``height_distribution=`` of the zones' surfaces ([surface]), said before the work:
+    None for Gaussian surfaces."""
+    kind = s["height_distribution"]
+    if kind == "gaussian":
+        return None
+    if kind == "johnson":
+        dist = rs.surface.height_distribution(skewness=s["skewness"], kurtosis=s["kurtosis"])
+    else:
+        dist = rs.surface.height_distribution([read_map(f) for f in s["maps"]])
+    LOG.info(f"heights: {dist.attrs['family']} (skewness {dist.attrs['skewness']:.3g}, kurtosis "
+             f"{dist.attrs['kurtosis']:.3g}; [surface] height_distribution = {kind!r}), imposed by "
+             "translation")
+    return dist
 
 
 #: CSV columns of measured points: header name -> (config key, kind of quantity or None).
@@ -282,8 +326,11 @@ def _gamma_samples(c, beam, out, *, overwrite):
     rh = ens["relative_humidity"]
     parts = []
     model, material = c["risk"]["model"], config_material(c["material"])
+    heights = _heights(s)
     for layer in layers:
         kw = {"material": material, "model": model}
+        if heights is not None:  # Gaussian: not named, so earlier ensembles keep resuming
+            kw["height_distribution"] = heights
         if ens["stream"]:
             kw["output"] = out / f"ensemble-{layer}"
             kw["overwrite"] = overwrite

@@ -37,7 +37,7 @@ from ._common import (
     figure_options,
     finish_folder,
 )
-from ._config import load_config
+from ._config import HEIGHTS_DEFAULT, load_config
 
 
 def register(sub):
@@ -77,6 +77,11 @@ def run_params(cfg) -> dict:
     model = out.pop("model")
     if model != "modified_dmt":
         out["contact_model"] = model
+    heights = out.pop("height_distribution")
+    if heights != HEIGHTS_DEFAULT:  # a run that does not set them resumes its earlier folders
+        out["height_distribution"] = heights
+    if out["psd"].get("level", "auto") == "auto":  # the default: earlier folders resume
+        out["psd"] = {k: v for k, v in out["psd"].items() if k != "level"}
     material = out.pop("material", POLYSILICON)
     if material != POLYSILICON:
         out["material"] = material_attrs(material)
@@ -97,13 +102,16 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
     # another run's complete results, is said now, not after minutes of computing
     check_scheduler(cfg.scheduler, where=scheduler_from)
     claim_folder(cfg.folder, command="run", params=run_params(cfg), overwrite=cfg.overwrite, keep=[cfg.path])
-    psd = cfg.psd_da if hasattr(cfg, "psd_da") else cfg.build_psd()
+    maps = cfg.sample_maps()
+    psd = cfg.psd_da if hasattr(cfg, "psd_da") else cfg.build_psd(maps=maps)
     shape = surface_shape(shape=cfg.shape, size=cfg.size, spacing=cfg.spacing)
     said = _warn_if_extrapolated(psd, shape, cfg.spacing, source=cfg.psd["source"])
+    heights = _heights(cfg, maps, log)
     n_grid = cfg.auto.get("n_max", 3000) if cfg.n == "auto" else cfg.n
     dist = rs.ensemble.distance_grid(psd, shape=shape, n=n_grid, relative_humidity=cfg.relative_humidity,
                                      adsorbed_layer=cfg.adsorbed_layer,
-                                     n_distance=cfg.distance_points, lower=cfg.distance_lower)
+                                     n_distance=cfg.distance_points, lower=cfg.distance_lower,
+                                     height_distribution=heights)
     ens_dir = cfg.folder / "ensemble"
     log(f"{cfg.title}: n={cfg.n}, shape={shape}, spacing={cfg.spacing * 1e9:g} nm, "
         f"RH={cfg.relative_humidity}, contact model {cfg.model}, material {cfg.material.name} "
@@ -117,6 +125,8 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
             output=ens_dir, overwrite=cfg.overwrite, scheduler=cfg.scheduler,
             connect_timeout=cfg.connect_timeout, progress=cfg.progress, material=cfg.material,
             model=cfg.model,
+            maps=maps or None, height_distribution="gaussian" if heights is None else heights,
+            distribution_method=cfg.height_distribution["distribution_method"],
             **_auto_keywords(cfg.auto),
         )
     ds = ds.load()
@@ -125,6 +135,8 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
     band.attrs["title"] = f"{cfg.title}: ensemble band"
     band.attrs["configuration"] = cfg.path.read_text()
     band.attrs.update(material_attrs(cfg.material), contact_model=ds.attrs.get("contact_model", cfg.model))
+    for v in [v for v in ds.data_vars if str(v).startswith("map_")]:  # the maps' own summaries
+        band[v] = ds[v]
     path = cfg.folder / "band.nc"
     rs.io.netcdf.write(band, path, compute=True, overwrite=True)
     written.append(path)
@@ -146,6 +158,8 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
     log("apparent adhesive energy Γ:")
     for line in rs.ensemble.band_summary(band, median_interval=True):
         log("  " + line)
+    for line in _map_lines(ds):
+        log(line)
     if cfg.n == "auto":
         state = "converged" if band.attrs.get("auto_converged") else (
             "NOT converged: stopped at n_max; raise [ensemble] n_max or tolerance")
@@ -153,6 +167,42 @@ def run_config(cfg, *, figures=True, log=LOG.info, scheduler_from="[run] schedul
     finish_folder(cfg.folder)
     log(f"done in {time.perf_counter() - t0:.1f} s; n = {ds.sizes['realization']}")
     return written
+
+
+def _heights(cfg, maps: list, log):
+    """The height distribution of the run's surfaces ([surface] height_distribution), said
+    before the work: None for Gaussian surfaces, else a distribution Dataset."""
+    choice = cfg.heights()
+    if not isinstance(choice, str):
+        log(f"heights: Johnson {choice.attrs['family'][-2:].upper()} with skewness "
+            f"{choice.attrs['skewness']:.3g}, kurtosis {choice.attrs['kurtosis']:.3g}")
+        return choice
+    if choice == "gaussian" or not maps:
+        log("heights: Gaussian" + (" ([surface] height_distribution = \"gaussian\")" if maps else ""))
+        return None
+    gaussian = rs.surface.is_gaussian(maps)
+    if choice == "auto" and gaussian:
+        log("heights: Gaussian (the maps are Gaussian within their sampling error)")
+        return None
+    d = rs.surface.height_distribution(maps)
+    log(f"heights: the maps' own distribution (skewness {d.attrs['skewness']:.3g}, kurtosis "
+        f"{d.attrs['kurtosis']:.3g}" + (", not Gaussian within their sampling error" if not gaussian else "")
+        + f"), imposed by {cfg.height_distribution['distribution_method']}")
+    return d
+
+
+def _map_lines(ds) -> list[str]:
+    """The measured maps' own Γ and their percentiles in the ensemble, one line per map."""
+    if "map_adhesive_energy" not in ds:
+        return []
+    lines = [f"the maps' own Γ ({ds.attrs.get('maps_compared', 'the whole maps')}) and their "
+             "percentile in the ensemble:"]
+    for name in ds["map"].values:
+        cells = [f"RH {float(r):.2g}: {float(g) * 1e3:.3g} mJ/m² ({float(p):.0f} %)"
+                 for r, g, p in zip(ds.rh.values, ds.map_adhesive_energy.sel(map=name).values,
+                                    ds.map_percentile.sel(map=name).values, strict=True)]
+        lines.append(f"  {name}: " + ", ".join(cells))
+    return lines
 
 
 def _warn_if_extrapolated(psd, shape, spacing: float, *, source: str) -> bool:

@@ -36,6 +36,7 @@ from ..contact import curves as contact_curves
 from ..contact import summary as contact_summary
 from ..contact.adhesion import equilibrium_crossings
 from ..contact.meniscus import as_relative_humidity, water_height
+from ..surface.distribution import as_height_distribution, evaluate, standardised
 from ..surface.generate import extrapolation_said_once
 from ..surface.moments import psd_moments
 from ..testing import make_topography
@@ -77,6 +78,7 @@ def distance_grid(
     lower: float = 1.5,
     exceedance: float = 1e-6,
     points_per_water_height: float = 10.0,
+    height_distribution=None,
 ) -> xr.DataArray:
     r"""A distance grid common to every realization of an ensemble.
 
@@ -114,6 +116,11 @@ def distance_grid(
     points_per_water_height : float, default 10
         Grid points per smallest water height :math:`h_{water}` of the run (when ``n_distance``
         is None).
+    height_distribution : xarray.Dataset, optional
+        The surfaces' height distribution (:func:`roughstick.surface.height_distribution`):
+        the top is then its quantile at the same probability, :math:`\sqrt{m_0}\,T(u)` with
+        :math:`u = \Phi^{-1}(1 - \epsilon / (n\,n_y n_x))` (a skewed film's tallest summits
+        stand higher than a Gaussian's).
 
     Returns
     -------
@@ -137,7 +144,10 @@ def distance_grid(
     rh = relative_humidity_array(relative_humidity)
     sigma = math.sqrt(m0)
     npix = int(np.prod(shape)) * max(int(n), 1)
-    z_top = sigma * float(norm.isf(exceedance / npix))
+    u_top = float(norm.isf(exceedance / npix))
+    z_top = sigma * (u_top if height_distribution is None else
+                     float(evaluate(standardised(as_height_distribution(height_distribution)["height"].values),
+                                    [u_top])[0]))
     hw = _water_heights(rh, adsorbed_layer)
     d_max = z_top + float(np.max(hw))
     d_min = lower * sigma
@@ -205,6 +215,17 @@ def _callable_id(f) -> str:
     return f"{type(f).__module__}.{type(f).__qualname__}" + (f"({f!r})" if own else "")
 
 
+def _kwarg_id(value):
+    """A keyword argument as the parameter hash sees it: a Dataset (a height distribution) by
+    the digest of its values and its family (its repr holds a time-stamped history)."""
+    if isinstance(value, xr.Dataset):
+        digest = hashlib.sha256()
+        for name in sorted(value.data_vars):
+            digest.update(np.ascontiguousarray(np.asarray(value[name].values, dtype=float)).tobytes())
+        return f"Dataset({value.attrs.get('family', '')}, {digest.hexdigest()[:16]})"
+    return value
+
+
 def _hash_params(spec_fields: dict) -> str:
     h = hashlib.sha256()
     psd = spec_fields["psd"]
@@ -231,7 +252,7 @@ def _hash_params(spec_fields: dict) -> str:
     )
     rest["material"] = repr(spec_fields["material"])
     rest["functions"] = [_callable_id(spec_fields[k]) for k in ("generate", "curves", "summary")]
-    rest["kwargs"] = repr(sorted(spec_fields["generate_kwargs"].items())) + repr(
+    rest["kwargs"] = repr(sorted((k, _kwarg_id(v)) for k, v in spec_fields["generate_kwargs"].items())) + repr(
         sorted(spec_fields["curves_kwargs"].items())
     )
     h.update(json.dumps(rest, sort_keys=True, default=str).encode())

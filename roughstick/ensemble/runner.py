@@ -50,8 +50,17 @@ from ..contact import (
 from ..contact import curves as contact_curves
 from ..contact import summary as contact_summary
 from ..contact.trust.budget import model_bounds
+from ..surface.gaussianity import is_gaussian
 from ..surface.generate import ExtrapolatedPSDWarning, generate_surfaces
 from .execute import auto_ensemble, stream
+from .maps import (
+    as_maps,
+    attach,
+    compared,
+    map_containment,
+    map_summaries,
+    resolve_height_distribution,
+)
 from .multifidelity import accurate_subset, accurate_subset_size
 from .pipeline import (
     Spec,
@@ -192,6 +201,9 @@ def run(
     curves_kwargs: dict | None = None,
     accurate_model: str | None = None,
     n_accurate="auto",
+    maps=None,
+    height_distribution="auto",
+    distribution_method: str = "translation",
 ) -> xr.Dataset:
     r"""Monte Carlo ensemble of rough-surface humid adhesion from a PSD (paper §4.3).
 
@@ -284,6 +296,27 @@ def run(
         ``PILOT_SIZE`` realizations run with both models (computed before the graph is built),
         as many as make the model correction of Γ's median and band edges lie within
         ``accuracy`` (:func:`roughstick.ensemble.multifidelity.accurate_subset_size`), at most n.
+    maps : xarray.DataArray or list of xarray.DataArray, optional
+        The measured maps the PSD was estimated from (``(..., y, x)`` or a list of 2-D maps;
+        levelled by a plane here unless periodic or levelled already, as
+        :func:`roughstick.io.read_afm` does; maps whose rms heights or correlation lengths differ
+        more than twofold are an ``IncompatibleMapsWarning``). Each map's own summaries are
+        computed with the same model, humidities, material and layer (one set of curves per map,
+        at once; of a map larger than the surfaces, its centre at their size) and placed in the
+        ensemble: ``map_adhesive_energy`` ... over ``(map, rh)`` and ``map_percentile``, the
+        percentile of each map's Γ among the realizations (:func:`map_containment`). A computed
+        result (``output=`` or ``n="auto"``) warns at once for a map outside the ``confidence``
+        band; a lazy one when :func:`map_containment` is called on it.
+    height_distribution : "auto", "maps", "gaussian", None or xarray.Dataset, default "auto"
+        The height distribution of the surfaces (:func:`roughstick.surface.generate_surfaces`):
+        ``"auto"`` is the maps' own (:func:`roughstick.surface.height_distribution`) when they
+        are not Gaussian within their sampling error (:func:`roughstick.surface.is_gaussian`),
+        and Gaussian when they are or when no ``maps`` are given; ``"maps"`` their own always;
+        ``"gaussian"``/None Gaussian; or a distribution Dataset (e.g. Johnson, from skewness
+        and kurtosis). The choice and why are ``attrs["height_distribution"]`` and
+        ``attrs["height_distribution_reason"]``.
+    distribution_method : {"translation", "iaaft"}
+        How a height distribution is imposed (:func:`roughstick.surface.generate_surfaces`).
 
     Returns
     -------
@@ -336,6 +369,8 @@ def run(
     model, accuracy, curves_kwargs = _contact_options(model, accuracy, curves_kwargs)
     # the default (no model, no accurate model): the accuracy target, by the cheapest plan
     defaulted = model in (None, "auto") and accurate_model is None and curves is None
+    maps = as_maps(maps) if maps is not None else None
+    heights, maps_gaussian, why = resolve_height_distribution(height_distribution, maps)
     chosen = selection = None
     if curves is None:
         # the model every realization runs ("auto" resolved once): one template, one variable set
@@ -358,9 +393,13 @@ def run(
               else curves)
     summary = contact_summary if summary is None else summary
     root = as_seed_sequence(seed)
+    generate_kwargs = dict(generate_kwargs or {})
+    if heights is not None:
+        generate_kwargs.update(height_distribution=heights, distribution_method=distribution_method)
     if distance is None:
         dist = np.asarray(distance_grid(psd, shape=shp, n=n_total, relative_humidity=rh,
-                                        adsorbed_layer=adsorbed_layer).values)
+                                        adsorbed_layer=adsorbed_layer,
+                                        height_distribution=heights).values)
     else:
         dist = distance_array(distance, min_size=2)
     c_r, c_h = _chunks(chunks, shp, rh.size)
@@ -370,7 +409,7 @@ def run(
         psd=psd.load() if psd.chunks is not None else psd, shape=shp, spacing=spacing, rh=rh,
         distance=dist, chunk=c_r, rh_chunk=min(c_h, rh.size), adsorbed_layer=adsorbed_layer,
         material=material, generate=generate, curves=curves, summary=summary,
-        generate_kwargs=dict(generate_kwargs or {}), curves_kwargs=curves_kwargs,
+        generate_kwargs=generate_kwargs, curves_kwargs=curves_kwargs,
         seed_entropy=str(root.entropy), seed_spawn_key=list(root.spawn_key),
         # summaries on each map's own automatic grid unless the user fixed the distances
         own_grid=distance is None,
@@ -400,24 +439,50 @@ def run(
         attrs["contact_model"] = chosen
     if selection is not None:
         attrs["model_selection"] = selection
+    attrs.update(height_distribution="gaussian" if heights is None else heights.attrs["family"],
+                 height_distribution_reason=why)
+    if heights is not None:
+        attrs["distribution_method"] = distribution_method
     folder = pathlib.Path(output) if output is not None else None
     if auto:
         ds = auto_ensemble(spec, batch=batch, target_precision=target_precision, n_max=n_total,
                            patience=patience, confidence=confidence, folder=folder,
                            stream_kw={"overwrite": overwrite}, scheduler=scheduler,
                            connect_timeout=connect_timeout, progress=progress, attrs=attrs)
-        return append_history(ds, f"ensemble.run(n='auto') stopped at n={ds.attrs['n_final']}")
-    if folder is not None:
+        line = f"ensemble.run(n='auto') stopped at n={ds.attrs['n_final']}"
+    elif folder is not None:
         t0 = time.perf_counter()
         stream(spec, n_total, folder, overwrite=overwrite, scheduler=scheduler,
                connect_timeout=connect_timeout, progress=progress, attrs=attrs)
         ds = open_ensemble(folder, chunks={})
-        return append_history(ds, f"ensemble.run streamed to {str(folder)!r} "
-                                  f"({time.perf_counter() - t0:.1f} s this session)")
-    ds = lazy_ensemble(spec, 0, n_total)
-    ds.attrs = attrs
-    return append_history(ds, f"ensemble.run(n={n_total}, shape={shp}, rh={rh.tolist()}); "
-                              f"{ds.attrs.get('summary_grid', '')}")
+        line = f"ensemble.run streamed to {str(folder)!r} ({time.perf_counter() - t0:.1f} s this session)"
+    else:
+        ds = lazy_ensemble(spec, 0, n_total)
+        ds.attrs = attrs
+        line = f"ensemble.run(n={n_total}, shape={shp}, rh={rh.tolist()}); {ds.attrs.get('summary_grid', '')}"
+    ds = append_history(ds, line)
+    if maps is None:
+        return ds
+    return _with_maps(ds, spec, maps, maps_gaussian, confidence, computed=auto or folder is not None)
+
+
+def _with_maps(ds, spec, maps, maps_gaussian, confidence, *, computed) -> xr.Dataset:
+    """The measured maps' own summaries and percentiles in the ensemble (maps.attach); at once
+    the containment check when the ensemble is already computed."""
+    if maps_gaussian is None and ds.attrs.get("height_distribution") == "gaussian":
+        maps_gaussian = is_gaussian(maps)  # a Gaussian run: are the maps? (a likely cause)
+    parts, what = compared(maps, spec.shape, spec.spacing)
+    own = map_summaries(parts, relative_humidity=spec.rh, curves=spec.curves, summary=spec.summary,
+                        curves_kwargs=spec.curves_kwargs, material=spec.material,
+                        adsorbed_layer=spec.adsorbed_layer)
+    ds = attach(ds, own, maps, {"maps_gaussian": None if maps_gaussian is None else int(maps_gaussian),
+                                "maps_compared": what})
+    if computed:
+        check = map_containment(ds, confidence=confidence)
+        ds["map_percentile"] = check["map_percentile"]
+        ds.attrs["map_containment"] = check.attrs["causes"]
+    return append_history(ds, f"ensemble.run: {len(maps)} measured map(s)' own summaries "
+                              "(map_adhesive_energy ..., map_percentile)")
 
 
 #: Realizations a multi-fidelity pilot runs with both models (``n_accurate="auto"``).

@@ -12,6 +12,7 @@ config's ``[psd] files``): :func:`resolve_map_path`. A real file of that name al
 
 from __future__ import annotations
 
+import logging
 import pathlib
 import warnings
 from importlib import resources
@@ -21,7 +22,9 @@ import xarray as xr
 
 from .._core import units as _units
 from .._core.conventions import ATTRS, append_history, set_coord_attrs
+from .._core.levelling import METHODS, level_kernel
 from .._core.memory import physical_memory
+from .._core.remedy import spell
 from .._core.validate import as_length
 
 __all__ = ["read_afm"]
@@ -358,7 +361,8 @@ def _check_npy_fits(path) -> None:
         )
 
 
-def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = False) -> xr.DataArray:
+def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = False,
+             levelling: str = "auto") -> xr.DataArray:
     """Read an AFM height map as ``height`` (y, x) in metres.
 
     Parameters
@@ -390,13 +394,23 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
         ``("x",)`` with attr ``line_scan = 1``, for :func:`roughstick.surface.profile_psd` and
         :func:`roughstick.surface.profile_moments`. Default ``False``: a line scan is refused, since
         contact, ensembles and generation need a 2-D map. 2-D maps are read either way.
+    levelling : {"auto", "plane", "mean", "line", "none"}, default "auto"
+        What is removed from a 2-D map as it is read (:func:`roughstick.surface.level`):
+        ``"auto"`` removes the least-squares plane of a measured map (an instrument's tilt and
+        offset; the contact models measure distances from the mean plane) and leaves a map
+        marked periodic (a generated surface) or already levelled (``attrs['levelling']``) as it
+        is; ``"none"`` keeps the raw heights. Every command that reads a map (``roughstick psd``,
+        ``curves``, ``run``) levels it by this function, the same way by default (``--level``).
+        NaN pixels are kept (levelling ignores them). Line scans are not levelled here
+        (:func:`roughstick.surface.level_profile`).
 
     Returns
     -------
     xarray.DataArray
         ``height`` [m] over ``(y, x)``, pixel-centre coords in m, attrs ``periodic`` (0: measured),
         ``source`` (the file), ``channel``, the instrument metadata SurfaceTopography reports
-        (``instrument_name``, ``instrument_vendor``, ``acquisition_time`` ...) and ``history``. Not levelled: use :func:`roughstick.surface.level`.
+        (``instrument_name``, ``instrument_vendor``, ``acquisition_time`` ...), ``levelling``
+        (what was removed) and ``history`` (which says it, with the span of the removed plane).
 
     Raises
     ------
@@ -413,9 +427,57 @@ def read_afm(path, *, spacing=None, channel=None, units=None, line_scan: bool = 
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "map.npy"
     >>> np.save(p, np.arange(80.0).reshape(8, 10))
     >>> h = rs.io.read_afm(p, spacing="5 nm", units="nm")
-    >>> h.dims, h.sizes["x"], float(h.x[1] - h.x[0])
-    (('y', 'x'), 10, 5e-09)
+    >>> h.dims, h.sizes["x"], float(h.x[1] - h.x[0]), h.attrs["levelling"]
+    (('y', 'x'), 10, 5e-09, 'plane')
+    >>> float(abs(h).max()) < 1e-20  # the heights 0 ... 79 nm are a plane
+    True
     """
+    if levelling not in LEVELLINGS:
+        raise ValueError(f"levelling must be one of {LEVELLINGS}, got {levelling!r}.")
+    return _level_on_read(_read(path, spacing, channel, units, line_scan), levelling)
+
+
+#: The values of ``read_afm(levelling=...)``.
+LEVELLINGS = ("auto", *METHODS)
+
+
+def _level_on_read(da: xr.DataArray, levelling: str) -> xr.DataArray:
+    """``da`` levelled as ``read_afm(levelling=...)`` says, the removed part said in ``history``
+    (and to the logger ``roughstick``)."""
+    if "y" not in da.dims:  # a line scan
+        return da
+    done = str(da.attrs.get("levelling", "none"))
+    periodic = str(da.attrs.get("periodic", 0)).strip().lower() in ("1", "true")
+    name = pathlib.Path(str(da.attrs.get("source", "map"))).name
+    if levelling == "auto":
+        if periodic or done != "none":  # read back exactly
+            why = "a periodic map" if periodic else f"levelled already ({done})"
+            logging.getLogger("roughstick").info(f"read_afm: {name} not levelled ({why})")
+            return da
+        levelling = "plane"
+    if levelling == "none":  # the raw heights, as the file holds them
+        logging.getLogger("roughstick").info(f"read_afm: {name} not levelled (raw heights, "
+                                             f"{spell('levelling', 'none')})")
+        return da
+    raw = np.asarray(da.values, dtype=float)
+    x, y = (np.asarray(da[d].values, dtype=float) for d in ("x", "y"))
+    if np.count_nonzero(~np.isfinite(raw)) > 0.5 * raw.size:  # level() refuses it, naming the fix
+        return da
+    z = level_kernel(raw, method=levelling, nan="mask", max_nan_fraction=1.0, x=x, y=y)
+    removed = raw - z
+    span = float(np.nanmax(removed) - np.nanmin(removed)) if np.isfinite(removed).any() else 0.0
+    out = da.copy(data=z)
+    out.attrs["levelling"] = levelling
+    line = (f"read_afm: {name} levelled: removed {METHODS[levelling]} (spanning {span * 1e9:.3g} nm; "
+            f"rms height {float(np.nanstd(z)) * 1e9:.3g} nm after; raw heights: "
+            f"{spell('levelling', 'none')})")
+    append_history(out, line)
+    logging.getLogger("roughstick").info(line)
+    return out
+
+
+def _read(path, spacing, channel, units, line_scan) -> xr.DataArray:
+    """The map of :func:`read_afm` as the file holds it."""
     path = resolve_map_path(path)
     if not path.exists():
         raise FileNotFoundError(_not_found(path))

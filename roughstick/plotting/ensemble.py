@@ -91,8 +91,9 @@ def plot_energy_band(ds, *, confidence: float = 0.95, ax=None, label: str | None
     The line is the median over realizations (the band's middle quantile, what
     :func:`roughstick.ensemble.band_summary` prints and ``band.nc`` holds), the shaded band its central
     ``confidence`` quantiles, the hatched bands the confidence interval of each band edge where the
-    sample bounds it. With a ``surface_size`` dimension one band per size is drawn; the legend
-    sits beside the axes.
+    sample bounds it. With a ``surface_size`` dimension one band per size is drawn. An ensemble
+    run with measured maps (``maps=``) also shows each map's own Γ, labelled with its percentile
+    in the ensemble. The legend sits beside the axes.
 
     Returns
     -------
@@ -120,11 +121,31 @@ def plot_energy_band(ds, *, confidence: float = 0.95, ax=None, label: str | None
                                 alpha=0.15, hatch="//", lw=0,
                                 label="95 % CI of the band edges" if (k == 0 and j == 0) else None)
         ax.plot(rh, q[1], "o-", color=c, label=f"{name} median".strip())
+    _plot_maps(ds, ax)
     ax.set_yscale("log")
     ax.set_xlabel("relative humidity [%]")
     ax.set_ylabel("Γ [mJ m$^{-2}$]")
     legend_beside(ax, fontsize="small")
     return ax
+
+
+def _plot_maps(ds, ax) -> None:
+    """The measured maps' own Γ (``map_adhesive_energy`` of an ensemble run with ``maps=``), each
+    point labelled with its percentile in the ensemble."""
+    if "map_adhesive_energy" not in ds:
+        return
+    own = ds["map_adhesive_energy"].compute()
+    pct = ds["map_percentile"].compute() if "map_percentile" in ds else None
+    rh = own["rh"].values * 100
+    for k, name in enumerate(own["map"].values):
+        g = own.sel(map=name).values * 1e3
+        ax.plot(rh, g, ls="none", marker="DsP^v"[k % 5], mfc="none", color="k",
+                label=f"map {name} (its own Γ)")
+        if pct is not None:
+            for x, y, p in zip(rh, g, pct.sel(map=name).values, strict=True):
+                if np.isfinite(y) and y > 0:
+                    ax.annotate(f"{p:.0f}%", (x, y), textcoords="offset points", xytext=(4, 3),
+                                fontsize="x-small")
 
 
 def plot_energy_distribution(ds, *, rh=None, kind: str = "ecdf", ax=None, bins: int = 30):

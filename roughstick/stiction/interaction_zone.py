@@ -216,13 +216,15 @@ def _psd_on_grid(fit: xr.Dataset, shape, spacing) -> xr.DataArray:
 @renamed_keywords(num="n_distance")
 @check_numbers(lower="finite", n_distance="count")
 def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer="paper",
-                             lower: float = 1.0, n_distance: int = 200) -> xr.DataArray:
+                             lower: float = 1.0, n_distance: int = 200,
+                             height_distribution=None) -> xr.DataArray:
     r"""Distance grid for the interaction-zone ensembles, shared by both adsorbed-layer models.
 
     :func:`roughstick.ensemble.distance_grid` with its top set by the larger of the water heights
     of ``adsorbed_layer`` and of the paper's layer, so the runs with and without the layer use the
     same grid (identical Γ below 65 % RH, same surfaces), and its bottom at ``lower``
-    :math:`\sqrt{m_0}`.
+    :math:`\sqrt{m_0}`; with a ``height_distribution`` (of non-Gaussian surfaces) its top reaches
+    that distribution's tallest summits.
 
     Notes
     -----
@@ -244,7 +246,8 @@ def cantilever_distance_grid(psd, *, shape, n, relative_humidity, adsorbed_layer
     (200, 36.4)
     """
     grids = [distance_grid(psd, shape=shape, n=n, relative_humidity=relative_humidity,
-                           adsorbed_layer=layer, lower=lower, n_distance=n_distance)
+                           adsorbed_layer=layer, lower=lower, n_distance=n_distance,
+                           height_distribution=height_distribution)
              for layer in (adsorbed_layer, "paper")]
     return grids[int(np.argmax([float(g[-1]) for g in grids]))]
 
@@ -292,8 +295,9 @@ def predict_adhesive_energy(
     adsorbed_layer : {"paper", "none"} or callable
         ``"paper"``: 0.9 nm per surface above 65 % RH (Fig. 20b); ``"none"``: Fig. 20a.
     seed, chunks, output, **ensemble_kwargs
-        Passed to :func:`roughstick.ensemble.run` (``output`` streams and resumes). The default
-        ``distance`` grid is :func:`cantilever_distance_grid`.
+        Passed to :func:`roughstick.ensemble.run` (``output`` streams and resumes;
+        ``height_distribution=`` a distribution Dataset for non-Gaussian surfaces). The default
+        ``distance`` grid is :func:`cantilever_distance_grid` (with that distribution).
 
     Returns
     -------
@@ -323,9 +327,11 @@ def predict_adhesive_energy(
         raise TypeError(f"psd must be None, an Eq. 37 Dataset or a PSD DataArray, got {type(psd).__name__}.")
     rh = list(relative_humidity)
     if ensemble_kwargs.get("distance") is None:
+        heights = ensemble_kwargs.get("height_distribution")  # non-Gaussian: taller summits
         ensemble_kwargs["distance"] = cantilever_distance_grid(
             grid_psd, shape=shp, n=ensemble_kwargs.get("n_max", 3000) if n == "auto" else n,
-            relative_humidity=rh, adsorbed_layer=adsorbed_layer)
+            relative_humidity=rh, adsorbed_layer=adsorbed_layer,
+            height_distribution=heights if isinstance(heights, xr.Dataset) else None)
     ds = run_ensemble(grid_psd, n=n, relative_humidity=rh, spacing=spacing, shape=shp,
                       seed=seed, chunks=chunks, adsorbed_layer=adsorbed_layer, output=output, **ensemble_kwargs)
     ds.attrs.update({**beam.attrs(), "interaction_zone_shape": list(shp),

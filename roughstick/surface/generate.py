@@ -49,11 +49,17 @@ from .._core.memory import check_fits_in_memory
 from .._core.references import PAPER, cite
 from .._core.validate import as_length, external_stacklevel
 from ._generate_kernels import _centred_full, _filter, _generate_block
+from ._marginal_kernels import cached_setup, marginal_block
+from .distribution import as_height_distribution
 from .spectrum import interpolate_psd, isotropic_to_2d
 
 __all__ = ["generate_surfaces", "surface_filter", "ExtrapolatedPSDWarning"]
 
 REFERENCES = cite("shinozuka1991", (PAPER, "Eqs. 33-35, spectral representation by inverse FFT"))
+#: How a height distribution is imposed (docs/generation.md): the default first.
+DISTRIBUTION_METHODS = ("translation", "iaaft")
+_METHOD_REFERENCES = {"translation": cite("shields2011", "johnson1949"),
+                      "iaaft": cite("schreiber1996", "perez-rafols2019")}
 
 _AMPLITUDES = ("rayleigh", "fixed")
 _DTYPES = {"float64": np.float64, "float32": np.float32}
@@ -488,8 +494,11 @@ def generate_surfaces(
     dtype="float64",
     amplitude: str = "rayleigh",
     realizations=None,
+    height_distribution=None,
+    distribution_method: str = "translation",
 ) -> xr.DataArray:
-    r"""Lazy ensemble of periodic Gaussian random surfaces with a given PSD (Eqs. 33-35).
+    r"""Lazy ensemble of periodic random surfaces with a given PSD (Eqs. 33-35), Gaussian or with
+    a given height distribution.
 
     Each surface is the spectral representation of Eq. 33 evaluated on the grid by one inverse
     real FFT (Eq. 34): complex amplitudes :math:`\sqrt{s(\mathbf q)\Delta q_x\Delta q_y}\,\xi`
@@ -546,12 +555,28 @@ def generate_surfaces(
     realizations : sequence of int, optional
         Generate only these realization indices (coordinate ``realization`` holds them), e.g.
         ``[k]`` to regenerate surface ``k`` of an ensemble.
+    height_distribution : xarray.Dataset, optional
+        The height distribution of the surfaces (:func:`roughstick.surface.height_distribution`:
+        the empirical one of measured maps, or a Johnson one from skewness and kurtosis); None
+        (default): Gaussian surfaces, exactly as without it. The PSD sets the rms height, the
+        distribution the shape (a UserWarning says when the distribution's own rms height is
+        more than 10 % off the PSD's).
+    distribution_method : {"translation", "iaaft"}
+        How the distribution is imposed (docs/generation.md): ``"translation"`` (default),
+        :math:`z = \sigma T(g)` of a Gaussian surface :math:`g` whose spectrum is pre-corrected so
+        that :math:`z` has the PSD (the distribution exact in law; one Gaussian surface and a table
+        look-up each); ``"iaaft"``, alternating Fourier-amplitude and rank remaps of the Gaussian
+        surface (every surface has exactly the distribution's quantiles, so the same tallest
+        point; an order of magnitude dearer, and it whitens a PSD with a cutoff). Either way
+        realization ``k`` starts from the Gaussian surface ``k``, so the results are as
+        reproducible and chunk-independent as the Gaussian ones.
 
     Returns
     -------
     xarray.DataArray
         ``height`` [m] over ``(realization, y, x)``, pixel-centre coords ``x``, ``y`` [m], attrs
-        ``periodic=1``, ``seed``, ``amplitude``, ``history``.
+        ``periodic=1``, ``seed``, ``amplitude``, ``history``; with a height distribution also
+        ``height_distribution`` (its family) and ``distribution_method``.
 
     Raises
     ------
@@ -571,6 +596,11 @@ def generate_surfaces(
     >>> bool((h.isel(realization=[3]) == rs.surface.generate_surfaces(
     ...     s, realizations=[3], shape=(16, 24), spacing=5e-9, seed=1)).all())
     True
+    >>> skewed = rs.surface.height_distribution(skewness=1.0, kurtosis=5.0)
+    >>> z = rs.surface.generate_surfaces(s, n=4, shape=64, spacing=5e-9, seed=1,
+    ...                                  height_distribution=skewed).values
+    >>> z.shape, bool(abs(z.max()) > abs(z.min()))
+    ((4, 64, 64), True)
     """
     if amplitude not in _AMPLITUDES:
         raise ValueError(f"amplitude must be one of {_AMPLITUDES}, got {amplitude!r}.")
@@ -583,19 +613,28 @@ def generate_surfaces(
     chunk_sizes = _chunk_tuple(chunks, indices.size, ny, nx, np.dtype(out_dtype).itemsize)
     root, recorded_seed = _seed_root(seed)
 
+    dist = _distribution(height_distribution, distribution_method)
     P, how = _half_plane_power(psd, ny, nx, dy, dx)
-    if isinstance(P, Delayed):  # lazy PSD: the filter is a task of the graph
-        filt = dask.delayed(_filter, pure=True)(P, nx, amplitude)
-    else:  # computed once here, held by one graph node shared by all chunks
-        filt = dask.delayed(_filter(P, nx, amplitude), pure=True)
+    if dist is not None:
+        block, setup, kind = _marginal_setup(P, nx, ny, dist, distribution_method, amplitude)
+        extra_kw = {"setup": setup, "method": distribution_method}
+        words = "non-Gaussian"
+    else:
+        block, kind, words = _generate_block, "Eqs. 33-34", "Gaussian"
+        if isinstance(P, Delayed):  # lazy PSD: the filter is a task of the graph
+            filt = dask.delayed(_filter, pure=True)(P, nx, amplitude)
+        else:  # computed once here, held by one graph node shared by all chunks
+            filt = dask.delayed(_filter(P, nx, amplitude), pure=True)
+        extra_kw = {"filt": filt}
 
     token = dask.base.tokenize(
-        filt, root.entropy, tuple(root.spawn_key), ny, nx, amplitude, key, indices, chunk_sizes
+        *extra_kw.values(), root.entropy, tuple(root.spawn_key), ny, nx, amplitude, key, indices,
+        chunk_sizes
     )
     idx = dsa.from_array(indices, chunks=(chunk_sizes,), name=f"realization-index-{token}")
     data = idx.map_blocks(
-        _generate_block,
-        filt=filt,
+        block,
+        **extra_kw,
         entropy=root.entropy,
         spawn_key=tuple(root.spawn_key),
         ny=ny,
@@ -621,11 +660,46 @@ def generate_surfaces(
     extra = {"periodic": 1, "seed": recorded_seed, "amplitude": amplitude, "references": REFERENCES}
     if root.spawn_key:
         extra["seed_spawn_key"] = list(root.spawn_key)
+    if dist is not None:
+        extra.update(height_distribution=dist.attrs["family"], distribution_method=distribution_method,
+                     references=cite("shinozuka1991", (PAPER, "Eqs. 33-35"))
+                     + "; " + _METHOD_REFERENCES[distribution_method])
     da = set_attrs(da, "height", **extra)
     append_history(
         da,
-        f"generate_surfaces: {indices.size} periodic Gaussian surfaces {ny}x{nx} at "
-        f"{dy:.6g}x{dx:.6g} m from {how} (Eqs. 33-34, amplitude={amplitude}, dtype={key}, "
+        f"generate_surfaces: {indices.size} periodic {words} surfaces {ny}x{nx} at "
+        f"{dy:.6g}x{dx:.6g} m from {how} ({kind}, amplitude={amplitude}, dtype={key}, "
         f"seed={recorded_seed})",
     )
     return da
+
+
+def _distribution(height_distribution, method):
+    """The checked height distribution, or None for Gaussian surfaces (also for a normal one)."""
+    if method not in DISTRIBUTION_METHODS:
+        raise ValueError(f"distribution_method must be one of {DISTRIBUTION_METHODS}, got {method!r}.")
+    if height_distribution is None:
+        return None
+    dist = as_height_distribution(height_distribution)
+    return None if dist.attrs.get("family") == "normal" else dist
+
+
+def _marginal_setup(P, nx, ny, dist, method, amplitude):
+    """The block kernel, its (delayed) setup and a description of the height distribution and
+    of how it is imposed; says when the distribution's rms height is not the PSD's."""
+    table = np.asarray(dist["height"].values, dtype=float)
+    moments = f"skewness {dist.attrs['skewness']:.3g}, kurtosis {dist.attrs['kurtosis']:.3g}"
+    if isinstance(P, Delayed):
+        setup = dask.delayed(cached_setup, pure=True)(method, P, nx, ny, table, amplitude)
+        return marginal_block, setup, f"{dist.attrs['family']} heights ({moments}) by {method}"
+    rms = float(dist.attrs.get("rms_height", np.nan))
+    psd_rms = float(np.sqrt(_centred_full(P, nx, 1.0).sum()))
+    if np.isfinite(rms) and abs(rms / psd_rms - 1) > 0.1:
+        warnings.warn(
+            f"the height distribution's rms height ({rms * 1e9:.3g} nm) differs from the PSD's on "
+            f"this grid ({psd_rms * 1e9:.3g} nm) by {100 * (rms / psd_rms - 1):+.0f} %: the surfaces "
+            "take the PSD's rms height and the distribution's shape (skewness, kurtosis, tails).",
+            UserWarning, stacklevel=external_stacklevel())
+    setup = cached_setup(method, P, nx, ny, table, amplitude)
+    return (marginal_block, dask.delayed(setup, pure=True),
+            f"{dist.attrs['family']} heights ({moments}) imposed by {setup[-1]}")

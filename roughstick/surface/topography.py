@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 import xarray as xr
-from scipy.ndimage import distance_transform_edt
 
 from .._core import units as _units
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, set_attrs
 from .._core.dask import is_lazy
+from .._core.levelling import level_kernel as _level_kernel
 from .._core.validate import (
     MIN_MAP_PIXELS,
     check_core_not_chunked,
@@ -84,56 +84,6 @@ def validate_height(height: xr.DataArray) -> xr.DataArray:
 # ------------------------------------------------------------------------------ levelling
 
 
-def _nearest_fill(z, mask):
-    idx = distance_transform_edt(mask, return_distances=False, return_indices=True)
-    return z[tuple(idx)]
-
-
-def _level_kernel(z, *, method, nan, max_nan_fraction, x, y):
-    """Level maps over the last two axes (y, x). Returns a float array of the same shape."""
-    out = np.array(z, dtype=float, copy=True)
-    flat = out.reshape((-1,) + out.shape[-2:])
-    X, Y = np.meshgrid(x - x.mean(), y - y.mean())
-    for k in range(flat.shape[0]):
-        zz = flat[k]
-        bad = ~np.isfinite(zz)
-        frac = bad.mean()
-        if frac > max_nan_fraction:
-            raise ValueError(
-                f"{100 * frac:.1f} % of the map is NaN (more than max_nan_fraction="
-                f"{max_nan_fraction}); it cannot be levelled reliably. Crop the valid region "
-                "(height.isel(x=..., y=...)) or raise max_nan_fraction."
-            )
-        if bad.any() and nan == "raise":
-            raise ValueError(
-                f"the map has {int(bad.sum())} NaN pixels (dropouts); pass nan='fill' (nearest valid "
-                "value after levelling) or nan='mask' (keep NaN; spectra then refuse the map)."
-            )
-        good = ~bad
-        if method == "mean":
-            zz = zz - zz[good].mean()
-        elif method == "plane":
-            A = np.column_stack([np.ones(good.sum()), X[good], Y[good]])
-            coef, *_ = np.linalg.lstsq(A, zz[good], rcond=None)
-            zz = zz - (coef[0] + coef[1] * X + coef[2] * Y)
-        elif method == "line":
-            # scan lines run along x (rows): remove a least-squares line from each row,
-            # then the mean plane of the result
-            xs = X[0]
-            for j in range(zz.shape[0]):
-                g = good[j]
-                if g.sum() >= 2:
-                    p = np.polyfit(xs[g], zz[j, g], 1)
-                    zz[j] = zz[j] - np.polyval(p, xs)
-                elif g.sum() == 1:
-                    zz[j] = zz[j] - zz[j, g][0]
-            zz = zz - zz[good].mean()
-        if bad.any() and nan == "fill":
-            zz = _nearest_fill(zz, bad)
-        flat[k] = zz
-    return out
-
-
 @check_numbers(max_nan_fraction="fraction01")
 def level(
     height: xr.DataArray,
@@ -186,6 +136,8 @@ def level(
         kwargs=dict(method=method, nan=nan, max_nan_fraction=max_nan_fraction, x=x, y=y),
     )
     out.attrs = dict(h.attrs)
+    if method != "none":
+        out.attrs["levelling"] = method
     out = out.rename("height")
     line = f"level: method={method!r}"
     if not is_lazy(h):
@@ -200,6 +152,21 @@ def level(
     return out
 
 
+def is_periodic(height: xr.DataArray) -> bool:
+    """Whether a map wraps around (``attrs['periodic']`` 1, as generated surfaces are)."""
+    return str(height.attrs.get("periodic", 0)).strip().lower() in ("1", "true")
+
+
+def level_unless_periodic(height: xr.DataArray) -> xr.DataArray:
+    """A measured map levelled by its least-squares plane; a periodic map (a generated surface,
+    which has no instrument tilt and whose long waves are its roughness) or a map levelled
+    already (``attrs['levelling']``, e.g. by :func:`roughstick.io.read_afm`) as it is: the rule
+    of ``read_afm(levelling="auto")``."""
+    h = validate_height(height)
+    done = str(h.attrs.get("levelling", "none")) != "none"
+    return h if is_periodic(h) or done else level(h, method="plane")
+
+
 def _refuse_constant_or_nan(h: xr.DataArray) -> None:
     """Eager inputs only: NaN pixels and constant maps raise (lazy ones are not computed)."""
     if is_lazy(h):
@@ -211,3 +178,4 @@ def _refuse_constant_or_nan(h: xr.DataArray) -> None:
             "the height map has NaN/inf pixels; level it first with "
             "roughstick.surface.level(height, nan='fill') (or crop the dropouts)."
         )
+

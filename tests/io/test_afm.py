@@ -23,22 +23,44 @@ needs_afm = pytest.mark.skipif(
 )
 
 
+def test_a_measured_map_is_levelled_by_its_plane_as_it_is_read(tmp_path):
+    """read_afm's default removes the least-squares plane (an independent lstsq fit here), says
+    so in history and attrs, and leaves a periodic map (read back exactly) alone."""
+    y, x = np.meshgrid(np.arange(20), np.arange(30), indexing="ij")
+    z = np.random.default_rng(4).normal(size=(20, 30)) + 0.3 * x - 0.2 * y + 7.0  # nm, tilted
+    np.save(tmp_path / "tilt.npy", z)
+    h = rs.io.read_afm(tmp_path / "tilt.npy", spacing="5 nm", units="nm")
+    a = np.column_stack([np.ones(z.size), x.ravel(), y.ravel()])
+    expected = z.ravel() - a @ np.linalg.lstsq(a, z.ravel(), rcond=None)[0]
+    np.testing.assert_allclose(h.values.ravel(), expected * 1e-9, rtol=0, atol=1e-21)
+    assert h.attrs["levelling"] == "plane" and "least-squares plane" in h.attrs["history"]
+    assert "levelling='none'" in h.attrs["history"]  # how to keep the raw heights
+    raw = rs.io.read_afm(tmp_path / "tilt.npy", spacing="5 nm", units="nm", levelling="none")
+    np.testing.assert_allclose(raw.values, z * 1e-9)
+    # levelled already: read back as it is
+    rs.io.write(h.to_dataset(), tmp_path / "levelled.nc")
+    xr.testing.assert_allclose(rs.io.read_afm(tmp_path / "levelled.nc"), h)
+    with pytest.raises(ValueError, match="levelling must be one of"):
+        rs.io.read_afm(tmp_path / "tilt.npy", spacing="5 nm", units="nm", levelling="polynomial")
+
+
 def test_npy_and_text(tmp_path):
     z = np.random.default_rng(0).normal(size=(9, 13))
     np.save(tmp_path / "m.npy", z)
-    h = rs.io.read_afm(tmp_path / "m.npy", spacing="5 nm", units="nm")
+    h = rs.io.read_afm(tmp_path / "m.npy", spacing="5 nm", units="nm", levelling="none")
     assert h.dims == ("y", "x") and h.shape == (9, 13) and h.attrs["units"] == "m"
     np.testing.assert_allclose(h.values, z * 1e-9)
     np.testing.assert_allclose(np.diff(h.x.values), 5e-9)
     assert h.attrs["periodic"] == 0 and h.attrs["source"].endswith("m.npy")
     assert "read_afm" in h.attrs["history"]
     np.savetxt(tmp_path / "m.txt", z, header="a plain grid")
-    t = rs.io.read_afm(tmp_path / "m.txt", spacing=(2e-9, 5e-9), units="um")
+    t = rs.io.read_afm(tmp_path / "m.txt", spacing=(2e-9, 5e-9), units="um", levelling="none")
     np.testing.assert_allclose(t.values, z * 1e-6)
     np.testing.assert_allclose(np.diff(t.y.values), 2e-9)
     np.savetxt(tmp_path / "m.csv", z, delimiter=",")
     with pytest.warns(UserWarning, match="implausible for an AFM map"):  # heights of metres
-        np.testing.assert_allclose(rs.io.read_afm(tmp_path / "m.csv", spacing=1e-9, units="m").values, z)
+        np.testing.assert_allclose(rs.io.read_afm(tmp_path / "m.csv", spacing=1e-9, units="m",
+                                                  levelling="none").values, z)
     with pytest.raises(ValueError, match="spacing="):
         rs.io.read_afm(tmp_path / "m.npy")
     with pytest.raises(rs.UnitsError, match="not a length"):
@@ -130,14 +152,14 @@ def test_surfacetopography_netcdf_accepted(tmp_path):
     st = pytest.importorskip("SurfaceTopography")
     t = st.open_topography(str(SHARED_AFM / "ST_di-3.di")).topography(channel_index=3)
     t.to_netcdf(str(tmp_path / "ce.nc"))
-    h = rs.io.read_afm(tmp_path / "ce.nc")
-    vendor = rs.io.read_afm(SHARED_AFM / "ST_di-3.di", channel=3)
+    h = rs.io.read_afm(tmp_path / "ce.nc", levelling="none")
+    vendor = rs.io.read_afm(SHARED_AFM / "ST_di-3.di", channel=3, levelling="none")
     np.testing.assert_allclose(h.values, vendor.values, rtol=1e-12)
     np.testing.assert_allclose(h.x.values, vendor.x.values, rtol=1e-12)
     assert h.attrs["units"] == "m" and h.attrs["instrument_vendor"] == "Bruker"
     # --units overrides the file's unit
     with pytest.warns(UserWarning, match="implausible for an AFM map"):  # 1e3 x: mm heights
-        h_um = rs.io.read_afm(tmp_path / "ce.nc", units="um")
+        h_um = rs.io.read_afm(tmp_path / "ce.nc", units="um", levelling="none")
     np.testing.assert_allclose(h_um.values, 1e3 * h.values, rtol=1e-12)
 
 
