@@ -46,7 +46,8 @@ from ..surface import generate_surfaces
 __all__ = ["build_patch_bank", "pressure_law_bank"]
 
 
-def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON, subzones=1):
+def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON, subzones=1,
+         gen_kw=None):
     h = hashlib.sha256()
     h.update(np.ascontiguousarray(psd.values, dtype=float).tobytes())
     for c in psd.coords:
@@ -57,6 +58,11 @@ def _key(psd, rh, n_law, shape, spacing, seed, model, material=POLYSILICON, subz
         h.update(repr(material).encode())
     if subzones != 1:  # single-patch banks keep their names too
         h.update(f"subzones={int(subzones)}".encode())
+    if gen_kw:  # Gaussian banks keep their names
+        dist = gen_kw["height_distribution"]
+        for v in sorted(dist.variables):
+            h.update(v.encode() + np.ascontiguousarray(dist[v].values, dtype=float).tobytes())
+        h.update(str(gen_kw["distribution_method"]).encode())
     return h.hexdigest()[:16]
 
 
@@ -73,25 +79,27 @@ _LAWS_PER_PART = 25
 
 
 def _law_energies(psd, laws, rh, shape, spacing, seed, model, material=POLYSILICON,
-                  composition=None) -> np.ndarray:
+                  composition=None, gen_kw=None) -> np.ndarray:
     """Adhesive energies (Eq. 13) of the patches ``laws`` at the humidities ``rh``: (law, rh).
 
     ``composition``: ``(subzones, distance)``: law ``k`` is the zone of sub-zones
     ``k*subzones ... (k+1)*subzones - 1`` (each of ``shape``) composed on the grid ``distance``
-    (:func:`roughstick.stiction.compose_zone_law`); None: law ``k`` is one patch of ``shape``."""
+    (:func:`roughstick.stiction.compose_zone_law`); None: law ``k`` is one patch of ``shape``.
+    ``gen_kw``: the height distribution of the surfaces (keywords of generate_surfaces)."""
+    gen_kw = gen_kw or {}
     laws = np.asarray(laws)
     if composition is not None:
         m, distance = composition
         subs = (laws[:, None] * m + np.arange(m)[None, :]).ravel()
         surf = generate_surfaces(psd, realizations=subs, shape=shape, spacing=spacing,
-                                 seed=seed).compute(scheduler="sync")
+                                 seed=seed, **gen_kw).compute(scheduler="sync")
         curves = contact_curves(surf, relative_humidity=list(rh), model=model, material=material,
                                 distance=distance, check_validity=False)
         law = compose_zone_law(curves[["pressure", "wet_fraction"]].compute(scheduler="sync"), subzones=m)
         return np.asarray(law["adhesive_energy"].transpose("realization", "rh").values)
     # realization k always comes from SeedSequence child k: the same law whatever the parts
     surf = generate_surfaces(psd, realizations=laws, shape=shape, spacing=spacing,
-                             seed=seed).compute(scheduler="sync")
+                             seed=seed, **gen_kw).compute(scheduler="sync")
     values = np.empty((len(laws), len(rh)))
     for k in range(len(laws)):
         curves = contact_curves(surf.isel(realization=k), relative_humidity=list(rh),
@@ -116,7 +124,7 @@ def _set_aside(file: Path, why: BaseException, what: str, *, keep: bool = True) 
 
 
 def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material=POLYSILICON,
-          composition=None):
+          composition=None, gen_kw=None):
     """Adhesive energies of laws [start, stop) (read back from its part file when cached)."""
     file = None if parts_dir is None else parts_dir / f"laws_{start:07d}_{stop:07d}.npy"
     if file is not None and file.exists():
@@ -128,7 +136,7 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material
         except (OSError, ValueError, EOFError) as exc:
             _set_aside(file, exc, f"recomputing laws {start}-{stop - 1}", keep=False)
     values = _law_energies(psd, np.arange(start, stop), rh, shape, spacing, seed, model, material,
-                           composition)
+                           composition, gen_kw)
     if file is not None:
         parts_dir.mkdir(parents=True, exist_ok=True)
         tmp = file.with_suffix(".tmp.npy")
@@ -138,7 +146,7 @@ def _part(psd, start, stop, rh, shape, spacing, seed, model, parts_dir, material
 
 
 def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int,
-                material=POLYSILICON, composition=None) -> xr.DataArray:
+                material=POLYSILICON, composition=None, gen_kw=None) -> xr.DataArray:
     """Re-evaluate the ``n_check`` laws of largest Eq. 16 energy at each RH with the FFT-BEM.
 
     Sets ``attrs["tail_bem_ratio"]`` (per RH, the median over those laws of BEM Γ / Eq. 16 Γ),
@@ -154,7 +162,7 @@ def _tail_check(bank: xr.DataArray, psd, shape, spacing, seed, n_check: int,
     for j, rh in enumerate(bank.rh.values):
         top = np.argsort(values[:, j], kind="stable")[::-1][:k]
         bem = _law_energies(psd, top, [float(rh)], shape, spacing, seed, "fft_bem", material,
-                            composition)[:, 0]
+                            composition, gen_kw)[:, 0]
         ratio[j], lo[j], hi[j] = median_interval(bem / values[top, j], confidence=0.95)
     bank.attrs.update(tail_bem_ratio=ratio, tail_bem_ratio_low=lo, tail_bem_ratio_high=hi, tail_checked=k)
     low = bank.rh.values[ratio < TAIL_RATIO_WARN]
@@ -236,7 +244,8 @@ def _patch_plan(psd, shape, subzones, spacing, beam) -> tuple[tuple[int, int], i
 def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, shape=None,
                      spacing=None, seed: int = 0, model: str = "modified_dmt",
                      cache_dir=None, check_tail: int | None = None, material=None,
-                     beam: Cantilever = PAPER_CANTILEVER, subzones: int | None = None) -> xr.DataArray:
+                     beam: Cantilever = PAPER_CANTILEVER, subzones: int | None = None,
+                     height_distribution=None, distribution_method: str = "translation") -> xr.DataArray:
     r"""Adhesive energies of ``n`` random patches at each RH: the law bank of the beam model.
 
     By default a law is the beam's own patch, the strip :math:`\Delta x \times w` (interaction
@@ -287,6 +296,12 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
     subzones : int, optional
         Sub-zones of ``shape`` per law (composed); None: the number that tiles the beam's width
         when ``shape`` is None, else 1.
+    height_distribution : xarray.Dataset, optional
+        Heights of the patches other than Gaussian (:func:`roughstick.surface.height_distribution`:
+        a measured film's own, or a Johnson one), imposed by ``distribution_method`` as
+        :func:`roughstick.surface.generate_surfaces` does; part of the cache key.
+    distribution_method : {"translation", "iaaft"}
+        How ``height_distribution`` is imposed.
 
     Returns
     -------
@@ -311,6 +326,8 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
                         f"so the cache can key on its values, got {type(psd).__name__}")
     spacing = _native_spacing(psd, spacing)
     shape, m = _patch_plan(psd, shape, subzones, spacing, beam)
+    gen_kw = (None if height_distribution is None else
+              {"height_distribution": height_distribution, "distribution_method": distribution_method})
     material = POLYSILICON if material is None else material
     groups = expected_surface_groups(psd, shape=shape, spacing=float(spacing),
                                      relative_humidity=list(rh), material=material)
@@ -336,22 +353,23 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
             warn_if_outside_validity(None, relative_humidity=list(rh), groups=groups, material=material)
     composition = None
     if m > 1:
-        composition = (m, distance_grid(psd, shape=shape, n=int(n) * m, relative_humidity=rh).values)
+        composition = (m, distance_grid(psd, shape=shape, n=int(n) * m, relative_humidity=rh,
+                                        height_distribution=height_distribution).values)
     path = None
     if cache_dir is not None:
-        key = _key(psd, rh, n, shape, spacing, seed, model, material, m)
+        key = _key(psd, rh, n, shape, spacing, seed, model, material, m, gen_kw)
         path = Path(cache_dir) / f"patch_bank_{key}.nc"
         out = _read_cached(path, int(n), rh) if path.exists() else None
         if out is not None:
             if check and int(out.attrs.get("tail_checked", -1)) != min(check, int(n)):
-                out = _tail_check(out, psd, shape, float(spacing), seed, check, material, composition)
+                out = _tail_check(out, psd, shape, float(spacing), seed, check, material, composition, gen_kw)
             out.attrs.update(cache_file=str(path), from_cache=1)
             return out
         _check_cache_writable(path.parent)  # before any law is computed
     parts_dir = None if path is None else path.with_name(path.stem + ".parts")
     blocks = [(a, min(a + _LAWS_PER_PART, int(n))) for a in range(0, int(n), _LAWS_PER_PART)]
     tasks = [dask.delayed(_part)(psd, a, b, rh, shape, float(spacing), seed, model, parts_dir, material,
-                                 composition) for a, b in blocks]
+                                 composition, gen_kw) for a, b in blocks]
     values = np.concatenate(dask.compute(*tasks, scheduler="threads"), axis=0)
     out = xr.DataArray(values, {"law": np.arange(int(n)), "rh": rh}, ("law", "rh"),
                        name="adhesive_energy",
@@ -360,13 +378,16 @@ def build_patch_bank(psd: xr.DataArray, *, relative_humidity, n: int = 1000, sha
                               "material": repr(material),
                               "correlation_length": corr,
                               "subzones": m, "subzone_shape": list(shape),
+                              "height_distribution": "gaussian" if gen_kw is None else
+                              f"{height_distribution.attrs.get('family', 'given')} "
+                              f"({distribution_method})",
                               "patch_area": float(m * shape[0] * shape[1] * spacing**2),
                               "independence": "patch laws drawn independently; checked: "
                                               f"{'sub-zone' if m > 1 else 'patch'} "
                                               f"{patch:.3g} m vs 4 correlation lengths "
                                               f"{4 * corr:.3g} m"})
     if check:
-        out = _tail_check(out, psd, shape, float(spacing), seed, check, material, composition)
+        out = _tail_check(out, psd, shape, float(spacing), seed, check, material, composition, gen_kw)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(".tmp")

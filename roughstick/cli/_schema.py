@@ -232,6 +232,15 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "shape": F("shape", "pixels of one patch surface: n or [ny, nx]; default the beam's own patch, "
                        "patch_length x width, composed of sub-zones that tile it (a smaller patch warns)"),
             "psd": F("path", "a NetCDF PSD (variable 'psd'); default the paper's Table 4 (Eq. 37)"),
+            "height_distribution": F(
+                "choice", "height distribution of the patch surfaces: 'gaussian' (the paper's), "
+                "'maps' (that of the measured maps of [surface] maps) or 'johnson' (from skewness "
+                "and kurtosis)", default="gaussian", choices=("gaussian", "maps", "johnson")),
+            "maps": F("map", "measured height maps of your film (height_distribution = 'maps')",
+                      many=True),
+            "skewness": F("number", "height skewness of height_distribution = 'johnson'"),
+            "kurtosis": F("number", "height kurtosis (3 for a Gaussian) of height_distribution = "
+                          "'johnson'", minimum=1.0),
         },
         "ensemble": {
             "n": F("int", "beams per length and RH", default=1000, minimum=1),

@@ -28,7 +28,8 @@ from .._core.references import PAPER, cite
 from .._core.validate import adhesive_energy_values
 from ..io.netcdf import write as write_netcdf
 from ._common import LOG, claim_folder, config_spellings, finish_folder, small_p_problems
-from ._config import ConfigError, check_memory, config_material, parse, read_toml
+from ._config import ConfigError, check_memory, config_material, johnson_problems, parse, read_toml
+from .risk import _heights
 
 __all__ = ["register"]
 
@@ -75,6 +76,7 @@ def _run(args) -> int:
     rh = np.asarray(ens["relative_humidity"], dtype=float)
     _check_method(ens, path.name)
     _check_patch(b, path.name)
+    _check_heights(s, path.name)
     out = pathlib.Path(args.out) if args.out else _beside(path, o.get("folder") or "beam-output")
     claim_folder(out, command="beam", params={k: v for k, v in c.items() if k != "output"
                                               and not (k == "material" and not v)},
@@ -82,11 +84,13 @@ def _run(args) -> int:
                  legacy_params={"config": path.read_text()})
     t0 = time.perf_counter()
     psd, cache = _psd(s), _beside(path, bank_cfg["cache"])
+    heights = _heights(s)  # said before the work; None: Gaussian
     try:
         bank = rs.beam.build_patch_bank(psd, relative_humidity=rh, n=bank_cfg["laws"], shape=shape,
                                         spacing=s["spacing"], seed=bank_cfg["seed"], model=bank_cfg["model"],
                                         cache_dir=cache, beam=beam,
-                                        **({} if material == POLYSILICON else {"material": material}))
+                                        **({} if material == POLYSILICON else {"material": material}),
+                                        **({} if heights is None else {"height_distribution": heights}))
     except OSError as exc:  # the bank writes only into its cache folder
         cause = exc.__cause__ if isinstance(exc.__cause__, OSError) else exc
         raise ConfigError(
@@ -192,6 +196,17 @@ def _check_bank(bank, source: str) -> None:
             "report it: a bank built by roughstick is in J m-2"))
     except ValueError as err:
         raise ConfigError(f"{source}: [bank] {err}") from None
+
+
+def _check_heights(s: dict, source: str) -> None:
+    """[surface] height_distribution, maps, skewness and kurtosis agree, before any work."""
+    problems = johnson_problems(s)
+    if s["height_distribution"] == "maps" and not s.get("maps"):
+        problems.append('[surface] height_distribution = "maps" needs the maps: maps = ["scan1.tiff", ...]')
+    if s["height_distribution"] != "maps" and s.get("maps"):
+        problems.append('[surface] maps only apply with height_distribution = "maps"')
+    if problems:
+        raise ConfigError(f"{source}: " + "; ".join(problems) + ".")
 
 
 def _check_method(ens: dict, source: str) -> None:

@@ -123,3 +123,22 @@ def test_cli_beam_implausible_cached_bank_names_the_file(tmp_path, capsys):
         assert main(["beam", str(cfg), "--out", str(tmp_path / "b")]) == 1
     err = capsys.readouterr().err
     assert "[bank] the patch bank has adhesive energies up to" in err and f"delete {cached}" in err, err
+
+
+def test_cli_beam_takes_the_film_height_distribution(tmp_path, capsys):
+    """[surface] height_distribution = "johnson" builds the bank from skewed patches (said before
+    the work, its own cache file); contradictory keys are refused before any work."""
+    cfg = tmp_path / "beam.toml"
+    cfg.write_text(CONFIG.replace("[surface]", '[surface]\nheight_distribution = "johnson"\n'
+                                               "skewness = 1.0\nkurtosis = 4.5"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["beam", str(cfg), "--out", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert "heights: johnson" in out
+    ds = xr.load_dataset(tmp_path / "out" / "beam.nc")
+    assert ds.sizes["beam_length"] == 2
+    cfg.write_text(CONFIG.replace("[surface]", '[surface]\nheight_distribution = "johnson"'))
+    assert main(["beam", str(cfg), "--out", str(tmp_path / "o2")]) == 1
+    assert "needs skewness and kurtosis" in capsys.readouterr().err
+    assert not (tmp_path / "o2").exists()

@@ -214,3 +214,25 @@ def test_a_pixel_coarser_than_the_water_necks_warns_before_the_laws():
         warnings.simplefilter("ignore", UserWarning)
         warnings.filterwarnings("error", category=rs.contact.PixelResolutionWarning)
         build_patch_bank(_psd(), spacing=5e-9, **{**kw, "beam": rs.Cantilever(width=0.32e-6)})
+
+
+def test_a_bank_of_non_gaussian_patches_is_the_film_generated_with_its_heights(tmp_path):
+    """height_distribution= gives the laws of the surfaces generate_surfaces makes with it (the
+    same seeds), is cached under its own key, and a skewed film's patches differ from the
+    Gaussian twin's."""
+    hd = rs.surface.height_distribution(skewness=1.0, kurtosis=4.5, rms=1.0)
+    kw = dict(relative_humidity=[0.5], n=3, shape=(32, 32), spacing=20e-9, check_tail=0, seed=4,
+              beam=rs.Cantilever(width=0.64e-6), model="modified_dmt", cache_dir=tmp_path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        skewed = build_patch_bank(_psd(), height_distribution=hd, **kw)
+        gaussian = build_patch_bank(_psd(), **kw)
+        surf = rs.generate_surfaces(_psd(), n=3, shape=(32, 32), spacing=20e-9, seed=4,
+                                    height_distribution=hd).compute()
+        by_hand = [float(rs.contact.summary(rs.contact.curves(
+            surf.isel(realization=k), relative_humidity=[0.5], model="modified_dmt",
+            check_validity=False)).adhesive_energy.squeeze()) for k in range(3)]
+    np.testing.assert_allclose(skewed.values[:, 0], by_hand, rtol=1e-12)
+    assert skewed.attrs["cache_file"] != gaussian.attrs["cache_file"]
+    assert skewed.attrs["height_distribution"].startswith("johnson")
+    assert not np.allclose(skewed.values, gaussian.values)
