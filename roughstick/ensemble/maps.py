@@ -27,6 +27,7 @@ import warnings
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.remedy import spell
 from .._core.validate import external_stacklevel
 from ..contact import summary as contact_summary
@@ -183,6 +184,7 @@ def json_list(text) -> list:
     return list(np.atleast_1d(text))
 
 
+@check_numbers(confidence="fraction")
 def map_containment(ensemble: xr.Dataset, *, confidence: float = 0.95, warn: bool = True) -> xr.Dataset:
     """Where the measured maps' own Γ fall in the ensemble built from them (module docstring).
 

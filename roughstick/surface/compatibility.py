@@ -22,6 +22,7 @@ import warnings
 import numpy as np
 import xarray as xr
 
+from .._core.arguments import check_numbers
 from .._core.validate import external_stacklevel, grid_spacing
 from .spectrum import power_spectrum, psd_isotropic
 from .topography import validate_height
@@ -39,6 +40,7 @@ class IncompatibleMapsWarning(UserWarning):
     """Maps averaged into one PSD differ more than maps of one surface do."""
 
 
+@check_numbers(threshold="fraction")
 def autocorrelation_length(height: xr.DataArray, *, threshold: float = 0.2) -> float:
     r"""The autocorrelation length :math:`S_{al}` [m] of one map (ISO 25178-2): the shortest
     horizontal distance at which its areal autocorrelation falls to ``threshold``.
