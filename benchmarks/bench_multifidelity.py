@@ -363,10 +363,18 @@ def _err(r, key="est", ref="same"):
     return 100.0 * (r[key] / r[ref] - 1.0)
 
 
+#: Relative slack of "inside": an edge back-transformed from log (exp(log v)) can miss the value
+#: v it came from by a rounding error, which matters where the target is an atom of the
+#: distribution (the pull-off at RH 0.9 is the same value on half of the smooth maps)
+ROUNDING = 1e-9
+
+
 def _inside(r, lo="clower", hi="cupper", ref="same"):
     """Whether the interval holds the target (a NaN edge: the interval is open on that side)."""
-    lo_ok = not np.isfinite(r[lo]) or r[lo] <= r[ref]
-    hi_ok = not np.isfinite(r[hi]) or r[ref] <= r[hi]
+    t = r[ref] * (1 - ROUNDING * np.sign(r[ref]))
+    u = r[ref] * (1 + ROUNDING * np.sign(r[ref]))
+    lo_ok = not np.isfinite(r[lo]) or r[lo] <= u
+    hi_ok = not np.isfinite(r[hi]) or t <= r[hi]
     return bool(lo_ok and hi_ok and np.isfinite(r["est"]))
 
 
@@ -420,8 +428,8 @@ def report(shape: int, families, n: int, redo: bool = False) -> None:
     print(f"\n### Γ against n_accurate (all families and RH; the whole pool, N = {N})\n")
     print("| n_accurate | estimates | median \\|err\\| 2.5 / 50 / 97.5 % | max \\|err\\| 2.5 / 50 "
           "/ 97.5 % | mean signed err (± s.e.) 2.5 / 50 / 97.5 % | within 3 % | inside own "
-          "correction interval | either |")
-    print("|---|---:|---|---|---|---:|---:|---:|")
+          "correction interval | either | within 10 % |")
+    print("|---|---:|---|---|---|---:|---:|---:|---:|")
     eq = [abs(_err(r, "eq16")) for r in allpool if r["config"] == "auto" and r["seed"] == 0]
     for config in ("auto", *FIXED):
         sel = [r for r in allpool if r["config"] == config]
@@ -434,10 +442,12 @@ def report(shape: int, families, n: int, redo: bool = False) -> None:
         w3 = np.mean([abs(_err(r)) <= 3 for r in sel])
         ins = np.mean([_inside(r) for r in sel])
         eith = np.mean([abs(_err(r)) <= 3 or _inside(r) for r in sel])
+        w10 = np.mean([abs(_err(r)) <= 10 for r in sel])
         name = "pilot (accuracy 0.1)" if config == "auto" else str(config)
-        print(f"| {name} | {len(sel)} | {med} | {mx} | {bias} | {w3:.3f} | {ins:.3f} | {eith:.3f} |")
+        print(f"| {name} | {len(sel)} | {med} | {mx} | {bias} | {w3:.3f} | {ins:.3f} | {eith:.3f} "
+              f"| {w10:.3f} |")
     print(f"| Eq. 16 alone | {len(eq)} | median {np.median(eq):.1f} | max {np.max(eq):.1f} | | "
-          f"{np.mean(np.array(eq) <= 3):.3f} | | |")
+          f"{np.mean(np.array(eq) <= 3):.3f} | | | {np.mean(np.array(eq) <= 10):.3f} |")
     print("\n### Coverage of the correction interval (95 %): does it hold the all-fft_bem Γ quantile "
           "of the same realizations (the whole pool)? (20 subset seeds × 4 RH per cell)\n")
     print("| family | n_accurate | 2.5 % | 50 % | 97.5 % |")
@@ -467,6 +477,14 @@ def report(shape: int, families, n: int, redo: bool = False) -> None:
             eqe = " / ".join(f"{np.nanmean([abs(_err(r, 'eq16', 'population')) for r in sel if r['p'] == p]):.1f}"
                              for p in PROBS)
             print(f"| {f} | {SHORT[q]} | {' | '.join(cells)} | {mf} | {eqe} |")
+    low = []
+    for key in sorted({(r["family"], r["quantity"], r["rh"], r["p"]) for r in draw}):
+        sel = [r for r in draw if (r["family"], r["quantity"], r["rh"], r["p"]) == key]
+        k = sum(_inside(r, "lower", "upper", "population") for r in sel)
+        if k <= len(sel) - 4:  # P(X <= 16 of 20 | 0.95) = 0.016
+            low.append(f"{key[0]} {SHORT[key[1]]} RH {key[2]} {100 * key[3]:g} %: {k}/{len(sel)}")
+    print("\ncells (family, quantity, RH, quantile) of the total interval covering in at most 16 of "
+          "20 seeds: " + ("; ".join(low) if low else "none"))
 
 
 def main(argv=None):
