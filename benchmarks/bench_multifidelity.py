@@ -342,6 +342,58 @@ def cost(pilot_shape: int, sizes=(128, 256, 512, 1024), n_paper: int = 3000) -> 
         print(f"| {name} | {k} | {sec / 3600:.2f} | {sec / 120:.0f} |")
 
 
+def pilot_part(pilot_shape: int, index: int, of: int, n_paper: int = 3000) -> None:
+    """The paper-scale run's pilot maps ``index::of`` (both models, six RH), cached: the pilot
+    split over ``of`` processes."""
+    from roughstick.ensemble.multifidelity import accurate_subset
+
+    ens = rs.surface.generate_surfaces(family_psd("S2"), n=n_paper, shape=(pilot_shape, pilot_shape),
+                                       spacing=SPACING, seed=0)
+    keys = accurate_subset(n_paper, PILOT, seed=0)[index::of]
+    lo, hi, secs = [], [], []
+    for k in keys:
+        hk = ens.isel(realization=int(k)).compute(scheduler="sync")
+        _, _, c0 = _timed(lambda hk=hk: lo.append(summaries(hk, "modified_dmt", RH6)[0]))
+        _, _, c1 = _timed(lambda hk=hk: hi.append(summaries(hk, "fft_bem", RH6)[0]))
+        secs.append((c0, c1))
+        print(f"pilot map {k} at {pilot_shape}²: CPU {c0:.1f} s Eq. 16, {c1:.1f} s fft_bem", flush=True)
+    CACHE.mkdir(exist_ok=True)
+    np.savez(CACHE / f"mf_pilot_S2_{pilot_shape}_{index}of{of}.npz", cheap=np.array(lo),
+             accurate=np.array(hi), realization=keys, seconds=np.array(secs))
+
+
+def pilot_report(pilot_shape: int, of: int, t_cheap: float, t_accurate: float,
+                 n_paper: int = 3000) -> None:
+    """n_accurate of the paper-scale run from its pilot's parts, and the projected cost from the
+    per-map CPU times ``t_cheap`` (Eq. 16, per RH) and ``t_accurate`` (fft_bem) [s]."""
+    from roughstick.ensemble.multifidelity import accurate_subset_size
+
+    parts = [np.load(CACHE / f"mf_pilot_S2_{pilot_shape}_{i}of{of}.npz") for i in range(of)]
+    lo = np.concatenate([p["cheap"] for p in parts])
+    hi = np.concatenate([p["accurate"] for p in parts])
+    secs = np.concatenate([p["seconds"] for p in parts])
+    need = {a: max(accurate_subset_size(lo[:, j], hi[:, j], n_total=n_paper, accuracy=a)
+                   for j in range(len(RH6))) for a in (0.1, 0.05, 0.03)}
+    rel = np.median(lo / hi - 1, axis=0) * 100
+    print(f"pilot: {lo.shape[0]} realizations of the paper-scale S2 run at {pilot_shape}² (both "
+          f"models, six RH; CPU per map {secs[:, 0].mean():.1f} s Eq. 16 per RH, "
+          f"{secs[:, 1].mean():.1f} s fft_bem per RH); Eq. 16 / fft_bem - 1 median per RH: "
+          + ", ".join(f"{r:+.1f} %" for r in rel))
+    print("n_accurate the pilot asks for (of 3000): " + ", ".join(
+        f"accuracy {a}: {v}" for a, v in need.items()))
+    print(f"\n### PROJECTION (not measured): {n_paper} × 1024², six RH, S2 PSD, from per-map CPU "
+          f"times {t_cheap:.2f} s (Eq. 16) and {t_accurate:.2f} s (fft_bem), the pilot's maps "
+          "counted with both\n")
+    print("| plan | maps with fft_bem | projected [core-h] | [min on two cores] |")
+    print("|---|---:|---:|---:|")
+    plans = [("Eq. 16 alone", 0, n_paper * t_cheap), ("all fft_bem", n_paper, n_paper * t_accurate)]
+    for a, v in need.items():
+        plans.append((f"multi-fidelity (pilot, accuracy {a})", v,
+                      n_paper * t_cheap + v * t_accurate + PILOT * (t_cheap + t_accurate)))
+    for name, k, sec in plans:
+        print(f"| {name} | {k} | {sec / 3600:.2f} | {sec / 120:.0f} |")
+
+
 # ----------------------------------------------------------------------------- report
 
 
@@ -514,11 +566,15 @@ def report(shape: int, families, n: int, redo: bool = False) -> None:
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("part", choices=("pool", "check", "report", "cost"))
+    ap.add_argument("part", choices=("pool", "check", "report", "cost", "pilot", "pilot-report"))
     ap.add_argument("--family", nargs="+", default=list(FAMILIES))
     ap.add_argument("--n", type=int, default=1000)
     ap.add_argument("--shape", type=int, default=128)
     ap.add_argument("--pilot-shape", type=int, default=512)
+    ap.add_argument("--index", type=int, default=0, help="pilot: this process's share")
+    ap.add_argument("--of", type=int, default=1, help="pilot: number of processes")
+    ap.add_argument("--t-cheap", type=float, default=1.36, help="pilot-report: Eq. 16 CPU s/map")
+    ap.add_argument("--t-accurate", type=float, default=21.71, help="pilot-report: fft_bem CPU s/map")
     ap.add_argument("--redo", action="store_true", help="recompute the cached estimates")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
@@ -529,6 +585,10 @@ def main(argv=None):
         report(args.shape, args.family, args.n, redo=args.redo)
     elif args.part == "cost":
         cost(args.pilot_shape)
+    elif args.part == "pilot":
+        pilot_part(args.pilot_shape, args.index, args.of)
+    elif args.part == "pilot-report":
+        pilot_report(args.pilot_shape, args.of, args.t_cheap, args.t_accurate)
     elif args.part == "check":
         for f in args.family:
             check(f, args.shape)
