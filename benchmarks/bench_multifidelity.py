@@ -28,11 +28,17 @@ cost
     fft_bem / Eq. 16 time per map (six RH, default calls) at 128²-1024² with one 1024² complex
     iFFT timed in the same process, a 40-map pilot with both models, and the projected cost of
     the paper-scale ensemble (3000 × 1024², six RH, S2 PSD).
+pilot, pilot-report
+    The paper-scale run's own pilot (its 40 realizations, both models, one call per humidity as
+    the ensemble runs them) split over processes, then the n_accurate it asks for and the
+    projected cost from its CPU times per map.
 
     python benchmarks/bench_multifidelity.py pool --family S2 --n 1000 --shape 128
     python benchmarks/bench_multifidelity.py check --family S2
     python benchmarks/bench_multifidelity.py report --shape 128
     python benchmarks/bench_multifidelity.py cost --pilot-shape 512
+    python benchmarks/bench_multifidelity.py pilot --pilot-shape 1024 --index 0 --of 2   # and 1
+    python benchmarks/bench_multifidelity.py pilot-report --pilot-shape 1024 --of 2
 """
 
 from __future__ import annotations
@@ -362,16 +368,19 @@ def pilot_part(pilot_shape: int, index: int, of: int, n_paper: int = 3000) -> No
              accurate=np.array(hi), realization=keys, seconds=np.array(secs))
 
 
-def pilot_report(pilot_shape: int, of: int, t_cheap: float, t_accurate: float,
+def pilot_report(pilot_shape: int, of: int, t_cheap: float | None, t_accurate: float | None,
                  n_paper: int = 3000) -> None:
     """n_accurate of the paper-scale run from its pilot's parts, and the projected cost from the
-    per-map CPU times ``t_cheap`` (Eq. 16, per RH) and ``t_accurate`` (fft_bem) [s]."""
+    per-map CPU times ``t_cheap`` (Eq. 16, per RH) and ``t_accurate`` (fft_bem) [s] (default: the
+    pilot's own means, one call per humidity as the ensemble runs them)."""
     from roughstick.ensemble.multifidelity import accurate_subset_size
 
     parts = [np.load(CACHE / f"mf_pilot_S2_{pilot_shape}_{i}of{of}.npz") for i in range(of)]
     lo = np.concatenate([p["cheap"] for p in parts])
     hi = np.concatenate([p["accurate"] for p in parts])
     secs = np.concatenate([p["seconds"] for p in parts])
+    t_cheap = float(secs[:, 0].mean()) if t_cheap is None else t_cheap
+    t_accurate = float(secs[:, 1].mean()) if t_accurate is None else t_accurate
     need = {a: max(accurate_subset_size(lo[:, j], hi[:, j], n_total=n_paper, accuracy=a)
                    for j in range(len(RH6))) for a in (0.1, 0.05, 0.03)}
     rel = np.median(lo / hi - 1, axis=0) * 100
@@ -381,7 +390,7 @@ def pilot_report(pilot_shape: int, of: int, t_cheap: float, t_accurate: float,
           + ", ".join(f"{r:+.1f} %" for r in rel))
     print("n_accurate the pilot asks for (of 3000): " + ", ".join(
         f"accuracy {a}: {v}" for a, v in need.items()))
-    print(f"\n### PROJECTION (not measured): {n_paper} × 1024², six RH, S2 PSD, from per-map CPU "
+    print(f"\n### PROJECTION (not measured): {n_paper} × {pilot_shape}², six RH, S2 PSD, from per-map CPU "
           f"times {t_cheap:.2f} s (Eq. 16) and {t_accurate:.2f} s (fft_bem), the pilot's maps "
           "counted with both\n")
     print("| plan | maps with fft_bem | projected [core-h] | [min on two cores] |")
@@ -573,8 +582,10 @@ def main(argv=None):
     ap.add_argument("--pilot-shape", type=int, default=512)
     ap.add_argument("--index", type=int, default=0, help="pilot: this process's share")
     ap.add_argument("--of", type=int, default=1, help="pilot: number of processes")
-    ap.add_argument("--t-cheap", type=float, default=1.36, help="pilot-report: Eq. 16 CPU s/map")
-    ap.add_argument("--t-accurate", type=float, default=21.71, help="pilot-report: fft_bem CPU s/map")
+    ap.add_argument("--t-cheap", type=float, default=None,
+                    help="pilot-report: Eq. 16 CPU s/map (default: the pilot's mean)")
+    ap.add_argument("--t-accurate", type=float, default=None,
+                    help="pilot-report: fft_bem CPU s/map (default: the pilot's mean)")
     ap.add_argument("--redo", action="store_true", help="recompute the cached estimates")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
