@@ -28,11 +28,18 @@ cost
     fft_bem / Eq. 16 time per map (six RH, default calls) at 128²-1024² with one 1024² complex
     iFFT timed in the same process, a 40-map pilot with both models, and the projected cost of
     the paper-scale ensemble (3000 × 1024², six RH, S2 PSD).
+pilot, pilot-report
+    The paper-scale run's own pilot (its 40 realizations, both models, one call per humidity as
+    the ensemble runs them) split over processes, then the n_accurate it asks for and the
+    projected cost from its CPU times per map.
 
     python benchmarks/bench_multifidelity.py pool --family S2 --n 1000 --shape 128
     python benchmarks/bench_multifidelity.py check --family S2
     python benchmarks/bench_multifidelity.py report --shape 128
     python benchmarks/bench_multifidelity.py cost --pilot-shape 512
+    python benchmarks/bench_multifidelity.py pilot --pilot-shape 1024 --index 0 --of 2   # and 1
+    python benchmarks/bench_multifidelity.py pilot-report --pilot-shape 1024 --of 2
+    python benchmarks/bench_multifidelity.py atom
 """
 
 from __future__ import annotations
@@ -342,6 +349,85 @@ def cost(pilot_shape: int, sizes=(128, 256, 512, 1024), n_paper: int = 3000) -> 
         print(f"| {name} | {k} | {sec / 3600:.2f} | {sec / 120:.0f} |")
 
 
+def pilot_part(pilot_shape: int, index: int, of: int, n_paper: int = 3000) -> None:
+    """The paper-scale run's pilot maps ``index::of`` (both models, six RH), cached: the pilot
+    split over ``of`` processes."""
+    from roughstick.ensemble.multifidelity import accurate_subset
+
+    ens = rs.surface.generate_surfaces(family_psd("S2"), n=n_paper, shape=(pilot_shape, pilot_shape),
+                                       spacing=SPACING, seed=0)
+    keys = accurate_subset(n_paper, PILOT, seed=0)[index::of]
+    lo, hi, secs = [], [], []
+    for k in keys:
+        hk = ens.isel(realization=int(k)).compute(scheduler="sync")
+        _, _, c0 = _timed(lambda hk=hk: lo.append(summaries(hk, "modified_dmt", RH6)[0]))
+        _, _, c1 = _timed(lambda hk=hk: hi.append(summaries(hk, "fft_bem", RH6)[0]))
+        secs.append((c0, c1))
+        print(f"pilot map {k} at {pilot_shape}²: CPU {c0:.1f} s Eq. 16, {c1:.1f} s fft_bem", flush=True)
+    CACHE.mkdir(exist_ok=True)
+    np.savez(CACHE / f"mf_pilot_S2_{pilot_shape}_{index}of{of}.npz", cheap=np.array(lo),
+             accurate=np.array(hi), realization=keys, seconds=np.array(secs))
+
+
+def pilot_report(pilot_shape: int, of: int, t_cheap: float | None, t_accurate: float | None,
+                 n_paper: int = 3000) -> None:
+    """n_accurate of the paper-scale run from its pilot's parts, and the projected cost from the
+    per-map CPU times ``t_cheap`` (Eq. 16, per RH) and ``t_accurate`` (fft_bem) [s] (default: the
+    pilot's own means, one call per humidity as the ensemble runs them)."""
+    from roughstick.ensemble.multifidelity import accurate_subset_size
+
+    parts = [np.load(CACHE / f"mf_pilot_S2_{pilot_shape}_{i}of{of}.npz") for i in range(of)]
+    lo = np.concatenate([p["cheap"] for p in parts])
+    hi = np.concatenate([p["accurate"] for p in parts])
+    secs = np.concatenate([p["seconds"] for p in parts])
+    t_cheap = float(secs[:, 0].mean()) if t_cheap is None else t_cheap
+    t_accurate = float(secs[:, 1].mean()) if t_accurate is None else t_accurate
+    need = {a: max(accurate_subset_size(lo[:, j], hi[:, j], n_total=n_paper, accuracy=a)
+                   for j in range(len(RH6))) for a in (0.1, 0.05, 0.03)}
+    rel = np.median(lo / hi - 1, axis=0) * 100
+    print(f"pilot: {lo.shape[0]} realizations of the paper-scale S2 run at {pilot_shape}² (both "
+          f"models, six RH; CPU per map {secs[:, 0].mean():.1f} s Eq. 16 per RH, "
+          f"{secs[:, 1].mean():.1f} s fft_bem per RH); Eq. 16 / fft_bem - 1 median per RH: "
+          + ", ".join(f"{r:+.1f} %" for r in rel))
+    print("n_accurate the pilot asks for (of 3000): " + ", ".join(
+        f"accuracy {a}: {v}" for a, v in need.items()))
+    print(f"\n### PROJECTION (not measured): {n_paper} × {pilot_shape}², six RH, S2 PSD, from per-map CPU "
+          f"times {t_cheap:.2f} s (Eq. 16) and {t_accurate:.2f} s (fft_bem), the pilot's maps "
+          "counted with both\n")
+    print("| plan | maps with fft_bem | projected [core-h] | [min on two cores] |")
+    print("|---|---:|---:|---:|")
+    plans = [("Eq. 16 alone", 0, n_paper * t_cheap), ("all fft_bem", n_paper, n_paper * t_accurate)]
+    for a, v in need.items():
+        plans.append((f"multi-fidelity (pilot, accuracy {a})", v,
+                      n_paper * t_cheap + v * t_accurate + PILOT * (t_cheap + t_accurate)))
+    for name, k, sec in plans:
+        print(f"| {name} | {k} | {sec / 3600:.2f} | {sec / 120:.0f} |")
+
+
+def atom(shape: int = 128) -> None:
+    """The smooth pool's pull-off at RH 0.9, an atom of the distribution: do the total intervals
+    of the median of drawn ensembles hold it, compared exactly?"""
+    from roughstick.ensemble.multifidelity import accurate_subset, multifidelity_kernel
+
+    pool = load_pool("smooth", shape)
+    c, a = pool["cheap"][:, 1, RH.index(0.9)], pool["accurate"][:, 1, RH.index(0.9)]
+    target = np.quantile(a, 0.5, method="inverted_cdf")
+    hits = exact = 0
+    for seed in range(SEEDS):
+        draw = np.random.default_rng([7, seed]).integers(0, a.size, DRAW_N)
+        hi = np.full(DRAW_N, np.nan)
+        sub = accurate_subset(DRAW_N, DRAW_ACC, seed=seed)
+        hi[sub] = a[draw][sub]
+        r = multifidelity_kernel(c[draw], hi, probabilities=[0.5])
+        lo = -np.inf if np.isnan(r["quantile_lower"][0]) else r["quantile_lower"][0]
+        up = np.inf if np.isnan(r["quantile_upper"][0]) else r["quantile_upper"][0]
+        hits += bool(lo <= target <= up)
+        exact += bool(r["quantile"][0] == target)
+    print(f"smooth pull-off at RH 0.9: {np.mean(a == target):.0%} of the maps at the median value; "
+          f"total interval of the median (ensembles of {DRAW_N}, {DRAW_ACC} accurate) holds it, "
+          f"compared exactly, in {hits}/{SEEDS} seeds; the estimate is that value in {exact}/{SEEDS}")
+
+
 # ----------------------------------------------------------------------------- report
 
 
@@ -514,11 +600,18 @@ def report(shape: int, families, n: int, redo: bool = False) -> None:
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("part", choices=("pool", "check", "report", "cost"))
+    ap.add_argument("part", choices=("pool", "check", "report", "cost", "pilot", "pilot-report",
+                                       "atom"))
     ap.add_argument("--family", nargs="+", default=list(FAMILIES))
     ap.add_argument("--n", type=int, default=1000)
     ap.add_argument("--shape", type=int, default=128)
     ap.add_argument("--pilot-shape", type=int, default=512)
+    ap.add_argument("--index", type=int, default=0, help="pilot: this process's share")
+    ap.add_argument("--of", type=int, default=1, help="pilot: number of processes")
+    ap.add_argument("--t-cheap", type=float, default=None,
+                    help="pilot-report: Eq. 16 CPU s/map (default: the pilot's mean)")
+    ap.add_argument("--t-accurate", type=float, default=None,
+                    help="pilot-report: fft_bem CPU s/map (default: the pilot's mean)")
     ap.add_argument("--redo", action="store_true", help="recompute the cached estimates")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
@@ -529,6 +622,12 @@ def main(argv=None):
         report(args.shape, args.family, args.n, redo=args.redo)
     elif args.part == "cost":
         cost(args.pilot_shape)
+    elif args.part == "atom":
+        atom(args.shape)
+    elif args.part == "pilot":
+        pilot_part(args.pilot_shape, args.index, args.of)
+    elif args.part == "pilot-report":
+        pilot_report(args.pilot_shape, args.of, args.t_cheap, args.t_accurate)
     elif args.part == "check":
         for f in args.family:
             check(f, args.shape)

@@ -198,18 +198,22 @@ def multifidelity_kernel(cheap, accurate, *, probabilities, confidence=0.95, fol
     Fm = np.clip(np.maximum.accumulate(np.sort(F)), 0.0, 1.0)  # monotone rearrangement
     s2d = np.maximum(d.var(axis=0, ddof=1), floor)
     zq = stats.norm.ppf(0.5 + confidence / 2.0)
+    # the thresholds in the data's units; an accurate value itself where the grid holds one (not
+    # exp(log v), which can miss v by a rounding error: an interval would miss an atom it holds)
+    values = inverse(grid)
+    values[np.searchsorted(grid, z[sub])] = hi[sub]
     for i, p in enumerate(probs):
         q_idx = min(int(np.searchsorted(Fm, p, side="left")), grid.size - 1)
         Fq = Fm[q_idx]
         corr_var = max(1.0 / n - 1.0 / N, 0.0) * s2d[q_idx]
         tot_var = Fq * (1 - Fq) / N + corr_var
-        out["quantile"][i] = inverse(grid[q_idx])
+        out["quantile"][i] = values[q_idx]
         for key, var in (("quantile", tot_var), ("correction", corr_var)):
             half = zq * np.sqrt(var)
             lo_i = min(int(np.searchsorted(Fm, p - half, side="left")), grid.size - 1)
             hi_i = min(int(np.searchsorted(Fm, p + half, side="left")), grid.size - 1)
-            out[f"{key}_lower"][i] = inverse(grid[lo_i]) if p - half > Fm[0] else np.nan
-            out[f"{key}_upper"][i] = inverse(grid[hi_i]) if p + half <= Fm[-1] else np.nan
+            out[f"{key}_lower"][i] = values[lo_i] if p - half > Fm[0] else np.nan
+            out[f"{key}_upper"][i] = values[hi_i] if p + half <= Fm[-1] else np.nan
     mean, resid, s2y = _mean(x, hi, parts, inverse is np.exp)
     mv = s2y / N + max(1.0 / n - 1.0 / N, 0.0) * resid.var(ddof=1)
     out.update(mean=mean, mean_lower=mean - zq * np.sqrt(mv), mean_upper=mean + zq * np.sqrt(mv))
