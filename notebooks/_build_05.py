@@ -80,7 +80,8 @@ cells = [
     ),
     new_code_cell(
         "sizes = rs.ensemble.surface_size_study(psd['S1'], shapes=[SMALL, LARGE], spacing=5e-9, n=N,\n"
-        "                              relative_humidity=RH, seed=16, chunks=2).compute()\n"
+        "                              relative_humidity=RH, seed=16, chunks=2,\n"
+        "                              model='modified_dmt').compute()  # the paper's model\n"
         "_, fig = figures.fig16_energy_bands({'S1, two surface sizes': sizes}, title='Fig. 16')"
     ),
     new_code_cell(

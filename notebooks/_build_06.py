@@ -88,8 +88,10 @@ cells = [
     code(
         "rh = list(rs.stiction.PAPER_HUMIDITIES)\n"
         "layers = ['none', 'paper']\n"
+        "# the paper's model (Eq. 16), by name: Fig. 20 as the paper computed it\n"
         "g = xr.concat([rs.stiction.predict_adhesive_energy(fit, n=10, shape=(64, 512), relative_humidity=rh,\n"
-        "                                          adsorbed_layer=layer, seed=7).adhesive_energy.compute()\n"
+        "                                          adsorbed_layer=layer, seed=7, model='modified_dmt'\n"
+        "                                          ).adhesive_energy.compute()\n"
         "               for layer in layers], dim=xr.DataArray(layers, dims='adsorbed_layer', name='adsorbed_layer'))\n"
         "risk = rs.stiction.risk_summary(g, beam_length=lengths, probabilities=[0.1, 0.5, 0.9])\n"
         "figures.fig20_adhesive_energy_bands(risk);"
