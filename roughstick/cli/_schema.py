@@ -161,7 +161,7 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "shape": F("shape", "pixels (along, across the beam); default the whole zone"),
             "psd": F("path", "a NetCDF PSD measured on your films (variable 'psd')"),
             "height_distribution": F(
-                "choice", "height distribution of the zones' surfaces (method = 'count'): "
+                "choice", "height distribution of the zones' surfaces (every method): "
                 "'gaussian' (the paper's), 'maps' (that of the measured maps of [surface] maps) or "
                 "'johnson' (from skewness and kurtosis)", default="gaussian",
                 choices=("gaussian", "maps", "johnson")),

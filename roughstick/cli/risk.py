@@ -126,10 +126,6 @@ def _height_problems(c) -> list[str]:
         problems.append('[surface] height_distribution = "maps" needs the maps: maps = ["scan1.tiff", ...]')
     if kind != "maps" and s.get("maps"):
         problems.append('[surface] maps only apply with height_distribution = "maps"')
-    if kind != "gaussian" and c["risk"]["method"] != "count":
-        problems.append(f"[risk] method = {c['risk']['method']!r} simulates Gaussian zones: "
-                        "use method = 'count' for surfaces with [surface] height_distribution = "
-                        f"{kind!r}, or remove that key")
     if kind != "gaussian" and "adhesive_energy" in c["ensemble"]:
         problems.append("[surface] height_distribution is for the simulated surfaces, which "
                         "[ensemble] adhesive_energy replaces: remove one of them")
@@ -252,6 +248,9 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
         kw["material"] = material
     if r["method"] == "subset":
         kw["n_per_level"] = r["n_per_level"]
+    heights = _heights(s)
+    if heights is not None:  # Gaussian: not named, so earlier runs keep resuming
+        kw["height_distribution"] = heights
     per_layer = []
     # one line per level, with the time left over every layer, length and humidity
     points = len(ens["adsorbed_layer"]) * len(lengths) * len(rh)
@@ -298,6 +297,7 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
     risk.attrs.update(material_attrs(material))
     if used.get("why"):
         risk.attrs["model_selection"] = used["why"]
+    risk.attrs["height_distribution"] = "gaussian" if heights is None else heights.attrs["family"]
     risk.attrs.update({"method": r["method"], "target_cv": r["target_cv"],
                        "contact_model": used.get("model", r["model"]),
                        "zone_shape": list(s["shape"]), "spacing": s["spacing"],

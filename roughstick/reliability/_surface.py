@@ -2,7 +2,7 @@
 
 White noise -> surface (Eqs. 33-34) -> modified-DMT curve (Eq. 16) -> adhesive energy (Eq. 13)
 or pull-off pressure, through the public functions of :mod:`roughstick.surface` and
-:mod:`roughstick.contact` only (``surface_filter``; the numpy kernels ``modified_dmt_kernel``
+:mod:`roughstick.contact` only (``noise_map``; the numpy kernels ``modified_dmt_kernel``
 and ``adhesion_summary_kernel`` behind ``rough_contact_curves`` and ``adhesion_summary``, the
 same numbers without a Dataset per evaluation), so a faster contact kernel is picked up unchanged.
 """
@@ -13,7 +13,6 @@ import math
 import warnings
 
 import numpy as np
-import scipy.fft
 import xarray as xr
 
 from roughstick._core.intervals import median_interval
@@ -32,7 +31,7 @@ from ..contact import (
     laplace_pressure,
     select_model,
 )
-from ..surface import surface_filter
+from ..surface import noise_map
 
 __all__: list[str] = []
 
@@ -47,40 +46,8 @@ _SUMMARY_INDEX = {"adhesive_energy": 0, "pull_off_pressure": 1, "equilibrium_dis
 _PRESSURE, _WET = CURVE_VARIABLES.index("pressure"), CURVE_VARIABLES.index("wet_fraction")
 
 
-class NoiseToSurface:
-    r"""Map a standard-normal field ``w`` of shape ``(ny, nx)`` to a surface with the PSD.
-
-    :math:`z = \mathcal F^{-1}[\sqrt{P(\mathbf q)}\,\mathcal F_{\rm ortho}[w]]` with ``P`` the
-    power of each mode of :func:`roughstick.surface.surface_filter` (its sum is the height variance) and
-    the mean mode removed: a circulant (periodic) Gaussian field with exactly the PSD of
-    Eqs. 33-34, whose random input is the white noise ``w`` itself. A pCN move on ``w`` keeps
-    ``w`` standard normal, hence the surface's law. (Equal in law to ``generate_surfaces``, not
-    the same realization for the same seed.)
-    """
-
-    def __init__(self, psd, *, shape, spacing):
-        s = surface_filter(psd, shape=shape, spacing=spacing)
-        ny, nx = s.shape
-        dy, dx = float(s.attrs["spacing_y"]), float(s.attrs["spacing_x"])
-        dq2 = (2 * np.pi / (ny * dy)) * (2 * np.pi / (nx * dx))
-        power = np.fft.ifftshift(np.asarray(s.values, dtype=float)) * dq2
-        power[0, 0] = 0.0  # the mean plane is the reference of the distances
-        self.amplitude = np.sqrt(power[:, : nx // 2 + 1])
-        self.ny, self.nx, self.dy, self.dx = ny, nx, dy, dx
-        self.noise_shape = (ny, nx)
-        self.variance = float(power.sum())
-
-    def height_array(self, z) -> xr.DataArray:
-        """A height map [m] of this grid as the labelled, periodic DataArray the models take."""
-        return xr.DataArray(z, dims=("y", "x"), coords={"y": (np.arange(self.ny) + 0.5) * self.dy,
-                                                        "x": (np.arange(self.nx) + 0.5) * self.dx},
-                            name="height", attrs={"units": "m", "long_name": "surface height", "periodic": 1})
-
-    def __call__(self, noise) -> np.ndarray:
-        w = np.reshape(np.asarray(noise, dtype=float), self.noise_shape)
-        spec = scipy.fft.rfft2(w, norm="ortho", workers=1)
-        spec *= self.amplitude
-        return scipy.fft.irfft2(spec, s=self.noise_shape, norm="forward", workers=1)
+#: White noise -> surface (Eqs. 33-34; the translation process with a height distribution).
+NoiseToSurface = noise_map
 
 
 class SurfaceResponse:

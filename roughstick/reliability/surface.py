@@ -30,11 +30,12 @@ from .subset import subset_simulation
 __all__ = ["failure_probability", "surface_from_noise"]
 
 
-def surface_from_noise(noise, psd, *, shape, spacing):
+def surface_from_noise(noise, psd, *, shape, spacing, height_distribution=None):
     """The surface [m] a white-noise field (e.g. one of ``failure_noise``) maps to (Eqs. 33-34).
 
-    The same map :func:`failure_probability` evaluates, so a failure sample can be looked at,
-    or fed to another model (the BEM, a beam model).
+    The same map :func:`failure_probability` evaluates (:func:`roughstick.surface.noise_map`;
+    pass the run's ``height_distribution`` for a non-Gaussian one), so a failure sample can be
+    looked at, or fed to another model (the BEM, a beam model).
 
     Examples
     --------
@@ -44,7 +45,7 @@ def surface_from_noise(noise, psd, *, shape, spacing):
     >>> z.dims, float(abs(z).max())
     (('y', 'x'), 0.0)
     """
-    f = _s.NoiseToSurface(psd, shape=shape, spacing=spacing)
+    f = _s.NoiseToSurface(psd, shape=shape, spacing=spacing, height_distribution=height_distribution)
     return f.height_array(f(noise))
 
 
@@ -63,6 +64,7 @@ def failure_probability(
     spacing: float,
     quantity: str = "adhesive_energy",
     model: str = "auto",
+    height_distribution=None,
     method: str = "subset",
     n_per_level: int = 1000,
     level_probability: float = 0.2,
@@ -112,6 +114,11 @@ def failure_probability(
     spacing : float
         Pixel size [m].
     quantity : {"adhesive_energy", "pull_off_pressure"}
+    height_distribution : xarray.Dataset, optional
+        Of :func:`roughstick.surface.height_distribution` (a measured film's, or a Johnson
+        system's): the zones are the translation process with this distribution and the PSD
+        (:func:`roughstick.surface.noise_map`), the white noise still their random input, so
+        the estimator samples the film's own law. None: Gaussian zones.
     model : {"auto", "modified_dmt", "fft_bem"}, default "auto"
         The contact model of each zone: Eq. 16, or the FFT boundary-element model (periodic
         zones only, about 20 times the cost; needed where the Eq. 16 tail is made of artefacts,
@@ -153,7 +160,8 @@ def failure_probability(
         raise ValueError(f"quantity must be one of {_s.QUANTITIES}, got {quantity!r}.")
     if not (np.isfinite(threshold) and threshold > 0):
         raise ValueError(f"threshold must be a positive finite number in SI units, got {threshold!r}.")
-    to_surface = _s.NoiseToSurface(psd, shape=shape, spacing=spacing)
+    to_surface = _s.NoiseToSurface(psd, shape=shape, spacing=spacing,
+                                   height_distribution=height_distribution)
     model, selection = _s.zone_model(model, psd, shape=(to_surface.ny, to_surface.nx),
                                      spacing=spacing, relative_humidity=rh_in, material=material,
                                      material2=material2, adsorbed_layer=adsorbed_layer,
@@ -178,6 +186,8 @@ def failure_probability(
                "patches": int(patches), "map": "circulant/1"}
         if model != "modified_dmt":  # earlier outputs (Eq. 16 only) still resume
             key["contact_model"] = model
+        if to_surface.table is not None:  # Gaussian runs stored before keep resuming
+            key["heights"] = _psd_token(to_surface.table)
         token = json.dumps(key)
         sub = None if output is None else pathlib.Path(output) / f"rh-{rh:.4f}"
         ds = subset_simulation(
@@ -208,6 +218,10 @@ def failure_probability(
                       "patches": int(patches), "periodic": int(periodic), "height_rms": math.sqrt(m0),
                       "adsorbed_layer": str(getattr(adsorbed_layer, "__name__", adsorbed_layer)),
                       "points_per_water_height": float(points_per_water_height)})
+    if to_surface.translation is not None:
+        res.attrs["height_distribution"] = to_surface.translation
+        if selection is not None:
+            selection += " (judged on the Gaussian surfaces of the PSD)"
     if selection is not None:
         res.attrs["model_selection"] = selection
     append_history(res, f"failure_probability(quantity={quantity!r}, shape={ny}x{nx}, spacing={dx:.3g} m, "

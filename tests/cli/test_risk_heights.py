@@ -52,7 +52,26 @@ def test_risk_height_keys_are_checked_before_work(tmp_path):
     with pytest.raises(Exception, match="needs skewness and kurtosis") as err:
         from roughstick.cli.risk import load_risk_config
         load_risk_config(cfg)
-    assert "method = 'count'" in str(err.value)  # the subset zones are Gaussian: said with its fix
     cfg.write_text(CONFIG.format(folder="bad", surface='height_distribution = "maps"'))
     with pytest.raises(Exception, match=r'needs the maps: maps = \["scan1.tiff"'):
         load_risk_config(cfg)
+
+
+def test_risk_subset_zones_are_the_films(tmp_path):
+    """method = "subset" simulates the film's own zones (translation process): the run records
+    the distribution, and a positively skewed film's P(stuck) at RH 0.5 is above the Gaussian
+    film's, beyond both intervals (taller summits hold the flat more often)."""
+    out = {}
+    for name, surface in (("gaussian", ""), ("johnson", 'height_distribution = "johnson"\n'
+                                                          "skewness = 1.0\nkurtosis = 5.0")):
+        cfg = tmp_path / f"{name}.toml"
+        cfg.write_text(CONFIG.format(folder=name, surface=surface).replace("[32, 256]", "[24, 24]")
+                       + '[beam]\nlengths = ["110 um"]\n[risk]\nmethod = "subset"\nmodel = "modified_dmt"\n'
+                         "target_cv = 0.3\nmax_evaluations = 2000\nn_per_level = 400\n")
+        assert main(["risk", str(cfg), "-q"]) == 0
+        out[name] = rs.io.open_dataset(tmp_path / name / "risk.nc").load()
+    assert out["gaussian"].attrs["height_distribution"] == "gaussian"
+    assert out["johnson"].attrs["height_distribution"] == "johnson_su"
+    # 24 x 24 zones at RH 0.5, a 110 um beam: about 4.5 % (Gaussian) and 10.6 % (skewness 1) here
+    assert float(out["johnson"].stiction_probability_lower.squeeze()) > float(
+        out["gaussian"].stiction_probability_upper.squeeze())
