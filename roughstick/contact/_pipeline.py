@@ -377,8 +377,27 @@ def _choose(height, *, relative_humidity, material, material2, adsorbed_layer, a
             "cannot take: crop or fill them, or pass model='modified_dmt' knowingly."
         ) from None
     chosen = MODELS[name]
+    if chosen.positive_mean_gap and distance is not None:
+        _check_gap_for_auto(height, distance, chosen.name)
     _announce(chosen, reason, height, relative_humidity, distance, n_distance)
     return name, reason, {k: v for k, v in options.items() if k in chosen.options}
+
+
+def _check_gap_for_auto(height, distance, name) -> None:
+    """Refuse, before the work, given distances at or below a map's mean plane when
+    ``model="auto"`` chose a model that needs a positive mean gap, naming both fixes."""
+    d = np.asarray(getattr(distance, "values", distance), dtype=float)
+    if d.size == 0:
+        return
+    plane = float(height.mean(("y", "x"), skipna=True).max())  # a lazy map: one pass, no model
+    if float(np.nanmin(d)) <= plane:
+        raise ValueError(
+            f"model='auto' chose {name} (the cheaper models are not within the accuracy on this "
+            f"surface), which needs every distance above the maps' mean plane ({plane:.3g} m; "
+            f"below it the mean gap is <= 0, full contact), but the smallest given distance is "
+            f"{float(np.nanmin(d)):.3g} m. Pass distances above the mean plane (or distance=None "
+            "for the automatic grid), or model='modified_dmt' knowingly (Eq. 16 takes any "
+            "distance, with the error bound it warns about).")
 
 
 def _announce(model, reason, height, relative_humidity, distance, n_distance) -> None:

@@ -80,3 +80,21 @@ def test_the_default_multifidelity_ensemble_gives_the_accurate_median():
     median = band.adhesive_energy.sel(quantile=0.5).values
     truth = accurate.adhesive_energy.median("realization").values
     np.testing.assert_array_less(np.abs(median / truth - 1), 0.05)
+
+
+def test_auto_refuses_distances_its_choice_cannot_take_before_the_work():
+    """Given distances below the mean plane and a surface where auto picks a periodic BEM model
+    (which needs a positive mean gap): a ValueError that names the choice and both fixes, raised
+    before any curve is computed (also for a lazy map); the paper's model, named, takes them."""
+    h = rs.generate_surfaces(rs.datasets.family_psd("table4"), n=1, shape=(64, 64), spacing=5e-9,
+                             seed=1).isel(realization=0)
+    s = float(h.std())
+    distance = np.linspace(-s, 4 * s, 20)
+    for height in (h, h.compute()):
+        with pytest.raises(ValueError, match=r"model='auto' chose fft_bem.*mean plane.*"
+                                             r"distance=None.*model='modified_dmt'"):
+            rs.contact.curves(height, relative_humidity=0.5, distance=distance)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rs.ValidityWarning)
+        c = rs.contact.curves(h, relative_humidity=0.5, distance=distance, model="modified_dmt")
+    assert np.isfinite(c.pressure.values).all()
