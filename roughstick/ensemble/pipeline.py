@@ -18,6 +18,7 @@ import hashlib
 import inspect
 import json
 import math
+import threading
 from collections.abc import Callable
 
 import dask.array as dsa
@@ -384,16 +385,40 @@ def _own_grid_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dat
 ACCURATE_VARIABLES = ("adhesive_energy", "pull_off_pressure", "equilibrium_distance")
 
 
+#: The accurate summaries of the maps this process computed last (map bytes, grid, model,
+#: humidity, materials): a multi-fidelity pilot's maps are the first of the run's subset, which
+#: then reads them instead of solving them again (the same numbers: the same computation).
+_ACCURATE_DONE: dict = {}
+_ACCURATE_DONE_SIZE = 2048
+_ACCURATE_LOCK = threading.Lock()
+
+
+def _accurate_one(spec: Spec, h2d: xr.DataArray, r: float, model: str) -> xr.Dataset:
+    """The accurate model's summaries of one map at one humidity (kept for the next asker)."""
+    values = np.ascontiguousarray(h2d.values)
+    key = (model, hashlib.sha1(values.tobytes()).hexdigest(), values.shape, str(values.dtype),
+           tuple(float(h2d[d][i]) for d in ("y", "x") for i in (0, -1)), float(r),
+           repr(spec.material), repr(spec.adsorbed_layer))
+    with _ACCURATE_LOCK:
+        hit = _ACCURATE_DONE.get(key)
+    if hit is not None:
+        return hit.copy(deep=True)
+    c = contact_curves(h2d, relative_humidity=[float(r)], model=model, material=spec.material,
+                       adsorbed_layer=spec.adsorbed_layer, check_validity=False)
+    s = contact_summary(c, check_grid=False)[list(ACCURATE_VARIABLES)]
+    s = s.drop_vars([v for v in s.coords if v != "rh"], errors="ignore").compute()
+    with _ACCURATE_LOCK:
+        _ACCURATE_DONE[key] = s
+        while len(_ACCURATE_DONE) > _ACCURATE_DONE_SIZE:
+            _ACCURATE_DONE.pop(next(iter(_ACCURATE_DONE)))
+    return s.copy(deep=True)
+
+
 def accurate_summary(spec: Spec, h2d: xr.DataArray, rh: xr.DataArray) -> xr.Dataset:
     """The accurate model's summaries of one map (``<name>_accurate``), each humidity alone on
     the model's own automatic grid (so they do not depend on the humidity blocks)."""
     model = spec.accurate[0]
-    parts = []
-    for r in np.atleast_1d(rh.values):
-        c = contact_curves(h2d, relative_humidity=[float(r)], model=model, material=spec.material,
-                           adsorbed_layer=spec.adsorbed_layer, check_validity=False)
-        s = contact_summary(c, check_grid=False)[list(ACCURATE_VARIABLES)]
-        parts.append(s.drop_vars([v for v in s.coords if v != "rh"], errors="ignore"))
+    parts = [_accurate_one(spec, h2d, float(r), model) for r in np.atleast_1d(rh.values)]
     s = parts[0] if len(parts) == 1 else xr.concat(parts, "rh", combine_attrs="drop_conflicts")
     return _accurate_names(s, model)
 

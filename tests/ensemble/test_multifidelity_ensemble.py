@@ -73,10 +73,26 @@ def test_the_band_is_the_accurate_model_s_with_its_interval(mf, psd):
     assert bool(((lo <= med) & (med <= hi)).all()), (lo.values, med.values, hi.values)
 
 
-def test_auto_sizes_the_subset_from_a_pilot(psd):
-    ens = _run(psd, n=60, accurate_model="fft_bem", n_accurate="auto", accuracy=0.3)
+def test_auto_sizes_the_subset_from_a_pilot_and_solves_each_map_once(psd, monkeypatch):
+    """The pilot's maps are the first of the subset: the run reads their accurate summaries
+    instead of solving them again: one accurate solve per map and humidity in all."""
+    from roughstick.ensemble import pipeline
+
+    pipeline._ACCURATE_DONE.clear()
+    calls = []
+    solve = pipeline.contact_curves
+
+    def counted(*args, **kw):
+        if args[0].shape == (32, 32):  # the run's maps (not the 16 x 16 probe of the layout)
+            calls.append(kw["model"])
+        return solve(*args, **kw)
+
+    monkeypatch.setattr(pipeline, "contact_curves", counted)
+    ens = _run(psd, n=60, accurate_model="fft_bem", n_accurate="auto", accuracy=0.3).compute()
     n = int(ens.attrs["n_accurate"])
     assert 40 <= n <= 60  # at least the pilot (40), at most n
+    assert calls.count("fft_bem") == 2 * n  # two humidities, each map solved once
+    assert int(ens["adhesive_energy_accurate"].notnull().all("rh").sum()) == n
 
 
 def test_single_model_runs_keep_their_parameter_hash_and_bad_input_is_named(psd, mf):
