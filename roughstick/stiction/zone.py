@@ -42,8 +42,9 @@ __all__ = ["compose_zone_law", "strip_adhesive_energy", "subzone_shape", "zone_s
 MIN_CORRELATION_LENGTHS = 4
 
 #: The zone-size law measured (docs/evidence/zone_size.md, part 1): median Γ [J m-2] of 40 zones
-#: per size, Table-4 PSD, 5 nm pixels, Eq. 16, at RH 0.3 / 0.5 / 0.7 / 0.9, against the zone's
-#: area [m2] (128², 256², 524 × 500, 524 × 1500 and 524 × 6000 pixels).
+#: per size, Table-4 PSD, 5 nm pixels, Eq. 16 with the paper's adsorbed layer (0.9 nm per surface
+#: above 65 % RH), at RH 0.3 / 0.5 / 0.7 / 0.9, against the zone's area [m2] (128², 256²,
+#: 524 × 500, 524 × 1500 and 524 × 6000 pixels).
 ZONE_SIZE_MEDIANS = {
     "relative_humidity": (0.3, 0.5, 0.7, 0.9),
     "area": (0.4096e-12, 1.6384e-12, 6.55e-12, 19.65e-12, 78.6e-12),
@@ -261,7 +262,10 @@ def zone_size_bias(shape, *, spacing: float = 5e-9, beam: Cantilever = PAPER_CAN
     (:func:`~roughstick.stiction.interaction_zone_shape`). It is what a smaller zone costs: its
     P(stuck) is that of a Γ this many times too large. Γ of such surfaces falls with the zone's
     area because a larger zone rests on taller summits (roughly as 1/area at 30-50 % RH); other
-    PSDs fall at other rates (S1: steeper), so read it as the order of the error, not a correction.
+    PSDs fall at other rates (S1: steeper), and so does Γ without the adsorbed layer at 70 % RH
+    (larger bias there), so read it as the order of the error, not a correction. The ratio
+    depends on the area only; narrow zones of the same area measured close to it at 30-50 %
+    RH (docs/evidence/zone_size.md).
 
     Parameters
     ----------
