@@ -239,6 +239,7 @@ def test_risk_answers_on_the_beams_zone_and_warns_with_the_cost_of_a_smaller_one
     work with its measured cost (the zone-size law: a 0.64 µm square carries 170 x the zone's median Γ
     at 30 % RH), and risk.nc records the zone its P(stuck) belongs to."""
     from roughstick.cli import main
+    from roughstick.cli._config import ConfigError
     from roughstick.cli.risk import _beam, load_risk_config, zone_of_the_answer
 
     cfg = tmp_path / "r.toml"
@@ -247,6 +248,9 @@ def test_risk_answers_on_the_beams_zone_and_warns_with_the_cost_of_a_smaller_one
     zone = zone_of_the_answer(c, _beam(c)[0])
     assert zone["zone_shape"] == list(rs.stiction.interaction_zone_shape()) == [524, 6000]
     assert "zone_size_bias" not in zone
+    cfg.write_text('[risk]\nmethod = "subset"\n')  # no shape: the whole zone is out of its reach
+    with pytest.raises(ConfigError, match="use method = 'count' .*, which answers on the whole zone"):
+        load_risk_config(cfg)
     cfg.write_text('[output]\nfolder = "out"\nfigures = false\n[beam]\nlengths = ["300 um", "1500 um"]\n'
                    '[surface]\nshape = [128, 128]\n[ensemble]\nn = 2\nrelative_humidity = [0.5]\n'
                    'adsorbed_layer = ["none"]\nstream = false\n[risk]\nmodel = "modified_dmt"\n')
