@@ -101,7 +101,7 @@ def _run(args) -> int:
     t1 = time.perf_counter()
     if ens["method"] != "count":
         return _run_subset(bank, b, ens, beam, out, t0, t1, overwrite=args.overwrite or o["overwrite"],
-                           provenance=lambda ds: _provenance(ds, c, path, bank))
+                           provenance=lambda ds: _provenance(ds, c, path, bank), spacing=s["spacing"])
     ds = rs.beam.simulate(bank, beam_length=np.asarray(b["lengths"], dtype=float), n=ens["n"],
                           seed=ens["seed"], protocol=ens["protocol"], beam=beam,
                           patch_length=b.get("patch_length"), beam_model=ens["beam_model"])
@@ -118,7 +118,7 @@ def _run(args) -> int:
     finish_folder(out)
     src = "read from cache" if bank.attrs.get("from_cache") else "computed"
     LOG.info(f"bank: {bank.sizes['law']} laws x {bank.sizes['rh']} RH {src} in {t1 - t0:.1f} s "
-             f"({bank.attrs.get('cache_file')})")
+             f"({bank.attrs.get('cache_file')}); {_patch_words(bank, c['surface']['spacing'])}")
     _log_tail_check(bank)
     LOG.info(f"beams: {ds.sizes['realization']} x {ds.sizes['beam_length']} lengths x {len(rh)} RH "
              f"in {t2 - t1:.2f} s")
@@ -222,7 +222,17 @@ def _check_method(ens: dict, source: str) -> None:
         raise ConfigError(f"{source}: " + "; ".join(problems) + ".")
 
 
-def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite, provenance) -> int:
+def _patch_words(bank, spacing: float) -> str:
+    """What one law of the bank is: its patch, its sub-zones and its contact model."""
+    ny, nx = (int(v) for v in np.atleast_1d(bank.attrs.get("subzone_shape", (0, 0)))[:2])
+    m = int(bank.attrs.get("subzones", 1))
+    words = f"each law a patch of {ny * spacing * 1e6:.3g} x {m * nx * spacing * 1e6:.3g} um at {spacing * 1e9:g} nm"
+    if m > 1:
+        words += f" ({m} sub-zones of {ny} x {nx} px composed)"
+    return words + f", contact model {bank.attrs.get('contact_model', '?')}"
+
+
+def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite, provenance, spacing) -> int:
     """P(stuck)(rh, beam_length) on the bank by subset simulation (or crude Monte Carlo)."""
     method = ens["method"]
     points = bank.sizes["rh"] * len(b["lengths"])  # one line per level, the time left over all
@@ -238,7 +248,7 @@ def _run_subset(bank, b, ens, beam, out, t0, t1, *, overwrite, provenance) -> in
     src = "read from cache" if bank.attrs.get("from_cache") else "computed"
     n_law = int(ds.attrs["n_law"])
     LOG.info(f"bank: {n_law} laws x {bank.sizes['rh']} RH {src} in {t1 - t0:.1f} s "
-             f"({bank.attrs.get('cache_file')})")
+             f"({bank.attrs.get('cache_file')}); {_patch_words(bank, spacing)}")
     _log_tail_check(bank)
     LOG.info(f"{method}: P(stuck) [95 % interval], cv, beams evaluated, in {t2 - t1:.2f} s; "
              "'bank' = closed form on the same bank")

@@ -11,6 +11,7 @@ humidities as fractions; every value is checked before the simulation starts.
 from __future__ import annotations
 
 import pathlib
+import warnings
 
 import numpy as np
 import xarray as xr
@@ -93,9 +94,12 @@ def load_risk_config(path) -> dict:
     problems += _height_problems(c)
     if r["method"] != "count":
         if "shape" not in c["surface"]:
-            problems.append(f"[risk] method = {r['method']!r} evaluates one zone per model call: set "
-                            "[surface] shape, e.g. shape = [128, 128] (the whole interaction zone is "
-                            "out of reach)")
+            problems.append(f"[risk] method = {r['method']!r} evaluates one zone per model call and the "
+                            "beam's whole interaction zone (524 x 6000 px at 5 nm for the paper's beam) is "
+                            "out of its reach: use method = 'count' (the default), which answers on the "
+                            "whole zone, or set [surface] shape, e.g. shape = [128, 128], knowing that its "
+                            "P(stuck) is that of the smaller zone (a 0.64 um square carries 130-170 x the "
+                            "whole zone's Γ at 30-50 % RH; docs/zone_size.md)")
         if "adhesive_energy" in c["ensemble"]:
             problems.append(f"[risk] method = {r['method']!r} simulates its own zones: remove "
                             "[ensemble] adhesive_energy, or use method = 'count' to read that sample")
@@ -227,6 +231,39 @@ def _psd(s):
     )
 
 
+def zone_of_the_answer(c, beam) -> dict:
+    """The zone whose P(stuck) ``roughstick risk`` gives: [surface] shape, else the beam's whole
+    interaction zone Δs × w; a smaller zone is warned about (logged, before the work) with the
+    measured size law's bias of its Γ (:func:`roughstick.stiction.zone_size_bias`). Returns the
+    attributes of ``risk.nc`` that say it; empty when Γ is read from [ensemble] adhesive_energy
+    (the zone is that of the given sample)."""
+    if "adhesive_energy" in c["ensemble"]:
+        return {}
+    s = c["surface"]
+    whole = rs.stiction.interaction_zone_shape(beam, spacing=s["spacing"])
+    shape = tuple(int(v) for v in s.get("shape", whole))
+    um = s["spacing"] * 1e6
+    out = {"zone_shape": list(shape), "zone_area": float(shape[0] * shape[1] * s["spacing"] ** 2),
+           "zone": f"the beam's interaction zone Δs × w, {shape[0] * um:.3g} x {shape[1] * um:.3g} um"}
+    if shape[0] >= 0.99 * whole[0] and shape[1] >= 0.99 * whole[1]:
+        return out
+    bias = rs.stiction.zone_size_bias(shape, spacing=s["spacing"], beam=beam)
+    if np.all(np.isnan(bias.values)):
+        cost = ("more than 130-170 at 30-50 %" if out["zone_area"] < 1e-12 else "(outside the measured sizes)")
+    else:
+        cost = ", ".join(f"{float(v):.3g} at {100 * float(r):g} %" for r, v in zip(bias.rh.values, bias.values))
+    out["zone"] = (f"a zone of {shape[0]} x {shape[1]} px ({shape[0] * um:.3g} x {shape[1] * um:.3g} um), "
+                   f"smaller than the beam's {whole[0]} x {whole[1]} px")
+    out["zone_size_bias"] = f"median Γ of the zone over the beam zone's (Table 4, Eq. 16): {cost} RH"
+    LOG.warning(
+        f"warning: [surface] shape = [{shape[0]}, {shape[1]}] is {out['zone']} ({out['zone_area'] * 1e12:.3g} "
+        f"against {whole[0] * whole[1] * s['spacing'] ** 2 * 1e12:.3g} um2): a smaller zone rests on lower summits "
+        f"and carries a larger Γ. On Table-4 surfaces (Eq. 16) its median Γ is the whole zone's times {cost} RH "
+        "(docs/zone_size.md), so this P(stuck) is that of the smaller zone: it overstates the beam's and its "
+        "crossing humidities come too early. Remove [surface] shape to answer on the beam's zone.")
+    return out
+
+
 _SUBSET_VARS = ("stiction_probability", "stiction_probability_lower", "stiction_probability_upper",
                 "coefficient_of_variation", "n_evaluations", "converged", "few_lineages")
 
@@ -255,7 +292,10 @@ def _subset_risk(c, beam, lengths, out, *, overwrite):
     # one line per level, with the time left over every layer, length and humidity
     points = len(ens["adsorbed_layer"]) * len(lengths) * len(rh)
     used = {}  # the zone model run ("auto" resolved by failure_probability) and why
-    with staged_progress(points, what=r["method"].replace("_", " "), budget=r["max_evaluations"]) as prog:
+    with staged_progress(points, what=r["method"].replace("_", " "), budget=r["max_evaluations"]) as prog, \
+            warnings.catch_warnings():
+        # said once, before the work, with its measured cost (zone_of_the_answer)
+        warnings.filterwarnings("ignore", message="zones of .* are smaller than the beam's interaction zone")
         for layer in ens["adsorbed_layer"]:
             per_length = []
             for length in lengths:
@@ -370,14 +410,15 @@ def _run(args):
     r = c["risk"]
     levels = r["levels"]
 
+    zone = zone_of_the_answer(c, beam)  # said before the work
     if r["method"] != "count":
-        return _run_subset(c, beam, lengths, out, overwrite=overwrite or unfinished)
+        return _run_subset(c, beam, lengths, out, overwrite=overwrite or unfinished, zone=zone)
     g = _gamma_samples(c, beam, out, overwrite=overwrite or unfinished)
     g = set_attrs(g, "surface_adhesive_energy")
     risk = rs.stiction.risk_summary(g, beam_length=lengths, beam=beam, probabilities=levels,
                                     confidence=r["confidence"], interval=r["interval"], quantiles=r["quantiles"])
     risk["adhesive_energy"] = g
-    risk.attrs.update(material_attrs(config_material(c["material"])), contact_model=c["risk"]["model"])
+    risk.attrs.update(material_attrs(config_material(c["material"])), contact_model=c["risk"]["model"], **zone)
     for name in ("adsorbed_layer", "realization"):
         if name in risk.coords:
             risk[name].attrs = coord_attrs(name, risk[name]) if name in ATTRS else risk[name].attrs
@@ -397,7 +438,8 @@ def _run(args):
         files.append(save_figure(fig, out / "crack_length.png", **save))
 
     n = risk.sizes.get("realization", g.sizes.get("realization"))
-    LOG.info(f"from n = {n} surfaces per layer; [..] = {r['confidence']:.0%} interval")
+    LOG.info(f"from n = {n} surfaces per layer; [..] = {r['confidence']:.0%} interval"
+             + (f"; P(stuck) of {zone['zone']}" if zone else ""))
     _crossing_table(risk, levels)
     for f in files:
         LOG.info(f"wrote {f}")
@@ -405,13 +447,15 @@ def _run(args):
     return 0
 
 
-def _run_subset(c, beam, lengths, out, *, overwrite):
+def _run_subset(c, beam, lengths, out, *, overwrite, zone):
     r = c["risk"]
     risk = _subset_risk(c, beam, lengths, out, overwrite=overwrite)
+    risk.attrs.update(zone)
     risk.attrs["configuration"] = c["path"].read_text()
     append_history(risk, f"roughstick risk {c['path'].name} (method={r['method']})")
     f = rs.io.netcdf.write(risk, out / "risk.nc", compute=True, overwrite=True)
-    LOG.info(f"{r['method']}: P(stuck) [..] = {r['confidence']:.0%} interval, cv, model evaluations")
+    LOG.info(f"{r['method']}: P(stuck) of {zone['zone']}; [..] = {r['confidence']:.0%} interval, cv, "
+             "model evaluations")
     for layer in risk.adsorbed_layer.values:
         for bl in risk.beam_length.values:
             for rh in risk.rh.values:

@@ -35,11 +35,25 @@ from ..surface import generate_surfaces
 from .cantilever import PAPER_CANTILEVER, Cantilever
 from .interaction_zone import interaction_zone_shape
 
-__all__ = ["compose_zone_law", "strip_adhesive_energy", "subzone_shape"]
+__all__ = ["compose_zone_law", "strip_adhesive_energy", "subzone_shape", "zone_size_bias"]
 
 #: A sub-zone shorter than this many correlation lengths (in its shorter side) is refused: the
 #: composition assumes sub-zones that do not share summits and whose mean planes agree.
 MIN_CORRELATION_LENGTHS = 4
+
+#: The zone-size law measured (docs/evidence/zone_size.md, part 1): median Γ [J m-2] of 40 zones
+#: per size, Table-4 PSD, 5 nm pixels, Eq. 16 with the paper's adsorbed layer (0.9 nm per surface
+#: above 65 % RH), at RH 0.3 / 0.5 / 0.7 / 0.9, against the zone's area [m2] (128², 256²,
+#: 524 × 500, 524 × 1500 and 524 × 6000 pixels).
+ZONE_SIZE_MEDIANS = {
+    "relative_humidity": (0.3, 0.5, 0.7, 0.9),
+    "area": (0.4096e-12, 1.6384e-12, 6.55e-12, 19.65e-12, 78.6e-12),
+    "adhesive_energy": ((562e-6, 992e-6, 16930e-6, 62310e-6),
+                        (160e-6, 299e-6, 5137e-6, 44960e-6),
+                        (37.8e-6, 65.6e-6, 3242e-6, 42400e-6),
+                        (10.6e-6, 20.0e-6, 4158e-6, 45720e-6),
+                        (3.30e-6, 7.37e-6, 3137e-6, 43960e-6)),
+}
 
 
 @check_numbers(subzones="count")
@@ -235,3 +249,61 @@ def strip_adhesive_energy(psd, *, relative_humidity, n: int, beam: Cantilever = 
     append_history(out, f"strip_adhesive_energy(n={int(n)}, shape={list(shape)}, subzones={m}, "
                         f"spacing={spacing!r}, model={model!r})")
     return out
+
+
+@check_numbers(spacing="length")
+def zone_size_bias(shape, *, spacing: float = 5e-9, beam: Cantilever = PAPER_CANTILEVER) -> xr.DataArray:
+    r"""How much larger the median Γ of a zone of ``shape`` pixels is than that of the beam's zone.
+
+    Read off the zone-size law measured on Table-4 surfaces with Eq. 16
+    (:data:`ZONE_SIZE_MEDIANS`, docs/zone_size.md): the median Γ at each humidity, interpolated
+    linearly in log Γ against log area between the measured sizes (0.41 to 79 µm²), of a zone of
+    ``shape`` over that of the beam's interaction zone :math:`\Delta s \times w`
+    (:func:`~roughstick.stiction.interaction_zone_shape`). It is what a smaller zone costs: its
+    P(stuck) is that of a Γ this many times too large. Γ of such surfaces falls with the zone's
+    area because a larger zone rests on taller summits (roughly as 1/area at 30-50 % RH); other
+    PSDs fall at other rates (S1: steeper), and so does Γ without the adsorbed layer at 70 % RH
+    (larger bias there), so read it as the order of the error, not a correction. The ratio
+    depends on the area only; narrow zones of the same area measured close to it at 30-50 %
+    RH (docs/evidence/zone_size.md).
+
+    Parameters
+    ----------
+    shape : (int, int)
+        Pixels of the zone (along, across the beam).
+    spacing : float or str
+        Pixel size [m].
+    beam : Cantilever
+        Sets the beam's zone :math:`\Delta s \times w`.
+
+    Returns
+    -------
+    xarray.DataArray
+        Median Γ of the zone over that of the beam's zone, over ``rh`` (0.3, 0.5, 0.7, 0.9); NaN
+        where either area lies outside the measured sizes.
+
+    Examples
+    --------
+    >>> b = rs.stiction.zone_size_bias((128, 128))  # a 0.64 µm square against 2.62 x 30 µm
+    >>> b.values.round(1)
+    array([170.3, 134.6,   5.4,   1.4])
+    >>> float(rs.stiction.zone_size_bias(rs.stiction.interaction_zone_shape()).sel(rh=0.5))
+    1.0
+    """
+    spacing = float(as_length(spacing, name="spacing"))
+    ny, nx = (int(v) for v in np.broadcast_to(shape, 2))
+    zy, zx = interaction_zone_shape(beam, spacing=spacing)
+    table = ZONE_SIZE_MEDIANS
+    log_area = np.log(table["area"])
+    log_gamma = np.log(np.asarray(table["adhesive_energy"]))
+
+    def median(area):
+        a = math.log(area)
+        if not log_area[0] - 1e-6 <= a <= log_area[-1] + 1e-6:  # outside the measured sizes
+            return np.full(log_gamma.shape[1], np.nan)
+        return np.exp([np.interp(a, log_area, col) for col in log_gamma.T])
+
+    ratio = median(ny * nx * spacing**2) / median(zy * zx * spacing**2)
+    return xr.DataArray(ratio, dims="rh", coords={"rh": list(table["relative_humidity"])}, name="zone_size_bias",
+                        attrs={"units": "1", "long_name": "median Γ of the zone over that of the beam's zone",
+                               "source": "zone-size law, Table-4 PSD, Eq. 16 (docs/zone_size.md)"})

@@ -19,6 +19,8 @@ def test_cli_beam(tmp_path, capsys):
         assert main(["beam", str(cfg), "--out", str(out)]) == 0
         text = capsys.readouterr().out
         assert "computed" in text
+        # what one law is, said with the bank: here the 16 x 16 patch asked for (0.32 µm at 20 nm)
+        assert "each law a patch of 0.32 x 0.32 um at 20 nm, contact model modified_dmt" in text
         # 3 laws re-checked cannot bound their median at 95 %: said, not left out
         assert "bank tail: the 3 largest" in text and "(too few laws checked to bound it)" in text
         assert main(["beam", str(cfg), "--out", str(out)]) == 0

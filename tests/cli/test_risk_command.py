@@ -231,3 +231,34 @@ def test_cli_risk_subset_shows_each_level_with_the_time_left(tmp_path, capsys):
         warnings.simplefilter("ignore", rs.ValidityWarning)
         assert main(["risk", str(cfg), "-q", "--overwrite"]) == 0
     assert "level 0 done" not in capsys.readouterr().out
+
+
+def test_risk_answers_on_the_beams_zone_and_warns_with_the_cost_of_a_smaller_one(tmp_path, capsys):
+    """With no [surface] shape, `roughstick risk` answers on the beam's whole interaction zone Δs × w
+    (524 x 6000 px for the paper's beam at 5 nm), not on a square; a smaller shape is said before the
+    work with its measured cost (the zone-size law: a 0.64 µm square carries 170 x the zone's median Γ
+    at 30 % RH), and risk.nc records the zone its P(stuck) belongs to."""
+    from roughstick.cli import main
+    from roughstick.cli._config import ConfigError
+    from roughstick.cli.risk import _beam, load_risk_config, zone_of_the_answer
+
+    cfg = tmp_path / "r.toml"
+    cfg.write_text('[beam]\nlengths = ["300 um"]\n')
+    c = load_risk_config(cfg)
+    zone = zone_of_the_answer(c, _beam(c)[0])
+    assert zone["zone_shape"] == list(rs.stiction.interaction_zone_shape()) == [524, 6000]
+    assert "zone_size_bias" not in zone
+    cfg.write_text('[risk]\nmethod = "subset"\n')  # no shape: the whole zone is out of its reach
+    with pytest.raises(ConfigError, match="use method = 'count' .*, which answers on the whole zone"):
+        load_risk_config(cfg)
+    cfg.write_text('[output]\nfolder = "out"\nfigures = false\n[beam]\nlengths = ["300 um", "1500 um"]\n'
+                   '[surface]\nshape = [128, 128]\n[ensemble]\nn = 2\nrelative_humidity = [0.5]\n'
+                   'adsorbed_layer = ["none"]\nstream = false\n[risk]\nmodel = "modified_dmt"\n')
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["risk", str(cfg)]) == 0
+    captured = capsys.readouterr()
+    assert "170 at 30 %" in captured.err and "Remove [surface] shape" in captured.err, captured.err
+    got = rs.io.open_dataset(tmp_path / "out" / "risk.nc")
+    assert list(got.attrs["zone_shape"]) == [128, 128] and "135 at 50 %" in got.attrs["zone_size_bias"]
+    assert "P(stuck) of a zone of 128 x 128 px" in captured.out
