@@ -355,6 +355,12 @@ def _gamma_samples(c, beam, out, *, overwrite):
         ds = rs.ensemble.open_ensemble(path) if path.is_dir() else rs.io.open_dataset(path)
         if "adhesive_energy" not in ds:
             raise ValueError(f"{path}: no 'adhesive_energy' variable (has {sorted(ds.data_vars)}).")
+        if "adhesive_energy_accurate" in ds:
+            raise ValueError(
+                f"{path}: a multi-fidelity ensemble, whose adhesive_energy is the cheap model's on "
+                "every surface: counting it would give the cheap model's P(stuck). Rerun it with one "
+                "model on every surface (roughstick run with [ensemble] model = \"fft_bem\"), or "
+                "remove [ensemble] adhesive_energy so that risk simulates the zones itself.")
         g = ds["adhesive_energy"]
         if "adsorbed_layer" not in g.dims:
             g = g.expand_dims(adsorbed_layer=[str(ds.attrs.get("adsorbed_layer_model", "given"))])

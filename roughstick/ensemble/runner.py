@@ -199,7 +199,7 @@ def run(
     summary: Callable | None = None,
     generate_kwargs: dict | None = None,
     curves_kwargs: dict | None = None,
-    accurate_model: str | None = None,
+    accurate_model: str | bool | None = None,
     n_accurate="auto",
     maps=None,
     height_distribution="auto",
@@ -236,7 +236,7 @@ def run(
         error bound at the surface groups expected from the PSD
         (:func:`roughstick.contact.expected_surface_groups`) meets ``accuracy`` at every
         humidity; where it is costlier than the modified DMT and ``n >= MULTIFIDELITY_FROM``
-        (200; not with ``n="auto"`` nor with ``accurate_model``), the modified DMT runs on every
+        (200; not with ``n="auto"`` nor with ``accurate_model``, a name or ``False``), the modified DMT runs on every
         realization and the chosen model on a subset sized by a pilot (``n_accurate="auto"``; on
         all where the pilot asks for more than 60 % of them): a multi-fidelity ensemble, whose
         accurate band :func:`confidence_band` gives. The model run is
@@ -284,8 +284,10 @@ def run(
     generate_kwargs, curves_kwargs : dict, optional
         Extra keyword arguments for ``generate`` and for the contact model (e.g. ``quantity``,
         whose measured error ``accuracy`` bounds).
-    accurate_model : str, optional
-        Multi-fidelity: every realization runs ``model`` (the cheap one), and a subset drawn from
+    accurate_model : str or False, optional
+        ``False``: one model on every realization, never a multi-fidelity plan (what a
+        per-realization count needs, e.g. P(stuck) from the sample).
+        A model name: multi-fidelity: every realization runs ``model`` (the cheap one), and a subset drawn from
         the seed alone (:func:`roughstick.ensemble.multifidelity.accurate_subset`) also runs this
         registered contact model (e.g. ``"fft_bem"``), adding ``adhesive_energy_accurate``,
         ``pull_off_pressure_accurate`` and ``equilibrium_distance_accurate`` (NaN off the
@@ -368,6 +370,10 @@ def run(
     material = POLYSILICON if material is None else as_material(material)
     model, accuracy, curves_kwargs = _contact_options(model, accuracy, curves_kwargs)
     # the default (no model, no accurate model): the accuracy target, by the cheapest plan
+    if accurate_model is False:  # one model on every realization, as asked
+        accurate_model, one_model = None, True
+    else:
+        one_model = False
     defaulted = model in (None, "auto") and accurate_model is None and curves is None
     maps = as_maps(maps) if maps is not None else None
     heights, maps_gaussian, why = resolve_height_distribution(height_distribution, maps)
@@ -377,7 +383,8 @@ def run(
         chosen, selection = _check_once(psd, shp, spacing, rh, material, adsorbed_layer, model,
                                         accuracy, curves_kwargs.get("quantity", "adhesive_energy"),
                                         warn=generate is None)
-    if defaulted and not auto and n_total >= MULTIFIDELITY_FROM and _costlier(chosen, CHEAP_MODEL):
+    if (defaulted and not one_model and not auto and n_total >= MULTIFIDELITY_FROM
+            and _costlier(chosen, CHEAP_MODEL)):
         accurate_model, chosen = chosen, CHEAP_MODEL
         selection += (f"; multi-fidelity: {CHEAP_MODEL} on every realization, {accurate_model} on "
                       "a subset sized by a pilot (n >= "
@@ -460,6 +467,13 @@ def run(
         ds = lazy_ensemble(spec, 0, n_total)
         ds.attrs = attrs
         line = f"ensemble.run(n={n_total}, shape={shp}, rh={rh.tolist()}); {ds.attrs.get('summary_grid', '')}"
+    if spec.accurate:  # the cheap model's values: said on each, so none is read as the accurate one
+        for v in ("adhesive_energy", "pull_off_pressure", "equilibrium_distance"):
+            if v in ds:
+                ds[v].attrs["multifidelity"] = (
+                    f"the cheap model's ({chosen or spec.curves_kwargs.get('model')}) on every "
+                    f"realization; {spec.accurate[0]}'s: {v}_accurate on a subset; the accurate "
+                    "band: roughstick.ensemble.confidence_band")
     ds = append_history(ds, line)
     if maps is None:
         return ds

@@ -298,6 +298,9 @@ def predict_adhesive_energy(
         Passed to :func:`roughstick.ensemble.run` (``output`` streams and resumes;
         ``height_distribution=`` a distribution Dataset for non-Gaussian surfaces). The default
         ``distance`` grid is :func:`cantilever_distance_grid` (with that distribution).
+        One contact model runs on every surface (``model``, default ``"auto"``: never a
+        multi-fidelity plan, whose ``adhesive_energy`` would be the cheap model's), because the
+        sample is counted surface by surface.
 
     Returns
     -------
@@ -325,6 +328,13 @@ def predict_adhesive_energy(
         grid_psd = psd
     else:
         raise TypeError(f"psd must be None, an Eq. 37 Dataset or a PSD DataArray, got {type(psd).__name__}.")
+    if ensemble_kwargs.get("accurate_model") not in (None, False):
+        raise ValueError(
+            "predict_adhesive_energy returns a sample of Γ counted surface by surface, so one model "
+            f"runs on every surface: drop accurate_model={ensemble_kwargs['accurate_model']!r} "
+            "(model= picks the model), or build a multi-fidelity band with "
+            "rs.ensemble.run(..., accurate_model=...) and rs.ensemble.confidence_band.")
+    ensemble_kwargs["accurate_model"] = False
     rh = list(relative_humidity)
     if ensemble_kwargs.get("distance") is None:
         heights = ensemble_kwargs.get("height_distribution")  # non-Gaussian: taller summits

@@ -44,7 +44,19 @@ __all__ = [
 ]
 
 
+#: What a count over a multi-fidelity ensemble would count, and what to do instead.
+_CHEAP_SAMPLE = (
+    "this is a multi-fidelity ensemble: its adhesive_energy is the cheap model's on every surface "
+    "(the accurate model's is adhesive_energy_accurate, on a subset), so counting it would give the "
+    "cheap model's P(stuck). Run the sample with one model on every surface "
+    "(rs.stiction.predict_adhesive_energy, or rs.ensemble.run(..., accurate_model=False)), or read the "
+    "accurate model's Γ band with rs.ensemble.confidence_band.")
+
+
 def _gamma_sample(adhesive_energy, dim):
+    if (isinstance(adhesive_energy, xr.Dataset) and "adhesive_energy_accurate" in adhesive_energy) or (
+            isinstance(adhesive_energy, xr.DataArray) and "multifidelity" in adhesive_energy.attrs):
+        raise ValueError(f"adhesive_energy: {_CHEAP_SAMPLE}")
     g = _nonnegative(adhesive_energy, "energy_per_area", "adhesive_energy")
     if not isinstance(g, xr.DataArray):
         raise TypeError(
