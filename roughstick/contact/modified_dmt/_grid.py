@@ -27,7 +27,7 @@ def allowed(gamma, width, levels):
     return GAMMA_TOLERANCE * gamma * np.maximum(width / span, 1 / 64)
 
 
-def refine_gamma(z, d, out, mem, hw, dp, kw):
+def refine_gamma(more, d, out, mem, hw, dp):
     """Refine each humidity's own grid until the trapezoid of Eq. 13 (Γ) is resolved.
 
     The controller's midpoint test bounds the pressure's deviation from a chord, which a
@@ -36,7 +36,8 @@ def refine_gamma(z, d, out, mem, hw, dp, kw):
     interval above the equilibrium whose ends differ enough to matter gets its midpoint; an
     interval whose two-half trapezoid differs from its one-interval trapezoid by more than
     :func:`allowed` has its halves tested in the next round. New levels are evaluated once for
-    every humidity (a level's values do not depend on the others).
+    every humidity (a level's values do not depend on the others), by ``more`` (a
+    :class:`._controller.MoreLevels` of the map).
     """
     out = [np.asarray(a) for a in out]
     todo = [None] * hw.size  # per humidity: intervals to test (None: every attractive one)
@@ -63,10 +64,10 @@ def refine_gamma(z, d, out, mem, hw, dp, kw):
         new = np.setdiff1d(np.concatenate(asks), d)
         if new.size == 0:
             break
-        more = _k.curves_kernel(z, new, hw, dp, **kw)
+        added = more(new)
         srt = np.argsort(np.concatenate([d, new]), kind="stable")
         d = np.concatenate([d, new])[srt]
-        out = [np.concatenate([a, b], axis=1)[:, srt] for a, b in zip(out, more, strict=True)]
+        out = [np.concatenate([a, b], axis=1)[:, srt] for a, b in zip(out, added, strict=True)]
         mem = np.concatenate([mem, np.zeros((hw.size, new.size), bool)], axis=1)[:, srt]
         for j, m in enumerate(asks):
             mem[j, np.searchsorted(d, m)] = True
@@ -90,11 +91,14 @@ def auto_curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, n):
     (the controller bisects sign changes down to adjacent floats, whose midpoint is an end).
     """
     kw = dict(dx=dx, dy=dy, K=K, periodic=periodic, connectivity=connectivity)
-    d, out, *mem = _k.curves(z, hw, dp, per_rh="union", **kw)
+    d, out, *rest = _k.curves(z, hw, dp, per_rh="union", **kw)
     d, keep = np.unique(np.asarray(d, dtype=float), return_index=True)
     out = [np.asarray(a)[:, keep] for a in out]
-    if mem:  # not a flat map (its grid is uniform): refine each humidity's Γ on its own grid
-        d, out = refine_gamma(z, d, out, np.asarray(mem[0])[:, keep], hw, dp, kw)
+    if rest:  # not a flat map (its grid is uniform): refine each humidity's Γ on its own grid
+        mem, more = rest
+        d, out = refine_gamma(more, d, out, np.asarray(mem)[:, keep], hw, dp)
+    else:
+        more = _k.MoreLevels(z, hw, dp, kw, None, apparent=0.0, zmax=0.0)
     if n is None or d.size >= int(n):
         return d, list(out)
     # more points on request: split the widest intervals (each level is evaluated on its own, so
@@ -109,9 +113,9 @@ def auto_curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, n):
         order = np.argsort(-widths[splittable], kind="stable")
         pick = np.sort(splittable[order[: n - d.size]])
         new = mids[pick]
-        more = _k.curves_kernel(z, new, hw, dp, **kw)
+        added = more(new)
         d = np.concatenate([d, new])
         srt = np.argsort(d, kind="stable")
         d = d[srt]
-        out = [np.concatenate([a, b], axis=1)[:, srt] for a, b in zip(out, more, strict=True)]
+        out = [np.concatenate([a, b], axis=1)[:, srt] for a, b in zip(out, added, strict=True)]
     return d, list(out)
