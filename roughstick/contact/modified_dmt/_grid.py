@@ -41,6 +41,7 @@ def refine_gamma(more, d, out, mem, hw, dp):
     """
     out = [np.asarray(a) for a in out]
     todo = [None] * hw.size  # per humidity: intervals to test (None: every attractive one)
+    known = [None] * hw.size  # per humidity: (Γ, d_eq) on its own levels as they are now
     for _ in range(_MAX_ROUNDS):
         asks = []
         for j in range(hw.size):
@@ -49,7 +50,9 @@ def refine_gamma(more, d, out, mem, hw, dp):
                 continue
             own = np.flatnonzero(mem[j])
             dj, pj = d[own], out[0][j, own]
-            g, _, deq, _, _ = summary_kernel(pj, out[2][j, own], dj)
+            if known[j] is None:
+                known[j] = summary_kernel(pj, out[2][j, own], dj)[::2][:2]
+            g, deq = known[j]
             mid = 0.5 * (dj[:-1] + dj[1:])
             w, q = np.diff(dj), np.maximum(-pj, 0.0)
             # an interval whose ends differ too little to move Γ (a monotone integrand lies
@@ -70,10 +73,14 @@ def refine_gamma(more, d, out, mem, hw, dp):
         out = [np.concatenate([a, b], axis=1)[:, srt] for a, b in zip(out, added, strict=True)]
         mem = np.concatenate([mem, np.zeros((hw.size, new.size), bool)], axis=1)[:, srt]
         for j, m in enumerate(asks):
+            if m.size == 0:
+                todo[j] = m
+                continue
             mem[j, np.searchsorted(d, m)] = True
             own = np.flatnonzero(mem[j])
             dj, qj = d[own], np.maximum(-out[0][j, own], 0.0)
-            g = summary_kernel(out[0][j, own], out[2][j, own], dj)[0]
+            known[j] = summary_kernel(out[0][j, own], out[2][j, own], dj)[::2][:2]
+            g = known[j][0]
             i = np.searchsorted(dj, m)  # each asked midpoint, between own levels i-1 and i+1
             lo, hi = dj[i - 1], dj[i + 1]
             w = hi - lo
