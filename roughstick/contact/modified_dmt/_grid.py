@@ -13,21 +13,32 @@ import numpy as np
 from ..adhesion import summary_kernel
 from . import _controller as _k
 
-__all__ = ["GAMMA_TOLERANCE", "auto_curves", "refine_gamma", "allowed"]
+__all__ = ["GAMMA_TOLERANCE", "GAMMA_TOLERANCE_MAX", "auto_curves", "refine_gamma", "allowed", "gamma_tolerance"]
 
-#: Error of Γ allowed per interval, relative (:func:`allowed`; what it achieves:
-#: docs/rough_contact.md).
+#: Error of Γ allowed per interval, relative, on maps of up to 128 x 128 pixels
+#: (:func:`gamma_tolerance`, :func:`allowed`; what it achieves: docs/rough_contact.md).
 GAMMA_TOLERANCE = 1e-2
+#: ... on larger maps it grows as the side, up to this.
+GAMMA_TOLERANCE_MAX = 8e-2
 _MAX_ROUNDS = 20
 
 
-def allowed(gamma, width, levels):
-    """Error of Γ allowed to an interval: ``GAMMA_TOLERANCE`` Γ × max(its share of the range, 1/64)."""
+def gamma_tolerance(npix):
+    """The tolerance of :func:`allowed` on a map of ``npix`` valid pixels: ``GAMMA_TOLERANCE`` ×
+    sqrt(npix / 128²), between ``GAMMA_TOLERANCE`` and ``GAMMA_TOLERANCE_MAX``. A larger map has
+    more contacting pixels per level, so its curves are smoother between the controller's
+    levels and need fewer Γ midpoints for the same error (measured: docs/rough_contact.md)."""
+    f = float(np.sqrt(max(npix, 1) / 128.0**2))
+    return min(GAMMA_TOLERANCE_MAX, max(GAMMA_TOLERANCE, GAMMA_TOLERANCE * f))
+
+
+def allowed(gamma, width, levels, tolerance=GAMMA_TOLERANCE):
+    """Error of Γ allowed to an interval: ``tolerance`` Γ × max(its share of the range, 1/64)."""
     span = max(float(levels[-1] - levels[0]), 1e-300)
-    return GAMMA_TOLERANCE * gamma * np.maximum(width / span, 1 / 64)
+    return tolerance * gamma * np.maximum(width / span, 1 / 64)
 
 
-def refine_gamma(more, d, out, mem, hw, dp):
+def refine_gamma(more, d, out, mem, hw, dp, tolerance=GAMMA_TOLERANCE):
     """Refine each humidity's own grid until the trapezoid of Eq. 13 (Γ) is resolved.
 
     The controller's midpoint test bounds the pressure's deviation from a chord, which a
@@ -35,7 +46,7 @@ def refine_gamma(more, d, out, mem, hw, dp):
     its grid, and its Γ, do not depend on the other humidities requested), every attractive
     interval above the equilibrium whose ends differ enough to matter gets its midpoint; an
     interval whose two-half trapezoid differs from its one-interval trapezoid by more than
-    :func:`allowed` has its halves tested in the next round. New levels are evaluated once for
+    :func:`allowed` (with ``tolerance``) has its halves tested in the next round. New levels are evaluated once for
     every humidity (a level's values do not depend on the others), by ``more`` (a
     :class:`._controller.MoreLevels` of the map).
     """
@@ -57,7 +68,7 @@ def refine_gamma(more, d, out, mem, hw, dp):
             w, q = np.diff(dj), np.maximum(-pj, 0.0)
             # an interval whose ends differ too little to move Γ (a monotone integrand lies
             # between its ends' values) is not tested
-            room = 0.5 * w * np.abs(np.diff(q)) > allowed(g, w, dj)
+            room = 0.5 * w * np.abs(np.diff(q)) > allowed(g, w, dj, tolerance)
             cand = room & ((pj[:-1] < 0) | (pj[1:] < 0)) & (mid > dj[:-1]) & (mid < dj[1:])
             if np.isfinite(deq):
                 cand &= dj[1:] > deq
@@ -85,7 +96,7 @@ def refine_gamma(more, d, out, mem, hw, dp):
             lo, hi = dj[i - 1], dj[i + 1]
             w = hi - lo
             err = np.abs(0.25 * w * (qj[i - 1] + 2 * qj[i] + qj[i + 1]) - 0.5 * w * (qj[i - 1] + qj[i + 1]))
-            bad = err > allowed(g, w, dj)
+            bad = err > allowed(g, w, dj, tolerance)
             todo[j] = np.concatenate([lo[bad], m[bad]])
     return d, out
 
@@ -103,7 +114,8 @@ def auto_curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, n):
     out = [np.asarray(a)[:, keep] for a in out]
     if rest:  # not a flat map (its grid is uniform): refine each humidity's Γ on its own grid
         mem, more = rest
-        d, out = refine_gamma(more, d, out, np.asarray(mem)[:, keep], hw, dp)
+        d, out = refine_gamma(more, d, out, np.asarray(mem)[:, keep], hw, dp,
+                              gamma_tolerance(round(more.apparent / (dx * dy))))
     else:
         more = _k.MoreLevels(z, hw, dp, kw, None, apparent=0.0, zmax=0.0)
     if n is None or d.size >= int(n):
