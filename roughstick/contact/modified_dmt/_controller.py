@@ -635,14 +635,17 @@ def auto_pass(zflat, geo, hum, pol, fixed, ws):  # pragma: no cover - compiled
                     moved, request, ph = True, -np.inf, 1
                 if moved:
                     progressed = True
-                elif request > want:
+                elif (ph < wantph or want == -np.inf) or (ph == wantph and request > want):
+                    # the descents first (the union-find walks down once), then the pull-off
+                    # rounds; the highest request of each kind first
                     want = request
                     wantph = ph
         if alldone:
             break
         if want == -np.inf:
             continue
-        # ---- evaluate the highest request
+        # ---- evaluate the request chosen (any order gives the same levels and values here: each
+        # controller waits for its own request; descents first moves the union-find less)
         d = want
         if nlev >= maxp:
             full = True
