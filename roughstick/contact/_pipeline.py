@@ -45,7 +45,7 @@ from ._model import MODELS, ContactModel, Grid, get_model, model_names
 from .meniscus import laplace_pressure, water_height
 from .trust.budget import model_bounds
 from .trust.report import assess
-from .trust.validity import VALIDITY_BOUND, NoModelMeetsAccuracy, select_model
+from .trust.validity import VALIDITY_BOUND, NoModelMeetsAccuracy, select_model, shared_groups
 
 __all__ = ["curves", "apply", "default_grid", "Context"]
 
@@ -310,15 +310,16 @@ def apply(model, height, *, relative_humidity, distance=None, material=POLYSILIC
     append_history(ds, history)
     if entry.finish is not None:
         entry.finish(ds, ctx)
-    report = assess(entry, ctx.height if ctx.height is not None else height,
+    with shared_groups():  # the checks below compute the map's groups once
+        report = assess(entry, ctx.height if ctx.height is not None else height,
+                        relative_humidity=relative_humidity, material=material, material2=material2,
+                        adsorbed_layer=adsorbed_layer, accuracy=accuracy, quantity=quantity,
+                        check=check_validity, selection=selection)
+        ds.attrs.update(report.to_attrs())
+        if check_validity and isinstance(height, xr.DataArray):
+            _budget(ds, entry, ctx.height if ctx.height is not None else height,
                     relative_humidity=relative_humidity, material=material, material2=material2,
-                    adsorbed_layer=adsorbed_layer, accuracy=accuracy, quantity=quantity,
-                    check=check_validity, selection=selection)
-    ds.attrs.update(report.to_attrs())
-    if check_validity and isinstance(height, xr.DataArray):
-        _budget(ds, entry, ctx.height if ctx.height is not None else height,
-                relative_humidity=relative_humidity, material=material, material2=material2,
-                adsorbed_layer=adsorbed_layer)
+                    adsorbed_layer=adsorbed_layer)
     return ds
 
 

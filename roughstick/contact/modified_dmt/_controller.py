@@ -69,8 +69,8 @@ from ._unionfind import (
     seek,
 )
 
-__all__ = ["OUTPUTS", "LEVEL_SUMS", "auto_pass", "curves", "curves_kernel", "hertz_levels",
-           "prepare_heights", "workspace"]
+__all__ = ["OUTPUTS", "LEVEL_SUMS", "MoreLevels", "auto_pass", "curves", "curves_kernel", "hertz_levels",
+           "more_levels", "prepare_heights", "workspace"]
 
 OUTPUTS = CURVE_VARIABLES
 _NJ = dict(cache=True, nogil=True, error_model="numpy")
@@ -597,15 +597,10 @@ def auto_pass(zflat, geo, hum, pol, fixed, ws):  # pragma: no cover - compiled
     nbuf = np.empty(8, NEIGHBOUR)
     # levels
     maxp = pol.max_points if fixed.size == 0 else fixed.size
-    levels = Levels(np.empty(maxp), np.empty(maxp, LEVEL_SUMS), np.empty((maxp, R), np.int64),
-                    np.zeros((maxp, C), np.bool_), np.empty(maxp, np.int64),
-                    np.zeros((maxp, R), np.int64), np.zeros((maxp, R), np.bool_),
-                    np.zeros(maxp, np.int64))
+    levels = _new_levels(maxp, R, C)
     if fixed.size > 0:
-        desc = np.argsort(-fixed)
-        for t in range(fixed.size):
-            uf, pool = _level(fixed[desc[t]], desc[t], levels, tail, uf, pool, geo, fit, nbuf, hw)
-        return levels, fixed.size, np.full((C, R), np.nan), _workspace(ws, uf, pool)
+        uf, pool = _fixed(fixed, levels, tail, uf, pool, geo, fit, nbuf, hw)
+        return levels, fixed.size, np.full((C, R), np.nan), _workspace(ws, uf, pool), zmin, scale
 
     dtop = np.empty(R)
     for j in range(R):
@@ -640,14 +635,17 @@ def auto_pass(zflat, geo, hum, pol, fixed, ws):  # pragma: no cover - compiled
                     moved, request, ph = True, -np.inf, 1
                 if moved:
                     progressed = True
-                elif request > want:
+                elif (ph < wantph or want == -np.inf) or (ph == wantph and request > want):
+                    # the descents first (the union-find walks down once), then the pull-off
+                    # rounds; the highest request of each kind first
                     want = request
                     wantph = ph
         if alldone:
             break
         if want == -np.inf:
             continue
-        # ---- evaluate the highest request
+        # ---- evaluate the request chosen (any order gives the same levels and values here: each
+        # controller waits for its own request; descents first moves the union-find less)
         d = want
         if nlev >= maxp:
             full = True
@@ -672,7 +670,44 @@ def auto_pass(zflat, geo, hum, pol, fixed, ws):  # pragma: no cover - compiled
             q -= 1
         order[q] = li
         nlev += 1
-    return levels, nlev, ctl.crossed, _workspace(ws, uf, pool)
+    return levels, nlev, ctl.crossed, _workspace(ws, uf, pool), zmin, scale
+
+
+@nb.njit(**_NJ)
+def _new_levels(maxp, R, C):  # pragma: no cover - compiled
+    return Levels(np.empty(maxp), np.empty(maxp, LEVEL_SUMS), np.empty((maxp, R), np.int64),
+                  np.zeros((maxp, C), np.bool_), np.empty(maxp, np.int64),
+                  np.zeros((maxp, R), np.int64), np.zeros((maxp, R), np.bool_),
+                  np.zeros(maxp, np.int64))
+
+
+@nb.njit(**_NJ)
+def _fixed(fixed, levels, tail, uf, pool, geo, fit, nbuf, hw):  # pragma: no cover - compiled
+    """Evaluate the ``fixed`` levels into their slots: from the union-find's level towards the
+    farther end (each level's values depend on that level only, not on the path)."""
+    n = fixed.size
+    srt = np.argsort(fixed)  # upwards
+    if not (n > 0 and uf.state[0].k > n_above(tail, fixed[srt[n // 2]])):
+        srt = srt[::-1]  # downwards, unless the union-find is below most of them
+    for t in range(n):
+        uf, pool = _level(fixed[srt[t]], srt[t], levels, tail, uf, pool, geo, fit, nbuf, hw)
+    return uf, pool
+
+
+@nb.njit(**_NJ)
+def more_levels(geo, hw, fixed, ws, zmin, scale):  # pragma: no cover - compiled
+    """Evaluate the ``fixed`` levels (any order) of the map whose :func:`auto_pass` left its
+    state in ``ws`` (``zmin``, ``scale``: what that pass returned), without sorting the map
+    again: the union-find moves from where the pass left it. Returns ``(levels, ws)``."""
+    tail = Tail(ws.start, ws.idx, ws.zb, zmin, scale, ws.order, ws.ztail, ws.pos, ws.tail_state)
+    uf = UnionFind(ws.pixels, ws.components, ws.live, ws.log, ws.logstart, ws.pooltop,
+                   ws.union_find_state)
+    pool = Pool(ws.pool_index, ws.pool_x, ws.pool_y, ws.pool_z)
+    fit = FitScratch(ws.xs, ws.ys, ws.hs, ws.wt, np.zeros((4, GRID_KEEP)))
+    nbuf = np.empty(8, NEIGHBOUR)
+    levels = _new_levels(fixed.size, hw.size, 1)
+    uf, pool = _fixed(fixed, levels, tail, uf, pool, geo, fit, nbuf, hw)
+    return levels, _workspace(ws, uf, pool)
 
 
 @nb.njit(**_NJ)
@@ -715,14 +750,55 @@ def workspace(n):
 def _pass(zflat, ny, nx, dx, dy, K, periodic, connectivity, hw, dp, mask, policy, fixed):
     ws = workspace(zflat.size)
     geo = Geometry(int(ny), int(nx), float(dx), float(dy), float(K), bool(periodic), int(connectivity))
-    levels, n, crossed, _WS.arrays = auto_pass(zflat, geo, Humidities(hw, dp, mask), policy, fixed, ws)
-    return levels, n, crossed
+    levels, n, crossed, _WS.arrays, zmin, scale = auto_pass(zflat, geo, Humidities(hw, dp, mask), policy,
+                                                            fixed, ws)
+    _WS.owner = object()  # who left the state in this thread's workspace
+    return levels, n, crossed, (geo, _WS.owner, zmin, scale)
+
+
+def _outputs(d, sums, wet_pixels, dp, *, pix, apparent, zmax):
+    """The curves (CURVE_VARIABLES order, over (rh, distance)) from the levels' Hertz sums and
+    wet pixel counts (Eq. 16)."""
+    wet = wet_pixels.T * pix
+    f, ha, fa, e2, nc = (sums[k] for k in ("force", "hertz_area", "foot_area", "err2_area", "n_comp"))
+    net = (wet - ha[None, :]) / apparent
+    rep = f / apparent
+    pres = rep[None, :] + dp[:, None] * net
+    with np.errstate(invalid="ignore", divide="ignore"):
+        fe = np.where(nc > 0, np.sqrt(e2 / np.where(fa > 0, fa, 1.0)), np.nan)
+    shape = (dp.size, d.size)
+    return (pres, np.broadcast_to(rep, shape).copy(), net, np.broadcast_to(ha / apparent, shape).copy(),
+            np.broadcast_to(nc, shape).copy(), np.broadcast_to(fe, shape).copy(),
+            np.broadcast_to(zmax - d, shape).copy())
+
+
+class MoreLevels:
+    """More levels of the map of one :func:`curves` call, in any order: ``more(distance)`` gives
+    the curves (CURVE_VARIABLES order, over (rh, distance), distance in the given order), the
+    same numbers as :func:`curves_kernel` (each level's values depend on that level only). While
+    the thread's workspace still holds that call's state, the union-find goes on from where it
+    stopped, without sorting the map again; otherwise the map is evaluated afresh."""
+
+    def __init__(self, z, hw, dp, kw, state, *, apparent, zmax):
+        self.z, self.hw, self.dp, self.kw, self.state = z, hw, dp, kw, state
+        self.apparent, self.zmax = apparent, zmax
+
+    def __call__(self, distance):
+        d = np.asarray(distance, float)
+        if self.state is None or getattr(_WS, "owner", None) is not self.state[1]:
+            return curves_kernel(self.z, d, self.hw, self.dp, **self.kw)
+        geo, _, zmin, scale = self.state
+        levels, _WS.arrays = more_levels(geo, self.hw, d, _WS.arrays, zmin, scale)
+        return _outputs(d, levels.sums, levels.wet, self.dp, pix=geo.dx * geo.dy,
+                        apparent=self.apparent, zmax=self.zmax)
 
 
 def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_rh=False, params=None):
     """Curves (CURVE_VARIABLES order, over (rh, distance) ascending) on an automatic or given grid.
     ``per_rh``: one controller per humidity (its levels do not depend on the other humidities):
-    a list of per-humidity tuples; ``"union"``: all humidities on the union, and the membership.
+    a list of per-humidity tuples; ``"union"``: all humidities on the union, the membership and
+    a :class:`MoreLevels` to evaluate more levels of the same map (None for a flat map, whose
+    grid is uniform: then only ``(d, outputs)``).
     ``params``: a :class:`._policy.GridPolicy` (default: :func:`._policy.policy_for` the map)."""
     zc, nvalid = prepare_heights(z)
     ny, nx = zc.shape
@@ -737,7 +813,8 @@ def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_r
         per_rh = False
     fixed = np.empty(0) if distance is None else np.asarray(distance, float)
     mask = np.eye(R, dtype=bool) if per_rh else np.ones((1, R), bool)
-    levels, n, _ = _pass(zflat, ny, nx, dx, dy, K, periodic, connectivity, hw, dp, mask, policy, fixed)
+    levels, n, _, state = _pass(zflat, ny, nx, dx, dy, K, periodic, connectivity, hw, dp, mask, policy,
+                                fixed)
     Dv, sums, WET, MEM = levels.distance[:n], levels.sums[:n], levels.wet[:n], levels.member[:n]
     zmax = float(np.nanmax(zflat))
     apparent = nvalid * dx * dy
@@ -745,18 +822,8 @@ def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_r
     def build(sel, rows):
         o = np.argsort(Dv[sel], kind="stable")
         d = Dv[sel][o]
-        hz = sums[sel][o]
-        wet = WET[sel][o][:, rows].T * (dx * dy)
-        f, ha, fa, e2, nc = hz["force"], hz["hertz_area"], hz["foot_area"], hz["err2_area"], hz["n_comp"]
-        net = (wet - ha[None, :]) / apparent
-        rep = f / apparent
-        pres = rep[None, :] + dp[rows][:, None] * net
-        with np.errstate(invalid="ignore", divide="ignore"):
-            fe = np.where(nc > 0, np.sqrt(e2 / np.where(fa > 0, fa, 1.0)), np.nan)
-        shape = (len(rows), d.size)
-        return d, (pres, np.broadcast_to(rep, shape).copy(), net, np.broadcast_to(ha / apparent, shape).copy(),
-                   np.broadcast_to(nc, shape).copy(), np.broadcast_to(fe, shape).copy(),
-                   np.broadcast_to(zmax - d, shape).copy())
+        return d, _outputs(d, sums[sel][o], WET[sel][o][:, rows], dp[rows], pix=dx * dy,
+                           apparent=apparent, zmax=zmax)
 
     if distance is not None:
         return build(np.ones(n, bool), np.arange(R))
@@ -764,7 +831,9 @@ def curves(z, hw, dp, *, dx, dy, K, periodic, connectivity, distance=None, per_r
         return build(MEM[:, 0], np.arange(R))
     if per_rh == "union":
         u = MEM.any(axis=1)
-        return (*build(u, np.arange(R)), MEM[u][np.argsort(Dv[u], kind="stable")].T)
+        more = MoreLevels(z, hw, dp, dict(dx=dx, dy=dy, K=K, periodic=periodic, connectivity=connectivity),
+                          state, apparent=apparent, zmax=zmax)
+        return (*build(u, np.arange(R)), MEM[u][np.argsort(Dv[u], kind="stable")].T, more)
     return [build(MEM[:, j], np.array([j])) for j in range(R)]
 
 
@@ -774,8 +843,8 @@ def hertz_levels(z, distance, *, dx, dy, K, periodic, connectivity):
     zc, _ = prepare_heights(z)
     ny, nx = zc.shape
     fixed = np.asarray(distance, float)
-    levels, n, _ = _pass(zc.ravel(), ny, nx, dx, dy, K, periodic, connectivity, np.zeros(1),
-                         np.zeros(1), np.ones((1, 1), bool), DEFAULT_POLICY, fixed)
+    levels, n, _, _ = _pass(zc.ravel(), ny, nx, dx, dy, K, periodic, connectivity, np.zeros(1),
+                            np.zeros(1), np.ones((1, 1), bool), DEFAULT_POLICY, fixed)
     sums = levels.sums[:n]
     return np.column_stack([sums[f] for f in LEVEL_SUMS.names])
 

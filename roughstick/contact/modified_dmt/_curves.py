@@ -314,7 +314,8 @@ def contact_distance_grid(
     level is evaluated once (one union-find over the top tail of the heights, moving both ways),
     and a level's values do not depend on the other levels. Each humidity has its own controller
     (its levels do not depend on the other humidities requested), and its own levels are then
-    refined until the trapezoid of Γ is resolved (``GAMMA_TOLERANCE``); the grid is the union.
+    refined until the trapezoid of Γ is resolved (``gamma_tolerance``, looser on larger maps, whose
+    curves are smoother); the grid is the union.
     So Γ of one humidity is nearly the same whichever other humidities are requested, and close
     to a dense uniform grid (docs/rough_contact.md).
 

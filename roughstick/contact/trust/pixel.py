@@ -21,7 +21,7 @@ import xarray as xr
 from ..._core.remedy import spell
 from ..._core.validate import ValidityWarning, external_stacklevel
 from ..meniscus import as_relative_humidity, water_height
-from .validity import _centred_moments_kernel, _maps, _neck_radius
+from .validity import _neck_radius, map_moments
 
 __all__ = ["RESOLVED_NECK_PIXELS", "FINE_PIXEL", "PixelResolutionWarning", "warn_if_unresolved"]
 
@@ -98,8 +98,8 @@ def warn_if_unresolved(
         if height is None or relative_humidity is None:
             raise ValueError("give height= and relative_humidity=, or groups= (with neck_pixels).")
         # the moments of every map only (the groups' correlation length would cost 8 x more)
-        _, h, vals, flat, lead, dy, dx = _maps(height)
-        m4 = np.array([_centred_moments_kernel(np.ascontiguousarray(m), dy, dx)[3] for m in flat])
+        h, vals, flat, lead, dy, dx, moments = map_moments(height)
+        m4 = moments[:, 3]
         rh = as_relative_humidity(relative_humidity)
         rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
         hw = np.asarray(water_height(rh1, adsorbed_layer=adsorbed_layer).values, dtype=float)

@@ -25,6 +25,8 @@ The pipeline (:func:`roughstick.contact.curves`, :mod:`.report`) uses them; the 
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import csv
 import functools
 import warnings
@@ -476,32 +478,78 @@ def model_error(method: str, groups, *, quantity: str = "adhesive_energy") -> Er
     return _bound(tab, groups, quantity)
 
 
+_SHARED = contextvars.ContextVar("roughstick_shared_groups", default=None)
+
+
+@contextlib.contextmanager
+def shared_groups():
+    """Within this block, the groups of a map are computed once for the trust checks that ask
+    for them with the same arguments (the same objects): the checks of one contact call."""
+    token = _SHARED.set({})
+    try:
+        yield
+    finally:
+        _SHARED.reset(token)
+
+
+def _shared(key, args, compute):
+    """``compute()``, or its result for the same ``args`` (by identity) within
+    :func:`shared_groups`."""
+    memo = _SHARED.get()
+    if memo is None:
+        return compute()
+    hit = memo.get(key)
+    if hit is not None and len(hit[0]) == len(args) and all(a is b for a, b in zip(hit[0], args)):
+        return hit[1]
+    out = compute()
+    memo[key] = (args, out)  # the arguments are kept alive: their ids stay theirs
+    return out
+
+
+def map_moments(height):
+    """:func:`_maps` of ``height`` and the ``(mean, sigma, rms slope, m4)`` of each map (rows)."""
+    def compute():
+        _, h, vals, flat, lead, dy, dx = _maps(height)
+        per = np.array([_centred_moments_kernel(np.ascontiguousarray(m), dy, dx) for m in flat])
+        return h, vals, flat, lead, dy, dx, per
+    return _shared("moments", (height,), compute)
+
+
 def _group_points(height, relative_humidity, material, material2, adsorbed_layer, groups=None):
     """Per-humidity list of group dicts, worst map of a stack first-class (all maps checked).
     Without ``groups``: the features of :func:`surface_groups` (same kernel and formulas, same
     bits) without its correlation length (not a feature) nor a Dataset."""
     if groups is None:
-        _, _, vals, flat, _, dy, dx = _maps(height)
-        per = np.array([_centred_moments_kernel(np.ascontiguousarray(m), dy, dx) for m in flat])
-        if np.isnan(per[:, 0]).any():
-            raise ValueError("height has no finite pixel; the surface groups need heights.")
-        sigma, slope, m4 = (per[:, i].reshape(vals.shape[:-2]) for i in (1, 2, 3))
-        rh = as_relative_humidity(relative_humidity)
-        rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
-        hw, _, _, ratio, lam = _group_arrays(sigma, slope, m4, rh1, material, material2,
-                                             adsorbed_layer)
-        feats = {"pressure_ratio": ratio, "maugis_lambda": lam, "hw_over_sigma": hw / sigma[..., None]}
-        table = [np.asarray(feats[f], dtype=float).reshape(-1, hw.size) for f in GROUP_FEATURES]
-        rh_values = np.asarray(rh1.values, dtype=float)
-    else:
-        g = groups
-        if "rh" not in g.dims:
-            g = g.expand_dims(rh=[float(g["rh"])] if "rh" in g.coords else [np.nan])
-        arrs = xr.broadcast(*(g[f] for f in GROUP_FEATURES))
-        lead = [d for d in arrs[0].dims if d != "rh"]
-        table = [np.asarray(a.transpose(*lead, "rh").values, dtype=float).reshape(-1, g.sizes["rh"])
-                 for a in arrs]
-        rh_values = g["rh"].values
+        return _shared("points", (height, relative_humidity, material, material2, adsorbed_layer),
+                       lambda: _points_of_map(height, relative_humidity, material, material2,
+                                              adsorbed_layer))
+    return _points_of_groups(groups)
+
+
+def _points_of_map(height, relative_humidity, material, material2, adsorbed_layer):
+    _, vals, flat, _, dy, dx, per = map_moments(height)
+    if np.isnan(per[:, 0]).any():
+        raise ValueError("height has no finite pixel; the surface groups need heights.")
+    sigma, slope, m4 = (per[:, i].reshape(vals.shape[:-2]) for i in (1, 2, 3))
+    rh = as_relative_humidity(relative_humidity)
+    rh1 = rh if rh.ndim == 1 else rh.expand_dims(rh=[float(rh.values)])
+    hw, _, _, ratio, lam = _group_arrays(sigma, slope, m4, rh1, material, material2, adsorbed_layer)
+    feats = {"pressure_ratio": ratio, "maugis_lambda": lam, "hw_over_sigma": hw / sigma[..., None]}
+    table = [np.asarray(feats[f], dtype=float).reshape(-1, hw.size) for f in GROUP_FEATURES]
+    return _points(table, np.asarray(rh1.values, dtype=float))
+
+
+def _points_of_groups(g):
+    if "rh" not in g.dims:
+        g = g.expand_dims(rh=[float(g["rh"])] if "rh" in g.coords else [np.nan])
+    arrs = xr.broadcast(*(g[f] for f in GROUP_FEATURES))
+    lead = [d for d in arrs[0].dims if d != "rh"]
+    table = [np.asarray(a.transpose(*lead, "rh").values, dtype=float).reshape(-1, g.sizes["rh"])
+             for a in arrs]
+    return _points(table, g["rh"].values)
+
+
+def _points(table, rh_values):
     return [(float(r), [{f: float(t[i, j]) for f, t in zip(GROUP_FEATURES, table)}
                         for i in range(table[0].shape[0])])
             for j, r in enumerate(rh_values)]

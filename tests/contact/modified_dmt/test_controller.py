@@ -177,3 +177,22 @@ def test_flat_and_nan_maps():
     z[5:9, :] = np.nan
     d, o = rk.curves(z, HW, DP, **dict(KW, periodic=False))
     assert np.all(np.isfinite(o[0])) and np.all(o[2] <= 1)
+
+
+def test_more_levels_go_on_from_the_pass_with_the_same_bits():
+    # the Γ refinement evaluates its levels from the state the pass left (no second sort of the
+    # map): the same numbers as a fresh evaluation, whether the union-find has to go up or down,
+    # and a fresh one again once another map has used the thread's workspace
+    z = field((48, 56), 5)
+    d = rk.curves(z, HW, DP, per_rh="union", **KW)[0]
+    asks = [0.5 * (d[:-1] + d[1:])[::3], d[::-1][:7] - 1e-12, d[:5] + 1e-12, d[1:-1:4] + 1e-12]
+    fresh = [rk.curves_kernel(z, new, HW, DP, **KW) for new in asks]
+    d2, _, mem, more = rk.curves(z, HW, DP, per_rh="union", **KW)
+    np.testing.assert_array_equal(d, d2)
+    assert mem.shape == (HW.size, d.size)
+    got = [more(new) for new in asks[:3]]
+    rk.curves(field((40, 40), 6), HW, DP, **KW)  # another map in the workspace
+    got.append(more(asks[3]))
+    for a, b in zip(got, fresh, strict=True):
+        for x, y in zip(a, b, strict=True):
+            np.testing.assert_array_equal(x, y)

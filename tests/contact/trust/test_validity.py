@@ -248,3 +248,24 @@ def test_groups_do_not_depend_on_the_units_of_the_map_coordinates():
     b = rs.contact.surface_groups(hn, relative_humidity=[0.3, 0.8])
     for v in a.data_vars:
         np.testing.assert_allclose(b[v].values, a[v].values, rtol=1e-9)
+
+
+def test_the_trust_checks_of_one_call_compute_the_groups_once(monkeypatch):
+    # validity note, pixel note and error budget of one curves call share the map's moments;
+    # outside a call nothing is kept (a map changed in place gets new groups)
+    from roughstick.contact.trust import validity as V
+
+    h = rs.datasets.surface_family("S2", shape=(64, 64), seed=1)
+    calls = []
+    kernel = V._centred_moments_kernel
+    monkeypatch.setattr(V, "_centred_moments_kernel", lambda *a: calls.append(1) or kernel(*a))
+    c = rs.contact.curves(h, relative_humidity=[0.3, 0.9], model="modified_dmt")
+    assert len(calls) == 1
+    assert "model_error_bound_adhesive_energy" in c.attrs
+    args = ([0.3, 0.9], rs.materials.POLYSILICON, None, "paper")
+    first = V._group_points(h, *args)
+    h.values[:] *= 2.0  # twice the rms height: h_water / sigma halves
+    second = V._group_points(h, *args)
+    assert second[0][1][0]["hw_over_sigma"] == pytest.approx(first[0][1][0]["hw_over_sigma"] / 2)
+    with V.shared_groups():
+        assert V._group_points(h, *args) is V._group_points(h, *args)
