@@ -122,24 +122,13 @@ def _run_part(ds, r, accurate, threshold, t_relaxed, budget, rng, shape):
                 zero_upper=p_cheap * _k.wilson_interval(0, max(picks.size, 1), 0.95)[1])
 
 
-def two_fidelity(cheap, accurate, *, threshold, run, n_accurate, ratio_bound, n_pool, seed,
-                 confidence, independent_runs):
-    """The two-fidelity estimate of P(accurate > threshold) as a Dataset (module notes).
-
-    ``run(t)`` is subset simulation on ``cheap`` to threshold ``t`` (the caller's settings).
-    ``ratio_bound`` None: measured by :func:`pilot_ratio` on ``n_pool`` crude cheap states.
-    """
-    pilot = np.empty(0)
-    pilot_evals = 0
-    if ratio_bound is None:
-        pilot, _, _ = pilot_ratio(cheap, accurate, noise_shape=cheap.noise_shape, n_pool=n_pool, seed=seed)
-        pilot_evals = pilot.size
-        finite = pilot[np.isfinite(pilot)]
-        ratio_bound = max(float(finite.max()) if finite.size else 1.0, 1e-6) * (1.0 + RATIO_MARGIN)
+def _pass(cheap, accurate, threshold, run, n_accurate, ratio_bound, seed, attempt):
+    """One subset run on ``cheap`` to the band threshold of ``ratio_bound`` and its accurate part."""
     t_relaxed = float(threshold) / float(ratio_bound)
     t_band = (1.0 - BAND) * t_relaxed
-    ds = run(t_band)
-    rng = np.random.default_rng(_child(as_seed_sequence(seed), 2))
+    root = as_seed_sequence(seed)
+    ds = run(t_band, root if attempt == 0 else _child(root, 3), attempt)
+    rng = np.random.default_rng(_child(root, 2 if attempt == 0 else 4))
     R = ds.sizes["run"]
     per = [_run_part(ds, r, accurate, float(threshold), t_relaxed, int(n_accurate) // R, rng,
                      cheap.noise_shape)
@@ -149,8 +138,39 @@ def two_fidelity(cheap, accurate, *, threshold, run, n_accurate, ratio_bound, n_
                                           checked=0, violations=0, ratio_max=math.nan, inside=0, band=0,
                                           nan=0, zero_upper=float(ds.failure_probability_upper))
              for r, q in enumerate(per)]
+    return ds, parts, t_relaxed, t_band
+
+
+def two_fidelity(cheap, accurate, *, threshold, run, n_accurate, ratio_bound, n_pool, seed,
+                 confidence, independent_runs):
+    """The two-fidelity estimate of P(accurate > threshold) as a Dataset (module notes).
+
+    ``run(t, seed, attempt)`` is subset simulation on ``cheap`` to threshold ``t`` (the caller's
+    settings; ``attempt`` 1 for a second pass). ``ratio_bound`` None: measured by :func:`pilot_ratio` on ``n_pool`` crude cheap
+    states; then, when the containment check finds accurate failures in the band, the bound is
+    re-measured on the final states evaluated (their largest ratio times 1 + RATIO_MARGIN) and
+    a second pass with fresh random numbers gives the estimate (both passes' evaluations counted).
+    """
+    pilot = np.empty(0)
+    pilot_evals = 0
+    measured = ratio_bound is None
+    if measured:
+        pilot, _, _ = pilot_ratio(cheap, accurate, noise_shape=cheap.noise_shape, n_pool=n_pool, seed=seed)
+        pilot_evals = pilot.size
+        finite = pilot[np.isfinite(pilot)]
+        ratio_bound = max(float(finite.max()) if finite.size else 1.0, 1e-6) * (1.0 + RATIO_MARGIN)
+    spent = {"cheap": 0, "accurate": 0, "violations": 0, "bound": float(ratio_bound)}
+    for attempt in (0, 1):
+        ds, parts, t_relaxed, t_band = _pass(cheap, accurate, threshold, run, n_accurate, ratio_bound, seed, attempt)
+        violations = sum(q["violations"] for q in parts)
+        seen = max((q["ratio_max"] for q in parts if np.isfinite(q["ratio_max"])), default=math.nan)
+        if attempt == 1 or not measured or violations == 0 or not np.isfinite(seen):
+            break
+        spent = {"cheap": int(ds.n_evaluations), "accurate": sum(q["accurate"] for q in parts),
+                 "violations": violations, "bound": float(ratio_bound)}
+        ratio_bound = max(float(ratio_bound), seen) * (1.0 + RATIO_MARGIN)
     return _assemble(ds, parts, pilot, pilot_evals, float(ratio_bound), t_relaxed, t_band, threshold,
-                     confidence, cheap)
+                     confidence, cheap, spent if attempt else None)
 
 
 def _interval(parts, confidence):
@@ -175,9 +195,11 @@ def _interval(parts, confidence):
     return p, cv, lo, min(hi, 1.0), how, between
 
 
-def _assemble(ds, parts, pilot, pilot_evals, ratio_bound, t_relaxed, t_band, threshold, confidence, cheap):
+def _assemble(ds, parts, pilot, pilot_evals, ratio_bound, t_relaxed, t_band, threshold, confidence, cheap,
+              first=None):
     """The cheap run's Dataset with the two-fidelity estimate in front and its checks."""
     p, cv, lo, hi, how, between = _interval(parts, confidence)
+    first = first or {"cheap": 0, "accurate": 0, "violations": 0, "bound": ratio_bound}
     cheap_run = {k: ds[k].copy() for k in ("failure_probability", "failure_probability_lower",
                                            "failure_probability_upper", "coefficient_of_variation")}
     ds = ds.drop_vars(["failure_noise", "failure_run", "failure_response"], errors="ignore")
@@ -200,8 +222,13 @@ def _assemble(ds, parts, pilot, pilot_evals, ratio_bound, t_relaxed, t_band, thr
         "between_run_cv": (between, "coefficient of variation from the spread of the independent runs (NaN with one run)"),
         "conditional_fraction": (float(np.mean([q["fraction"] for q in parts])),
                                  "weighted fraction of the final cheap states whose accurate response exceeds the threshold"),
-        "n_evaluations": (np.int64(int(ds.n_evaluations) + n_pool), "cheap-model evaluations (pilot sample included)"),
-        "n_accurate_evaluations": (np.int64(total["accurate"] + pilot_evals), "accurate-model evaluations (pilot included)"),
+        "n_evaluations": (np.int64(int(ds.n_evaluations) + n_pool + first["cheap"]),
+                          "cheap-model evaluations (pilot sample and a first pass included)"),
+        "n_accurate_evaluations": (np.int64(total["accurate"] + pilot_evals + first["accurate"]),
+                                   "accurate-model evaluations (pilot and a first pass included)"),
+        "passes": (np.int8(2 if first["cheap"] else 1), "2 if a first pass found accurate failures in its band and the bound was re-measured"),
+        "first_pass_violations": (np.int64(first["violations"]), "accurate failures in the band of the first pass (0: one pass)"),
+        "first_pass_ratio_bound": (first["bound"], "ratio bound of the first pass (the pilot's)"),
         "ratio_bound": (ratio_bound, "bound on accurate / cheap response setting the relaxed threshold"),
         "pilot_ratio_max": (float(finite.max()) if finite.size else np.nan,
                             "largest accurate / cheap response of the pilot's tail states"),

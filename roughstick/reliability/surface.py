@@ -215,7 +215,7 @@ def failure_probability(
             accurate = _s.SurfaceResponse(to_surface, relative_humidity=rh, water_height=hw[i], quantity=quantity,
                                           material=material, material2=material2, adsorbed_layer=adsorbed_layer,
                                           model=accurate_model)
-            ds = _f.two_fidelity(response, accurate, threshold=float(threshold), run=lambda t, go=ds: go(threshold=t),
+            ds = _f.two_fidelity(response, accurate, threshold=float(threshold), run=functools.partial(_second_pass_aside, ds, sub),
                                  n_accurate=n_accurate, ratio_bound=ratio_bound, n_pool=n_per_level,
                                  seed=seed, confidence=confidence, independent_runs=independent_runs)
         else:
@@ -247,6 +247,13 @@ def failure_probability(
     append_history(res, f"failure_probability(quantity={quantity!r}, shape={ny}x{nx}, spacing={dx:.3g} m, "
                         f"method={method!r}, patches={patches})")
     return res
+
+
+def _second_pass_aside(run, output, threshold, seed, attempt):
+    """The two-fidelity estimator's subset run; a second pass stores its levels beside the first."""
+    if output is not None and attempt:
+        output = output / "second-pass"
+    return run(threshold=threshold, seed=seed, output=output)
 
 
 def _check_two_fidelity(accurate_model, model, method, target_cv, periodic, patches, n_accurate, ratio_bound):

@@ -40,13 +40,22 @@ class Cheap(Accurate):
         return super().__call__(z) * (1.0 + 0.25 / (1.0 + math.exp(-2.0 * z[2])))
 
 
-def estimate(seed, threshold, **kw):
-    cheap = Cheap()
+class Fooling(Accurate):
+    """Overestimates by 50 % at moderate responses (where the pilot looks) and by ~4 % at the
+    accurate failures beyond 3: the pilot's ratio bound (about 0.8) is too tight there."""
+
+    def __call__(self, z):
+        y = super().__call__(z)
+        return y * (1.0 + 0.5 / (1.0 + math.exp(4.0 * (y - 2.5))))
+
+
+def estimate(seed, threshold, cheap=None, **kw):
+    cheap = cheap or Cheap()
     run = functools.partial(rs.reliability.subset_simulation, cheap, noise_shape=cheap.noise_shape,
-                            n_per_level=400, seed=seed, scheduler="sync")
-    return _f.two_fidelity(cheap, Accurate(), threshold=threshold, run=lambda t: run(threshold=t),
+                            n_per_level=kw.pop("n_per_level", 400), scheduler="sync")
+    return _f.two_fidelity(cheap, Accurate(), threshold=threshold, run=lambda t, s, attempt: run(threshold=t, seed=s),
                            n_accurate=kw.pop("n_accurate", 150), ratio_bound=kw.pop("ratio_bound", None),
-                           n_pool=400, seed=seed, confidence=0.95, independent_runs=1)
+                           n_pool=kw.pop("n_pool", 400), seed=seed, confidence=0.95, independent_runs=1)
 
 
 def test_two_fidelity_covers_the_exact_probability_of_a_linear_limit_state():
@@ -75,6 +84,24 @@ def test_a_too_tight_ratio_bound_is_caught_by_the_containment_check():
     assert int(ds.containment_violations) > 0
     assert int(ds.containment_violations) == int(ds.containment_checked)
     assert float(ds.failure_probability_upper) < norm.sf(2.0)  # what the check exists to expose
+
+
+def test_a_pilot_fooled_by_the_cheap_model_is_corrected_by_a_second_pass():
+    """The pilot (the 32 highest cheap states of 60) sees ratios of 0.7-0.9, the failures have
+    0.96-1: the first pass finds accurate failures in its band, the bound is re-measured on the
+    final states and the second pass has no violation left and holds the exact 1e-3. (The cheap
+    model overstates the bulk by 50 %, so the second pass's fraction is about 0.02 and its
+    interval wide: a few accurate failures in the final level.)"""
+    exact = norm.sf(3.0902)
+    for seed in range(2):
+        ds = estimate(seed, 3.0902, cheap=Fooling(), n_accurate=800, n_pool=60, n_per_level=1000)
+        assert int(ds.passes) == 2 and int(ds.first_pass_violations) > 0
+        assert float(ds.first_pass_ratio_bound) < 0.96 < float(ds.ratio_bound)
+        assert int(ds.containment_violations) == 0
+        assert exact / 3 < float(ds.failure_probability) < 3 * exact
+        assert float(ds.failure_probability_lower) < exact < float(ds.failure_probability_upper)
+        # both passes are counted: the pilot, the first pass (at least its violations) and the second
+        assert int(ds.n_accurate_evaluations) > _f.PILOT_STATES + int(ds.first_pass_violations) + int(ds.containment_checked)
 
 
 def test_failure_probability_with_an_accurate_model_on_a_tiny_zone():
