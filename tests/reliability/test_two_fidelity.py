@@ -150,3 +150,15 @@ def test_two_fidelity_agrees_with_crude_fft_bem_monte_carlo_on_small_zones():
                                             n_accurate=300, n_per_level=1000, seed=3, **kw)
     assert k >= 30
     assert float(ds.failure_probability_lower) <= hi and lo <= float(ds.failure_probability_upper)
+
+
+def test_stuck_probability_takes_the_accurate_model_on_a_psd():
+    """rs.stuck_probability(psd, method="subset", accurate_model="fft_bem"): one corrected run
+    (its default target_cv steps aside), P(stuck) of the boundary-element model's zones."""
+    with pytest.warns(UserWarning, match="smaller than the beam's interaction zone"):
+        ds = rs.stuck_probability(rs.datasets.family_psd("table4"), method="subset", relative_humidity=0.5,
+                                  shape=(16, 16), spacing=5e-9, beam_length=115e-6, model="modified_dmt",
+                                  accurate_model="fft_bem", n_accurate=20, n_per_level=100, seed=2)
+    assert ds.attrs["method"] == "two_fidelity"
+    assert 0 <= float(ds.stiction_probability) <= float(ds.cheap_probability)
+    assert float(ds.relaxed_threshold) == pytest.approx(float(ds.critical_adhesive_energy) / float(ds.ratio_bound))
