@@ -103,7 +103,7 @@ def _run_part(ds, r, accurate, threshold, t_relaxed, budget, rng, shape):
     p_cheap = float(ds.run_probability[r])
     n_final = max(yc.size, 1)
     p = p_cheap * float(contrib.sum()) / n_final
-    n0 = int(np.sum(ds.chain.values[r, 0] >= 0) - np.isnan(ds.response.values[r, 0]).sum())
+    n0 = int(np.sum((ds.chain.values[r, 0] >= 0) & ~np.isnan(ds.response.values[r, 0])))  # NaN: no ancestor
     if contrib.sum() > 0:
         per_root = np.bincount(roots[picks], weights=contrib)
         frac = per_root[per_root > 0] / contrib.sum()

@@ -156,17 +156,21 @@ def failure_probability(
         ``cheap_probability`` (the Eq. 16 run's), ``conditional_fraction``, ``n_evaluations``
         (Eq. 16) and ``n_accurate_evaluations``, ``ratio_bound``, ``pilot_ratio``,
         ``relaxed_threshold``, ``band_threshold``, ``containment_checked`` and
-        ``containment_violations`` (accurate failures just below the relaxed level; a warning
-        when any), ``cheap_within_accuracy``.
+        ``containment_violations`` (accurate failures just below the relaxed level, after a
+        second pass with the bound re-measured when the first found any: ``passes``,
+        ``first_pass_violations``; a warning when any are left), ``cheap_within_accuracy``.
 
     Examples
     --------
-    >>> ds = rs.reliability.failure_probability(
-    ...     rs.datasets.family_psd("table4"), threshold=0.05, relative_humidity=0.5, shape=(16, 16),
-    ...     spacing=5e-9, model="modified_dmt", accurate_model="fft_bem", n_accurate=40,
-    ...     n_per_level=100, scheduler="sync")  # doctest: +SKIP
-    >>> int(ds.n_accurate_evaluations) <= 40 + 32  # doctest: +SKIP
-    True
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore", rs.ValidityWarning)  # Eq. 16 off its map: the point
+    ...     ds = rs.reliability.failure_probability(
+    ...         rs.datasets.family_psd("table4"), threshold=0.1, relative_humidity=0.5, shape=(8, 8),
+    ...         spacing=5e-9, model="modified_dmt", accurate_model="fft_bem", n_accurate=20,
+    ...         n_per_level=50, scheduler="sync")
+    >>> int(ds.n_accurate_evaluations) <= 2 * (20 + 32), bool(ds.failure_probability <= ds.cheap_probability)
+    (True, True)
     """
     rh_in = relative_humidity_array(relative_humidity)
     _check_two_fidelity(accurate_model, model, method, target_cv, periodic, patches, n_accurate, ratio_bound)
