@@ -26,6 +26,7 @@ from scipy.special import stdtrit
 from .._core.dask import as_seed_sequence
 from .._core.validate import external_stacklevel
 from . import _kernels as _k
+from ._engine import MIN_LINEAGES
 
 __all__: list[str] = []
 
@@ -241,12 +242,18 @@ def _assemble(ds, parts, pilot, pilot_evals, ratio_bound, t_relaxed, t_band, thr
         "containment_violations": (np.int64(total["violations"]), "of them, accurate failures (0: the accurate failure domain lies inside the relaxed level there)"),
         "accurate_nan_responses": (np.int64(total["nan"]), "accurate evaluations that returned NaN (counted as no failure)"),
         "cheap_within_accuracy": (np.int8(within), "1 if every pilot tail state's cheap response is within the accuracy of the accurate one"),
+        "few_lineages": (np.int64(sum(q["probability"] > 0 and q["lineages"] < MIN_LINEAGES for q in parts)),
+                         "number of runs whose accurate failures descend from fewer effective lineages than "
+                         "min_lineages: the cv rests on too few independent contributions"),
     }
     units = ds.response.attrs.get("units", "1")
     for k, (v, ln) in new.items():
         u = units if k in ("relaxed_threshold", "band_threshold") else "1"
         ds[k] = xr.DataArray(v, attrs={"units": u, "long_name": ln})
     ds["failure_probability_lower"].attrs["confidence"] = float(confidence)
+    ds["few_lineages"].attrs["min_lineages"] = MIN_LINEAGES
+    ds["combined_lineages"] = xr.DataArray([q["lineages"] for q in parts], dims="run", attrs={
+        "units": "1", "long_name": "effective number of level-0 lineages of the run's weighted accurate failures"})
     ds["pilot_ratio"] = xr.DataArray(pilot, dims="pilot", attrs={
         "units": "1", "long_name": "accurate / cheap response of each pilot tail state"})
     ds.attrs.update({"method": "two_fidelity", "interval_method": how, "threshold": float(threshold),
@@ -256,9 +263,18 @@ def _assemble(ds, parts, pilot, pilot_evals, ratio_bound, t_relaxed, t_band, thr
 
 
 def _warn(ds, total, ratio_bound, ratio_max, cheap):
-    """Warn when the containment check finds accurate failures just outside the relaxed level, or
-    a final state's ratio exceeds what the run's band covers, ``ratio_bound / (1 - BAND)`` (an
-    accurate failure of a larger ratio may lie below the run's threshold)."""
+    """Warn when the accurate failures descend from few lineages (the cv is a rough figure), when
+    the containment check finds accurate failures just outside the relaxed level, or when a final
+    state's ratio exceeds what the run's band covers, ``ratio_bound / (1 - BAND)`` (an accurate
+    failure of a larger ratio may lie below the run's threshold)."""
+    if int(ds.few_lineages):
+        lin = ", ".join(f"{v:.1f}" for v in ds.combined_lineages.values)
+        warnings.warn(
+            f"two-fidelity estimate: the accurate failures descend from few effective level-0 lineages ({lin}; "
+            f"fewer than {MIN_LINEAGES:g} is flagged), so its cv ({float(ds.coefficient_of_variation):.2g}) "
+            f"is a rough figure and the interval is wide (Student's t on them). Pass more independent_runs= "
+            f"(each run is cheap) or a larger n_per_level= (now {ds.attrs['samples_per_level']}).",
+            UserWarning, stacklevel=external_stacklevel())
     seen = max(ratio_bound, ratio_max if np.isfinite(ratio_max) else 0.0)
     fix = (f"pass ratio_bound={1.1 * seen / (1 - BAND):.3g} (now {ratio_bound:.3g}) to failure_probability, "
            "or more independent_runs")
