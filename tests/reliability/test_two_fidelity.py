@@ -51,11 +51,12 @@ class Fooling(Accurate):
 
 def estimate(seed, threshold, cheap=None, **kw):
     cheap = cheap or Cheap()
+    runs = kw.pop("independent_runs", 1)
     run = functools.partial(rs.reliability.subset_simulation, cheap, noise_shape=cheap.noise_shape,
-                            n_per_level=kw.pop("n_per_level", 400), scheduler="sync")
+                            n_per_level=kw.pop("n_per_level", 400), scheduler="sync", independent_runs=runs)
     return _f.two_fidelity(cheap, Accurate(), threshold=threshold, run=lambda t, s, attempt: run(threshold=t, seed=s),
                            n_accurate=kw.pop("n_accurate", 150), ratio_bound=kw.pop("ratio_bound", None),
-                           n_pool=kw.pop("n_pool", 400), seed=seed, confidence=0.95, independent_runs=1)
+                           n_pool=kw.pop("n_pool", 400), seed=seed, confidence=0.95, independent_runs=runs)
 
 
 def test_two_fidelity_covers_the_exact_probability_of_a_linear_limit_state():
@@ -74,6 +75,18 @@ def test_two_fidelity_covers_the_exact_probability_of_a_linear_limit_state():
     # the cheap run alone is far off: Eq. 16-like overestimation is what the correction removes
     assert float(np.mean([float(d.cheap_probability) for d in ests])) > 2 * exact
     assert all(int(d.n_accurate_evaluations) <= 150 + _f.PILOT_STATES for d in ests)
+
+
+def test_independent_runs_share_the_accurate_budget_and_average():
+    """Three cheap runs, each corrected by its third of the accurate evaluations: the estimate is
+    their mean and its cv about 1/sqrt(3) of one run's."""
+    exact = norm.sf(3.0902)
+    one = estimate(0, 3.0902, n_accurate=150)
+    three = estimate(0, 3.0902, n_accurate=450, independent_runs=3)
+    assert three.sizes["run"] == 3 and three.combined_lineages.size == 3
+    assert int(three.n_accurate_evaluations) <= 450 + _f.PILOT_STATES
+    assert float(three.failure_probability_lower) < exact < float(three.failure_probability_upper)
+    assert float(three.coefficient_of_variation) < float(one.coefficient_of_variation)
 
 
 def test_a_too_tight_ratio_bound_is_caught_by_the_containment_check():
