@@ -14,7 +14,6 @@ import argparse
 import time
 import warnings
 
-import numpy as np
 from scipy import stats
 
 import roughstick as rs

@@ -215,6 +215,9 @@ def bem_check(ds, model, threshold, n_check):
             "long_name": f"{side} end of the 95 % distribution-free interval of failure_bem_ratio"})
     with spelled(contact_model=argument("model")):  # failure_probability's argument
         rerun = spell("contact_model", "fft_bem")
+    if rerun == argument("model")("fft_bem"):  # called from Python (no CLI spelling): two fidelities too
+        rerun += (" (or accurate_model='fft_bem': Eq. 16 corrected by the boundary-element model on a few "
+                  "hundred failure states)")
     if n and ratio < ARTEFACT_RATIO:
         what = (f"only {ok} of {n} stay above the threshold): this probability is made of modified-DMT "
                 "(Eq. 16) artefacts" if ok < 0.5 * n else

@@ -180,7 +180,9 @@ def stuck_probability(
     - ``"subset"`` (subset simulation: small probabilities) or ``"monte_carlo"`` (crude Monte
       Carlo, its reference), to ``target_cv``: on a PSD (the zone model, the §5.2 proxy)
       ``relative_humidity``, ``shape``, ``spacing`` (required), one ``beam_length``, ``model``,
-      ``seed``, ``target_cv``, ``max_evaluations``, ``n_per_level``; on a bank of patch laws
+      ``seed``, ``target_cv``, ``max_evaluations``, ``n_per_level`` (and the keywords of
+      :func:`roughstick.reliability.failure_probability`: ``accurate_model="fft_bem"`` corrects
+      an Eq. 16 run by the boundary-element model, one run, no ``target_cv``); on a bank of patch laws
       (the sharp-front beam) ``beam_length`` (required), ``protocol``, ``patch_length``,
       ``seed``, ``target_cv``, ``max_evaluations``, ``n_per_level``.
 
@@ -280,6 +282,8 @@ def stuck_probability(
         beams = simulate(data, beam_length=beam_length, n=n, seed=seed, protocol=protocol, beam=beam,
                          patch_length=patch_length, beam_model=beam_model, **options)
         return stuck_probability_from_beams(beams, confidence=confidence, interval=interval)
+    if options.get("accurate_model") is not None and "target_cv" not in given:
+        target_cv = None  # two fidelities: one corrected subset run (failure_probability's accurate_model)
     common = dict(method=method, beam_length=beam_length, beam=beam, target_cv=target_cv,
                   max_evaluations=max_evaluations, n_per_level=n_per_level, seed=seed,
                   confidence=confidence)

@@ -9,6 +9,7 @@ pull-out proxy of P(stuck) of paper §5.2, which :func:`roughstick.reliability.s
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
@@ -23,6 +24,7 @@ from .._core.validate import relative_humidity_array
 from ..contact import water_height
 from ..stiction.cantilever import critical_adhesive_energy
 from . import _engine as _e
+from . import _fidelity as _f
 from . import _surface as _s
 from ._surface import ARTEFACT_RATIO  # noqa: F401  (the BEM re-check's threshold, read by the CLI)
 from .subset import subset_simulation
@@ -90,6 +92,9 @@ def failure_probability(
     output=None,
     overwrite: bool = False,
     check_failures: int = 8,
+    accurate_model: str | None = None,
+    n_accurate: int = 300,
+    ratio_bound: float | None = None,
 ) -> xr.Dataset:
     r"""Probability that a zone's adhesive energy (or pull-off pressure) exceeds a threshold.
 
@@ -153,15 +158,37 @@ def failure_probability(
     Returns
     -------
     xarray.Dataset
-        The variables of :func:`subset_simulation` along ``rh``.
+        The variables of :func:`subset_simulation` along ``rh``. With ``accurate_model``:
+        ``failure_probability`` and its interval and cv are the accurate model's, beside
+        ``cheap_probability`` (the Eq. 16 run's), ``conditional_fraction``, ``n_evaluations``
+        (Eq. 16) and ``n_accurate_evaluations``, ``ratio_bound``, ``pilot_ratio``,
+        ``relaxed_threshold``, ``band_threshold``, ``containment_checked`` and
+        ``containment_violations`` (accurate failures just below the relaxed level, after a
+        second pass with the bound re-measured when the first found any: ``passes``,
+        ``first_pass_violations``; a warning when any are left), ``cheap_within_accuracy``.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore", rs.ValidityWarning)  # Eq. 16 off its map: the point
+    ...     ds = rs.reliability.failure_probability(
+    ...         rs.datasets.family_psd("table4"), threshold=0.1, relative_humidity=0.5, shape=(8, 8),
+    ...         spacing=5e-9, model="modified_dmt", accurate_model="fft_bem", n_accurate=20,
+    ...         n_per_level=50, scheduler="sync")
+    >>> int(ds.n_accurate_evaluations) <= 2 * (20 + 32), bool(ds.failure_probability <= ds.cheap_probability)
+    (True, True)
     """
     rh_in = relative_humidity_array(relative_humidity)
+    _check_two_fidelity(accurate_model, model, method, target_cv, periodic, patches, n_accurate, ratio_bound)
     if quantity not in _s.QUANTITIES:
         raise ValueError(f"quantity must be one of {_s.QUANTITIES}, got {quantity!r}.")
     if not (np.isfinite(threshold) and threshold > 0):
         raise ValueError(f"threshold must be a positive finite number in SI units, got {threshold!r}.")
     to_surface = _s.NoiseToSurface(psd, shape=shape, spacing=spacing,
                                    height_distribution=height_distribution)
+    if accurate_model is not None:
+        model = "modified_dmt"
     model, selection = _s.zone_model(model, psd, shape=(to_surface.ny, to_surface.nx),
                                      spacing=spacing, relative_humidity=rh_in, material=material,
                                      material2=material2, adsorbed_layer=adsorbed_layer,
@@ -190,15 +217,24 @@ def failure_probability(
             key["heights"] = _psd_token(to_surface.table)
         token = json.dumps(key)
         sub = None if output is None else pathlib.Path(output) / f"rh-{rh:.4f}"
-        ds = subset_simulation(
-            response, noise_shape=response.noise_shape, threshold=float(threshold), method=method,
+        ds = functools.partial(
+            subset_simulation, response, noise_shape=response.noise_shape, method=method,
             n_per_level=n_per_level, level_probability=level_probability,
             independent_runs=independent_runs, proposal=proposal, proposal_scale=proposal_scale, target_acceptance=target_acceptance,
             max_levels=max_levels, target_cv=target_cv, max_evaluations=max_evaluations,
             confidence=confidence, seed=seed, chunks=chunks, scheduler=scheduler, output=sub,
             overwrite=overwrite, token=token,
             response_attrs={"units": units, "quantity": quantity})
-        if model == "modified_dmt":  # rare states are where Eq. 16 may fail: measure it
+        if accurate_model is not None:
+            accurate = _s.SurfaceResponse(to_surface, relative_humidity=rh, water_height=hw[i], quantity=quantity,
+                                          material=material, material2=material2, adsorbed_layer=adsorbed_layer,
+                                          model=accurate_model)
+            ds = _f.two_fidelity(response, accurate, threshold=float(threshold), run=functools.partial(_second_pass_aside, ds, sub),
+                                 n_accurate=n_accurate, ratio_bound=ratio_bound, n_pool=n_per_level,
+                                 seed=seed, confidence=confidence, independent_runs=independent_runs)
+        else:
+            ds = ds(threshold=float(threshold))
+        if model == "modified_dmt" and accurate_model is None:  # rare states: measure Eq. 16 there
             ds = _s.bem_check(ds, response, float(threshold), check_failures)
         # index every dim so humidities with different level/run/failure counts align (outer join)
         out.append(ds.assign_coords({d: np.arange(n) for d, n in ds.sizes.items() if d not in ds.coords}))
@@ -224,9 +260,42 @@ def failure_probability(
             selection += " (judged on the Gaussian surfaces of the PSD)"
     if selection is not None:
         res.attrs["model_selection"] = selection
+    if accurate_model is not None:
+        res.attrs.update({"method": "two_fidelity", "accurate_model": accurate_model})
     append_history(res, f"failure_probability(quantity={quantity!r}, shape={ny}x{nx}, spacing={dx:.3g} m, "
                         f"method={method!r}, patches={patches})")
     return res
+
+
+def _second_pass_aside(run, output, threshold, seed, attempt):
+    """The two-fidelity estimator's subset run; a second pass stores its levels beside the first."""
+    if output is not None and attempt:
+        output = output / "second-pass"
+    return run(threshold=threshold, seed=seed, output=output)
+
+
+def _check_two_fidelity(accurate_model, model, method, target_cv, periodic, patches, n_accurate, ratio_bound):
+    """Refuse, before any work, a two-fidelity request the estimator cannot run, naming the fix."""
+    if accurate_model is None:
+        return
+    if accurate_model != "fft_bem":
+        raise ValueError(f"accurate_model must be 'fft_bem' (the boundary-element model corrects Eq. 16 in "
+                         f"the tail), got {accurate_model!r}; or leave accurate_model=None.")
+    if model not in ("auto", "modified_dmt"):
+        raise ValueError(f"accurate_model={accurate_model!r} corrects the modified DMT: pass "
+                         f"model='modified_dmt' (or 'auto'), not model={model!r}; for the accurate model "
+                         "alone pass model='fft_bem' without accurate_model.")
+    if method != "subset" or target_cv is not None:
+        raise ValueError("accurate_model= runs one subset simulation on Eq. 16 and corrects its final "
+                         "level: pass method='subset' and target_cv=None (for a smaller cv give more "
+                         "independent_runs= or n_per_level=).")
+    if not periodic or patches != 1:
+        raise ValueError("accurate_model='fft_bem' solves periodic zones only: pass periodic=True and patches=1.")
+    if not (isinstance(n_accurate, (int, np.integer)) and n_accurate >= 10):
+        raise ValueError(f"n_accurate must be an integer >= 10 (a few hundred is typical), got {n_accurate!r}.")
+    if ratio_bound is not None and not (np.isfinite(ratio_bound) and ratio_bound > 0):
+        raise ValueError(f"ratio_bound must be a positive number (accurate / Eq. 16 response) or None "
+                         f"(measured by a pilot), got {ratio_bound!r}.")
 
 
 def _zone_stuck_probability(psd, *, beam_length, beam, method, relative_humidity, shape, spacing,

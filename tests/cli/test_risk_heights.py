@@ -49,7 +49,7 @@ def test_risk_height_keys_are_checked_before_work(tmp_path):
     cfg = tmp_path / "bad.toml"
     cfg.write_text(CONFIG.format(folder="bad", surface='height_distribution = "johnson"\nskewness = 1.0')
                    + '[risk]\nmethod = "subset"\n')
-    with pytest.raises(Exception, match="needs skewness and kurtosis") as err:
+    with pytest.raises(Exception, match="needs skewness and kurtosis"):
         from roughstick.cli.risk import load_risk_config
         load_risk_config(cfg)
     cfg.write_text(CONFIG.format(folder="bad", surface='height_distribution = "maps"'))
