@@ -84,9 +84,10 @@ def estimate_seconds(model: str, shape, solves: int) -> float:
     return float(per * fft_pair_seconds(shape) * max(int(solves), 0))
 
 
-#: Seconds of one modified-DMT or GW curve of a 256 x 256 map: the median of the modified DMT's
-#: whole calls in docs/accuracy.md ("Cost": 0.02-0.1 s on stiff maps, 1.2 s on a soft one).
-DMT_CURVE_SECONDS_256 = 0.05
+#: Seconds of one modified-DMT or GW curve of a 256 x 256 map, scaled with the pixels: whole
+#: six-humidity calls (checks included) on Table 4, S2 and smooth maps of 256² and 1024² took
+#: 0.001-0.015 s per curve so scaled (docs/evidence/rough_contact.md, "Speed of the default call").
+DMT_CURVE_SECONDS_256 = 0.005
 
 
 def estimate_model_seconds(model: str, shape, curves: int, points: int = 47) -> float:
@@ -101,7 +102,7 @@ def estimate_model_seconds(model: str, shape, curves: int, points: int = 47) -> 
     --------
     >>> from roughstick._core.progress import estimate_model_seconds
     >>> estimate_model_seconds("modified_dmt", (512, 512), 2)
-    0.4
+    0.04
     """
     if model in ("modified_dmt", "gw"):
         return DMT_CURVE_SECONDS_256 * float(np.prod(shape)) / 256**2 * int(curves)
