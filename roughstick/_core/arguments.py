@@ -102,7 +102,7 @@ def check_number(value, name: str, rule, *, example=None, fix: str = ""):
         remedy = f"e.g. {name}={_shown(example)} (the default)"
     else:
         remedy = {"count": f"e.g. {name}=1", "count0": f"e.g. {name}=0", "seed": f"e.g. {name}=0",
-                  "fraction": f"e.g. {name}=0.5"}.get(key, f"a {NUMBER_RULES.get(key, what)}")
+                  "fraction": f"e.g. {name}=0.5"}.get(key, NUMBER_RULES.get(key, what))
     message = f"{name}={_shown(value)}: must be {what}; pass {remedy}."
     if value is None or isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(message)

@@ -56,7 +56,7 @@ def _psd_token(amplitude):
 
 
 @renamed_keywords(contact_model="model", samples_per_level="n_per_level")
-@_e.checked(*_e.SETTING_RULES, **_e.SURFACE_RULES)
+@_e.checked(*_e.SETTING_RULES, n_accurate="count", ratio_bound="positive?", **_e.SURFACE_RULES)
 def failure_probability(
     psd,
     *,

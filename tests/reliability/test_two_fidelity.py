@@ -139,7 +139,7 @@ def test_failure_probability_with_an_accurate_model_on_a_tiny_zone():
     ({"accurate_model": "fft_bem", "target_cv": 0.3}, "independent_runs"),
     ({"accurate_model": "fft_bem", "patches": 2}, "periodic=True and patches=1"),
     ({"accurate_model": "fft_bem", "n_accurate": 3}, "n_accurate must be"),
-    ({"accurate_model": "fft_bem", "ratio_bound": -1.0}, "ratio_bound must be"),
+    ({"accurate_model": "fft_bem", "ratio_bound": -1.0}, "ratio_bound=-1.0: must be a finite number > 0"),
 ])
 def test_two_fidelity_requests_it_cannot_run_are_refused_with_the_fix(kw, match):
     with pytest.raises(ValueError, match=match):
