@@ -40,15 +40,27 @@ cells = [
         "r.next_threshold.isel(run=0).values  # the intermediate thresholds of the levels"
     ),
     md(
-        "## The designer's question: at which RH does P(stuck) reach 1e-3?\n\n"
-        "Measured with `examples/small_stiction_probability.py` (Table-4 zones of 128 × 128 px at 5 nm, "
-        "pull-out proxy P(Γ > Γ_crit(l)), 300 samples per level; docs/rare_events.md has the full output):\n\n"
-        "| beam | Γ_crit | P(stuck) | RH where P(stuck) = 1e-3 |\n|---|---|---|---|\n"
-        "| 150 µm | 31.5 mJ/m² | 1-2.5e-4 at 50-65 % RH, 0.17 at 70 % | **66 % [59 %, 67 %]** (just above the adsorbed-layer onset at 65 %; logit interpolation of the points in docs/rare_events.md) |\n"
-        "| 200 µm | 10.0 mJ/m² | 8e-4 to 8e-3 at 5-50 % RH (lowest 8e-4 [3.4e-4, 2.4e-3] at 40 %) | none: already reached at 5 % RH |\n"
+        "## The designer's question, on a small square: at which RH does P(stuck) reach 1e-3?\n\n"
+        "**Read this section for the estimator, not for a beam.** The zones below are 128 × 128 px "
+        "at 5 nm: a 0.64 µm square pulled off alone, 1/192 of a real beam's interaction zone "
+        "(Δs × w = 2.62 × 30 µm). Γ is not an area average: a larger zone rests on taller summits, "
+        "so the square carries far more Γ than the beam's zone at low and middle RH "
+        "(`rs.stiction.zone_size_bias`, next cell), and its P(stuck) overstates the beam's. The "
+        "beam's own answer comes from its strips: notebook 07 (`method='front'` on the strips' Γ) "
+        "and `docs/zone_size.md`.\n\n"
+        "Measured with `examples/small_stiction_probability.py` on such squares (Eq. 16, "
+        "pull-out proxy P(Γ > Γ_crit(l)), 300 samples per level; docs/rare_events.md has the output):\n\n"
+        "| beam | Γ_crit | P(stuck) of the 0.64 µm square | RH where it reaches 1e-3 |\n|---|---|---|---|\n"
+        "| 150 µm | 31.5 mJ/m² | 1-2.5e-4 at 50-65 % RH, 0.17 at 70 % | 66 % [59 %, 67 %] |\n"
+        "| 200 µm | 10.0 mJ/m² | 8e-4 to 8e-3 at 5-50 % RH | already at 5 % RH |\n"
         "| 1500 µm | 3e-3 mJ/m² | 1 [0.987, 1] at 5-50 % RH | always stuck |\n\n"
         "Below, a much smaller live run for the 150 µm beam at 60 % and 70 % RH (few samples per level, "
         "so the intervals are wide)."
+    ),
+    code(
+        "bias = rs.stiction.zone_size_bias((128, 128), spacing=5e-9)\n"
+        "print('median Γ of a 128² square / that of the 2.62 x 30 um zone of the beam:')\n"
+        "print(', '.join(f'{b:.3g} x at RH {r:.1f}' for r, b in zip(bias.rh.values, bias.values)))"
     ),
     code(
         "psd = rs.datasets.family_psd('table4')\n"
@@ -76,8 +88,29 @@ cells = [
         "    ax.axvspan(*(100 * span), color='C1', alpha=0.2,\n"
         "               label='RH where P = 1e-3 (95 % interval)')\n"
         "ax.set(xlim=(55, 75), yscale='log', xlabel='relative humidity [%]', ylabel='P(beam stays stuck)',\n"
-        "       title='150 µm beam, Table-4 zones (live run, few samples)')\n"
+        "       title='150 µm beam, 0.64 µm Table-4 squares (live run, few samples)')\n"
         "ax.legend(fontsize='small');"
+    ),
+    md(
+        "## Two fidelities in the tail: Eq. 16 corrected by the boundary-element model\n\n"
+        "Eq. 16's rarest zones are often artefacts (docs/rare_events.md), and `fft_bem` on every "
+        "state of a run costs ~20 × more. `accurate_model='fft_bem'` runs subset simulation on Eq. 16 "
+        "to a threshold relaxed by a measured BEM/Eq. 16 ratio bound, then the BEM on a few hundred "
+        "final states (and on a band just below, to check that no BEM failure lies outside). The "
+        "estimate is the boundary-element probability. Small 32² zones here, where crude `fft_bem` "
+        "Monte Carlo measured P(Γ > 70 mJ/m²) = 8.3e-3 [7.0e-3, 9.6e-3] at RH 0.5 "
+        "(docs/evidence/small_probabilities.md; Eq. 16 alone says 8.5e-2)."
+    ),
+    code(
+        "tf = rs.reliability.failure_probability(psd, threshold=0.07, relative_humidity=0.5, shape=(32, 32),\n"
+        "                                        spacing=5e-9, model='modified_dmt', accurate_model='fft_bem',\n"
+        "                                        n_accurate=150, n_per_level=500, seed=1)\n"
+        "print(f\"Eq. 16 above the relaxed level: {float(tf.cheap_probability):.2e}; BEM fraction there: \"\n"
+        "      f\"{float(tf.conditional_fraction):.2f}\")\n"
+        "print(f\"P(Γ_BEM > 70 mJ/m²) = {float(tf.failure_probability):.2e} 95% [{float(tf.failure_probability_lower):.2e}, \"\n"
+        "      f\"{float(tf.failure_probability_upper):.2e}] with {int(tf.n_evaluations)} Eq. 16 and \"\n"
+        "      f\"{int(tf.n_accurate_evaluations)} fft_bem evaluations; containment violations: \"\n"
+        "      f\"{int(tf.containment_violations)} of {int(tf.containment_checked)}\")"
     ),
     md(
         "## Weakest link: from a patch to a structure\n\n"
