@@ -64,6 +64,7 @@ cells = [
     ),
     code(
         "psd = rs.datasets.family_psd('table4')\n"
+        "warnings.filterwarnings('ignore', message='zones of 128 x 128 px')  # the square's zone: said above\n"
         "ds = rs.stuck_probability(psd, method='subset', relative_humidity=[0.6, 0.7], shape=(128, 128),\n"
         "                          spacing=5e-9, beam_length=150e-6, n_per_level=60, target_cv=None,\n"
         "                          max_levels=4, seed=8)\n"
