@@ -369,33 +369,16 @@ def run(
     rh = relative_humidity_array(relative_humidity)
     material = POLYSILICON if material is None else as_material(material)
     model, accuracy, curves_kwargs = _contact_options(model, accuracy, curves_kwargs)
-    # the default (no model, no accurate model): the accuracy target, by the cheapest plan
-    if accurate_model is False:  # one model on every realization, as asked
-        accurate_model, one_model = None, True
-    else:
-        one_model = False
-    defaulted = model in (None, "auto") and accurate_model is None and curves is None
     maps = as_maps(maps) if maps is not None else None
     heights, maps_gaussian, why = resolve_height_distribution(height_distribution, maps)
-    chosen = selection = None
-    if curves is None:
-        # the model every realization runs ("auto" resolved once): one template, one variable set
-        chosen, selection = _check_once(psd, shp, spacing, rh, material, adsorbed_layer, model,
-                                        accuracy, curves_kwargs.get("quantity", "adhesive_energy"),
-                                        warn=generate is None)
-    if (defaulted and not one_model and not auto and n_total >= MULTIFIDELITY_FROM
-            and _costlier(chosen, CHEAP_MODEL)):
-        accurate_model, chosen = chosen, CHEAP_MODEL
-        selection += (f"; multi-fidelity: {CHEAP_MODEL} on every realization, {accurate_model} on "
-                      "a subset sized by a pilot (n >= "
-                      f"{MULTIFIDELITY_FROM}), combined by roughstick.ensemble.confidence_band")
-    if chosen is not None:  # the model resolved before the graph, named in the parameters
-        curves_kwargs["model"] = chosen
-    elif model is not None:
-        curves_kwargs["model"] = model
+    defaulted, chosen, selection, accurate_model = _model_plan(
+        psd, shp, spacing, rh, material, adsorbed_layer, model, accuracy, curves_kwargs,
+        accurate_model=accurate_model, custom=(curves is not None, generate is not None),
+        many=not auto and n_total >= MULTIFIDELITY_FROM)
+    if chosen is not None or model is not None:  # resolved before the graph, named in the parameters
+        curves_kwargs["model"] = chosen if chosen is not None else model
     generate = generate_surfaces if generate is None else generate
-    # the per-surface validity check would warn once per realization from inside dask: the run is
-    # checked once above, before any graph is built
+    # no per-surface validity check (once per realization, from inside dask): checked once above
     curves = (functools.partial(contact_curves, check_validity=False) if curves is None
               else curves)
     summary = contact_summary if summary is None else summary
@@ -412,23 +395,14 @@ def run(
     c_r, c_h = _chunks(chunks, shp, rh.size)
     if auto:
         batch = max(c_r, int(math.ceil(batch / c_r)) * c_r)
-    fields = dict(
+    # summaries on each map's own automatic grid unless the user fixed the distances
+    spec = _spec(dict(
         psd=psd.load() if psd.chunks is not None else psd, shape=shp, spacing=spacing, rh=rh,
         distance=dist, chunk=c_r, rh_chunk=min(c_h, rh.size), adsorbed_layer=adsorbed_layer,
         material=material, generate=generate, curves=curves, summary=summary,
         generate_kwargs=generate_kwargs, curves_kwargs=curves_kwargs,
         seed_entropy=str(root.entropy), seed_spawn_key=list(root.spawn_key),
-        # summaries on each map's own automatic grid unless the user fixed the distances
-        own_grid=distance is None,
-    )
-    spec = Spec(
-        psd=fields["psd"], shape=shp, spacing=spacing, rh=rh, distance=dist, seed=root, chunk=c_r,
-        rh_chunk=fields["rh_chunk"], adsorbed_layer=adsorbed_layer, material=material,
-        generate=generate, curves=curves, summary=summary,
-        generate_kwargs=fields["generate_kwargs"], curves_kwargs=fields["curves_kwargs"],
-        water_max=float(np.max(_water_heights(rh, adsorbed_layer))), token=_hash_params(fields),
-        own_grid=fields["own_grid"],
-    )
+        own_grid=distance is None), root)
     if accurate_model is not None:
         spec = _with_accurate_subset(spec, accurate_model, n_accurate, n_total, auto=auto,
                                      accuracy=VALIDITY_BOUND if accuracy is None else accuracy)
@@ -436,8 +410,7 @@ def run(
             # the pilot asks for most realizations: the accurate model on all is cheaper
             selection += (f"; the pilot asked for {len(spec.accurate[1])} of {n_total} "
                           f"realizations with {accurate_model}: it runs on all")
-            chosen = accurate_model
-            spec = _single_model(spec, accurate_model)
+            chosen, spec = accurate_model, _single_model(spec, accurate_model)
     attrs = _attrs(spec, n_total)
     if chosen is not None and spec.generate is generate_surfaces:  # the default stages
         attrs.update(_model_error_attrs(psd, shp, spacing, rh, material, adsorbed_layer,
@@ -467,17 +440,61 @@ def run(
         ds = lazy_ensemble(spec, 0, n_total)
         ds.attrs = attrs
         line = f"ensemble.run(n={n_total}, shape={shp}, rh={rh.tolist()}); {ds.attrs.get('summary_grid', '')}"
-    if spec.accurate:  # the cheap model's values: said on each, so none is read as the accurate one
-        for v in ("adhesive_energy", "pull_off_pressure", "equilibrium_distance"):
-            if v in ds:
-                ds[v].attrs["multifidelity"] = (
-                    f"the cheap model's ({chosen or spec.curves_kwargs.get('model')}) on every "
-                    f"realization; {spec.accurate[0]}'s: {v}_accurate on a subset; the accurate "
-                    "band: roughstick.ensemble.confidence_band")
-    ds = append_history(ds, line)
+    ds = append_history(_say_cheap(ds, spec), line)
     if maps is None:
         return ds
     return _with_maps(ds, spec, maps, maps_gaussian, confidence, computed=auto or folder is not None)
+
+
+def _spec(fields: dict, root) -> Spec:
+    """The run's :class:`Spec` from its parameters (their hash is the run's token: a stored run
+    with other parameters is another run)."""
+    return Spec(
+        psd=fields["psd"], shape=fields["shape"], spacing=fields["spacing"], rh=fields["rh"],
+        distance=fields["distance"], seed=root, chunk=fields["chunk"], rh_chunk=fields["rh_chunk"],
+        adsorbed_layer=fields["adsorbed_layer"], material=fields["material"],
+        generate=fields["generate"], curves=fields["curves"], summary=fields["summary"],
+        generate_kwargs=fields["generate_kwargs"], curves_kwargs=fields["curves_kwargs"],
+        water_max=float(np.max(_water_heights(fields["rh"], fields["adsorbed_layer"]))),
+        token=_hash_params(fields), own_grid=fields["own_grid"],
+    )
+
+
+def _model_plan(psd, shp, spacing, rh, material, adsorbed_layer, model, accuracy, curves_kwargs, *,
+                accurate_model, custom, many):
+    """``(defaulted, chosen, selection, accurate_model)``: the model every realization runs
+    ("auto" resolved once, before the graph: one template, one variable set) and, for the default
+    (no model, no accurate model, ``many`` realizations) where it is costlier than Eq. 16, the
+    multi-fidelity plan: Eq. 16 on all, the chosen model as the accurate one.
+    ``accurate_model=False``: one model on every realization, never that plan."""
+    one_model = accurate_model is False
+    accurate_model = None if one_model else accurate_model
+    custom_curves, custom_generate = custom
+    defaulted = model in (None, "auto") and accurate_model is None and not custom_curves
+    chosen = selection = None
+    if not custom_curves:
+        chosen, selection = _check_once(psd, shp, spacing, rh, material, adsorbed_layer, model,
+                                        accuracy, curves_kwargs.get("quantity", "adhesive_energy"),
+                                        warn=not custom_generate)
+    if defaulted and not one_model and many and _costlier(chosen, CHEAP_MODEL):
+        accurate_model, chosen = chosen, CHEAP_MODEL
+        selection += (f"; multi-fidelity: {CHEAP_MODEL} on every realization, {accurate_model} on "
+                      "a subset sized by a pilot (n >= "
+                      f"{MULTIFIDELITY_FROM}), combined by roughstick.ensemble.confidence_band")
+    return defaulted, chosen, selection, accurate_model
+
+
+def _say_cheap(ds: xr.Dataset, spec: Spec) -> xr.Dataset:
+    """A multi-fidelity ensemble's own summaries are the cheap model's: said on each variable, so
+    none is read (or counted) as the accurate model's."""
+    if spec.accurate:
+        for v in ("adhesive_energy", "pull_off_pressure", "equilibrium_distance"):
+            if v in ds:
+                ds[v].attrs["multifidelity"] = (
+                    f"the cheap model's ({spec.curves_kwargs.get('model')}) on every realization; "
+                    f"{spec.accurate[0]}'s: {v}_accurate on a subset; the accurate band: "
+                    "roughstick.ensemble.confidence_band")
+    return ds
 
 
 def _with_maps(ds, spec, maps, maps_gaussian, confidence, *, computed) -> xr.Dataset:

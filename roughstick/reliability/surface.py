@@ -196,7 +196,6 @@ def failure_probability(
     ny, nx, dy, dx = to_surface.ny, to_surface.nx, to_surface.dy, to_surface.dx
     m0 = to_surface.variance
     hw = np.atleast_1d(water_height(rh_in, adsorbed_layer=adsorbed_layer).values)
-    ptoken = _psd_token(to_surface.amplitude)
     units = "J m-2" if quantity == "adhesive_energy" else "Pa"
     mat = [_s.material_token(m) for m in (material, material2)]
     out = []
@@ -206,16 +205,9 @@ def failure_probability(
             material=material, material2=material2, adsorbed_layer=adsorbed_layer,
             points_per_water_height=points_per_water_height, lower=lower, connectivity=connectivity,
             periodic=periodic, patches=patches, model=model)
-        key = {"psd": ptoken, "shape": [ny, nx], "spacing": [dy, dx], "rh": float(rh),
-               "hw": float(hw[i]), "materials": mat, "quantity": quantity,
-               "pph": float(points_per_water_height), "lower": float(lower),
-               "connectivity": int(connectivity), "periodic": bool(periodic),
-               "patches": int(patches), "map": "circulant/1"}
-        if model != "modified_dmt":  # earlier outputs (Eq. 16 only) still resume
-            key["contact_model"] = model
-        if to_surface.table is not None:  # Gaussian runs stored before keep resuming
-            key["heights"] = _psd_token(to_surface.table)
-        token = json.dumps(key)
+        token = _resume_token(to_surface, rh=rh, hw=hw[i], materials=mat, quantity=quantity,
+                              pph=points_per_water_height, lower=lower, connectivity=connectivity,
+                              periodic=periodic, patches=patches, model=model)
         sub = None if output is None else pathlib.Path(output) / f"rh-{rh:.4f}"
         ds = functools.partial(
             subset_simulation, response, noise_shape=response.noise_shape, method=method,
@@ -238,15 +230,7 @@ def failure_probability(
             ds = _s.bem_check(ds, response, float(threshold), check_failures)
         # index every dim so humidities with different level/run/failure counts align (outer join)
         out.append(ds.assign_coords({d: np.arange(n) for d, n in ds.sizes.items() if d not in ds.coords}))
-    fill = {"accepted": np.int8(-1), "chain": np.int32(-1)}
-    res = xr.concat(out, dim="rh", join="outer", fill_value=fill, combine_attrs="drop_conflicts",
-                    data_vars="all", coords="different", compat="equals")
-    for d in res.dims:  # the index coords added above for the alignment: CF attrs to be written
-        if d in _e.ATTRS and not res[d].attrs:
-            res[d].attrs = dict(_e.ATTRS[d])
-    res = res.assign_coords(rh=("rh", rh_in, {"units": "1", "long_name": "relative humidity",
-                                             "standard_name": "relative_humidity"}))
-    res = res.assign_coords(water_height=("rh", hw, {"units": "m", "long_name": "water height h_water"}))
+    res = _along_rh(out, rh_in, hw)
     if np.ndim(relative_humidity) == 0:
         res = res.squeeze("rh")
     res.attrs.update({"quantity": quantity, "contact_model": model, "threshold": float(threshold), "threshold_units": units,
@@ -265,6 +249,35 @@ def failure_probability(
     append_history(res, f"failure_probability(quantity={quantity!r}, shape={ny}x{nx}, spacing={dx:.3g} m, "
                         f"method={method!r}, patches={patches})")
     return res
+
+
+def _resume_token(to_surface, *, rh, hw, materials, quantity, pph, lower, connectivity, periodic,
+                  patches, model) -> str:
+    """What a stored run of one humidity must match to be resumed (the zone, its law, the model)."""
+    key = {"psd": _psd_token(to_surface.amplitude), "shape": [to_surface.ny, to_surface.nx],
+           "spacing": [to_surface.dy, to_surface.dx], "rh": float(rh), "hw": float(hw),
+           "materials": materials, "quantity": quantity, "pph": float(pph), "lower": float(lower),
+           "connectivity": int(connectivity), "periodic": bool(periodic), "patches": int(patches),
+           "map": "circulant/1"}
+    if model != "modified_dmt":  # earlier outputs (Eq. 16 only) still resume
+        key["contact_model"] = model
+    if to_surface.table is not None:  # Gaussian runs stored before keep resuming
+        key["heights"] = _psd_token(to_surface.table)
+    return json.dumps(key)
+
+
+def _along_rh(out, rh_in, hw) -> xr.Dataset:
+    """The per-humidity results on one ``rh`` dim (outer join: their level/run/failure counts
+    differ), with the CF attributes of the index coords and the humidity's own coords."""
+    fill = {"accepted": np.int8(-1), "chain": np.int32(-1)}
+    res = xr.concat(out, dim="rh", join="outer", fill_value=fill, combine_attrs="drop_conflicts",
+                    data_vars="all", coords="different", compat="equals")
+    for d in res.dims:  # the index coords added for the alignment: CF attrs to be written
+        if d in _e.ATTRS and not res[d].attrs:
+            res[d].attrs = dict(_e.ATTRS[d])
+    res = res.assign_coords(rh=("rh", rh_in, {"units": "1", "long_name": "relative humidity",
+                                             "standard_name": "relative_humidity"}))
+    return res.assign_coords(water_height=("rh", hw, {"units": "m", "long_name": "water height h_water"}))
 
 
 def _second_pass_aside(run, output, threshold, seed, attempt):
