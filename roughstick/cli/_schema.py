@@ -192,8 +192,14 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
                            default=[0.025, 0.5, 0.975]),
             "method": F("choice", "'count': count stuck surfaces of [ensemble]; 'subset': subset "
                                   "simulation of P(stuck) on zones of [surface] shape (small "
-                                  "probabilities); 'monte_carlo': crude Monte Carlo on those zones",
-                        default="count", choices=("count", "subset", "monte_carlo")), **_SMALL_P,
+                                  "probabilities); 'monte_carlo': crude Monte Carlo on those zones; "
+                                  "'strips': released beams on the strips of their own zone, small "
+                                  "probabilities included (sub-zones recombined)",
+                        default="count", choices=("count", "subset", "monte_carlo", "strips")), **_SMALL_P,
+            "n_subzones": F("int", "method 'strips': Eq. 16 sub-zones recombined into strips",
+                            default=12000, minimum=48),
+            "n_accurate": F("int", "method 'strips' with model 'auto': of them, through fft_bem where the "
+                                   "answer depends on the model", default=240, minimum=8),
             "model": F("choice", "contact model: method 'count', that of the ensemble's "
                                "surfaces (" + _CONTACT_MODEL.split(": ", 1)[1] + "); 'subset'/"
                                "'monte_carlo', that of each zone: 'modified_dmt' (Eq. 16, ~1 ms per 128 x "

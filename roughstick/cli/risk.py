@@ -92,7 +92,17 @@ def load_risk_config(path) -> dict:
                                     f"relative_humidity {len(m['relative_humidity'])}")
     r = c["risk"]
     problems += _height_problems(c)
-    if r["method"] != "count":
+    if r["method"] == "strips":
+        if "shape" in c["surface"]:
+            problems.append("[risk] method = 'strips' answers on the beam's own interaction zone (Δs × w, cut "
+                            "into sub-zones): remove [surface] shape")
+        if "adhesive_energy" in c["ensemble"]:
+            problems.append("[risk] method = 'strips' simulates its own sub-zones: remove [ensemble] "
+                            "adhesive_energy, or use method = 'count' to read that sample")
+        if r["model"] not in ("auto", "modified_dmt", "fft_bem"):
+            problems.append(f"[risk] model = {r['model']!r}: method = 'strips' runs 'auto' (Eq. 16 corrected "
+                            "by fft_bem), 'modified_dmt' or 'fft_bem'")
+    elif r["method"] != "count":
         if "shape" not in c["surface"]:
             problems.append(f"[risk] method = {r['method']!r} evaluates one zone per model call and the "
                             "beam's whole interaction zone (524 x 6000 px at 5 nm for the paper's beam) is "
@@ -417,6 +427,8 @@ def _run(args):
     levels = r["levels"]
 
     zone = zone_of_the_answer(c, beam)  # said before the work
+    if r["method"] == "strips":
+        return _run_strips(c, beam, lengths, out, zone=zone)
     if r["method"] != "count":
         return _run_subset(c, beam, lengths, out, overwrite=overwrite or unfinished, zone=zone)
     g = _gamma_samples(c, beam, out, overwrite=overwrite or unfinished)
@@ -473,6 +485,63 @@ def _run_subset(c, beam, lengths, out, *, overwrite, zone):
                          + (" (few final lineages: cv unreliable)" if int(d.few_lineages) else "") + _confirmed(d))
     _crossing_table(risk, r["levels"])
     LOG.info(f"wrote {f} (no figures with method = {r['method']!r}: it has no Γ sample)")
+    finish_folder(out)
+    return 0
+
+
+def _run_strips(c, beam, lengths, out, *, zone):
+    """P(stuck)(adsorbed_layer, beam_length, rh) on the beam's own strips, small values included
+    (:func:`roughstick.stiction.strip_stuck_probability`), and the crossing humidities."""
+    import functools
+
+    ens, s, r = c["ensemble"], c["surface"], c["risk"]
+    psd = _psd(s)
+    if isinstance(psd, xr.Dataset):  # the Eq. 37 parameters: the PSD exactly on any grid
+        psd = functools.partial(rs.surface.self_affine_psd, **{k: float(psd[k]) for k in ("s0", "s1", "q0", "qmax")})
+    rh = list(ens["relative_humidity"])
+    kw = {"scheduler": c["run"]["scheduler"]} if "scheduler" in c["run"] else {}
+    per_layer = []
+    for layer in ens["adsorbed_layer"]:
+        LOG.info(f"[{layer}] strips of the beam's zone: {r['n_subzones']} sub-zones through Eq. 16"
+                 + (f", {r['n_accurate']} through fft_bem where the answer depends on it" if r["model"] == "auto"
+                    else f" ({r['model']} alone)") + f", {len(rh)} humidities, {len(lengths)} lengths ...")
+        ds = rs.stuck_probability(psd, method="strips", relative_humidity=rh, beam_length=lengths, beam=beam,
+                                  spacing=s["spacing"], model=r["model"], n=r["n_subzones"], seed=ens["seed"],
+                                  confidence=r["confidence"], adsorbed_layer=layer,
+                                  **({"n_accurate": r["n_accurate"]} if r["model"] == "auto" else {}), **kw)
+        per_layer.append(ds.transpose("beam_length", "rh"))
+    risk = xr.concat(per_layer, dim=xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer",
+                                                 name="adsorbed_layer"), combine_attrs="drop_conflicts")
+    risk["beam_length"].attrs = dict(ATTRS["beam_length"])
+    risk["adsorbed_layer"].attrs = coord_attrs("adsorbed_layer", risk["adsorbed_layer"])
+    # beyond reach (no combination of the sample fails): below every level, said with its margin
+    fill = risk.copy()
+    fill["stiction_probability_upper"] = fill["stiction_probability_upper"].fillna(0.0)
+    cross = [rs.stiction.crossing_humidity(fill, probability=lev) for lev in r["levels"]]
+    cross = xr.concat(cross, dim=xr.DataArray(r["levels"], dims="probability_level", name="probability_level"))
+    cross["probability_level"].attrs = dict(ATTRS["probability_level"])
+    for name in cross.data_vars:
+        risk[name] = cross[name]
+    risk.attrs.update(zone, method="strips", configuration=c["path"].read_text(),
+                      probability_model="released sharp-front beams on independent strips of the beam's "
+                                        "interaction zone (paper Eq. 36, §5.2)")
+    append_history(risk, f"roughstick risk {c['path'].name} (method=strips)")
+    f = rs.io.netcdf.write(risk, out / "risk.nc", compute=True, overwrite=True)
+    LOG.info(f"strips: P(stuck) of {zone['zone']}; [..] = {r['confidence']:.0%} interval, cv")
+    for layer in risk.adsorbed_layer.values:
+        for bl in risk.beam_length.values:
+            for h in risk.rh.values:
+                d = risk.sel(adsorbed_layer=layer, beam_length=bl, rh=h)
+                if bool(d.beyond_reach):
+                    what = (f"0: no combination of the sample sticks it (its threshold is "
+                            f"{float(d.reach_margin):.3g} x the largest strip Γ found)")
+                else:
+                    what = (f"{float(d.stiction_probability):.3g} [{float(d.stiction_probability_lower):.3g}, "
+                            f"{float(d.stiction_probability_upper):.3g}] cv {float(d.coefficient_of_variation):.2f}"
+                            + (" (few sub-zones carry it: interval unreliable)" if bool(d.few_subzones) else ""))
+                LOG.info(f"  [{layer}] l={bl * 1e6:.0f}um RH {h * 100:.1f}%: P = {what}")
+    _crossing_table(risk, r["levels"])
+    LOG.info(f"wrote {f} (no figures with method = 'strips': it has no Γ sample)")
     finish_folder(out)
     return 0
 

@@ -22,13 +22,14 @@ from ..beam.front_tail import adhesive_energy_ccdf, stuck_probability_from_ccdf
 from ..beam.sharp_front import simulate, stuck_probability_from_beams
 from ..stiction.cantilever import PAPER_CANTILEVER, Cantilever
 from ..stiction.risk import stuck_probability_from_sample
+from ..stiction.strip_tail import strip_stuck_probability
 from ._beam import _bank_stuck_probability
 from .surface import _zone_stuck_probability
 
 __all__ = ["stuck_probability", "METHODS"]
 
 #: How :func:`stuck_probability` estimates P(stuck).
-METHODS = ("count", "beam", "front", "subset", "monte_carlo")
+METHODS = ("count", "beam", "front", "subset", "monte_carlo", "strips")
 
 #: The inputs each method reads, beside ``data`` (and ``beam``, ``confidence``).
 _TAKES = {
@@ -39,6 +40,7 @@ _TAKES = {
                "patch_length", "relative_humidity", "shape", "spacing", "model"},
 }
 _TAKES["monte_carlo"] = _TAKES["subset"]
+_TAKES["strips"] = {"beam_length", "seed", "relative_humidity", "spacing", "model", "n"}
 #: ... and the ones that apply to one kind of data only.
 _ZONE_ONLY = {"relative_humidity", "shape", "spacing", "model"}
 _BANK_ONLY = {"protocol", "patch_length"}
@@ -96,6 +98,8 @@ def _check_combination(method, kind, given, options, data):
     }
     fixes.update({("monte_carlo", k): v.replace("subset simulation", "method='monte_carlo'")
                   for (m, k), v in list(fixes.items()) if m == "subset"})
+    fixes.update({("strips", k): "method='strips' draws the sub-zones of the beam's zone from a PSD: pass the PSD "
+                                 "(rs.datasets.family_psd, rs.topography.fit_psd)" for k in ("sample", "beams", "bank")})
     if kind == "unknown":
         raise TypeError(f"data must be an xarray.DataArray or Dataset (a sample of Γ with units 'J m-2', "
                         f"simulated beams of rs.beam.simulate, a PSD, a bank of patch laws of "
@@ -120,7 +124,13 @@ def _check_combination(method, kind, given, options, data):
             why += " (the beam lengths of simulated beams are theirs: select with .sel(beam_length=...))"
         raise TypeError(f"stuck_probability(method={method!r}) on {_WHAT[kind]} does not take "
                         f"{', '.join(dict.fromkeys(wrong))}: {why}.")
-    if kind == "psd":
+    if method == "strips":
+        missing = [k for k in ("relative_humidity", "beam_length") if k not in given]
+        if missing:
+            raise TypeError(f"stuck_probability(psd, method='strips') needs {', '.join(f'{k}=' for k in missing)} "
+                            "(e.g. relative_humidity=[0.7, 0.8], beam_length=[200e-6, 300e-6]); the zone is the "
+                            "beam's own (beam=)")
+    elif kind == "psd":
         missing = [k for k in ("relative_humidity", "shape", "spacing") if k not in given]
         if missing:
             raise TypeError(f"stuck_probability(psd, method={method!r}) needs the zone: "
@@ -186,18 +196,26 @@ def stuck_probability(
       (the sharp-front beam) ``beam_length`` (required), ``protocol``, ``patch_length``,
       ``seed``, ``target_cv``, ``max_evaluations``, ``n_per_level``.
 
+    - ``"strips"`` on a PSD: the beam's own interaction zone :math:`\Delta s \times w`, composed
+      of independent sub-zones, small probabilities included
+      (:func:`roughstick.stiction.strip_stuck_probability`: ``n`` Eq. 16 sub-zones, default
+      12,000, recombined; with ``model="auto"`` the first ``n_accurate`` through fft_bem correct
+      them): ``relative_humidity`` and ``beam_length`` (required), ``n``, ``seed``, ``spacing``,
+      ``model`` (and ``n_accurate``, ``accurate_model``, ``n_combinations``, ``n_boot``).
+
     A keyword the method does not read, or data it cannot use, is refused with the fix.
 
     Parameters
     ----------
     data : xarray.DataArray, xarray.Dataset or callable
         What P(stuck) is estimated from (above).
-    method : {"count", "beam", "front", "subset", "monte_carlo"}
+    method : {"count", "beam", "front", "subset", "monte_carlo", "strips"}
         ``"count"``: count a given sample; ``"beam"``: release ``n`` beams per length on the bank
         (:func:`roughstick.beam.simulate`) and count them; ``"front"``: the sharp-front beam in
         closed form from the sample's (or bank's) Γ CCDF; ``"subset"``: subset simulation to
         ``target_cv`` (small probabilities: 1e-3 and below); ``"monte_carlo"``: crude Monte Carlo
-        of the same model to ``target_cv`` (its reference).
+        of the same model to ``target_cv`` (its reference); ``"strips"``: the beam's whole zone
+        from recombined sub-zone laws, all lengths and humidities in one call.
     beam_length : float or sequence, optional
         Beam length(s) [m]; default ``beam.length`` (count on a sample, subset on a PSD).
     beam : Cantilever
@@ -278,6 +296,11 @@ def stuck_probability(
     if method == "front":
         ccdf = adhesive_energy_ccdf(data, dim="law" if kind == "bank" else dim, confidence=confidence)
         return stuck_probability_from_ccdf(ccdf, beam_length=beam_length, beam=beam, patch_length=patch_length)
+    if method == "strips":
+        return _strips_stuck_probability(data, relative_humidity=relative_humidity, beam_length=beam_length,
+                                         beam=beam, spacing=5e-9 if spacing is None else spacing, model=model,
+                                         n=n if "n" in given else 12_000, seed=seed, confidence=confidence,
+                                         **options)
     if method == "beam":
         beams = simulate(data, beam_length=beam_length, n=n, seed=seed, protocol=protocol, beam=beam,
                          patch_length=patch_length, beam_model=beam_model, **options)
@@ -293,6 +316,16 @@ def stuck_probability(
     _warn_if_smaller_than_the_zone(shape, spacing, beam)
     return _zone_stuck_probability(data, relative_humidity=relative_humidity, shape=shape,
                                    spacing=spacing, model=model, **common, **options)
+
+
+def _strips_stuck_probability(psd, *, model, **kw):
+    """method='strips': model "auto" is Eq. 16 corrected by fft_bem; a named model alone unless
+    ``accurate_model=`` names a second one."""
+    if model == "auto":
+        model, kw["accurate_model"] = "modified_dmt", kw.get("accurate_model", "fft_bem")
+    else:
+        kw.setdefault("accurate_model", None)
+    return strip_stuck_probability(psd, model=model, **kw)
 
 
 def _warn_if_smaller_than_the_zone(shape, spacing, beam) -> None:

@@ -7,10 +7,11 @@ Eq. 37 -> an ensemble of zone surfaces). P(stuck) itself, by counting, subset si
 beam-scale model, is :func:`roughstick.reliability.stuck_probability`.
 """
 
-from . import cantilever, interaction_zone, risk, zone
+from . import cantilever, interaction_zone, risk, strip_tail, zone
 from .cantilever import *  # noqa: F403
 from .interaction_zone import *  # noqa: F403
 from .risk import *  # noqa: F403
+from .strip_tail import *  # noqa: F403
 from .zone import *  # noqa: F403
 
-__all__ = [name for mod in (cantilever, risk, interaction_zone, zone) for name in mod.__all__]
+__all__ = [name for mod in (cantilever, risk, interaction_zone, zone, strip_tail) for name in mod.__all__]

@@ -1,0 +1,590 @@
+r"""Small P(stuck) on the beam's own interaction zone: strips recomposed from sub-zone laws.
+
+The strip :math:`\Delta s \times w` under the beam is :math:`m` independent sub-zones under one
+rigid flat; its law is the mean of theirs and its Γ is Eq. 13 of that mean
+(:func:`roughstick.stiction.compose_zone_law`). A strip is therefore a function of ``m``
+independent draws from one distribution of sub-zone laws, and so is the event
+:math:`\Gamma_{strip} > t`. :func:`strip_ccdf` estimates
+:math:`P(\Gamma_{strip} > t)` from ``N`` computed sub-zone laws by the plug-in estimator: the
+probability under the empirical distribution of the laws, computed by importance sampling over
+combinations of ``m`` of them (exponentially tilted towards sub-zones whose attraction at the
+typical equilibrium is large; a mixture of tilts, one per threshold, and the untilted draw).
+``N`` sub-zones thereby stand for far more than ``N/m`` strips: a strip fails when several of
+its sub-zones are strong together, and the combinations of the sample reach that event at
+probabilities far below :math:`m/N`.
+
+Two fidelities: where the accurate model (``fft_bem``) is computed on ``n`` of the sub-zones,
+the accurate law of every sub-zone is emulated from its cheap one by a per-distance linear
+regression fitted on the ``n`` pairs, :math:`p_a(d) = \alpha(d) + \beta(d)\,p_c(d) +
+\varepsilon(d)`, with the residual curves :math:`\varepsilon` of the pairs drawn back into every
+combination, so the strip's accurate Γ is Eq. 13 of
+:math:`\alpha + \beta\,\bar p_c + \bar\varepsilon`. The interval resamples both samples (the
+``N`` sub-zones by multinomial reweighting of the same combinations, the ``n`` pairs by a refit)
+and adds the importance-sampling error; a run whose failures rest on a handful of sub-zones is
+flagged (``few_subzones``): the sample does not reach that tail, and its interval is not to be
+trusted.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import xarray as xr
+
+from .._core.arguments import check_numbers
+from .._core.conventions import append_history, set_attrs
+from .._core.validate import relative_humidity_array
+from ..contact import curves as contact_curves
+from ..contact.adhesion import summary_kernel
+from ..ensemble.pipeline import distance_grid
+from ..surface import generate_surfaces
+from .cantilever import PAPER_CANTILEVER
+from .zone import _callable_m0, subzone_shape
+
+__all__ = ["strip_ccdf", "strip_stuck_probability"]
+
+#: An estimate whose variance rests on fewer sub-zones than this (participation ratio of their
+#: influence) is flagged ``few_subzones``: a handful of strong sub-zones makes the tail.
+MIN_EFFECTIVE_SUBZONES = 5
+
+
+def _work_above(p, d, d_star):
+    """Attraction of each law above ``d_star`` [J m-2]: -∫_{d*}^{d_max} min(p, 0)... of the law
+    itself (the score that tilts the draws), trapezoids on the grid above ``d_star``."""
+    keep = d >= d_star
+    pp, dd = p[:, keep], d[keep]
+    return -np.sum((pp[:, 1:] + pp[:, :-1]) * 0.5 * np.diff(dd), axis=1)
+
+
+def _tilts(score, targets):
+    """Exponential tilts of the empirical score distribution whose tilted means are ``targets``
+    (clipped to the sample's reach), as log-probabilities over the sub-zones; the untilted draw first."""
+    n = score.size
+    z = (score - score.mean()) / (score.std() + 1e-300)
+    logq = [np.full(n, -math.log(n))]
+    reach = np.quantile(z, 0.995)
+    for t in targets:
+        tz = min((t - score.mean()) / (score.std() + 1e-300), reach)
+        if tz <= 0.05:
+            continue
+        lo, hi = 0.0, 50.0
+        for _ in range(60):
+            th = 0.5 * (lo + hi)
+            w = np.exp(th * z - np.max(th * z))
+            if np.sum(w * z) / np.sum(w) < tz:
+                lo = th
+            else:
+                hi = th
+        a = th * z
+        logq.append(a - (np.max(a) + math.log(np.sum(np.exp(a - np.max(a))))))
+    return np.array(logq)
+
+
+def _gamma(pbar, d):
+    """Eq. 13 of composed laws (rows)."""
+    return summary_kernel(pbar, np.zeros_like(pbar), d)[0]
+
+
+@check_numbers(subzones="count", n_combinations="count", n_boot="count", seed="seed", confidence="fraction")
+def strip_ccdf(cheap: xr.DataArray, thresholds, *, subzones: int, accurate: xr.DataArray | None = None,
+               n_combinations: int = 100_000, n_boot: int = 100, seed=0,
+               confidence: float = 0.95) -> xr.Dataset:
+    r"""P(Γ of a strip of ``subzones`` sub-zones > t) at ``thresholds``, from sub-zone laws.
+
+    The plug-in estimator of the module docstring: the strip's law is the mean of ``subzones``
+    independent sub-zone laws (:func:`compose_zone_law`), its Γ Eq. 13 of that mean, and the
+    probability is taken under the empirical distribution of the ``N`` laws of ``cheap`` by
+    importance sampling over their combinations. With ``accurate`` (the same sub-zones' laws of
+    the accurate model, for the first ``n`` of them, on the same distance grid) the probability
+    is that of the accurate model, its laws emulated from the cheap ones by the pairs'
+    per-distance regression with the pairs' residuals drawn back in.
+
+    Parameters
+    ----------
+    cheap : xarray.DataArray
+        Pressure [Pa] of ``N`` sub-zones over ``(realization, distance)`` (and ``rh``): e.g.
+        ``rs.stiction.strip_adhesive_energy(..., subzones=1, keep_curves=True).pressure``.
+    thresholds : array-like
+        Γ values [J m-2] at which to estimate the exceedance probability (1-D; or over ``rh``
+        as a DataArray ``(rh, threshold)``).
+    subzones : int
+        Sub-zones per strip, ``m``.
+    accurate : xarray.DataArray, optional
+        Pressure of the accurate model on sub-zones ``0 ... n-1`` of ``cheap`` (``n >= 8``).
+    n_combinations : int
+        Importance-sampled combinations per humidity.
+    n_boot : int
+        Bootstrap replicates of the interval.
+    seed : int
+        Seed of the combinations and the bootstrap.
+    confidence : float
+        Level of the interval.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``(rh, threshold)``: ``exceedance_probability`` with ``_lower``/``_upper``,
+        ``importance_sampling_cv``; over ``rh``: ``effective_subzones`` (how many sub-zones the
+        failures rest on, weighted; ``few_subzones`` when below
+        :data:`MIN_EFFECTIVE_SUBZONES`), and the replicates ``exceedance_probability_replicates``
+        over ``(rh, replicate, threshold)`` for composing P(stuck). attrs ``subzones``,
+        ``n_subzones``, ``n_accurate``.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> d = np.linspace(0.0, 4e-9, 41)
+    >>> depth = rng.gamma(4.0, 0.25, size=(400, 1))  # attraction of 400 sub-zone laws
+    >>> p = np.where(d < 1e-9, 1e6 * (1e-9 - d) / 1e-9, 0.0) - 1e5 * depth * (d > 1e-9) * (d < 3e-9)
+    >>> laws = xr.DataArray(p, dims=("realization", "distance"), coords={"distance": d})
+    >>> c = rs.stiction.strip_ccdf(laws, [2.5e-4, 3e-4], subzones=12, n_combinations=20_000, n_boot=20)
+    >>> bool(c.exceedance_probability[0, 0] > c.exceedance_probability[0, 1])
+    True
+    """
+    m = int(subzones)
+    cheap = _with_rh(cheap, "cheap")
+    acc = None if accurate is None else _with_rh(accurate, "accurate")
+    d = np.asarray(cheap["distance"].values, dtype=float)
+    if acc is not None:
+        if acc.sizes["realization"] < 8:
+            raise ValueError(f"accurate has {acc.sizes['realization']} sub-zones: the emulator needs at least 8 "
+                             "pairs (compute the accurate model on more of the sub-zones)")
+        if acc.sizes["realization"] > cheap.sizes["realization"] or not np.allclose(acc["distance"].values, d, rtol=1e-9, atol=0.0):
+            raise ValueError("accurate must hold the first n sub-zones of cheap on the same distance grid: "
+                             "compute both with one distance= grid and the same seed")
+    thr = _thresholds(thresholds, cheap)
+    rng = np.random.default_rng(seed)
+    out = []
+    for k in range(cheap.sizes["rh"]):
+        pc = np.asarray(cheap.isel(rh=k).transpose("realization", "distance").values, dtype=float)
+        pa = None if acc is None else np.asarray(acc.isel(rh=k).transpose("realization", "distance").values,
+                                                 dtype=float)
+        out.append(_one_humidity(pc, pa, d, thr[k], m, n_combinations, n_boot, rng, confidence))
+    return _assemble(out, cheap, thr, m, acc, confidence, n_combinations, n_boot)
+
+
+def _with_rh(laws, name):
+    if not isinstance(laws, xr.DataArray) or not {"realization", "distance"} <= set(laws.dims):
+        raise ValueError(f"{name} must be a DataArray of sub-zone pressure over ('realization', 'distance') "
+                         "(strip_adhesive_energy(..., subzones=1, keep_curves=True).pressure)")
+    if "rh" not in laws.dims:
+        laws = laws.expand_dims(rh=[float(laws["rh"])] if "rh" in laws.coords else [np.nan])
+    if not np.all(np.isfinite(laws.values)):
+        raise ValueError(f"{name} has non-finite pressures: recompute those sub-zones (or drop them) first")
+    return laws
+
+
+def _thresholds(thresholds, cheap):
+    t = thresholds
+    if isinstance(t, xr.DataArray) and "rh" in t.dims:
+        t = t.sel(rh=cheap["rh"]).transpose("rh", ...).values
+    t = np.asarray(t, dtype=float)
+    t = np.broadcast_to(t, (cheap.sizes["rh"], t.shape[-1])) if t.ndim <= 1 else t
+    if t.ndim != 2 or t.shape[0] != cheap.sizes["rh"] or not np.all(np.isfinite(t)) or np.any(t <= 0):
+        raise ValueError("thresholds must be positive adhesive energies [J m-2], one list or one per rh")
+    return np.atleast_2d(t)
+
+
+def _ratio_model(pc, pa, d, m, n_pair_comb, rng):
+    """The accurate-to-cheap ratio of strips composed from the pairs: log R = a + b log Γ_c + e,
+    fitted on ``n_pair_comb`` combinations of ``m`` pairs (half of them tilted to strong cheap
+    strips); returns (a, b, residuals, the cheap Γ range it saw)."""
+    n = pc.shape[0]
+    score = _work_above(pc, d, _typical_equilibrium(pc.mean(0), d))
+    logq = _tilts(score, [np.quantile(score, 0.9)])
+    q = np.exp(logq[-1] - logq[-1].max())
+    idx = np.concatenate([rng.integers(0, n, size=(n_pair_comb // 2, m)),
+                          rng.choice(n, size=(n_pair_comb - n_pair_comb // 2, m), p=q / q.sum())])
+    gc, ga = _gamma(_compose(pc, idx), d), _gamma(_compose(pa, idx), d)
+    ok = (gc > 0) & (ga > 0)
+    if ok.sum() < 10:
+        raise ValueError("the accurate pairs give no strips with adhesion at this humidity: compute the "
+                         "accurate model on more sub-zones (n_accurate=)")
+    x, y = np.log(gc[ok]), np.log(ga[ok] / gc[ok])
+    b = float(np.cov(x, y)[0, 1] / np.var(x, ddof=1)) if np.var(x) > 0 else 0.0
+    a = float(y.mean() - b * x.mean())
+    return a, b, y - (a + b * x), (float(gc[ok].min()), float(gc[ok].max()))
+
+
+def _ratio_holdout(pc, pa, d, m, rng):
+    """Leave-one-strip-out check of the ratio model on the pairs' own strips (consecutive groups of
+    ``m``): each strip's log(Γ_a/Γ_c) against the model fitted without it, in units of the model's
+    residual sd. Returns (rms of those z, fraction within ±2, number of strips)."""
+    k = pc.shape[0] // m
+    z = []
+    for j in range(k):
+        keep = np.ones(pc.shape[0], bool)
+        keep[j * m:(j + 1) * m] = False
+        if keep.sum() < 8:
+            continue
+        a, b, res, _ = _ratio_model(pc[keep], pa[keep], d, m, 4000, rng)
+        gc = _gamma(pc[~keep][:m].mean(0)[None], d)[0]
+        ga = _gamma(pa[~keep][:m].mean(0)[None], d)[0]
+        if gc > 0 and ga > 0:
+            z.append((math.log(ga / gc) - (a + b * math.log(gc))) / max(res.std(), 1e-300))
+    z = np.array(z)
+    return (float(np.sqrt(np.mean(z**2))) if z.size else np.nan,
+            float(np.mean(np.abs(z) <= 2)) if z.size else np.nan, int(z.size))
+
+
+def _one_humidity(pc, pa, d, thr, m, n_comb, n_boot, rng, confidence):
+    n_sub = pc.shape[0]
+    d_star = _typical_equilibrium(pc.mean(0), d)
+    score = _work_above(pc, d, d_star)
+    ratio = None
+    if pa is not None:
+        ratio = _ratio_model(pc[: pa.shape[0]], pa, d, m, 20_000, rng)
+        # tilt the cheap draws to where the accurate strips cross the thresholds
+        targets = list(thr / math.exp(ratio[0] + ratio[1] * math.log(max(np.median(_gamma(
+            _compose(pc, rng.integers(0, n_sub, size=(2000, m))), d)), 1e-300))))
+    else:
+        targets = list(thr)
+    logq = _tilts(score, targets + [1.2 * min(targets)])
+    comp = rng.integers(0, logq.shape[0], size=n_comb)
+    idx = np.empty((n_comb, m), dtype=np.int64)
+    for c in range(logq.shape[0]):
+        sel = comp == c
+        q = np.exp(logq[c] - logq[c].max())
+        idx[sel] = rng.choice(n_sub, size=(int(sel.sum()), m), p=q / q.sum())
+    # log density of each combination under the mixture, and under the empirical distribution
+    comp_logq = np.stack([logq[c][idx].sum(1) for c in range(logq.shape[0])])
+    log_mix = np.logaddexp.reduce(comp_logq, axis=0) - math.log(logq.shape[0])
+    w0 = np.exp(-m * math.log(n_sub) - log_mix)
+    gc = _gamma(_compose(pc, idx), d)
+
+    def strip_gamma(model):
+        if model is None:
+            return gc
+        a, b, res, _ = model
+        with np.errstate(divide="ignore"):
+            return gc * np.exp(a + b * np.log(gc) + res[rng.integers(0, res.size, size=gc.size)])
+
+    g0 = strip_gamma(ratio)
+    wf = w0[:, None] * (g0[:, None] > thr[None, :])
+    est = wf.mean(0)
+    var_is = wf.var(0) / n_comb
+    # the sampling of the N sub-zones: the plug-in's first-order (Hoeffding) variance,
+    # m^2/N Var_i h1(i), h1(i) = P(fail | one of the strip's sub-zones is i)
+    var_n, eff = np.zeros(thr.size), np.zeros(thr.size)
+    for j in np.flatnonzero(est > 0):
+        h1 = np.bincount(idx.ravel(), weights=np.repeat(wf[:, j], m), minlength=n_sub) * n_sub / (m * n_comb)
+        v = (h1 - est[j]) ** 2
+        var_n[j] = m * m / n_sub * np.mean(v)
+        # how many sub-zones that variance rests on (participation ratio): few = the tail is theirs
+        eff[j] = v.sum() ** 2 / max(np.sum(v * v), 1e-300)
+    var_pairs = np.zeros(thr.size)
+    reach = np.nan
+    if ratio is not None:
+        reps = np.empty((n_boot, thr.size))
+        for b in range(n_boot):
+            pick = rng.integers(0, pa.shape[0], size=pa.shape[0])
+            fit = _ratio_model(pc[pick], pa[pick], d, m, 4000, rng)
+            reps[b] = (w0[:, None] * (strip_gamma(fit)[:, None] > thr[None, :])).mean(0)
+        var_pairs = reps.var(0, ddof=1)
+        # how far beyond the pairs' strips the failures' cheap Γ lies (> 1: extrapolated)
+        fails = wf[:, 0] > 0
+        reach = float(np.average(gc[fails], weights=wf[fails, 0]) / ratio[3][1]) if fails.any() else np.nan
+        check = _ratio_holdout(pc[: pa.shape[0]], pa, d, m, rng)
+    else:
+        check = (np.nan, np.nan, 0)
+    var = var_is + var_n + var_pairs
+    a = (1.0 - confidence) / 2
+    z = float(_norm_ppf(1 - a))
+    # log-normal interval (positive, skewed as a small probability's estimate is)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cv = np.sqrt(var) / est
+        # the log-sd taken equal to the cv: wider than the log-normal's sqrt(log(1 + cv^2)), as
+        # the estimate's left tail is heavier than log-normal where few combinations fail
+        lo = np.where(est > 0, est * np.exp(-np.minimum(z * cv, 700.0)), 0.0)
+        hi = np.where(est > 0, np.minimum(est * np.exp(np.minimum(z * cv, 700.0)), 1.0), 0.0)
+        is_cv, pair_cv = np.sqrt(var_is) / est, np.sqrt(var_pairs) / est
+    return dict(est=est, lo=lo, hi=hi, cv=cv, is_cv=is_cv, pair_cv=pair_cv, eff=eff, d_star=d_star, top=float(np.max(g0)),
+                ratio=(np.nan, np.nan) if ratio is None else ratio[:2], reach=reach, check=check)
+
+
+def _norm_ppf(p):
+    from scipy.stats import norm
+    return norm.ppf(p)
+
+
+def _compose(p, idx, chunk=20_000):
+    """Mean law of each row of ``idx`` (rows of ``p``), in chunks."""
+    out = np.empty((idx.shape[0], p.shape[1]))
+    for s in range(0, idx.shape[0], chunk):
+        out[s:s + chunk] = p[idx[s:s + chunk]].mean(1)
+    return out
+
+
+def _typical_equilibrium(law, d):
+    """Equilibrium of the sample's mean law (Eq. 13's crossing); the grid's start if none."""
+    deq = summary_kernel(law[None, :], np.zeros((1, law.size)), d)[2][0]
+    return float(deq) if np.isfinite(deq) else float(d[0])
+
+
+def _assemble(out, cheap, thr, m, acc, confidence, n_comb, n_boot):
+    rh = cheap["rh"].values
+    dims = ("rh", "threshold")
+    tcoord = np.arange(thr.shape[1])
+    ds = xr.Dataset({
+        "exceedance_probability": (dims, np.stack([o["est"] for o in out]), {
+            "units": "1", "long_name": "P(strip adhesive energy > threshold)"}),
+        "exceedance_probability_lower": (dims, np.stack([o["lo"] for o in out]), {
+            "units": "1", "long_name": f"lower bound, {100 * confidence:g} % bootstrap interval"}),
+        "exceedance_probability_upper": (dims, np.stack([o["hi"] for o in out]), {
+            "units": "1", "long_name": f"upper bound, {100 * confidence:g} % bootstrap interval"}),
+        "importance_sampling_cv": (dims, np.stack([o["is_cv"] for o in out]), {
+            "units": "1", "long_name": "cv from the finite number of combinations"}),
+        "adhesive_energy": (dims, thr, {"units": "J m-2", "long_name": "threshold on the strip's Γ"}),
+        "coefficient_of_variation": (dims, np.stack([o["cv"] for o in out]), {
+            "units": "1", "long_name": "cv of the estimate (sub-zone sampling, pairs, importance sampling)"}),
+        "emulator_cv": (dims, np.stack([o["pair_cv"] for o in out]), {
+            "units": "1", "long_name": "cv from the accurate pairs (the emulator's refit)"}),
+        "ratio_intercept": ("rh", np.array([o["ratio"][0] for o in out]), {
+            "units": "1", "long_name": "a of log(Γ_accurate/Γ_cheap) = a + b log(Γ_cheap / J m-2)"}),
+        "ratio_slope": ("rh", np.array([o["ratio"][1] for o in out]), {
+            "units": "1", "long_name": "b of log(Γ_accurate/Γ_cheap) = a + b log(Γ_cheap / J m-2)"}),
+        "ratio_reach": ("rh", np.array([o["reach"] for o in out]), {
+            "units": "1", "long_name": "failures' cheap Γ over the largest the pairs' strips reached"}),
+        "ratio_check_rms_z": ("rh", np.array([o["check"][0] for o in out]), {
+            "units": "1", "long_name": "rms of held-out strips' log ratio error over the model's residual sd"}),
+        "ratio_check_within_2sd": ("rh", np.array([o["check"][1] for o in out]), {
+            "units": "1", "long_name": "fraction of held-out strips within 2 residual sd of the ratio model"}),
+        "ratio_check_strips": ("rh", np.array([o["check"][2] for o in out]), {
+            "units": "1", "long_name": "held-out strips of the ratio check"}),
+        "largest_strip_energy": ("rh", np.array([o["top"] for o in out]), {
+            "units": "J m-2", "long_name": "largest strip Γ among the combinations"}),
+        "effective_subzones": (dims, np.stack([o["eff"] for o in out]), {
+            "units": "1", "long_name": "sub-zones the estimate's variance rests on (participation ratio)"}),
+        "few_subzones": (dims, np.stack([(o["eff"] < MIN_EFFECTIVE_SUBZONES) & (o["est"] > 0) for o in out]), {
+            "units": "1", "long_name": "the tail rests on a handful of sub-zones: its interval is not to be trusted"}),
+        "typical_equilibrium_distance": ("rh", np.array([o["d_star"] for o in out]), {"units": "m"}),
+    }, coords={"rh": rh, "threshold": tcoord})
+    ds.attrs.update(subzones=m, n_subzones=int(cheap.sizes["realization"]),
+                    n_accurate=0 if acc is None else int(acc.sizes["realization"]),
+                    n_combinations=int(n_comb), n_boot=int(n_boot), confidence=float(confidence),
+                    estimator="plug-in over combinations of sub-zone laws (importance sampled)")
+    append_history(ds, f"strip_ccdf(subzones={m}, n_subzones={ds.attrs['n_subzones']}, "
+                       f"n_accurate={ds.attrs['n_accurate']})")
+    return ds
+
+
+def _patch_thresholds(lengths, beam, patch_length):
+    """The thresholds K/x_{j+1}^4 of every patch of every beam (Eq. 36), as one sorted array and,
+    per beam, the indices of its patches in it."""
+    from ..beam.sharp_front import n_patches
+    per = []
+    for length in lengths:
+        hi = np.minimum((np.arange(n_patches(length, patch_length)) + 1) * patch_length, length)
+        per.append(beam.stiffness_term / hi**4)
+    allt = np.unique(np.concatenate(per))
+    return allt, [np.searchsorted(allt, t) for t in per]
+
+
+def _beam_probability(est, sd, patches):
+    """P(stuck) = 1 - prod_j (1 - C_j) over a beam's patches, and its sd bounded as if the C_j
+    were fully correlated (they are nested exceedances of one estimate): sum_j g_j sd_j."""
+    c, s = est[patches], sd[patches]
+    p = float(-np.expm1(np.sum(np.log1p(-np.minimum(c, 1.0 - 1e-16))))) + 0.0  # no -0.0
+    keep = np.prod(1.0 - c)
+    g = np.where(c < 1, keep / np.maximum(1.0 - c, 1e-300), 0.0)
+    return p, float(np.sum(g * s))
+
+
+def _subzone_laws(psd, rh, n, start, shape, spacing, model, seed, distance, scheduler, workers, layer="paper"):
+    """Pressure of sub-zones ``start ... n-1`` of the seed's realizations on one distance grid."""
+    surf = generate_surfaces(psd, n=n, shape=shape, spacing=spacing, seed=seed, chunks=1)
+    surf = surf.isel(realization=slice(start, n))
+    c = contact_curves(surf, relative_humidity=list(rh), model=model, check_validity=False, distance=distance,
+                       adsorbed_layer=layer)
+    kw = {} if workers is None else {"num_workers": int(workers)}
+    p = c["pressure"].compute(scheduler=scheduler, **kw)
+    return p.drop_vars([k for k in p.coords if k not in ("rh", "distance", "realization")])
+
+
+@check_numbers(n="count", n_accurate="count0", seed="seed", confidence="fraction", spacing="length",
+               n_combinations="count", n_boot="count", workers="count?", subzones="count?", n_distance="count?")
+def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_000, n_accurate: int = 240,
+                            model: str = "modified_dmt", accurate_model: str | None = "fft_bem",
+                            beam=None, spacing=5e-9, seed=0, n_combinations: int = 100_000,
+                            n_boot: int = 100, confidence: float = 0.95, subzones: int | None = None,
+                            n_distance: int | None = None, adsorbed_layer="paper", scheduler: str = "threads",
+                            workers: int | None = None) -> xr.Dataset:
+    r"""P(stuck) of released sharp-front beams on their own interaction zone, small values included.
+
+    The beam's zone :math:`\Delta s \times w` (:func:`subzone_shape`: 12 sub-zones of 524 × 500
+    pixels at 5 nm for the paper's beam) is composed of independent sub-zones; ``n`` sub-zones
+    are drawn from the PSD and run through ``model`` at every humidity, the first
+    ``n_accurate`` of them through ``accurate_model`` too, and :func:`strip_ccdf` estimates the
+    strips' Γ exceedance at every patch threshold :math:`K/x_{j+1}^4` of every beam (Eq. 36);
+    P(stuck) is :math:`1 - \prod_j (1 - \bar F(K/x_{j+1}^4))` (the sharp front on independent
+    strips, :func:`roughstick.beam.stuck_probability_from_ccdf`).
+
+    Parameters
+    ----------
+    psd : xarray.DataArray or callable
+        PSD of the equivalent surface (e.g. ``rs.datasets.family_psd("table4")``).
+    relative_humidity : float or sequence
+        RH fractions in (0, 1).
+    beam_length : float or sequence
+        Beam lengths [m].
+    n : int
+        Sub-zones of the cheap model (``n / m`` strips' worth of area).
+    n_accurate : int
+        Sub-zones, the first of the ``n``, also through ``accurate_model`` (0 or
+        ``accurate_model=None``: the cheap model alone, its answer is then that model's).
+    model, accurate_model : str
+        The contact models (:func:`roughstick.contact.curves`).
+    beam : Cantilever
+        The beams' geometry (default the paper's); sets the zone and the thresholds.
+    spacing : float
+        Pixel size [m].
+    seed : int
+        Root seed of the sub-zones and of the estimator.
+    n_combinations, n_boot : int
+        Importance-sampled combinations and bootstrap refits of :func:`strip_ccdf`.
+    confidence : float
+        Level of the intervals.
+    subzones : int, optional
+        Sub-zones per strip (a divisor of the zone's width in pixels); default
+        :func:`subzone_shape`'s, the squarest.
+    n_distance : int, optional
+        Points of the distance grid (:func:`roughstick.ensemble.distance_grid`'s default if None).
+    adsorbed_layer : str or float
+        The adsorbed water layer of the contact models ("paper": 0.9 nm per surface above 65 % RH).
+    scheduler : str
+        Dask scheduler of the contact curves (one task per sub-zone).
+    workers : int, optional
+        Number of dask workers.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``(rh, beam_length)``: ``stiction_probability`` with ``_lower``/``_upper``,
+        ``coefficient_of_variation`` and ``beyond_reach`` (no combination of the sample fails:
+        the estimate 0 has no interval; the margin is ``reach_margin``, the beam's threshold over
+        the largest strip Γ the combinations found); over ``rh`` the diagnostics of
+        :func:`strip_ccdf`. attrs: evaluations of each model (sub-zones and zone equivalents),
+        seconds of each stage. :func:`roughstick.stiction.crossing_humidity` reads it.
+
+    Examples
+    --------
+    >>> psd = rs.datasets.family_psd("table4")
+    >>> r = rs.stiction.strip_stuck_probability(psd, relative_humidity=[0.6, 0.8], beam_length=[300e-6],
+    ...                                         n=48, accurate_model=None, n_combinations=2000)
+    >>> r.stiction_probability.values  # 300 µm: free below the adsorbed layer's onset, stuck at 80 %
+    array([[0.],
+           [1.]])
+    """
+    from ..beam.sharp_front import lengths_and_patch  # the beam package imports this one
+
+    beam = PAPER_CANTILEVER if beam is None else beam
+    rh = relative_humidity_array(relative_humidity)
+    lengths, patch_length = lengths_and_patch(beam_length, None, beam)
+    shape, m = subzone_shape(beam, spacing=spacing)
+    if subzones is not None:
+        width = shape[1] * m
+        if width % int(subzones):
+            raise ValueError(f"subzones={subzones} does not divide the zone's {width} pixels across the beam: "
+                             f"pass a divisor of {width} (default {m})")
+        shape, m = (shape[0], width // int(subzones)), int(subzones)
+    n_acc = 0 if accurate_model is None else int(n_accurate)
+    if n < 4 * m:
+        raise ValueError(f"n={n} sub-zones are fewer than 4 strips of {m}: pass n >= {4 * m} (thousands for "
+                         "probabilities below 1e-3)")
+    if accurate_model is not None and not 8 <= n_acc <= n:
+        raise ValueError(f"n_accurate={n_accurate} must lie in [8, n] for two fidelities (a few hundred: its "
+                         "pairs set the accurate-to-cheap ratio), or pass accurate_model=None")
+    grid_psd = {"psd": psd} if isinstance(psd, xr.DataArray) else {"m0": _callable_m0(psd, shape, spacing)}
+    distance = np.asarray(distance_grid(**grid_psd, shape=shape, n=n, relative_humidity=rh,
+                                        n_distance=n_distance, adsorbed_layer=adsorbed_layer).values, dtype=float)
+    t0 = time.perf_counter()
+    cheap = _subzone_laws(psd, rh, n, 0, shape, spacing, model, seed, distance, scheduler, workers, adsorbed_layer)
+    t1 = time.perf_counter()
+    allt, per_beam = _patch_thresholds(lengths, beam, patch_length)
+    need = _needs_accurate(cheap, allt, per_beam, m, seed) if n_acc else np.zeros(rh.size, bool)
+    acc = None
+    if need.any():
+        acc = _subzone_laws(psd, rh[need], n_acc, 0, shape, spacing, accurate_model, seed, distance, scheduler,
+                            workers, adsorbed_layer)
+    t2 = time.perf_counter()
+    parts = []
+    for k in range(rh.size):
+        a = acc.sel(rh=[rh[k]]) if need[k] else None
+        parts.append(strip_ccdf(cheap.isel(rh=[k]), allt, subzones=m, accurate=a, n_combinations=n_combinations,
+                                n_boot=n_boot, seed=np.random.SeedSequence([int(seed), k]), confidence=confidence))
+    ccdf = xr.concat(parts, "rh")
+    t3 = time.perf_counter()
+    out = _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, dict(
+        n_cheap_subzones=int(n), n_accurate_subzones=n_acc, subzones=m, subzone_shape=list(shape),
+        cheap_zone_equivalents=n / m, accurate_zone_equivalents=n_acc / m, contact_model=model,
+        accurate_model=str(accurate_model), patch_length=patch_length, spacing=float(spacing),
+        adsorbed_layer=str(adsorbed_layer), ratio_bracket=list(RATIO_BRACKET), n_distance=int(distance.size), seconds_cheap=t1 - t0, seconds_accurate=t2 - t1,
+        seconds_estimator=t3 - t2, **beam.attrs()))
+    out["accurate_model_run"] = ("rh", need, {"units": "1", "long_name": "the accurate model ran at this humidity"})
+    return out
+
+
+#: Accurate-to-cheap ratio of strip Γ assumed possible when deciding where the accurate model
+#: is needed (Table 4, RH 0.6-0.85: 0.66-0.98 measured).
+RATIO_BRACKET = (0.5, 2.0)
+
+
+def _needs_accurate(cheap, allt, per_beam, m, seed):
+    """Humidities where some beam's P(stuck) is neither 0 nor 1 for any accurate-to-cheap ratio in
+    :data:`RATIO_BRACKET`: there the accurate model must run; elsewhere the cheap answer holds."""
+    need = np.zeros(cheap.sizes["rh"], bool)
+    for k in range(cheap.sizes["rh"]):
+        c = strip_ccdf(cheap.isel(rh=[k]), np.concatenate([allt / RATIO_BRACKET[1], allt / RATIO_BRACKET[0]]),
+                       subzones=m, n_combinations=20_000, n_boot=1, seed=np.random.SeedSequence([int(seed), 99, k]))
+        e = c["exceedance_probability"].values[0]
+        hi, lo = e[: allt.size], e[allt.size:]
+        for patches in per_beam:
+            p_hi = -np.expm1(np.sum(np.log1p(-np.minimum(hi[patches], 1 - 1e-16))))
+            p_lo = -np.expm1(np.sum(np.log1p(-np.minimum(lo[patches], 1 - 1e-16))))
+            need[k] |= (p_hi > 0) and (p_lo < 1 - 1e-9)
+    return need
+
+
+def _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, attrs):
+    from scipy.stats import norm
+    z = float(norm.ppf(0.5 + confidence / 2))
+    shape = (rh.size, lengths.size)
+    p, lo, hi, cv, beyond, margin = (np.zeros(shape) for _ in range(6))
+    for k in range(rh.size):
+        est = ccdf["exceedance_probability"].values[k]
+        sd = np.where(est > 0, np.nan_to_num(ccdf["coefficient_of_variation"].values[k]) * est, 0.0)
+        top = float(ccdf["largest_strip_energy"].values[k])
+        for b, patches in enumerate(per_beam):
+            p[k, b], s = _beam_probability(est, sd, patches)
+            margin[k, b] = float(allt[patches].min()) / top if top > 0 else np.inf
+            beyond[k, b] = p[k, b] == 0
+            cv[k, b] = s / p[k, b] if p[k, b] > 0 else np.nan
+            if p[k, b] > 0:
+                lo[k, b] = p[k, b] * math.exp(-min(z * cv[k, b], 700.0))
+                hi[k, b] = min(1.0, p[k, b] * math.exp(min(z * cv[k, b], 700.0)))
+            else:
+                lo[k, b], hi[k, b] = 0.0, np.nan
+    dims = ("rh", "beam_length")
+    ds = xr.Dataset({
+        "stiction_probability": (dims, p, {"units": "1", "long_name": "P(stuck), sharp front on the beam's strips"}),
+        "stiction_probability_lower": (dims, lo, {"units": "1", "long_name": "lower bound of P(stuck)"}),
+        "stiction_probability_upper": (dims, hi, {"units": "1", "long_name": "upper bound of P(stuck) (NaN beyond reach)"}),
+        "coefficient_of_variation": (dims, cv, {"units": "1", "long_name": "coefficient of variation of P(stuck)"}),
+        "beyond_reach": (dims, beyond.astype(bool), {"units": "1", "long_name": "no combination of the sample fails"}),
+        "reach_margin": (dims, margin, {"units": "1", "long_name": "threshold over the largest strip Γ found"}),
+    }, coords={"rh": rh, "beam_length": ("beam_length", lengths, {"units": "m"})})
+    first = [patches[np.argmin(allt[patches])] for patches in per_beam]
+    for v in ("effective_subzones", "few_subzones"):
+        ds[v] = (dims, ccdf[v].values[:, first], ccdf[v].attrs)
+    for v in ("ratio_intercept", "ratio_slope", "ratio_reach", "ratio_check_rms_z", "ratio_check_within_2sd",
+              "ratio_check_strips"):
+        ds[v] = ccdf[v].assign_coords(rh=rh)
+    ds["rh"].attrs = set_attrs(ds["rh"], "rh").attrs
+    ds["beam_length"].attrs.update(long_name="beam length")
+    ds.attrs.update(attrs, confidence=float(confidence), estimator=ccdf.attrs["estimator"],
+                    model="sharp_front", references="paper Eq. 13, Eq. 36, §5.2 (zone Δs × w)")
+    append_history(ds, f"strip_stuck_probability(n={attrs['n_cheap_subzones']}, "
+                       f"n_accurate={attrs['n_accurate_subzones']})")
+    return ds

@@ -1,0 +1,190 @@
+"""Small P(stuck) on the beam's zone (roughstick.stiction.strip_tail): the plug-in estimator over
+combinations of sub-zone laws against an exact tail, its intervals' coverage, the two-fidelity
+ratio, the flags, and the refusals.
+
+The synthetic sub-zone law: a contact spring below d0 and an attraction of depth a over
+[d0, d1] (a box), a ~ Gamma(k, theta). The mean of m such laws is the same box of depth mean(a),
+whose Γ (Eq. 13) is mean(a) (d1 - d0); the sum of m Gamma(k, theta) is Gamma(m k, theta), so
+the strip's exceedance probability is known exactly."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from scipy import stats
+
+import roughstick as rs
+
+D = np.linspace(0.0, 4e-9, 41)
+D0, D1 = 1e-9, 3e-9
+K, THETA, M = 4.0, 2.5e4, 12  # depth [Pa]: mean 1e5 Pa, cv 0.5
+
+
+def _laws(a):
+    p = np.where(D < D0, 1e7 * (D0 - D) / D0, 0.0)[None, :] - a[:, None] * ((D > D0) & (D <= D1))[None, :]
+    return xr.DataArray(p, dims=("realization", "distance"), coords={"distance": D})
+
+
+def _gamma_strip(abar):
+    """Eq. 13 of the box law of depth ``abar``: the trapezoid over the grid's box."""
+    return abar * (D1 - D0)
+
+
+def _exact_ccdf(t):
+    """P(mean of M depths * (d1 - d0) > t): Gamma(M K, THETA) for the sum."""
+    return stats.gamma.sf(np.asarray(t) / (D1 - D0) * M, M * K, scale=THETA)
+
+
+def test_box_law_gamma_is_its_depth_times_width():
+    # the premise of the exact tail: Eq. 13 of the composed box law
+    from roughstick.stiction.strip_tail import _gamma
+    g = _gamma(_laws(np.array([1e5, 2e5])).values, D)
+    assert g == pytest.approx(_gamma_strip(np.array([1e5, 2e5])), rel=1e-12)
+
+
+def test_plug_in_tail_against_the_exact_tail_with_coverage():
+    # 20 independent samples of 1200 sub-zones (100 strips' worth): the tail at 1e-2 ... 1e-5,
+    # far below what 100 strips could count; the intervals cover the exact value >= 18 / 20
+    t = _gamma_strip(np.array([1.4e5, 1.6e5, 1.7e5]))
+    exact = _exact_ccdf(t)
+    assert 1e-5 < exact[-1] < exact[0] < 5e-2  # 5.9e-3, 1.7e-4, 2.3e-5
+    rng = np.random.default_rng(7)
+    est, covered = [], np.zeros(t.size, int)
+    for s in range(20):
+        c = rs.stiction.strip_ccdf(_laws(rng.gamma(K, THETA, 1200)), t, subzones=M, n_combinations=40_000,
+                                   seed=s)
+        e = c.exceedance_probability.values[0]
+        est.append(e)
+        covered += (c.exceedance_probability_lower.values[0] <= exact) & (exact <= c.exceedance_probability_upper.values[0])
+        assert not bool(c.few_subzones[0, 0])
+    est = np.array(est)
+    assert np.all(covered >= 18), covered
+    # unbiased to within the spread of 20 estimates, at every level
+    assert np.all(np.abs(est.mean(0) / exact - 1) < 3 * est.std(0) / exact / np.sqrt(20) + 0.05)
+
+
+def test_reported_cv_matches_the_spread_over_seeds():
+    t = _gamma_strip(np.array([1.6e5]))
+    rng = np.random.default_rng(11)
+    est, cv = [], []
+    for s in range(20):
+        c = rs.stiction.strip_ccdf(_laws(rng.gamma(K, THETA, 1200)), t, subzones=M, n_combinations=40_000, seed=s)
+        est.append(float(c.exceedance_probability[0, 0]))
+        cv.append(float(c.coefficient_of_variation[0, 0]))
+    true_cv = np.std(est, ddof=1) / np.mean(est)
+    assert 0.6 < np.mean(cv) / true_cv < 1.5, (np.mean(cv), true_cv)
+
+
+def test_two_fidelities_recover_the_accurate_tail():
+    # accurate law = cheap law x r, r ~ U(0.6, 0.8) per sub-zone: the strip's accurate depth is the mean
+    # of a r; the exact tail by a million direct strips of the same distribution
+    rng = np.random.default_rng(3)
+    big_a = rng.gamma(K, THETA, (400_000, M))
+    big_r = rng.uniform(0.6, 0.8, (400_000, M))
+    t = _gamma_strip(np.array([0.95e5, 1.05e5]))
+    exact = ((big_a * big_r).mean(1)[:, None] * (D1 - D0) > t).mean(0)
+    assert exact[-1] > 1e-4
+    covered = np.zeros(t.size, int)
+    est = []
+    for s in range(10):
+        a = rng.gamma(K, THETA, 2400)
+        r = rng.uniform(0.6, 0.8, 240)
+        cheap, acc = _laws(a), _laws(a[:240] * r)
+        c = rs.stiction.strip_ccdf(cheap, t, subzones=M, accurate=acc, n_combinations=20_000, n_boot=20, seed=s)
+        e = c.exceedance_probability.values[0]
+        est.append(e)
+        covered += (c.exceedance_probability_lower.values[0] <= exact) & (exact <= c.exceedance_probability_upper.values[0])
+        assert float(c.emulator_cv[0, 0]) > 0
+    assert np.all(covered >= 9), covered
+    assert np.all(np.abs(np.mean(est, 0) / exact - 1) < 0.3)
+    # the cheap model alone is an order of magnitude off here: the correction is doing the work
+    c0 = rs.stiction.strip_ccdf(_laws(rng.gamma(K, THETA, 2400)), t, subzones=M, n_combinations=40_000)
+    assert np.all(c0.exceedance_probability.values[0] > 10 * exact)
+
+
+def test_one_dominant_subzone_is_flagged():
+    # 1199 weak sub-zones and one strong one: every failing strip holds that one
+    a = np.full(1200, 1e5)
+    a[0] = 3e6
+    c = rs.stiction.strip_ccdf(_laws(a), _gamma_strip(np.array([2e5])), subzones=M, n_combinations=20_000)
+    assert bool(c.few_subzones[0, 0])
+    assert float(c.exceedance_probability[0, 0]) == pytest.approx(1 - (1 - 1 / 1200) ** M, rel=0.1)
+
+
+def test_beyond_the_sample_is_zero_and_said():
+    a = np.random.default_rng(0).gamma(K, THETA, 600)
+    c = rs.stiction.strip_ccdf(_laws(a), [_gamma_strip(a.max() * 1.01)], subzones=M, n_combinations=5_000)
+    assert float(c.exceedance_probability[0, 0]) == 0.0
+    assert float(c.largest_strip_energy[0]) < _gamma_strip(a.max() * 1.01)
+
+
+@pytest.mark.parametrize("bad, match", [
+    (dict(thresholds=[-1.0]), "thresholds must be positive"),
+    (dict(accurate="few"), "at least 8 pairs"),
+    (dict(accurate="grid"), "same distance grid"),
+    (dict(cheap="nan"), "non-finite"),
+])
+def test_bad_input_is_refused_with_the_fix(bad, match):
+    a = np.random.default_rng(0).gamma(K, THETA, 100)
+    cheap = _laws(a)
+    kw = dict(thresholds=[1e-4], subzones=M)
+    kw.update({k: v for k, v in bad.items() if k == "thresholds"})
+    if bad.get("accurate") == "few":
+        kw["accurate"] = cheap.isel(realization=slice(0, 4))
+    if bad.get("accurate") == "grid":
+        kw["accurate"] = cheap.isel(realization=slice(0, 20)).assign_coords(distance=D * 1.1)
+    if bad.get("cheap") == "nan":
+        cheap = cheap.copy()
+        cheap[3, 5] = np.nan
+    with pytest.raises(ValueError, match=match):
+        rs.stiction.strip_ccdf(cheap, kw.pop("thresholds"), **kw)
+
+
+def test_designer_call_refuses_a_sample_too_small():
+    psd = rs.datasets.family_psd("table4")
+    with pytest.raises(ValueError, match="n >= 48"):
+        rs.stiction.strip_stuck_probability(psd, relative_humidity=[0.8], beam_length=[250e-6], n=20)
+    with pytest.raises(ValueError, match="n_accurate"):
+        rs.stiction.strip_stuck_probability(psd, relative_humidity=[0.8], beam_length=[250e-6], n=96,
+                                            n_accurate=4)
+
+
+def test_front_door_runs_the_beams_zone_and_refuses_what_it_cannot_use():
+    psd = rs.datasets.family_psd("table4")
+    with pytest.raises(ValueError, match="method='strips' draws the sub-zones"):
+        rs.stuck_probability(xr.DataArray([1e-3, 2e-3], dims="realization", attrs={"units": "J m-2"}),
+                             method="strips", beam_length=[2e-4])
+    with pytest.raises(TypeError, match="beam_length="):
+        rs.stuck_probability(psd, method="strips", relative_humidity=[0.8])
+    with pytest.raises(TypeError, match="shape"):
+        rs.stuck_probability(psd, method="strips", relative_humidity=[0.8], beam_length=[2e-4], shape=(64, 64))
+    r = rs.stuck_probability(psd, method="strips", relative_humidity=[0.6, 0.8], beam_length=[150e-6, 300e-6],
+                             model="modified_dmt", n=96, n_combinations=4000, scheduler="threads")
+    p = r.stiction_probability
+    assert p.dims == ("rh", "beam_length") and r.attrs["n_accurate_subzones"] == 0
+    # physics: P(stuck) rises with RH and with the beam's length (its threshold falls as 1/l^4)
+    assert float(p.sel(rh=0.8, beam_length=300e-6)) >= float(p.sel(rh=0.6, beam_length=300e-6))
+    assert float(p.sel(rh=0.8, beam_length=300e-6)) >= float(p.sel(rh=0.8, beam_length=150e-6))
+    assert float(p.sel(rh=0.8, beam_length=300e-6)) > 0.5  # the strip's median Γ at 80 % RH is ~5 x Γ_crit
+    # below the adsorbed layer's onset no combination of the sample sticks a 150 µm beam
+    assert bool(r.beyond_reach.sel(rh=0.6, beam_length=150e-6)) and float(r.reach_margin.sel(
+        rh=0.6, beam_length=150e-6)) > 10
+
+
+def test_cli_risk_strips_writes_the_beams_answer(tmp_path):
+    from roughstick.cli import main
+    cfg = tmp_path / "r.toml"
+    cfg.write_text(
+        '[output]\nfolder = "out"\n[beam]\nlengths = ["200 um", "300 um"]\n'
+        '[surface]\nspacing = "5 nm"\n[ensemble]\nrelative_humidity = [0.6, 0.8]\nadsorbed_layer = ["paper"]\nseed = 1\n'
+        '[risk]\nmethod = "strips"\nmodel = "modified_dmt"\nn_subzones = 96\nlevels = [0.5]\n')
+    assert main(["risk", str(cfg)]) == 0
+    risk = xr.open_dataset(tmp_path / "out" / "risk.nc")
+    assert risk.stiction_probability.dims == ("adsorbed_layer", "beam_length", "rh")
+    assert risk.attrs["method"] == "strips" and "interaction zone" in risk.attrs["zone"]
+    assert float(risk.stiction_probability.sel(adsorbed_layer="paper", rh=0.8, beam_length=300e-6)) > 0.5
+    assert "crossing_humidity" in risk
+    bad = tmp_path / "b.toml"
+    bad.write_text(cfg.read_text().replace('spacing = "5 nm"', 'spacing = "5 nm"\nshape = [128, 128]'))
+    assert main(["risk", str(bad)]) == 1
