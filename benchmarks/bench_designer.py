@@ -42,13 +42,14 @@ def table(args):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         r = rs.stiction.strip_stuck_probability(psd, relative_humidity=RH, beam_length=LENGTHS, n=args.n,
-                                                n_accurate=args.n_accurate, seed=args.seed)
+                                                n_accurate=args.n_accurate, n_tail=args.n_tail, seed=args.seed)
     wall = time.perf_counter() - t
     a = r.attrs
     print(f"Table 4, paper layer and beam; strips of {a['subzones']} sub-zones {a['subzone_shape']} at 5 nm; "
           f"{a['n_cheap_subzones']} Eq. 16 sub-zones ({a['cheap_zone_equivalents']:.0f} zone equivalents, "
-          f"all RH), {a['n_accurate_subzones']} fft_bem sub-zones ({a['accurate_zone_equivalents']:.0f} zone "
-          f"equivalents) per RH where needed")
+          f"all RH), {a['n_accurate_subzones']} fft_bem sub-zones ({a['n_random_pairs']} random + "
+          f"{a['n_tail_subzones']} strongest; {a['accurate_zone_equivalents']:.0f} zone equivalents) per RH "
+          "where needed")
     n_acc_rh = int(r.accurate_model_run.sum())
     print(f"wall {wall:.0f} s: Eq. 16 {a['seconds_cheap']:.0f} s (all RH), fft_bem {a['seconds_accurate']:.0f} s "
           f"({n_acc_rh} RH: {a['seconds_accurate'] / max(n_acc_rh, 1):.0f} s per RH), estimator "
@@ -57,8 +58,7 @@ def table(args):
         f"{f'l = {length * 1e6:.0f} µm: P [95 %]  cv':>36}" for length in LENGTHS))
     for k, rh in enumerate(RH):
         row = r.isel(rh=k)
-        ratio = (math.exp(float(row.ratio_intercept) + float(row.ratio_slope) * math.log(5e-3))
-                 if bool(row.accurate_model_run) else float("nan"))
+        ratio = float(row.accurate_ratio.sel(quantile=0.5)) if bool(row.accurate_model_run) else float("nan")
         cells = ""
         for b in range(len(LENGTHS)):
             c = row.isel(beam_length=b)
@@ -70,10 +70,12 @@ def table(args):
     for k, rh in enumerate(RH):
         row = r.isel(rh=k)
         if bool(row.accurate_model_run):
-            print(f"RH {rh:.2f}: ratio model log(Γ_bem/Γ_eq16) = {float(row.ratio_intercept):.3f} + "
-                  f"{float(row.ratio_slope):.3f} log Γ; held-out strips ({int(row.ratio_check_strips)}): rms z "
+            q = row.accurate_ratio.values
+            share = ", ".join(f"{v:.2f}" for v in row.accurate_share.values)
+            print(f"RH {rh:.2f}: Γ_bem/Γ_eq16 of the random pairs' sub-zones {q[0]:.2f} / {q[1]:.2f} / {q[2]:.2f} "
+                  f"(10/50/90 %); held-out pair strips ({int(row.ratio_check_strips)}): rms z "
                   f"{float(row.ratio_check_rms_z):.2f}, within 2 sd {100 * float(row.ratio_check_within_2sd):.0f} %; "
-                  f"failures' Eq. 16 Γ at {float(row.ratio_reach):.2f} x the pairs' largest")
+                  f"tail influence on fft_bem sub-zones per length: {share}")
     fill = r.copy()
     # beyond reach: the estimate 0 has no upper bound from the sample; the crossing's lower end
     # is then the first RH where the sample reaches failures (said below)
@@ -99,7 +101,7 @@ def seeds(args):
             warnings.simplefilter("ignore", UserWarning)
             r = rs.stiction.strip_stuck_probability(
                 psd, relative_humidity=[args.rh], beam_length=LENGTHS, n=args.n, n_accurate=args.n_accurate,
-                accurate_model=None if args.n_accurate == 0 else "fft_bem", seed=1000 + s)
+                n_tail=args.n_tail, accurate_model=None if args.n_accurate == 0 else "fft_bem", seed=1000 + s)
         walls.append(time.perf_counter() - t)
         est.append(r.stiction_probability.values[0])
         cvs.append(r.coefficient_of_variation.values[0])
@@ -136,9 +138,9 @@ def convergence(args):
         ("Eq. 16, 5 nm, distance grid x 2", dict(n=n, n_distance="x2")),
         ("Eq. 16, 10 nm pixel", dict(n=n, spacing=10e-9)),
         ("Eq. 16, 2.5 nm pixel", dict(n=n // 4, spacing=2.5e-9)),
-        (f"Eq. 16 + fft_bem on {args.n_accurate} sub-zones", dict(n=n, n_accurate=args.n_accurate,
-                                                                 accurate_model="fft_bem")),
-    ]
+    ] + ([(f"Eq. 16 + fft_bem on {args.n_accurate} sub-zones", dict(n=n, n_accurate=args.n_accurate,
+                                                                   accurate_model="fft_bem"))]
+         if args.n_accurate else [])
     base_points = None
     print(f"Table 4, 200 µm beam, RH {rh[0]}-{rh[-1]}: the RH where P(stuck) = 1e-3 [95 %]")
     for name, kw in rows:
@@ -167,7 +169,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("part", choices=["table", "seeds", "convergence"])
     ap.add_argument("--n", type=int, default=12_000, help="Eq. 16 sub-zones")
-    ap.add_argument("--n-accurate", type=int, default=360, help="fft_bem sub-zones per RH (0: Eq. 16 alone)")
+    ap.add_argument("--n-accurate", type=int, default=240, help="fft_bem sub-zones per RH (0: Eq. 16 alone)")
+    ap.add_argument("--n-tail", type=int, default=48, help="strongest sub-zones also through fft_bem")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--rh", type=float, default=0.75)

@@ -13,15 +13,15 @@ typical equilibrium is large; a mixture of tilts, one per threshold, and the unt
 its sub-zones are strong together, and the combinations of the sample reach that event at
 probabilities far below :math:`m/N`.
 
-Two fidelities: where the accurate model (``fft_bem``) is computed on ``n`` of the sub-zones,
-the accurate law of every sub-zone is emulated from its cheap one by a per-distance linear
-regression fitted on the ``n`` pairs, :math:`p_a(d) = \alpha(d) + \beta(d)\,p_c(d) +
-\varepsilon(d)`, with the residual curves :math:`\varepsilon` of the pairs drawn back into every
-combination, so the strip's accurate Γ is Eq. 13 of
-:math:`\alpha + \beta\,\bar p_c + \bar\varepsilon`. The interval resamples both samples (the
-``N`` sub-zones by multinomial reweighting of the same combinations, the ``n`` pairs by a refit)
-and adds the importance-sampling error; a run whose failures rest on a handful of sub-zones is
-flagged (``few_subzones``): the sample does not reach that tail, and its interval is not to be
+Two fidelities: the accurate model (``fft_bem``) runs on a random sample of the sub-zones (the
+pairs) and on the sub-zones with the largest cheap Γ (the ones strong strips are made of, and
+where Eq. 16's fitting artefacts live). Every sub-zone then carries its accurate law where it was
+computed, and elsewhere its cheap law scaled by a Γ_accurate/Γ_cheap ratio drawn from the
+pairs (Eq. 13 of a scaled law is the scaled Γ); the strips are recombined from these laws. The
+interval adds the sampling of the ``N`` sub-zones (the plug-in's first-order variance), a
+bootstrap of the pairs' ratios and the importance-sampling error. ``accurate_share`` says how
+much of the tail's influence lies on sub-zones the accurate model saw; a run whose variance
+rests on a handful of sub-zones is flagged (``few_subzones``): its interval is not to be
 trusted.
 """
 
@@ -87,19 +87,20 @@ def _gamma(pbar, d):
     return summary_kernel(pbar, np.zeros_like(pbar), d)[0]
 
 
-@check_numbers(subzones="count", n_combinations="count", n_boot="count", seed="seed", confidence="fraction")
+@check_numbers(subzones="count", n_combinations="count", n_boot="count", seed="seed", confidence="fraction",
+               random_pairs="count?")
 def strip_ccdf(cheap: xr.DataArray, thresholds, *, subzones: int, accurate: xr.DataArray | None = None,
-               n_combinations: int = 100_000, n_boot: int = 100, seed=0,
+               random_pairs: int | None = None, n_combinations: int = 100_000, n_boot: int = 20, seed=0,
                confidence: float = 0.95) -> xr.Dataset:
     r"""P(Γ of a strip of ``subzones`` sub-zones > t) at ``thresholds``, from sub-zone laws.
 
     The plug-in estimator of the module docstring: the strip's law is the mean of ``subzones``
     independent sub-zone laws (:func:`compose_zone_law`), its Γ Eq. 13 of that mean, and the
     probability is taken under the empirical distribution of the ``N`` laws of ``cheap`` by
-    importance sampling over their combinations. With ``accurate`` (the same sub-zones' laws of
-    the accurate model, for the first ``n`` of them, on the same distance grid) the probability
-    is that of the accurate model, its laws emulated from the cheap ones by the pairs'
-    per-distance regression with the pairs' residuals drawn back in.
+    importance sampling over their combinations. With ``accurate`` (the accurate model's laws of
+    some of the sub-zones, on the same distance grid) the probability is that of the accurate
+    model: every sub-zone carries its accurate law where computed and elsewhere its cheap law
+    scaled by a Γ_accurate/Γ_cheap ratio drawn from the random pairs (module docstring).
 
     Parameters
     ----------
@@ -112,7 +113,11 @@ def strip_ccdf(cheap: xr.DataArray, thresholds, *, subzones: int, accurate: xr.D
     subzones : int
         Sub-zones per strip, ``m``.
     accurate : xarray.DataArray, optional
-        Pressure of the accurate model on sub-zones ``0 ... n-1`` of ``cheap`` (``n >= 8``).
+        Pressure of the accurate model on some sub-zones of ``cheap``, its ``realization``
+        coordinate their indices in ``cheap`` (e.g. ``0 ... n-1``, and those that carry the tail).
+    random_pairs : int, optional
+        The accurate sub-zones with an index below this are a random sample of the sub-zones
+        (their ratios scale the others' laws; at least 8); default all of them.
     n_combinations : int
         Importance-sampled combinations per humidity.
     n_boot : int
@@ -126,10 +131,11 @@ def strip_ccdf(cheap: xr.DataArray, thresholds, *, subzones: int, accurate: xr.D
     -------
     xarray.Dataset
         Over ``(rh, threshold)``: ``exceedance_probability`` with ``_lower``/``_upper``,
-        ``importance_sampling_cv``; over ``rh``: ``effective_subzones`` (how many sub-zones the
-        failures rest on, weighted; ``few_subzones`` when below
-        :data:`MIN_EFFECTIVE_SUBZONES`), and the replicates ``exceedance_probability_replicates``
-        over ``(rh, replicate, threshold)`` for composing P(stuck). attrs ``subzones``,
+        ``coefficient_of_variation`` (and its parts ``importance_sampling_cv``,
+        ``emulator_cv``), ``effective_subzones`` (how many sub-zones its variance rests on;
+        ``few_subzones`` below :data:`MIN_EFFECTIVE_SUBZONES`), ``accurate_share`` (how much of
+        the tail's influence lies on sub-zones the accurate model ran on); over ``rh``
+        ``accurate_ratio`` and the hold-out check ``ratio_check_*``. attrs ``subzones``,
         ``n_subzones``, ``n_accurate``.
 
     Examples
@@ -147,20 +153,27 @@ def strip_ccdf(cheap: xr.DataArray, thresholds, *, subzones: int, accurate: xr.D
     cheap = _with_rh(cheap, "cheap")
     acc = None if accurate is None else _with_rh(accurate, "accurate")
     d = np.asarray(cheap["distance"].values, dtype=float)
+    known = None
     if acc is not None:
-        if acc.sizes["realization"] < 8:
-            raise ValueError(f"accurate has {acc.sizes['realization']} sub-zones: the emulator needs at least 8 "
+        known = np.asarray(acc["realization"].values)
+        if known.dtype.kind not in "iu" or known.min() < 0 or known.max() >= cheap.sizes["realization"] \
+                or np.unique(known).size != known.size:
+            raise ValueError("accurate's realization coordinate must hold distinct indices of cheap's sub-zones "
+                             "(0 ... N-1): the sub-zones the accurate model ran on")
+        n_pairs = cheap.sizes["realization"] if random_pairs is None else int(random_pairs)
+        if np.sum(known < n_pairs) < 8:
+            raise ValueError(f"accurate has {np.sum(known < n_pairs)} random pairs: the ratio needs at least 8 "
                              "pairs (compute the accurate model on more of the sub-zones)")
-        if acc.sizes["realization"] > cheap.sizes["realization"] or not np.allclose(acc["distance"].values, d, rtol=1e-9, atol=0.0):
-            raise ValueError("accurate must hold the first n sub-zones of cheap on the same distance grid: "
-                             "compute both with one distance= grid and the same seed")
+        if not np.allclose(acc["distance"].values, d, rtol=1e-9, atol=0.0):
+            raise ValueError("accurate must be on the same distance grid as cheap: compute both with one distance= "
+                             "grid and the same seed")
     thr = _thresholds(thresholds, cheap)
     rng = np.random.default_rng(seed)
     out = []
     for k in range(cheap.sizes["rh"]):
         pc = np.asarray(cheap.isel(rh=k).transpose("realization", "distance").values, dtype=float)
-        pa = None if acc is None else np.asarray(acc.isel(rh=k).transpose("realization", "distance").values,
-                                                 dtype=float)
+        pa = None if acc is None else (known, np.asarray(acc.isel(rh=k).transpose("realization", "distance").values,
+                                                         dtype=float), n_pairs)
         out.append(_one_humidity(pc, pa, d, thr[k], m, n_combinations, n_boot, rng, confidence))
     return _assemble(out, cheap, thr, m, acc, confidence, n_combinations, n_boot)
 
@@ -187,61 +200,81 @@ def _thresholds(thresholds, cheap):
     return np.atleast_2d(t)
 
 
-def _ratio_model(pc, pa, d, m, n_pair_comb, rng):
-    """The accurate-to-cheap ratio of strips composed from the pairs: log R = a + b log Γ_c + e,
-    fitted on ``n_pair_comb`` combinations of ``m`` pairs (half of them tilted to strong cheap
-    strips); returns (a, b, residuals, the cheap Γ range it saw)."""
-    n = pc.shape[0]
-    score = _work_above(pc, d, _typical_equilibrium(pc.mean(0), d))
-    logq = _tilts(score, [np.quantile(score, 0.9)])
-    q = np.exp(logq[-1] - logq[-1].max())
-    idx = np.concatenate([rng.integers(0, n, size=(n_pair_comb // 2, m)),
-                          rng.choice(n, size=(n_pair_comb - n_pair_comb // 2, m), p=q / q.sum())])
-    gc, ga = _gamma(_compose(pc, idx), d), _gamma(_compose(pa, idx), d)
-    ok = (gc > 0) & (ga > 0)
-    if ok.sum() < 10:
-        raise ValueError("the accurate pairs give no strips with adhesion at this humidity: compute the "
-                         "accurate model on more sub-zones (n_accurate=)")
-    x, y = np.log(gc[ok]), np.log(ga[ok] / gc[ok])
-    b = float(np.cov(x, y)[0, 1] / np.var(x, ddof=1)) if np.var(x) > 0 else 0.0
-    a = float(y.mean() - b * x.mean())
-    return a, b, y - (a + b * x), (float(gc[ok].min()), float(gc[ok].max()))
+def _ratio_pool(pc, pa, d):
+    """Per-sub-zone Γ_accurate/Γ_cheap of the random pairs, from those whose cheap Γ is at least a
+    tenth of the pairs' median (a ratio of two near-zero energies says nothing), clipped to
+    :data:`RATIO_BRACKET`."""
+    gc, ga = _gamma(pc, d), _gamma(pa, d)
+    ok = (gc > 0.1 * np.median(gc)) & (gc > 0) & (ga >= 0)
+    if not ok.any():
+        return np.ones(1)
+    return np.clip(ga[ok] / gc[ok], *RATIO_BRACKET)
 
 
-def _ratio_holdout(pc, pa, d, m, rng):
-    """Leave-one-strip-out check of the ratio model on the pairs' own strips (consecutive groups of
-    ``m``): each strip's log(Γ_a/Γ_c) against the model fitted without it, in units of the model's
-    residual sd. Returns (rms of those z, fraction within ±2, number of strips)."""
+def _hybrid(pc, known, pa_known, pool, rng):
+    """Accurate laws of every sub-zone: computed ones where known, else the cheap law scaled by a
+    ratio drawn from the random pairs' ``pool`` (Eq. 13 of a scaled law is the scaled Γ)."""
+    h = pc * pool[rng.integers(0, pool.size, size=pc.shape[0])][:, None]
+    h[known] = pa_known
+    return h
+
+
+def _residual_pool(pc, pa, pool, d, m, rng, n_comb=4000):
+    """Γ_accurate - Γ_scaled [J m-2] of strips recombined from the random pairs, each pair's cheap law
+    scaled by its own ratio: what scaling the laws misses in the composed strip (the equilibrium
+    moves, the law's shape differs), beside the ratios' own spread that the hybrid draws."""
+    gc, ga1 = _gamma(pc, d), _gamma(pa, d)
+    own = np.where(gc > 0.1 * np.median(gc), np.clip(ga1 / np.where(gc > 0, gc, 1.0), *RATIO_BRACKET),
+                   np.median(pool))
+    idx = rng.integers(0, pc.shape[0], size=(n_comb, m))
+    ga = _gamma(_compose(pa, idx), d)
+    gh = _gamma(_compose(pc * own[:, None], idx), d)
+    return ga - gh
+
+
+def _with_residual(g, res, rng):
+    """Strip Γ of the hybrid laws plus a residual drawn from the pairs' (additive: a ratio of a
+    near-zero Γ would blow up), never below 0; none where Γ = 0."""
+    return np.where(g > 0, np.maximum(g + res[rng.integers(0, res.size, size=g.size)], 0.0), 0.0)
+
+
+def _holdout(pc, pa_pairs, d, m, rng, draws=50):
+    """The hybrid's check on the pairs' own strips (consecutive groups of ``m`` random pairs):
+    each strip's accurate Γ against its prediction from its cheap laws scaled by ratios of the
+    *other* pairs, in units of the prediction's spread. Returns (rms z, fraction within ±2, strips)."""
     k = pc.shape[0] // m
     z = []
     for j in range(k):
+        sl = slice(j * m, (j + 1) * m)
         keep = np.ones(pc.shape[0], bool)
-        keep[j * m:(j + 1) * m] = False
-        if keep.sum() < 8:
-            continue
-        a, b, res, _ = _ratio_model(pc[keep], pa[keep], d, m, 4000, rng)
-        gc = _gamma(pc[~keep][:m].mean(0)[None], d)[0]
-        ga = _gamma(pa[~keep][:m].mean(0)[None], d)[0]
-        if gc > 0 and ga > 0:
-            z.append((math.log(ga / gc) - (a + b * math.log(gc))) / max(res.std(), 1e-300))
+        keep[sl] = False
+        pool = _ratio_pool(pc[keep], pa_pairs[keep], d)
+        res = _residual_pool(pc[keep], pa_pairs[keep], pool, d, m, rng, n_comb=1000)
+        r = pool[rng.integers(0, pool.size, size=(draws, m))]
+        pred = _with_residual(_gamma((pc[sl][None, :, :] * r[:, :, None]).mean(1), d), res, rng)
+        actual = _gamma(pa_pairs[sl].mean(0)[None], d)[0]
+        if pred.std() > 0:
+            z.append((actual - pred.mean()) / pred.std())
     z = np.array(z)
     return (float(np.sqrt(np.mean(z**2))) if z.size else np.nan,
             float(np.mean(np.abs(z) <= 2)) if z.size else np.nan, int(z.size))
 
 
-def _one_humidity(pc, pa, d, thr, m, n_comb, n_boot, rng, confidence):
+def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
     n_sub = pc.shape[0]
-    d_star = _typical_equilibrium(pc.mean(0), d)
-    score = _work_above(pc, d, d_star)
-    ratio = None
-    if pa is not None:
-        ratio = _ratio_model(pc[: pa.shape[0]], pa, d, m, 20_000, rng)
-        # tilt the cheap draws to where the accurate strips cross the thresholds
-        targets = list(thr / math.exp(ratio[0] + ratio[1] * math.log(max(np.median(_gamma(
-            _compose(pc, rng.integers(0, n_sub, size=(2000, m))), d)), 1e-300))))
-    else:
-        targets = list(thr)
-    logq = _tilts(score, targets + [1.2 * min(targets)])
+    laws, pool, known = pc, None, None
+    known_idx = pa_known = pairs = None
+    if acc is not None:
+        known_idx, pa_known, n_pairs = acc
+        known = np.zeros(n_sub, bool)
+        known[known_idx] = True
+        pairs = known_idx < n_pairs
+        pool = _ratio_pool(pc[known_idx[pairs]], pa_known[pairs], d)
+        res = _residual_pool(pc[known_idx[pairs]], pa_known[pairs], pool, d, m, rng)
+        laws = _hybrid(pc, known_idx, pa_known, pool, rng)
+    d_star = _typical_equilibrium(laws.mean(0), d)
+    score = _work_above(laws, d, d_star)
+    logq = _tilts(score, list(thr) + [1.2 * float(thr.min())])
     comp = rng.integers(0, logq.shape[0], size=n_comb)
     idx = np.empty((n_comb, m), dtype=np.int64)
     for c in range(logq.shape[0]):
@@ -252,47 +285,40 @@ def _one_humidity(pc, pa, d, thr, m, n_comb, n_boot, rng, confidence):
     comp_logq = np.stack([logq[c][idx].sum(1) for c in range(logq.shape[0])])
     log_mix = np.logaddexp.reduce(comp_logq, axis=0) - math.log(logq.shape[0])
     w0 = np.exp(-m * math.log(n_sub) - log_mix)
-    gc = _gamma(_compose(pc, idx), d)
-
-    def strip_gamma(model):
-        if model is None:
-            return gc
-        a, b, res, _ = model
-        with np.errstate(divide="ignore"):
-            return gc * np.exp(a + b * np.log(gc) + res[rng.integers(0, res.size, size=gc.size)])
-
-    g0 = strip_gamma(ratio)
+    g0 = _gamma(_compose(laws, idx), d)
+    if acc is not None:
+        g0 = _with_residual(g0, res, rng)
     wf = w0[:, None] * (g0[:, None] > thr[None, :])
     est = wf.mean(0)
     var_is = wf.var(0) / n_comb
     # the sampling of the N sub-zones: the plug-in's first-order (Hoeffding) variance,
     # m^2/N Var_i h1(i), h1(i) = P(fail | one of the strip's sub-zones is i)
-    var_n, eff = np.zeros(thr.size), np.zeros(thr.size)
+    var_n, eff, checked = np.zeros(thr.size), np.zeros(thr.size), np.full(thr.size, np.nan)
     for j in np.flatnonzero(est > 0):
         h1 = np.bincount(idx.ravel(), weights=np.repeat(wf[:, j], m), minlength=n_sub) * n_sub / (m * n_comb)
         v = (h1 - est[j]) ** 2
         var_n[j] = m * m / n_sub * np.mean(v)
         # how many sub-zones that variance rests on (participation ratio): few = the tail is theirs
         eff[j] = v.sum() ** 2 / max(np.sum(v * v), 1e-300)
+        if known is not None:  # the share of the excess h1 (the tail's sub-zones) the accurate model saw
+            excess = np.maximum(h1 - est[j], 0.0)
+            checked[j] = excess[known].sum() / max(excess.sum(), 1e-300)
     var_pairs = np.zeros(thr.size)
-    reach = np.nan
-    if ratio is not None:
+    check = (np.nan, np.nan, 0)
+    if acc is not None:
         reps = np.empty((n_boot, thr.size))
+        pc_pairs, pa_pairs = pc[known_idx[pairs]], pa_known[pairs]
         for b in range(n_boot):
-            pick = rng.integers(0, pa.shape[0], size=pa.shape[0])
-            fit = _ratio_model(pc[pick], pa[pick], d, m, 4000, rng)
-            reps[b] = (w0[:, None] * (strip_gamma(fit)[:, None] > thr[None, :])).mean(0)
+            pick = rng.integers(0, pc_pairs.shape[0], size=pc_pairs.shape[0])
+            pool_b = _ratio_pool(pc_pairs[pick], pa_pairs[pick], d)
+            res_b = _residual_pool(pc_pairs[pick], pa_pairs[pick], pool_b, d, m, rng, n_comb=2000)
+            g = _with_residual(_gamma(_compose(_hybrid(pc, known_idx, pa_known, pool_b, rng), idx), d), res_b, rng)
+            reps[b] = (w0[:, None] * (g[:, None] > thr[None, :])).mean(0)
         var_pairs = reps.var(0, ddof=1)
-        # how far beyond the pairs' strips the failures' cheap Γ lies (> 1: extrapolated)
-        fails = wf[:, 0] > 0
-        reach = float(np.average(gc[fails], weights=wf[fails, 0]) / ratio[3][1]) if fails.any() else np.nan
-        check = _ratio_holdout(pc[: pa.shape[0]], pa, d, m, rng)
-    else:
-        check = (np.nan, np.nan, 0)
+        check = _holdout(pc[known_idx[pairs]], pa_known[pairs], d, m, rng)
     var = var_is + var_n + var_pairs
     a = (1.0 - confidence) / 2
     z = float(_norm_ppf(1 - a))
-    # log-normal interval (positive, skewed as a small probability's estimate is)
     with np.errstate(divide="ignore", invalid="ignore"):
         cv = np.sqrt(var) / est
         # the log-sd taken equal to the cv: wider than the log-normal's sqrt(log(1 + cv^2)), as
@@ -300,8 +326,9 @@ def _one_humidity(pc, pa, d, thr, m, n_comb, n_boot, rng, confidence):
         lo = np.where(est > 0, est * np.exp(-np.minimum(z * cv, 700.0)), 0.0)
         hi = np.where(est > 0, np.minimum(est * np.exp(np.minimum(z * cv, 700.0)), 1.0), 0.0)
         is_cv, pair_cv = np.sqrt(var_is) / est, np.sqrt(var_pairs) / est
-    return dict(est=est, lo=lo, hi=hi, cv=cv, is_cv=is_cv, pair_cv=pair_cv, eff=eff, d_star=d_star, top=float(np.max(g0)),
-                ratio=(np.nan, np.nan) if ratio is None else ratio[:2], reach=reach, check=check)
+    ratio = np.quantile(pool, [0.1, 0.5, 0.9]) if pool is not None else np.full(3, np.nan)
+    return dict(est=est, lo=lo, hi=hi, cv=cv, is_cv=is_cv, pair_cv=pair_cv, eff=eff, d_star=d_star,
+                top=float(np.max(g0)), ratio=ratio, checked=checked, check=check)
 
 
 def _norm_ppf(p):
@@ -340,17 +367,15 @@ def _assemble(out, cheap, thr, m, acc, confidence, n_comb, n_boot):
         "coefficient_of_variation": (dims, np.stack([o["cv"] for o in out]), {
             "units": "1", "long_name": "cv of the estimate (sub-zone sampling, pairs, importance sampling)"}),
         "emulator_cv": (dims, np.stack([o["pair_cv"] for o in out]), {
-            "units": "1", "long_name": "cv from the accurate pairs (the emulator's refit)"}),
-        "ratio_intercept": ("rh", np.array([o["ratio"][0] for o in out]), {
-            "units": "1", "long_name": "a of log(Γ_accurate/Γ_cheap) = a + b log(Γ_cheap / J m-2)"}),
-        "ratio_slope": ("rh", np.array([o["ratio"][1] for o in out]), {
-            "units": "1", "long_name": "b of log(Γ_accurate/Γ_cheap) = a + b log(Γ_cheap / J m-2)"}),
-        "ratio_reach": ("rh", np.array([o["reach"] for o in out]), {
-            "units": "1", "long_name": "failures' cheap Γ over the largest the pairs' strips reached"}),
+            "units": "1", "long_name": "cv from the random pairs' ratios (bootstrap)"}),
+        "accurate_ratio": (("rh", "quantile"), np.stack([o["ratio"] for o in out]), {
+            "units": "1", "long_name": "Γ_accurate/Γ_cheap of the random pairs' sub-zones (10, 50, 90 %)"}),
+        "accurate_share": (dims, np.stack([o["checked"] for o in out]), {
+            "units": "1", "long_name": "share of the tail's excess influence on sub-zones the accurate model ran on"}),
         "ratio_check_rms_z": ("rh", np.array([o["check"][0] for o in out]), {
-            "units": "1", "long_name": "rms of held-out strips' log ratio error over the model's residual sd"}),
+            "units": "1", "long_name": "rms of held-out strips' Γ error over the spread of their prediction"}),
         "ratio_check_within_2sd": ("rh", np.array([o["check"][1] for o in out]), {
-            "units": "1", "long_name": "fraction of held-out strips within 2 residual sd of the ratio model"}),
+            "units": "1", "long_name": "fraction of held-out strips within 2 sd of their prediction"}),
         "ratio_check_strips": ("rh", np.array([o["check"][2] for o in out]), {
             "units": "1", "long_name": "held-out strips of the ratio check"}),
         "largest_strip_energy": ("rh", np.array([o["top"] for o in out]), {
@@ -360,7 +385,8 @@ def _assemble(out, cheap, thr, m, acc, confidence, n_comb, n_boot):
         "few_subzones": (dims, np.stack([(o["eff"] < MIN_EFFECTIVE_SUBZONES) & (o["est"] > 0) for o in out]), {
             "units": "1", "long_name": "the tail rests on a handful of sub-zones: its interval is not to be trusted"}),
         "typical_equilibrium_distance": ("rh", np.array([o["d_star"] for o in out]), {"units": "m"}),
-    }, coords={"rh": rh, "threshold": tcoord})
+    }, coords={"rh": rh, "threshold": tcoord,
+               "quantile": ("quantile", [0.1, 0.5, 0.9], {"units": "1", "long_name": "quantile level"})})
     ds.attrs.update(subzones=m, n_subzones=int(cheap.sizes["realization"]),
                     n_accurate=0 if acc is None else int(acc.sizes["realization"]),
                     n_combinations=int(n_comb), n_boot=int(n_boot), confidence=float(confidence),
@@ -392,23 +418,28 @@ def _beam_probability(est, sd, patches):
     return p, float(np.sum(g * s))
 
 
-def _subzone_laws(psd, rh, n, start, shape, spacing, model, seed, distance, scheduler, workers, layer="paper"):
-    """Pressure of sub-zones ``start ... n-1`` of the seed's realizations on one distance grid."""
-    surf = generate_surfaces(psd, n=n, shape=shape, spacing=spacing, seed=seed, chunks=1)
-    surf = surf.isel(realization=slice(start, n))
+def _subzone_laws(psd, rh, n, start, shape, spacing, model, seed, distance, scheduler, workers, layer="paper",
+                  index=None):
+    """Pressure of sub-zones ``start ... n-1`` (or of ``index``) of the seed's realizations on one
+    distance grid; the ``realization`` coordinate holds their indices."""
+    index = np.arange(start, n) if index is None else np.asarray(index, dtype=np.int64)
+    surf = generate_surfaces(psd, n=int(index.max()) + 1, shape=shape, spacing=spacing, seed=seed, chunks=1)
+    surf = surf.isel(realization=index).assign_coords(realization=index)
     c = contact_curves(surf, relative_humidity=list(rh), model=model, check_validity=False, distance=distance,
                        adsorbed_layer=layer)
     kw = {} if workers is None else {"num_workers": int(workers)}
     p = c["pressure"].compute(scheduler=scheduler, **kw)
-    return p.drop_vars([k for k in p.coords if k not in ("rh", "distance", "realization")])
+    p = p.drop_vars([k for k in p.coords if k not in ("rh", "distance", "realization")])
+    return p.assign_coords(realization=index)
 
 
-@check_numbers(n="count", n_accurate="count0", seed="seed", confidence="fraction", spacing="length",
+@check_numbers(n="count", n_accurate="count0", n_tail="count0", seed="seed", confidence="fraction", spacing="length",
                n_combinations="count", n_boot="count", workers="count?", subzones="count?", n_distance="count?")
 def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_000, n_accurate: int = 240,
+                            n_tail: int = 48,
                             model: str = "modified_dmt", accurate_model: str | None = "fft_bem",
                             beam=None, spacing=5e-9, seed=0, n_combinations: int = 100_000,
-                            n_boot: int = 100, confidence: float = 0.95, subzones: int | None = None,
+                            n_boot: int = 20, confidence: float = 0.95, subzones: int | None = None,
                             n_distance: int | None = None, adsorbed_layer="paper", scheduler: str = "threads",
                             workers: int | None = None) -> xr.Dataset:
     r"""P(stuck) of released sharp-front beams on their own interaction zone, small values included.
@@ -432,8 +463,11 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     n : int
         Sub-zones of the cheap model (``n / m`` strips' worth of area).
     n_accurate : int
-        Sub-zones, the first of the ``n``, also through ``accurate_model`` (0 or
+        Sub-zones, the first of the ``n`` (a random sample), also through ``accurate_model`` (0 or
         ``accurate_model=None``: the cheap model alone, its answer is then that model's).
+    n_tail : int
+        Further sub-zones through ``accurate_model``: those with the largest own Γ (Eq. 16) at
+        the humidities where it runs, the ones strong strips are made of.
     model, accurate_model : str
         The contact models (:func:`roughstick.contact.curves`).
     beam : Cantilever
@@ -506,19 +540,25 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     need = _needs_accurate(cheap, allt, per_beam, m, seed) if n_acc else np.zeros(rh.size, bool)
     acc = None
     if need.any():
+        # the random pairs, and the sub-zones that carry the tail at some humidity: the accurate
+        # model sees exactly the sub-zones whose cheap law would otherwise make the tail
+        tail = _tail_subzones(cheap.isel(rh=np.flatnonzero(need)), distance, n_acc, n_tail)
+        index = np.concatenate([np.arange(n_acc), tail])
         acc = _subzone_laws(psd, rh[need], n_acc, 0, shape, spacing, accurate_model, seed, distance, scheduler,
-                            workers, adsorbed_layer)
+                            workers, adsorbed_layer, index=index)
     t2 = time.perf_counter()
     parts = []
     for k in range(rh.size):
         a = acc.sel(rh=[rh[k]]) if need[k] else None
-        parts.append(strip_ccdf(cheap.isel(rh=[k]), allt, subzones=m, accurate=a, n_combinations=n_combinations,
-                                n_boot=n_boot, seed=np.random.SeedSequence([int(seed), k]), confidence=confidence))
+        parts.append(strip_ccdf(cheap.isel(rh=[k]), allt, subzones=m, accurate=a, random_pairs=n_acc or None,
+                                n_combinations=n_combinations, n_boot=n_boot,
+                                seed=np.random.SeedSequence([int(seed), k]), confidence=confidence))
     ccdf = xr.concat(parts, "rh")
     t3 = time.perf_counter()
     out = _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, dict(
-        n_cheap_subzones=int(n), n_accurate_subzones=n_acc, subzones=m, subzone_shape=list(shape),
-        cheap_zone_equivalents=n / m, accurate_zone_equivalents=n_acc / m, contact_model=model,
+        n_cheap_subzones=int(n), n_accurate_subzones=n_acc + (0 if acc is None else int(n_tail)),
+        n_random_pairs=n_acc, n_tail_subzones=0 if acc is None else int(n_tail), subzones=m, subzone_shape=list(shape),
+        cheap_zone_equivalents=n / m, accurate_zone_equivalents=(n_acc + int(n_tail)) / m, contact_model=model,
         accurate_model=str(accurate_model), patch_length=patch_length, spacing=float(spacing),
         adsorbed_layer=str(adsorbed_layer), ratio_bracket=list(RATIO_BRACKET), n_distance=int(distance.size), seconds_cheap=t1 - t0, seconds_accurate=t2 - t1,
         seconds_estimator=t3 - t2, **beam.attrs()))
@@ -529,6 +569,25 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
 #: Accurate-to-cheap ratio of strip Γ assumed possible when deciding where the accurate model
 #: is needed (Table 4, RH 0.6-0.85: 0.66-0.98 measured).
 RATIO_BRACKET = (0.5, 2.0)
+
+
+def _tail_subzones(cheap, distance, n_pairs, n_tail):
+    """Indices (>= ``n_pairs``) of the ``n_tail`` sub-zones with the largest own Γ (Eq. 13 of their
+    cheap law) at any of the humidities of ``cheap``: the ones strong strips are made of."""
+    if n_tail == 0:
+        return np.zeros(0, np.int64)
+    rank = []
+    for k in range(cheap.sizes["rh"]):
+        g = _gamma(np.asarray(cheap.isel(rh=k).transpose("realization", "distance").values, dtype=float), distance)
+        g[:n_pairs] = -np.inf
+        rank.append(np.argsort(-g, kind="stable"))
+    picked, j = [], 0
+    while len(picked) < n_tail and j < rank[0].size - n_pairs:
+        for r in rank:  # round robin over humidities
+            if r[j] not in picked and len(picked) < n_tail:
+                picked.append(int(r[j]))
+        j += 1
+    return np.array(sorted(picked), dtype=np.int64)
 
 
 def _needs_accurate(cheap, allt, per_beam, m, seed):
@@ -576,10 +635,9 @@ def _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, attrs):
         "reach_margin": (dims, margin, {"units": "1", "long_name": "threshold over the largest strip Γ found"}),
     }, coords={"rh": rh, "beam_length": ("beam_length", lengths, {"units": "m"})})
     first = [patches[np.argmin(allt[patches])] for patches in per_beam]
-    for v in ("effective_subzones", "few_subzones"):
+    for v in ("effective_subzones", "few_subzones", "accurate_share"):
         ds[v] = (dims, ccdf[v].values[:, first], ccdf[v].attrs)
-    for v in ("ratio_intercept", "ratio_slope", "ratio_reach", "ratio_check_rms_z", "ratio_check_within_2sd",
-              "ratio_check_strips"):
+    for v in ("accurate_ratio", "ratio_check_rms_z", "ratio_check_within_2sd", "ratio_check_strips"):
         ds[v] = ccdf[v].assign_coords(rh=rh)
     ds["rh"].attrs = set_attrs(ds["rh"], "rh").attrs
     ds["beam_length"].attrs.update(long_name="beam length")

@@ -188,3 +188,30 @@ def test_cli_risk_strips_writes_the_beams_answer(tmp_path):
     bad = tmp_path / "b.toml"
     bad.write_text(cfg.read_text().replace('spacing = "5 nm"', 'spacing = "5 nm"\nshape = [128, 128]'))
     assert main(["risk", str(bad)]) == 1
+
+
+def test_the_accurate_model_on_the_tails_subzones_removes_cheap_artefacts():
+    # three cheap laws are artefacts (5 x too strong): strips holding one fail in the cheap model;
+    # with the accurate model on the random pairs and on the strongest cheap sub-zones the
+    # estimate is the accurate one (the exact tail of the accurate distribution)
+    rng = np.random.default_rng(5)
+    a = rng.gamma(K, THETA, 1200)
+    cheap_a = a.copy()
+    cheap_a[[700, 800, 900]] *= 5
+    t = _gamma_strip(np.array([1.6e5]))
+    exact = _exact_ccdf(t)[0]
+    cheap = _laws(cheap_a)
+    c0 = rs.stiction.strip_ccdf(cheap, t, subzones=M, n_combinations=20_000)
+    assert float(c0.exceedance_probability[0, 0]) > 10 * exact  # the artefacts make the cheap tail
+    from roughstick.stiction.strip_tail import _gamma, _tail_subzones
+    tail = _tail_subzones(cheap.expand_dims(rh=[0.5]), D, 100, 24)
+    assert {700, 800, 900} <= set(tail.tolist())
+    known = np.concatenate([np.arange(100), tail])
+    acc = _laws(a[known]).assign_coords(realization=known)
+    c = rs.stiction.strip_ccdf(cheap, t, subzones=M, accurate=acc, random_pairs=100, n_combinations=20_000,
+                               n_boot=20)
+    e = float(c.exceedance_probability[0, 0])
+    assert float(c.exceedance_probability_lower[0, 0]) <= exact <= float(c.exceedance_probability_upper[0, 0])
+    assert 0.3 < e / exact < 3
+    assert float(c.accurate_share[0, 0]) > 0  # the tail's strongest sub-zones were seen by the accurate model
+    assert _gamma(acc.values, D).max() < _gamma(cheap.values, D).max()
