@@ -127,7 +127,7 @@ cells = [
     ),
     code(
         "r = rs.stuck_probability(psd, method='strips', relative_humidity=[0.75],\n"
-        "                         beam_length=[200e-6, 250e-6, 300e-6], n=240, n_accurate=8, n_tail=8,\n"
+        "                         beam_length=[200e-6, 250e-6, 300e-6], n=240, n_accurate=8, n_tail=0,\n"
         "                         n_combinations=20_000, seed=0)\n"
         "print(f\"fft_bem/Eq. 16 Γ of the random pairs' sub-zones (median): \"\n"
         "      f\"{float(r.accurate_ratio.sel(quantile=0.5)[0]):.2f}\")\n"

@@ -36,6 +36,9 @@ LEGAL = {
     ("bem_curves", "retries"): {"zero"},
     ("fft_bem_curves", "refine"): {"zero"},
     ("run", "connect_timeout"): {"zero"},
+    # the cheap model alone; no further fft_bem sub-zones beside the random pairs
+    ("strip_stuck_probability", "n_accurate"): {"zero"},
+    ("strip_stuck_probability", "n_tail"): {"zero"},
     # no adsorbed layer; a layer at every humidity
     ("step_adsorbed_layer", "thickness"): {"zero"},
     ("step_adsorbed_layer", "onset"): {"zero"},

@@ -278,15 +278,21 @@ _SUBSET_VARS = ("stiction_probability", "stiction_probability_lower", "stiction_
                 "coefficient_of_variation", "n_evaluations", "converged", "few_lineages")
 
 
+def _zone_psd(s):
+    """The PSD the zones are drawn from: [surface] psd, or the Eq. 37 parameters exactly on any grid."""
+    import functools
+
+    psd = _psd(s)
+    if isinstance(psd, xr.Dataset):
+        psd = functools.partial(rs.surface.self_affine_psd, **{k: float(psd[k]) for k in ("s0", "s1", "q0", "qmax")})
+    return psd
+
+
 def _subset_risk(c, beam, lengths, out, *, overwrite):
     """P(stuck)(adsorbed_layer, beam_length, rh) by subset simulation (or crude Monte Carlo) of
     the pull-out proxy on zones of [surface] shape, each to [risk] target_cv; crossing humidities."""
-    import functools
-
     ens, s, r = c["ensemble"], c["surface"], c["risk"]
-    psd = _psd(s)
-    if isinstance(psd, xr.Dataset):  # the Eq. 37 parameters: the PSD exactly on any grid
-        psd = functools.partial(rs.surface.self_affine_psd, **{k: float(psd[k]) for k in ("s0", "s1", "q0", "qmax")})
+    psd = _zone_psd(s)
     rh = list(ens["relative_humidity"])
     kw = {"scheduler": c["run"]["scheduler"]} if "scheduler" in c["run"] else {}
     kw["model"] = r["model"]
@@ -492,14 +498,13 @@ def _run_subset(c, beam, lengths, out, *, overwrite, zone):
 def _run_strips(c, beam, lengths, out, *, zone):
     """P(stuck)(adsorbed_layer, beam_length, rh) on the beam's own strips, small values included
     (:func:`roughstick.stiction.strip_stuck_probability`), and the crossing humidities."""
-    import functools
-
     ens, s, r = c["ensemble"], c["surface"], c["risk"]
-    psd = _psd(s)
-    if isinstance(psd, xr.Dataset):  # the Eq. 37 parameters: the PSD exactly on any grid
-        psd = functools.partial(rs.surface.self_affine_psd, **{k: float(psd[k]) for k in ("s0", "s1", "q0", "qmax")})
+    psd = _zone_psd(s)
     rh = list(ens["relative_humidity"])
     kw = {"scheduler": c["run"]["scheduler"]} if "scheduler" in c["run"] else {}
+    material = config_material(c["material"])
+    if material != POLYSILICON:
+        kw["material"] = material
     per_layer = []
     for layer in ens["adsorbed_layer"]:
         LOG.info(f"[{layer}] strips of the beam's zone: {r['n_subzones']} sub-zones through Eq. 16"

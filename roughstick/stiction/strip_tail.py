@@ -32,6 +32,7 @@ import time
 
 import numpy as np
 import xarray as xr
+from scipy.stats import norm
 
 from .._core.arguments import check_numbers
 from .._core.conventions import append_history, set_attrs
@@ -332,7 +333,6 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
 
 
 def _norm_ppf(p):
-    from scipy.stats import norm
     return norm.ppf(p)
 
 
@@ -399,10 +399,9 @@ def _assemble(out, cheap, thr, m, acc, confidence, n_comb, n_boot):
 def _patch_thresholds(lengths, beam, patch_length):
     """The thresholds K/x_{j+1}^4 of every patch of every beam (Eq. 36), as one sorted array and,
     per beam, the indices of its patches in it."""
-    from ..beam.sharp_front import n_patches
     per = []
     for length in lengths:
-        hi = np.minimum((np.arange(n_patches(length, patch_length)) + 1) * patch_length, length)
+        hi = np.minimum((np.arange(int(np.ceil(length / patch_length - 1e-9))) + 1) * patch_length, length)
         per.append(beam.stiffness_term / hi**4)
     allt = np.unique(np.concatenate(per))
     return allt, [np.searchsorted(allt, t) for t in per]
@@ -419,14 +418,14 @@ def _beam_probability(est, sd, patches):
 
 
 def _subzone_laws(psd, rh, n, start, shape, spacing, model, seed, distance, scheduler, workers, layer="paper",
-                  index=None):
+                  index=None, material=None):
     """Pressure of sub-zones ``start ... n-1`` (or of ``index``) of the seed's realizations on one
     distance grid; the ``realization`` coordinate holds their indices."""
     index = np.arange(start, n) if index is None else np.asarray(index, dtype=np.int64)
     surf = generate_surfaces(psd, n=int(index.max()) + 1, shape=shape, spacing=spacing, seed=seed, chunks=1)
     surf = surf.isel(realization=index).assign_coords(realization=index)
     c = contact_curves(surf, relative_humidity=list(rh), model=model, check_validity=False, distance=distance,
-                       adsorbed_layer=layer)
+                       adsorbed_layer=layer, **({} if material is None else {"material": material}))
     kw = {} if workers is None else {"num_workers": int(workers)}
     p = c["pressure"].compute(scheduler=scheduler, **kw)
     p = p.drop_vars([k for k in p.coords if k not in ("rh", "distance", "realization")])
@@ -440,7 +439,8 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
                             model: str = "modified_dmt", accurate_model: str | None = "fft_bem",
                             beam=None, spacing=5e-9, seed=0, n_combinations: int = 100_000,
                             n_boot: int = 20, confidence: float = 0.95, subzones: int | None = None,
-                            n_distance: int | None = None, adsorbed_layer="paper", scheduler: str = "threads",
+                            n_distance: int | None = None, adsorbed_layer="paper", material=None,
+                            scheduler: str = "threads",
                             workers: int | None = None) -> xr.Dataset:
     r"""P(stuck) of released sharp-front beams on their own interaction zone, small values included.
 
@@ -487,6 +487,8 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
         Points of the distance grid (:func:`roughstick.ensemble.distance_grid`'s default if None).
     adsorbed_layer : str or float
         The adsorbed water layer of the contact models ("paper": 0.9 nm per surface above 65 % RH).
+    material : Material, optional
+        The surfaces' material (:func:`roughstick.contact.curves`'s default, polysilicon, if None).
     scheduler : str
         Dask scheduler of the contact curves (one task per sub-zone).
     workers : int, optional
@@ -511,11 +513,13 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     array([[0.],
            [1.]])
     """
-    from ..beam.sharp_front import lengths_and_patch  # the beam package imports this one
-
     beam = PAPER_CANTILEVER if beam is None else beam
     rh = relative_humidity_array(relative_humidity)
-    lengths, patch_length = lengths_and_patch(beam_length, None, beam)
+    lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))
+    patch_length = beam.interaction_zone_length
+    if lengths.ndim != 1 or lengths.size == 0 or not np.all(np.isfinite(lengths)) or np.any(lengths < patch_length):
+        raise ValueError(f"beam_length must be lengths in m of at least one strip ({patch_length:.3g} m), got "
+                         f"{beam_length!r}: e.g. beam_length=[200e-6, 300e-6]")
     shape, m = subzone_shape(beam, spacing=spacing)
     if subzones is not None:
         width = shape[1] * m
@@ -534,7 +538,8 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     distance = np.asarray(distance_grid(**grid_psd, shape=shape, n=n, relative_humidity=rh,
                                         n_distance=n_distance, adsorbed_layer=adsorbed_layer).values, dtype=float)
     t0 = time.perf_counter()
-    cheap = _subzone_laws(psd, rh, n, 0, shape, spacing, model, seed, distance, scheduler, workers, adsorbed_layer)
+    cheap = _subzone_laws(psd, rh, n, 0, shape, spacing, model, seed, distance, scheduler, workers, adsorbed_layer,
+                          material=material)
     t1 = time.perf_counter()
     allt, per_beam = _patch_thresholds(lengths, beam, patch_length)
     need = _needs_accurate(cheap, allt, per_beam, m, seed) if n_acc else np.zeros(rh.size, bool)
@@ -545,7 +550,7 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
         tail = _tail_subzones(cheap.isel(rh=np.flatnonzero(need)), distance, n_acc, n_tail)
         index = np.concatenate([np.arange(n_acc), tail])
         acc = _subzone_laws(psd, rh[need], n_acc, 0, shape, spacing, accurate_model, seed, distance, scheduler,
-                            workers, adsorbed_layer, index=index)
+                            workers, adsorbed_layer, index=index, material=material)
     t2 = time.perf_counter()
     parts = []
     for k in range(rh.size):
@@ -607,7 +612,6 @@ def _needs_accurate(cheap, allt, per_beam, m, seed):
 
 
 def _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, attrs):
-    from scipy.stats import norm
     z = float(norm.ppf(0.5 + confidence / 2))
     shape = (rh.size, lengths.size)
     p, lo, hi, cv, beyond, margin = (np.zeros(shape) for _ in range(6))
