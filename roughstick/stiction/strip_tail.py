@@ -52,8 +52,8 @@ MIN_EFFECTIVE_SUBZONES = 5
 
 
 def _work_above(p, d, d_star):
-    """Attraction of each law above ``d_star`` [J m-2]: -∫_{d*}^{d_max} min(p, 0)... of the law
-    itself (the score that tilts the draws), trapezoids on the grid above ``d_star``."""
+    """Net work of separating each law from ``d_star`` to the grid's end [J m-2], -∫ p dd by
+    trapezoids (attraction counts positive): the score that tilts the draws."""
     keep = d >= d_star
     pp, dd = p[:, keep], d[keep]
     return -np.sum((pp[:, 1:] + pp[:, :-1]) * 0.5 * np.diff(dd), axis=1)
@@ -319,7 +319,7 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
         check = _holdout(pc[known_idx[pairs]], pa_known[pairs], d, m, rng)
     var = var_is + var_n + var_pairs
     a = (1.0 - confidence) / 2
-    z = float(_norm_ppf(1 - a))
+    z = float(norm.ppf(1 - a))
     with np.errstate(divide="ignore", invalid="ignore"):
         cv = np.sqrt(var) / est
         # the log-sd taken equal to the cv: wider than the log-normal's sqrt(log(1 + cv^2)), as
@@ -330,10 +330,6 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
     ratio = np.quantile(pool, [0.1, 0.5, 0.9]) if pool is not None else np.full(3, np.nan)
     return dict(est=est, lo=lo, hi=hi, cv=cv, is_cv=is_cv, pair_cv=pair_cv, eff=eff, d_star=d_star,
                 top=float(np.max(g0)), ratio=ratio, checked=checked, check=check)
-
-
-def _norm_ppf(p):
-    return norm.ppf(p)
 
 
 def _compose(p, idx, chunk=20_000):
