@@ -17,9 +17,11 @@ Two fidelities: the accurate model (``fft_bem``) runs on a random sample of the 
 pairs) and on the sub-zones with the largest cheap Γ (the ones strong strips are made of, and
 where Eq. 16's fitting artefacts live). Every sub-zone then carries its accurate law where it was
 computed, and elsewhere its cheap law scaled by a Γ_accurate/Γ_cheap ratio drawn from the
-pairs (Eq. 13 of a scaled law is the scaled Γ); the strips are recombined from these laws. The
-interval adds the sampling of the ``N`` sub-zones (the plug-in's first-order variance), a
-bootstrap of the pairs' ratios and the importance-sampling error. ``accurate_share`` says how
+pairs (Eq. 13 of a scaled law is the scaled Γ), a fresh draw in every combination, so the
+estimate averages over the ratios the unseen sub-zones may have instead of fixing one each; the
+strips are recombined from these laws. The interval adds the sampling of the ``N`` sub-zones
+(the plug-in's first-order variance), a bootstrap of the pairs' ratios (the same ratio quantiles
+in every replicate) and the importance-sampling error. ``accurate_share`` says how
 much of the tail's influence lies on sub-zones the accurate model saw; a run whose variance
 rests on a handful of sub-zones is flagged (``few_subzones``): its interval is not to be
 trusted.
@@ -101,7 +103,8 @@ def strip_ccdf(cheap: xr.DataArray, thresholds, *, subzones: int, accurate: xr.D
     importance sampling over their combinations. With ``accurate`` (the accurate model's laws of
     some of the sub-zones, on the same distance grid) the probability is that of the accurate
     model: every sub-zone carries its accurate law where computed and elsewhere its cheap law
-    scaled by a Γ_accurate/Γ_cheap ratio drawn from the random pairs (module docstring).
+    scaled by a Γ_accurate/Γ_cheap ratio drawn from the random pairs, afresh in every
+    combination (module docstring).
 
     Parameters
     ----------
@@ -212,12 +215,17 @@ def _ratio_pool(pc, pa, d):
     return np.clip(ga[ok] / gc[ok], *RATIO_BRACKET)
 
 
-def _hybrid(pc, known, pa_known, pool, rng):
-    """Accurate laws of every sub-zone: computed ones where known, else the cheap law scaled by a
-    ratio drawn from the random pairs' ``pool`` (Eq. 13 of a scaled law is the scaled Γ)."""
-    h = pc * pool[rng.integers(0, pool.size, size=pc.shape[0])][:, None]
-    h[known] = pa_known
-    return h
+def _hybrid_gamma(base, free, pool, idx, u, d, chunk=5000):
+    """Γ (Eq. 13) of the strips ``idx`` of accurate laws: ``base`` (the accurate law where known,
+    else the cheap law) with every ``free`` slot scaled by the ratio at quantile ``u`` of the
+    random pairs' sorted ``pool``, a fresh draw in every combination (Eq. 13 of a scaled law is
+    the scaled Γ)."""
+    out = np.empty(idx.shape[0])
+    for s in range(0, idx.shape[0], chunk):
+        i = idx[s:s + chunk]
+        r = np.where(free[i], pool[np.minimum((u[s:s + chunk] * pool.size).astype(np.int64), pool.size - 1)], 1.0)
+        out[s:s + chunk] = _gamma((base[i] * r[..., None]).mean(1), d)
+    return out
 
 
 def _residual_pool(pc, pa, pool, d, m, rng, n_comb=4000):
@@ -233,10 +241,10 @@ def _residual_pool(pc, pa, pool, d, m, rng, n_comb=4000):
     return ga - gh
 
 
-def _with_residual(g, res, rng):
-    """Strip Γ of the hybrid laws plus a residual drawn from the pairs' (additive: a ratio of a
-    near-zero Γ would blow up), never below 0; none where Γ = 0."""
-    return np.where(g > 0, np.maximum(g + res[rng.integers(0, res.size, size=g.size)], 0.0), 0.0)
+def _with_residual(g, res, u):
+    """Strip Γ of the hybrid laws plus the residual at quantile ``u`` of the pairs' sorted ``res``
+    (additive: a ratio of a near-zero Γ would blow up), never below 0; none where Γ = 0."""
+    return np.where(g > 0, np.maximum(g + res[np.minimum((u * res.size).astype(np.int64), res.size - 1)], 0.0), 0.0)
 
 
 def _holdout(pc, pa_pairs, d, m, rng, draws=50):
@@ -244,6 +252,8 @@ def _holdout(pc, pa_pairs, d, m, rng, draws=50):
     each strip's accurate Γ against its prediction from its cheap laws scaled by ratios of the
     *other* pairs, in units of the prediction's spread. Returns (rms z, fraction within ±2, strips)."""
     k = pc.shape[0] // m
+    if k < 2:  # one strip of pairs: none left to predict it from
+        return np.nan, np.nan, 0
     z = []
     for j in range(k):
         sl = slice(j * m, (j + 1) * m)
@@ -252,7 +262,8 @@ def _holdout(pc, pa_pairs, d, m, rng, draws=50):
         pool = _ratio_pool(pc[keep], pa_pairs[keep], d)
         res = _residual_pool(pc[keep], pa_pairs[keep], pool, d, m, rng, n_comb=1000)
         r = pool[rng.integers(0, pool.size, size=(draws, m))]
-        pred = _with_residual(_gamma((pc[sl][None, :, :] * r[:, :, None]).mean(1), d), res, rng)
+        pred = _with_residual(_gamma((pc[sl][None, :, :] * r[:, :, None]).mean(1), d), np.sort(res),
+                              rng.random(draws))
         actual = _gamma(pa_pairs[sl].mean(0)[None], d)[0]
         if pred.std() > 0:
             z.append((actual - pred.mean()) / pred.std())
@@ -270,9 +281,12 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
         known = np.zeros(n_sub, bool)
         known[known_idx] = True
         pairs = known_idx < n_pairs
-        pool = _ratio_pool(pc[known_idx[pairs]], pa_known[pairs], d)
-        res = _residual_pool(pc[known_idx[pairs]], pa_known[pairs], pool, d, m, rng)
-        laws = _hybrid(pc, known_idx, pa_known, pool, rng)
+        pool = np.sort(_ratio_pool(pc[known_idx[pairs]], pa_known[pairs], d))
+        res = np.sort(_residual_pool(pc[known_idx[pairs]], pa_known[pairs], pool, d, m, rng))
+        base = pc.copy()
+        base[known_idx] = pa_known
+        # the tilts' laws: unknown ratios at the pairs' median (any proposal is unbiased)
+        laws = base * np.where(known, 1.0, np.median(pool))[:, None]
     d_star = _typical_equilibrium(laws.mean(0), d)
     score = _work_above(laws, d, d_star)
     logq = _tilts(score, list(thr) + [1.2 * float(thr.min())])
@@ -286,9 +300,12 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
     comp_logq = np.stack([logq[c][idx].sum(1) for c in range(logq.shape[0])])
     log_mix = np.logaddexp.reduce(comp_logq, axis=0) - math.log(logq.shape[0])
     w0 = np.exp(-m * math.log(n_sub) - log_mix)
-    g0 = _gamma(_compose(laws, idx), d)
-    if acc is not None:
-        g0 = _with_residual(g0, res, rng)
+    if acc is None:
+        g0 = _gamma(_compose(laws, idx), d)
+    else:  # the unknown ratios and the residual drawn afresh in every combination (the same
+        # quantiles reused by the bootstrap of the pairs: common random numbers)
+        u, u_res = rng.random(idx.shape), rng.random(n_comb)
+        g0 = _with_residual(_hybrid_gamma(base, ~known, pool, idx, u, d), res, u_res)
     wf = w0[:, None] * (g0[:, None] > thr[None, :])
     est = wf.mean(0)
     var_is = wf.var(0) / n_comb
@@ -311,9 +328,9 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
         pc_pairs, pa_pairs = pc[known_idx[pairs]], pa_known[pairs]
         for b in range(n_boot):
             pick = rng.integers(0, pc_pairs.shape[0], size=pc_pairs.shape[0])
-            pool_b = _ratio_pool(pc_pairs[pick], pa_pairs[pick], d)
-            res_b = _residual_pool(pc_pairs[pick], pa_pairs[pick], pool_b, d, m, rng, n_comb=2000)
-            g = _with_residual(_gamma(_compose(_hybrid(pc, known_idx, pa_known, pool_b, rng), idx), d), res_b, rng)
+            pool_b = np.sort(_ratio_pool(pc_pairs[pick], pa_pairs[pick], d))
+            res_b = np.sort(_residual_pool(pc_pairs[pick], pa_pairs[pick], pool_b, d, m, rng, n_comb=2000))
+            g = _with_residual(_hybrid_gamma(base, ~known, pool_b, idx, u, d), res_b, u_res)
             reps[b] = (w0[:, None] * (g[:, None] > thr[None, :])).mean(0)
         var_pairs = reps.var(0, ddof=1)
         check = _holdout(pc[known_idx[pairs]], pa_known[pairs], d, m, rng)

@@ -217,3 +217,13 @@ def test_the_accurate_model_on_the_tails_subzones_removes_cheap_artefacts():
     assert 0.3 < e / exact < 3
     assert float(c.accurate_share[0, 0]) > 0  # the tail's strongest sub-zones were seen by the accurate model
     assert _gamma(acc.values, D).max() < _gamma(cheap.values, D).max()
+
+
+def test_pairs_of_one_strip_give_no_holdout_check_and_no_crash():
+    # 12 random pairs with strips of 12: no strip is left to predict the held-out one from
+    rng = np.random.default_rng(2)
+    a = rng.gamma(K, THETA, 240)
+    c = rs.stiction.strip_ccdf(_laws(a), _gamma_strip(np.array([1.2e5])), subzones=M, accurate=_laws(a[:12] * 0.7),
+                               n_combinations=4000, n_boot=4)
+    assert int(c.ratio_check_strips[0]) == 0 and np.isnan(float(c.ratio_check_rms_z[0]))
+    assert float(c.accurate_ratio[0, 1]) == pytest.approx(0.7)
