@@ -9,6 +9,12 @@ recombination of the sub-zone laws, the accurate model through the pairs' strip 
     python benchmarks/bench_designer.py table            # RH 0.60-0.85 x l 150-300 µm, crossing at 1e-3
     python benchmarks/bench_designer.py seeds --rh 0.75  # true cv and coverage over independent seeds
     python benchmarks/bench_designer.py convergence      # the 1e-3 crossing as zone, pixel, grid, model refine
+    python benchmarks/bench_designer.py cohesive         # the sharp front against the cohesive beam, same strips
+
+``cohesive`` draws beams from one bank of the strips' pressure laws (Eq. 16, composed of the
+sub-zones) and releases each twice, as a sharp front on the strips' Γ and as the cohesive
+Euler-Bernoulli beam on their full laws, same patches: where the two disagree the sharp-front
+product of the strips route is not enough.
 
 ``seeds`` repeats the estimate with independent seeds and compares the reported cv with the
 spread (the true cv) and each interval with the mean of the *other* seeds (leave-one-out
@@ -19,10 +25,12 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import time
 import warnings
 
 import numpy as np
+import xarray as xr
 
 import roughstick as rs
 
@@ -92,8 +100,37 @@ def table(args):
               "Γ of any combination of the sample")
 
 
+def _cache_laws(folder):
+    """Keep each sub-zone law computation of the seeds on disk (keyed by its arguments), so that a
+    second pass re-runs only the estimator on the same laws."""
+    import hashlib
+    import pathlib
+
+    from roughstick.stiction import strip_tail
+
+    folder = pathlib.Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    compute = strip_tail._subzone_laws
+
+    def cached(psd, rh, n, start, shape, spacing, model, seed, distance, *a, index=None, **kw):
+        key = repr((list(map(float, rh)), n, start, list(shape), spacing, model, seed,
+                    np.asarray(distance).round(15).tolist(), None if index is None else np.asarray(index).tolist(),
+                    a[2:], sorted(kw.items())))
+        path = folder / f"{model}_{seed}_{hashlib.sha1(key.encode()).hexdigest()[:16]}.nc"
+        if path.exists():
+            return xr.open_dataarray(path).load()
+        p = compute(psd, rh, n, start, shape, spacing, model, seed, distance, *a, index=index, **kw)
+        p.to_netcdf(path.with_suffix(".part"))
+        path.with_suffix(".part").rename(path)
+        return p
+
+    strip_tail._subzone_laws = cached
+
+
 def seeds(args):
     psd = rs.datasets.family_psd("table4")
+    if args.cache:
+        _cache_laws(args.cache)
     est, cvs, walls = [], [], []
     for s in range(args.seeds):
         t = time.perf_counter()
@@ -165,17 +202,102 @@ def convergence(args):
               + " ".join(f"{v:.2g}" for v in p), flush=True)
 
 
+def cohesive(args):
+    from roughstick.beam.sharp_front import _draw_indices, n_patches
+    from roughstick.contact.adhesion import summary_kernel
+
+    psd = rs.datasets.family_psd("table4")
+    rh = RH if args.rhs is None else [float(x) for x in args.rhs.split(",")]
+    t = time.perf_counter()
+    cache = None if args.cache is None else f"{args.cache}/bank_{args.laws}_{args.seed}_{'_'.join(map(str, rh))}.nc"
+    if cache is not None and os.path.exists(cache):
+        bank = xr.open_dataarray(cache).load()
+    else:
+        with warnings.catch_warnings():  # Eq. 16's validity warning: the comparison is of the beam models
+            warnings.simplefilter("ignore", UserWarning)
+            bank = rs.beam.pressure_law_bank(psd, relative_humidity=rh, n=args.laws, spacing=5e-9, seed=args.seed)
+        if cache is not None:
+            os.makedirs(args.cache, exist_ok=True)
+            bank.to_netcdf(cache)
+    t_bank = time.perf_counter() - t
+    p = bank.transpose("law", "rh", "gap").values
+    gap = bank["gap"].values
+    energy = np.stack([summary_kernel(p[:, k], np.zeros_like(p[:, k]), gap)[0] for k in range(len(rh))], axis=1)
+    ebank = xr.DataArray(energy, {"law": bank["law"].values, "rh": rh}, ("law", "rh"), attrs={"units": "J m-2"})
+    kw = dict(beam_length=LENGTHS, n=args.beams, seed=args.seed)
+    sharp = rs.beam.simulate(ebank, **kw)
+    t = time.perf_counter()
+    coh = rs.beam.simulate(bank, beam_model="cohesive", **kw)
+    t_coh = time.perf_counter() - t
+    print(f"Table 4, paper layer and beam, Eq. 16: {args.laws} strip laws ({bank.attrs['subzones']} sub-zones "
+          f"{bank.attrs['subzone_shape']} each, {bank.sizes['gap']} gaps) in {t_bank:.0f} s; {args.beams} beams "
+          f"per length drawn from them, released as a sharp front and as the cohesive beam ({t_coh:.0f} s, "
+          f"{int(coh.solver_failed.sum())} solves failed)")
+    print("disagree: beams stuck in one model, free in the other; of them 'tip' the sharp-front beams held by\n"
+          "their last strip only (s > l - Δs) and 'arc' the cohesive beams left as an arc held by the tip")
+    print(f"{'RH':>5} {'l [µm]':>6}  {'P sharp [95 %]':>22}  {'P cohesive [95 %]':>22}  {'P coh. + arc [95 %]':>22}  "
+          f"{'disagree':>8} {'tip':>4} {'arc':>4}  {'s_coh - s_sharp [µm] (both stuck)':>34}")
+    beam = rs.stiction.PAPER_CANTILEVER
+    dx = beam.interaction_zone_length
+    idx = _draw_indices(args.seed, np.arange(args.beams), bank.sizes["law"], n_patches(max(LENGTHS), dx))
+    z = 1.959963984540054
+    rule_rows = []
+    for k, h in enumerate(rh):
+        for b, length in enumerate(LENGTHS):
+            a = sharp.stuck.isel(rh=k, beam_length=b).values.astype(bool)
+            ok = ~coh.solver_failed.isel(rh=k, beam_length=b).values
+            c = coh.stuck.isel(rh=k, beam_length=b).values.astype(bool)
+
+            def wilson(x):
+                nn, pp = x.size, x.mean()
+                h_ = z * math.sqrt(pp * (1 - pp) / nn + z * z / (4 * nn * nn)) / (1 + z * z / nn)
+                mid = (pp + z * z / (2 * nn)) / (1 + z * z / nn)
+                return f"{pp:.3f} [{max(mid - h_, 0):.3f}, {min(mid + h_, 1):.3f}]"
+
+            arc = coh.arc.isel(rh=k, beam_length=b).values.astype(bool)
+            s_sharp = sharp.crack_length.isel(rh=k, beam_length=b).values
+            dis = ok & (a != c)
+            tip = int(np.sum(dis & a & (s_sharp > length - rs.stiction.PAPER_CANTILEVER.interaction_zone_length)))
+            both = a & c & ok
+            ds = (coh.crack_length.isel(rh=k, beam_length=b).values[both]
+                  - sharp.crack_length.isel(rh=k, beam_length=b).values[both]) * 1e6
+            dtxt = f"mean {ds.mean():+.1f}, range {ds.min():+.1f} to {ds.max():+.1f}" if ds.size else "-"
+            # the arc rule: the tip strip holds an arc when its Γ exceeds K / (4 l^4)
+            tip_g = energy[idx[:, n_patches(length, dx) - 1], k]
+            rule = a | (tip_g > beam.stiffness_term / (4 * length**4))
+            rule_rows.append(f"{h:5.2f} {length * 1e6:6.0f}  {wilson(rule[ok]):>22}  {wilson((c | arc)[ok]):>22}  "
+                             f"{int(np.sum(rule[ok] != (c | arc)[ok])):>8}")
+            print(f"{h:5.2f} {length * 1e6:6.0f}  {wilson(a[ok]):>22}  {wilson(c[ok]):>22}  "
+                  f"{wilson((c | arc)[ok]):>22}  {int(dis.sum()):>8} {tip:>4} {int(np.sum(dis & arc)):>4}  "
+                  f"{dtxt:>34}", flush=True)
+
+
+    if args.cache is not None:
+        np.savez(cache.replace(".nc", f"_beams{args.beams}.npz"), energy=energy, idx=idx, rh=rh,
+                 sharp=sharp.stuck.values, sharp_s=sharp.crack_length.values, coh=coh.stuck.values,
+                 arc=coh.arc.values, failed=coh.solver_failed.values, lengths=LENGTHS)
+    print("\nThe sharp front with the arc rule (stuck when an S-front holds or the tip strip's Γ exceeds "
+          "K/(4 l^4),\nthe force a tip-held arc needs) against the cohesive beam, arcs counted as stuck:")
+    print(f"{'RH':>5} {'l [µm]':>6}  {'P sharp + arc rule':>22}  {'P cohesive + arc':>22}  {'disagree':>8}")
+    print("\n".join(rule_rows))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("part", choices=["table", "seeds", "convergence"])
+    ap.add_argument("part", choices=["table", "seeds", "convergence", "cohesive"])
     ap.add_argument("--n", type=int, default=12_000, help="Eq. 16 sub-zones")
     ap.add_argument("--n-accurate", type=int, default=240, help="fft_bem sub-zones per RH (0: Eq. 16 alone)")
     ap.add_argument("--n-tail", type=int, default=48, help="strongest sub-zones also through fft_bem")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--rh", type=float, default=0.75)
+    ap.add_argument("--cache", default=None, help="seeds: folder keeping the sub-zone laws (a second pass "
+                    "re-runs the estimator only); cohesive: folder keeping the bank")
+    ap.add_argument("--rhs", default=None, help="cohesive: RH list, e.g. 0.76,0.78 (default the table's)")
+    ap.add_argument("--laws", type=int, default=400, help="strip laws of the cohesive comparison's bank")
+    ap.add_argument("--beams", type=int, default=400, help="beams per length of the cohesive comparison")
     args = ap.parse_args()
-    {"table": table, "seeds": seeds, "convergence": convergence}[args.part](args)
+    {"table": table, "seeds": seeds, "convergence": convergence, "cohesive": cohesive}[args.part](args)
 
 
 if __name__ == "__main__":
