@@ -463,7 +463,10 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     ``n_accurate`` of them through ``accurate_model`` too, and :func:`strip_ccdf` estimates the
     strips' Γ exceedance at every patch threshold :math:`K/x_{j+1}^4` of every beam (Eq. 36);
     P(stuck) is :math:`1 - \prod_j (1 - \bar F(K/x_{j+1}^4))` (the sharp front on independent
-    strips, :func:`roughstick.beam.stuck_probability_from_ccdf`).
+    strips, :func:`roughstick.beam.stuck_probability_from_ccdf`): S-shaped stiction. Near a
+    beam's detachment length the cohesive beam (:func:`roughstick.beam.simulate` with
+    ``beam_model="cohesive"``) sticks fewer beams S-shaped and leaves others as arcs held by the
+    tip, which this count does not include (docs/rare_events.md).
 
     Parameters
     ----------
@@ -644,7 +647,9 @@ def _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, attrs):
                 lo[k, b], hi[k, b] = 0.0, np.nan
     dims = ("rh", "beam_length")
     ds = xr.Dataset({
-        "stiction_probability": (dims, p, {"units": "1", "long_name": "P(stuck), sharp front on the beam's strips"}),
+        "stiction_probability": (dims, p, {"units": "1", "long_name": "P(stuck), sharp front on the beam's strips",
+                                           "comment": "S-shaped stiction of the sharp front (Eq. 36); beams the "
+                                                      "cohesive beam leaves as arcs held by the tip are not counted"}),
         "stiction_probability_lower": (dims, lo, {"units": "1", "long_name": "lower bound of P(stuck)"}),
         "stiction_probability_upper": (dims, hi, {"units": "1", "long_name": "upper bound of P(stuck) (NaN beyond reach)"}),
         "coefficient_of_variation": (dims, cv, {"units": "1", "long_name": "coefficient of variation of P(stuck)"}),
