@@ -68,8 +68,14 @@ def _tilts(score, targets):
     z = (score - score.mean()) / (score.std() + 1e-300)
     logq = [np.full(n, -math.log(n))]
     reach = np.quantile(z, 0.995)
-    for t in targets:
-        tz = min((t - score.mean()) / (score.std() + 1e-300), reach)
+    # one tilt per distinct target (thresholds beyond the sample's reach share the last one), and
+    # a ladder of milder tilts below the highest: the mixture then holds every combination that
+    # fails, however few of the thresholds the caller asked for
+    tzs = np.minimum((np.asarray(targets, float) - score.mean()) / (score.std() + 1e-300), reach)
+    if tzs.max() > 0.05:
+        tzs = np.concatenate([tzs, np.linspace(0.0, tzs.max(), 9)[1:]])
+    tzs = np.unique(np.round(tzs, 2))
+    for tz in tzs:
         if tz <= 0.05:
             continue
         lo, hi = 0.0, 50.0
@@ -313,9 +319,15 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
     # m^2/N Var_i h1(i), h1(i) = P(fail | one of the strip's sub-zones is i)
     var_n, eff, checked = np.zeros(thr.size), np.zeros(thr.size), np.full(thr.size, np.nan)
     for j in np.flatnonzero(est > 0):
-        h1 = np.bincount(idx.ravel(), weights=np.repeat(wf[:, j], m), minlength=n_sub) * n_sub / (m * n_comb)
-        v = (h1 - est[j]) ** 2
-        var_n[j] = m * m / n_sub * np.mean(v)
+        scale = n_sub / (m * n_comb)
+        h1 = np.bincount(idx.ravel(), weights=np.repeat(wf[:, j], m), minlength=n_sub) * scale
+        # each h1(i) is itself estimated from the few combinations holding i; that noise (the
+        # compound-Poisson variance scale^2 sum wf^2 of its terms) would add ~m times the
+        # importance-sampling variance to Var_i h1, and is taken off
+        noise = np.bincount(idx.ravel(), weights=np.repeat(wf[:, j] ** 2, m), minlength=n_sub) * scale**2
+        v = (h1 - est[j]) ** 2 - noise
+        var_n[j] = m * m / n_sub * max(np.mean(v), 0.0)
+        v = np.maximum(v, 0.0)
         # how many sub-zones that variance rests on (participation ratio): few = the tail is theirs
         eff[j] = v.sum() ** 2 / max(np.sum(v * v), 1e-300)
         if known is not None:  # the share of the excess h1 (the tail's sub-zones) the accurate model saw
