@@ -10,6 +10,7 @@ recombination of the sub-zone laws, the accurate model through the pairs' strip 
     python benchmarks/bench_designer.py seeds --rh 0.75  # true cv and coverage over independent seeds
     python benchmarks/bench_designer.py convergence      # the 1e-3 crossing as zone, pixel, grid, model refine
     python benchmarks/bench_designer.py cohesive         # the sharp front against the cohesive beam, same strips
+    python benchmarks/bench_designer.py composition --rh 0.77 --cache DIR  # the hybrid on strong strips, across seeds
 
 ``cohesive`` draws beams from one bank of the strips' pressure laws (Eq. 16, composed of the
 sub-zones) and releases each twice, as a sharp front on the strips' Γ and as the cohesive
@@ -19,6 +20,13 @@ product of the strips route is not enough.
 ``seeds`` repeats the estimate with independent seeds and compares the reported cv with the
 spread (the true cv) and each interval with the mean of the *other* seeds (leave-one-out
 reference), at the beam length whose P(stuck) is nearest 1e-4.
+
+``composition`` reads the laws ``seeds --cache DIR`` kept and checks the two-fidelity hybrid
+where the tail is: strips holding j of the strongest sub-zones (the other seeds' tails, as if
+the accurate model had seen them) and 12 - j random ones, and strips of unseen strong
+sub-zones (the strongest of the other seeds' pairs), each predicted from one seed's accurate
+sub-zones and compared with its accurate Γ (the bias in log Γ, its spread between fits, and
+the z-scores of the prediction).
 """
 
 from __future__ import annotations
@@ -159,6 +167,9 @@ def seeds(args):
             print(f"l = {length * 1e6:.0f} µm: some seeds beyond reach ({np.sum(p == 0)} of {p.size})")
             continue
         true_cv = p.std(ddof=1) / p.mean()
+        if true_cv == 0:
+            print(f"l = {length * 1e6:.0f} µm: P {p.mean():.3g} on every seed (no spread to compare the cv with)")
+            continue
         covered = 0
         for s in range(p.size):
             ref = np.delete(p, s).mean()
@@ -166,6 +177,96 @@ def seeds(args):
         print(f"l = {length * 1e6:.0f} µm: mean P {p.mean():.3g}, true cv {true_cv:.2f}, reported cv (mean) "
               f"{np.mean(cvs[:, b]):.2f} ({np.mean(cvs[:, b]) / true_cv:.2f} x true), intervals covering the "
               f"other seeds' mean {covered}/{p.size}")
+
+
+def _seed_laws(folder, rh, n_pairs):
+    """The seeds' cached laws at ``rh`` (``seeds --cache``): per seed the cheap and accurate laws of
+    the random pairs and of the tail's sub-zones, and the distance grid."""
+    import glob
+
+    out = []
+    for s in range(1000, 1000 + 1000):
+        files = {m: [f for f in glob.glob(os.path.join(folder, f"{m}_{s}_*.nc"))] for m in ("modified_dmt", "fft_bem")}
+        if not files["fft_bem"]:
+            break
+        pick = {}
+        for m, fs in files.items():
+            for f in fs:
+                a = xr.open_dataarray(f)
+                if a.sizes.get("rh") == 1 and abs(float(a.rh[0]) - rh) < 1e-9:
+                    pick[m] = a.load()
+        if len(pick) < 2:
+            continue
+        d = pick["modified_dmt"].distance.values
+        pc = pick["modified_dmt"].isel(rh=0).transpose("realization", "distance").values
+        pa = pick["fft_bem"].isel(rh=0).transpose("realization", "distance").values
+        idx = pick["fft_bem"].realization.values
+        pairs = idx < n_pairs
+        out.append((pc[idx[pairs]], pa[pairs], pc[idx[~pairs]], pa[~pairs], d))
+    return out
+
+
+def composition(args):
+    """Strips of j strong sub-zones (the tails of the *other* seeds, seen by the accurate model)
+    and m - j random ones (the other seeds' pairs, unseen), and strips of unseen strong
+    sub-zones (the strongest of the other seeds' pairs): their accurate Γ against the hybrid's
+    prediction fitted on one seed's accurate sub-zones (ratios drawn for the unseen, the seen
+    ones' own ratio, the residual), and against the hybrid that mixes the seen sub-zones'
+    accurate laws themselves with the scaled cheap laws."""
+    from roughstick.stiction.strip_tail import (
+        _gamma,
+        _hybrid_laws,
+        _ratio_pool,
+        _residual_pool,
+        _with_residual,
+    )
+    seeds = _seed_laws(args.cache, args.rh, args.n_accurate)
+    if len(seeds) < 3:
+        raise SystemExit(f"composition needs the laws of >= 3 seeds at RH {args.rh} in --cache (run `seeds --rh "
+                         f"{args.rh} --cache DIR` first); found {len(seeds)}")
+    m, n, draws = 12, 200, 64
+    d = seeds[0][4]
+    rng = np.random.default_rng(args.seed)
+    print(f"RH {args.rh}: {len(seeds)} seeds, {n} strips per fit and row; log(prediction / accurate Γ) and "
+          "z = (accurate - prediction mean) / prediction sd")
+    print(f"{'strips':>36} {'hybrid':>12} {'Γ [J/m2]':>9} {'mean log':>9} {'sd over fits':>12} {'z mean':>7} "
+          f"{'z rms':>6} {'|z|<=2':>7}")
+    rows = [(f"{j} seen strong + {m - j} unseen random", j, None) for j in (0, 2, 4, 6, 8)]
+    rows += [(f"{m} unseen, strongest {f:.0%} of pairs", 0, f) for f in (0.5, 0.25, 0.1)]
+    for label, j, frac in rows:
+        for how in (("own ratio", "accurate law") if j else ("own ratio",)):
+            logs, zs, zero = [], [], 0
+            for s, (pc, pa, _, _, _) in enumerate(seeds):
+                others = [t for t in range(len(seeds)) if t != s]
+                oc, oa, qc, qa = (np.concatenate([seeds[t][k] for t in others]) for k in (2, 3, 0, 1))
+                if frac is not None:
+                    g = _gamma(qc, d)
+                    strong = g >= np.quantile(g, 1 - frac)
+                    qc, qa = qc[strong], qa[strong]
+                pool = np.sort(_ratio_pool(pc, pa, d))
+                res = np.sort(_residual_pool(pc, pa, pool, d, m, rng))
+                it, ip = rng.integers(0, oc.shape[0], (n, j)), rng.integers(0, qc.shape[0], (n, m - j))
+                c, a = np.concatenate([oc[it], qc[ip]], 1), np.concatenate([oa[it], qa[ip]], 1)
+                if j and how == "own ratio":
+                    c[:, :j] = _hybrid_laws(c[:, :j].reshape(-1, d.size), a[:, :j].reshape(-1, d.size), d,
+                                            np.median(_gamma(pc, d))).reshape(n, j, -1)
+                elif j:
+                    c[:, :j] = a[:, :j]
+                free = np.ones((n, m), bool)
+                free[:, :j] = False
+                u = rng.random((n, draws, m))
+                r = np.where(free[:, None, :], pool[np.minimum((u * pool.size).astype(int), pool.size - 1)], 1.0)
+                g = _gamma((c[:, None] * r[..., None]).mean(2).reshape(n * draws, -1), d)
+                pred = _with_residual(g, res, rng.random(n * draws)).reshape(n, draws)
+                true = _gamma(a.mean(1), d)
+                ok = (pred.mean(1) > 0) & (pred.std(1) > 0)  # a strip the hybrid puts at Γ = 0 is counted apart
+                zero += int(np.sum(~ok))
+                logs.append(np.log(pred.mean(1)[ok] / true[ok]).mean())
+                zs.append((true[ok] - pred.mean(1)[ok]) / pred.std(1)[ok])
+            logs, zs = np.array(logs), np.concatenate(zs)
+            print(f"{label:>36} {how:>12} {np.median(true):9.4f} {logs.mean():+9.3f} {logs.std():12.3f} "
+                  f"{zs.mean():+7.2f} {np.sqrt(np.mean(zs ** 2)):6.2f} {np.mean(np.abs(zs) <= 2):7.2f}"
+                  + (f"  ({zero} strips predicted at Γ = 0)" if zero else ""), flush=True)
 
 
 def convergence(args):
@@ -289,7 +390,7 @@ def cohesive(args):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("part", choices=["table", "seeds", "convergence", "cohesive"])
+    ap.add_argument("part", choices=["table", "seeds", "convergence", "cohesive", "composition"])
     ap.add_argument("--n", type=int, default=12_000, help="Eq. 16 sub-zones")
     ap.add_argument("--n-accurate", type=int, default=240, help="fft_bem sub-zones per RH (0: Eq. 16 alone)")
     ap.add_argument("--n-tail", type=int, default=48, help="strongest sub-zones also through fft_bem")
@@ -297,12 +398,13 @@ def main():
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--rh", type=float, default=0.75)
     ap.add_argument("--cache", default=None, help="seeds: folder keeping the sub-zone laws (a second pass "
-                    "re-runs the estimator only); cohesive: folder keeping the bank")
+                    "re-runs the estimator only; composition reads them); cohesive: folder keeping the bank")
     ap.add_argument("--rhs", default=None, help="cohesive: RH list, e.g. 0.76,0.78 (default the table's)")
     ap.add_argument("--laws", type=int, default=400, help="strip laws of the cohesive comparison's bank")
     ap.add_argument("--beams", type=int, default=400, help="beams per length of the cohesive comparison")
     args = ap.parse_args()
-    {"table": table, "seeds": seeds, "convergence": convergence, "cohesive": cohesive}[args.part](args)
+    {"table": table, "seeds": seeds, "convergence": convergence, "cohesive": cohesive,
+     "composition": composition}[args.part](args)
 
 
 if __name__ == "__main__":

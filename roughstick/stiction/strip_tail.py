@@ -15,14 +15,17 @@ probabilities far below :math:`m/N`.
 
 Two fidelities: the accurate model (``fft_bem``) runs on a random sample of the sub-zones (the
 pairs) and on the sub-zones with the largest cheap Γ (the ones strong strips are made of, and
-where Eq. 16's fitting artefacts live). Every sub-zone then carries its accurate law where it was
-computed, and elsewhere its cheap law scaled by a Γ_accurate/Γ_cheap ratio drawn from the
-pairs (Eq. 13 of a scaled law is the scaled Γ), a fresh draw in every combination, so the
+where Eq. 16's fitting artefacts live). Every sub-zone then carries its cheap law scaled by a
+Γ_accurate/Γ_cheap ratio (Eq. 13 of a scaled law is the scaled Γ): its own where the accurate
+model ran (its accurate law where that ratio says nothing: a near-zero cheap Γ, a cheap
+artefact), elsewhere one drawn from the pairs, a fresh draw in every combination, so the
 estimate averages over the ratios the unseen sub-zones may have instead of fixing one each; the
-strips are recombined from these laws. The interval adds the sampling of the ``N`` sub-zones
-(the plug-in's first-order variance), a bootstrap of the pairs' ratios (the same ratio quantiles
-in every replicate) and the importance-sampling error. ``accurate_share`` says how
-much of the tail's influence lies on sub-zones the accurate model saw; a run whose variance
+strips are recombined from these laws, plus a residual for what scaling misses in a composed
+strip (the two models' laws differ in shape), drawn from the pairs' recombined strips. The
+interval adds the sampling of the ``N`` sub-zones (the plug-in's first-order variance), a
+bootstrap of the pairs' ratios (the same ratio quantiles in every replicate; its spread taken
+on the log scale of the interval) and the importance-sampling error. ``accurate_share`` says
+how much of the tail's influence lies on sub-zones the accurate model saw; a run whose variance
 rests on a handful of sub-zones is flagged (``few_subzones``): its interval is not to be
 trusted.
 """
@@ -234,6 +237,24 @@ def _hybrid_gamma(base, free, pool, idx, u, d, chunk=5000):
     return out
 
 
+def _own_ratios(pc, pa, d, ref):
+    """Each sub-zone's own Γ_accurate/Γ_cheap where its cheap Γ is at least a tenth of ``ref`` and
+    the ratio lies in :data:`RATIO_BRACKET`; NaN elsewhere (a ratio of near-zero energies, or an
+    artefact of the cheap model, says nothing about the law's scale)."""
+    gc, ga = _gamma(pc, d), _gamma(pa, d)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = ga / gc
+    return np.where((gc > 0.1 * ref) & (gc > 0) & (r >= RATIO_BRACKET[0]) & (r <= RATIO_BRACKET[1]), r, np.nan)
+
+
+def _hybrid_laws(pc, pa, d, ref):
+    """The law a sub-zone the accurate model saw carries in the hybrid: its cheap law scaled by its
+    own ratio (:func:`_own_ratios`; Eq. 13 of it is the accurate Γ), or its accurate law where
+    that ratio says nothing."""
+    own = _own_ratios(pc, pa, d, ref)
+    return np.where(np.isnan(own)[:, None], pa, pc * np.nan_to_num(own)[:, None])
+
+
 def _residual_pool(pc, pa, pool, d, m, rng, n_comb=4000):
     """Γ_accurate - Γ_scaled [J m-2] of strips recombined from the random pairs, each pair's cheap law
     scaled by its own ratio: what scaling the laws misses in the composed strip (the equilibrium
@@ -289,8 +310,13 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
         pairs = known_idx < n_pairs
         pool = np.sort(_ratio_pool(pc[known_idx[pairs]], pa_known[pairs], d))
         res = np.sort(_residual_pool(pc[known_idx[pairs]], pa_known[pairs], pool, d, m, rng))
+        # a sub-zone the accurate model saw carries its cheap law scaled by its own ratio, as the
+        # pairs do in the residual's strips: its accurate law, mixed with scaled cheap laws in one
+        # strip, misplaces the strip's equilibrium (the laws differ in shape). Its accurate law
+        # only where the ratio says nothing (near-zero cheap Γ) or lies outside the bracket (a
+        # cheap artefact)
         base = pc.copy()
-        base[known_idx] = pa_known
+        base[known_idx] = _hybrid_laws(pc[known_idx], pa_known, d, np.median(_gamma(pc[known_idx[pairs]], d)))
         # the tilts' laws: unknown ratios at the pairs' median (any proposal is unbiased)
         laws = base * np.where(known, 1.0, np.median(pool))[:, None]
     d_star = _typical_equilibrium(laws.mean(0), d)
@@ -344,7 +370,11 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
             res_b = np.sort(_residual_pool(pc_pairs[pick], pa_pairs[pick], pool_b, d, m, rng, n_comb=2000))
             g = _with_residual(_hybrid_gamma(base, ~known, pool_b, idx, u, d), res_b, u_res)
             reps[b] = (w0[:, None] * (g[:, None] > thr[None, :])).mean(0)
-        var_pairs = reps.var(0, ddof=1)
+        # on the log scale of the interval: one resample that duplicates a pair of extreme
+        # ratio can move a replicate tenfold, and its square would then be the whole variance
+        with np.errstate(divide="ignore", invalid="ignore"):
+            logs = np.log(np.maximum(reps, 1e-3 * est[None, :]))
+            var_pairs = np.where(est > 0, est**2 * np.nan_to_num(logs.var(0, ddof=1)), 0.0)
         check = _holdout(pc[known_idx[pairs]], pa_known[pairs], d, m, rng)
     var = var_is + var_n + var_pairs
     a = (1.0 - confidence) / 2
@@ -392,7 +422,7 @@ def _assemble(out, cheap, thr, m, acc, confidence, n_comb, n_boot):
         "coefficient_of_variation": (dims, np.stack([o["cv"] for o in out]), {
             "units": "1", "long_name": "cv of the estimate (sub-zone sampling, pairs, importance sampling)"}),
         "emulator_cv": (dims, np.stack([o["pair_cv"] for o in out]), {
-            "units": "1", "long_name": "cv from the random pairs' ratios (bootstrap)"}),
+            "units": "1", "long_name": "cv from the random pairs' ratios (bootstrap sd of the log estimate)"}),
         "accurate_ratio": (("rh", "quantile"), np.stack([o["ratio"] for o in out]), {
             "units": "1", "long_name": "Γ_accurate/Γ_cheap of the random pairs' sub-zones (10, 50, 90 %)"}),
         "accurate_share": (dims, np.stack([o["checked"] for o in out]), {

@@ -227,3 +227,21 @@ def test_pairs_of_one_strip_give_no_holdout_check_and_no_crash():
                                n_combinations=4000, n_boot=4)
     assert int(c.ratio_check_strips[0]) == 0 and np.isnan(float(c.ratio_check_rms_z[0]))
     assert float(c.accurate_ratio[0, 1]) == pytest.approx(0.7)
+
+
+def test_a_subzone_the_accurate_model_saw_keeps_its_accurate_energy_in_the_hybrid():
+    # its cheap law scaled by its own ratio (Eq. 13 of a scaled law is the scaled Γ): the hybrid
+    # law's Γ is the accurate Γ; a cheap artefact (ratio outside the bracket) and a near-zero cheap
+    # law keep the accurate law itself
+    from roughstick.stiction.strip_tail import _gamma, _hybrid_laws
+    rng = np.random.default_rng(4)
+    a = rng.gamma(K, THETA, 40)
+    cheap = _laws(a).values
+    acc = _laws(a * rng.uniform(0.6, 0.9, a.size)).values
+    acc[3] = _laws(a[3:4] * 0.2).values[0]  # the cheap law 5 x too strong
+    cheap[7] = _laws(np.array([1.0])).values[0]  # ~no attraction in the cheap model
+    hyb = _hybrid_laws(cheap, acc, D, np.median(_gamma(cheap, D)))
+    np.testing.assert_allclose(_gamma(hyb, D), _gamma(acc, D), rtol=1e-9)
+    np.testing.assert_array_equal(hyb[[3, 7]], acc[[3, 7]])
+    scaled = np.delete(np.arange(a.size), [3, 7])
+    assert np.all(np.abs(hyb[scaled] - acc[scaled]).max(1) > 0)  # the others are scaled cheap laws
