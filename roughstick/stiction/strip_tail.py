@@ -111,8 +111,8 @@ def strip_ccdf(cheap: xr.DataArray, thresholds, *, subzones: int, accurate: xr.D
     probability is taken under the empirical distribution of the ``N`` laws of ``cheap`` by
     importance sampling over their combinations. With ``accurate`` (the accurate model's laws of
     some of the sub-zones, on the same distance grid) the probability is that of the accurate
-    model: every sub-zone carries its accurate law where computed and elsewhere its cheap law
-    scaled by a Γ_accurate/Γ_cheap ratio drawn from the random pairs, afresh in every
+    model: every sub-zone carries its cheap law scaled by a Γ_accurate/Γ_cheap ratio, its own
+    where the accurate model ran and elsewhere one drawn from the random pairs, afresh in every
     combination (module docstring).
 
     Parameters
@@ -225,8 +225,8 @@ def _ratio_pool(pc, pa, d):
 
 
 def _hybrid_gamma(base, free, pool, idx, u, d, chunk=5000):
-    """Γ (Eq. 13) of the strips ``idx`` of accurate laws: ``base`` (the accurate law where known,
-    else the cheap law) with every ``free`` slot scaled by the ratio at quantile ``u`` of the
+    """Γ (Eq. 13) of the strips ``idx`` of accurate laws: ``base`` (the hybrid law where the
+    accurate model ran, else the cheap law) with every ``free`` slot scaled by the ratio at quantile ``u`` of the
     random pairs' sorted ``pool``, a fresh draw in every combination (Eq. 13 of a scaled law is
     the scaled Γ)."""
     out = np.empty(idx.shape[0])
