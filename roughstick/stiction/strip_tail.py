@@ -339,7 +339,7 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
         u, u_res = rng.random(idx.shape), rng.random(n_comb)
         g0 = _with_residual(_hybrid_gamma(base, ~known, pool, idx, u, d), res, u_res)
     wf = w0[:, None] * (g0[:, None] > thr[None, :])
-    est = wf.mean(0)
+    est = np.minimum(wf.mean(0), 1.0)  # the weights' mean is 1 only on average: no probability above 1
     var_is = wf.var(0) / n_comb
     # the sampling of the N sub-zones: the plug-in's first-order (Hoeffding) variance,
     # m^2/N Var_i h1(i), h1(i) = P(fail | one of the strip's sub-zones is i)
@@ -465,7 +465,7 @@ def _patch_thresholds(lengths, beam, patch_length):
 def _beam_probability(est, sd, patches):
     """P(stuck) = 1 - prod_j (1 - C_j) over a beam's patches, and its sd bounded as if the C_j
     were fully correlated (they are nested exceedances of one estimate): sum_j g_j sd_j."""
-    c, s = est[patches], sd[patches]
+    c, s = np.clip(est[patches], 0.0, 1.0), sd[patches]
     p = float(-np.expm1(np.sum(np.log1p(-np.minimum(c, 1.0 - 1e-16))))) + 0.0  # no -0.0
     keep = np.prod(1.0 - c)
     g = np.where(c < 1, keep / np.maximum(1.0 - c, 1e-300), 0.0)
