@@ -213,7 +213,7 @@ def composition(args):
     prediction fitted on one seed's accurate sub-zones (ratios drawn for the unseen, the seen
     ones' own ratio, the residual), and against the hybrid that mixes the seen sub-zones'
     accurate laws themselves with the scaled cheap laws."""
-    from roughstick.stiction.strip_tail import (
+    from roughstick.stiction._strip_hybrid import (
         _gamma,
         _hybrid_laws,
         _ratio_pool,
