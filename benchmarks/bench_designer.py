@@ -186,15 +186,15 @@ def _seed_laws(folder, rh, n_pairs):
 
     out = []
     for s in range(1000, 1000 + 1000):
-        files = {m: [f for f in glob.glob(os.path.join(folder, f"{m}_{s}_*.nc"))] for m in ("modified_dmt", "fft_bem")}
+        files = {m: glob.glob(os.path.join(folder, f"{m}_{s}_*.nc")) for m in ("modified_dmt", "fft_bem")}
         if not files["fft_bem"]:
             break
         pick = {}
         for m, fs in files.items():
             for f in fs:
-                a = xr.open_dataarray(f)
-                if a.sizes.get("rh") == 1 and abs(float(a.rh[0]) - rh) < 1e-9:
-                    pick[m] = a.load()
+                with xr.open_dataarray(f) as a:
+                    if a.sizes.get("rh") == 1 and abs(float(a.rh[0]) - rh) < 1e-9:
+                        pick[m] = a.load()
         if len(pick) < 2:
             continue
         d = pick["modified_dmt"].distance.values
@@ -215,6 +215,7 @@ def composition(args):
     accurate laws themselves with the scaled cheap laws."""
     from roughstick.stiction._strip_hybrid import (
         _gamma,
+        _hybrid_gamma,
         _hybrid_laws,
         _ratio_pool,
         _residual_pool,
@@ -254,9 +255,10 @@ def composition(args):
                     c[:, :j] = a[:, :j]
                 free = np.ones((n, m), bool)
                 free[:, :j] = False
-                u = rng.random((n, draws, m))
-                r = np.where(free[:, None, :], pool[np.minimum((u * pool.size).astype(int), pool.size - 1)], 1.0)
-                g = _gamma((c[:, None] * r[..., None]).mean(2).reshape(n * draws, -1), d)
+                u = rng.random((n, draws, m)).reshape(n * draws, m)
+                # every strip ``draws`` times, its unseen slots' ratios drawn afresh, as the estimator does
+                slots = np.repeat(np.arange(n * m).reshape(n, m), draws, axis=0)
+                g = _hybrid_gamma(c.reshape(n * m, -1), free.reshape(-1), pool, slots, u, d)
                 pred = _with_residual(g, res, rng.random(n * draws)).reshape(n, draws)
                 true = _gamma(a.mean(1), d)
                 ok = (pred.mean(1) > 0) & (pred.std(1) > 0)  # a strip the hybrid puts at Γ = 0 is counted apart
