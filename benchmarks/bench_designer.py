@@ -244,8 +244,8 @@ def composition(args):
                     g = _gamma(qc, d)
                     strong = g >= np.quantile(g, 1 - frac)
                     qc, qa = qc[strong], qa[strong]
-                pool = np.sort(_ratio_pool(pc, pa, d))
-                res = np.sort(_residual_pool(pc, pa, pool, d, m, rng))
+                pool = _ratio_pool(pc, pa, d)
+                res = _residual_pool(pc, pa, pool, d, m, rng)
                 it, ip = rng.integers(0, oc.shape[0], (n, j)), rng.integers(0, qc.shape[0], (n, m - j))
                 c, a = np.concatenate([oc[it], qc[ip]], 1), np.concatenate([oa[it], qa[ip]], 1)
                 if j and how == "own ratio":
@@ -258,7 +258,8 @@ def composition(args):
                 u = rng.random((n, draws, m)).reshape(n * draws, m)
                 # every strip ``draws`` times, its unseen slots' ratios drawn afresh, as the estimator does
                 slots = np.repeat(np.arange(n * m).reshape(n, m), draws, axis=0)
-                g = _hybrid_gamma(c.reshape(n * m, -1), free.reshape(-1), pool, slots, u, d)
+                key = np.log(np.maximum(_gamma(c.reshape(n * m, -1), d), 1e-300))
+                g = _hybrid_gamma(c.reshape(n * m, -1), free.reshape(-1), key, pool, slots, u, d)
                 pred = _with_residual(g, res, rng.random(n * draws)).reshape(n, draws)
                 true = _gamma(a.mean(1), d)
                 ok = (pred.mean(1) > 0) & (pred.std(1) > 0)  # a strip the hybrid puts at Γ = 0 is counted apart

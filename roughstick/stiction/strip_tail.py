@@ -18,10 +18,13 @@ pairs) and on the sub-zones with the largest cheap Γ (the ones strong strips ar
 where Eq. 16's fitting artefacts live). Every sub-zone then carries its cheap law scaled by a
 Γ_accurate/Γ_cheap ratio (Eq. 13 of a scaled law is the scaled Γ): its own where the accurate
 model ran (its accurate law where that ratio says nothing: a near-zero cheap Γ, a cheap
-artefact), elsewhere one drawn from the pairs, a fresh draw in every combination, so the
+artefact), elsewhere one drawn from the pairs nearest to it in cheap Γ, a fresh draw in every
+combination, so the
 estimate averages over the ratios the unseen sub-zones may have instead of fixing one each; the
 strips are recombined from these laws, plus a residual for what scaling misses in a composed
-strip (the two models' laws differ in shape), drawn from the pairs' recombined strips. The
+strip (the two models' laws differ in shape), drawn from the pairs' recombined strips of
+similar Γ (a tall asperity that holds the flat off in one model only moves a near-zero strip Γ
+by far more than a strong strip's). The
 interval adds the sampling of the ``N`` sub-zones (the plug-in's first-order variance), a
 bootstrap of the pairs' ratios (the same ratio quantiles in every replicate; its spread taken
 on the log scale of the interval) and the importance-sampling error. ``accurate_share`` says
@@ -228,8 +231,9 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
         known = np.zeros(n_sub, bool)
         known[known_idx] = True
         pairs = known_idx < n_pairs
-        pool = np.sort(_ratio_pool(pc[known_idx[pairs]], pa_known[pairs], d))
-        res = np.sort(_residual_pool(pc[known_idx[pairs]], pa_known[pairs], pool, d, m, rng))
+        pool = _ratio_pool(pc[known_idx[pairs]], pa_known[pairs], d)
+        key = np.log(np.maximum(_gamma(pc, d), 1e-300))  # where each unseen sub-zone draws its ratio
+        res = _residual_pool(pc[known_idx[pairs]], pa_known[pairs], pool, d, m, rng)
         # a sub-zone the accurate model saw carries its cheap law scaled by its own ratio, as the
         # pairs do in the residual's strips: its accurate law, mixed with scaled cheap laws in one
         # strip, misplaces the strip's equilibrium (the laws differ in shape). Its accurate law
@@ -238,7 +242,7 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
         base = pc.copy()
         base[known_idx] = _hybrid_laws(pc[known_idx], pa_known, d, np.median(_gamma(pc[known_idx[pairs]], d)))
         # the tilts' laws: unknown ratios at the pairs' median (any proposal is unbiased)
-        laws = base * np.where(known, 1.0, np.median(pool))[:, None]
+        laws = base * np.where(known, 1.0, np.median(pool[1]))[:, None]
     d_star = _typical_equilibrium(laws.mean(0), d)
     score = _work_above(laws, d, d_star)
     logq = _tilts(score, list(thr) + [1.2 * float(thr.min())])
@@ -257,7 +261,7 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
     else:  # the unknown ratios and the residual drawn afresh in every combination (the same
         # quantiles reused by the bootstrap of the pairs: common random numbers)
         u, u_res = rng.random(idx.shape), rng.random(n_comb)
-        g0 = _with_residual(_hybrid_gamma(base, ~known, pool, idx, u, d), res, u_res)
+        g0 = _with_residual(_hybrid_gamma(base, ~known, key, pool, idx, u, d), res, u_res)
     wf = w0[:, None] * (g0[:, None] > thr[None, :])
     est = np.minimum(wf.mean(0), 1.0)  # the weights' mean is 1 only on average: no probability above 1
     var_is = wf.var(0) / n_comb
@@ -286,9 +290,9 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
         pc_pairs, pa_pairs = pc[known_idx[pairs]], pa_known[pairs]
         for b in range(n_boot):
             pick = rng.integers(0, pc_pairs.shape[0], size=pc_pairs.shape[0])
-            pool_b = np.sort(_ratio_pool(pc_pairs[pick], pa_pairs[pick], d))
-            res_b = np.sort(_residual_pool(pc_pairs[pick], pa_pairs[pick], pool_b, d, m, rng, n_comb=2000))
-            g = _with_residual(_hybrid_gamma(base, ~known, pool_b, idx, u, d), res_b, u_res)
+            pool_b = _ratio_pool(pc_pairs[pick], pa_pairs[pick], d)
+            res_b = _residual_pool(pc_pairs[pick], pa_pairs[pick], pool_b, d, m, rng, n_comb=2000)
+            g = _with_residual(_hybrid_gamma(base, ~known, key, pool_b, idx, u, d), res_b, u_res)
             reps[b] = (w0[:, None] * (g[:, None] > thr[None, :])).mean(0)
         # on the log scale of the interval: one resample that duplicates a pair of extreme
         # ratio can move a replicate tenfold, and its square would then be the whole variance
@@ -306,7 +310,7 @@ def _one_humidity(pc, acc, d, thr, m, n_comb, n_boot, rng, confidence):
         lo = np.where(est > 0, est * np.exp(-np.minimum(z * cv, 700.0)), 0.0)
         hi = np.where(est > 0, np.minimum(est * np.exp(np.minimum(z * cv, 700.0)), 1.0), 0.0)
         is_cv, pair_cv = np.sqrt(var_is) / est, np.sqrt(var_pairs) / est
-    ratio = np.quantile(pool, [0.1, 0.5, 0.9]) if pool is not None else np.full(3, np.nan)
+    ratio = np.quantile(pool[1], [0.1, 0.5, 0.9]) if pool is not None else np.full(3, np.nan)
     return dict(est=est, lo=lo, hi=hi, cv=cv, is_cv=is_cv, pair_cv=pair_cv, eff=eff, d_star=d_star,
                 top=float(np.max(g0)), ratio=ratio, checked=checked, check=check)
 

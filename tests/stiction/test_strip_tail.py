@@ -259,3 +259,49 @@ def test_a_threshold_every_strip_exceeds_gives_a_probability_of_at_most_one():
         assert float(c.exceedance_probability_upper[0, 0]) <= 1.0
     p, sd = _beam_probability(np.array([1.01, 1.0, 0.5]), np.array([0.01, 0.01, 0.1]), np.arange(3))
     assert p == 1.0 and sd >= 0.0
+
+
+def test_pairs_whose_cheap_law_holds_the_flat_off_leave_the_strong_strips_tail_where_it_is():
+    # three random pairs are tall asperities: their cheap law's repulsion reaches 2.8 nm and holds a
+    # strip's flat off (strip Γ ~0.2 of the others'), their accurate law does not (the accurate model
+    # is 0.8 x the cheap one elsewhere). Their ratios (clipped to 2) and their strips' residuals
+    # (+Γ of a whole strip) describe weak cheap sub-zones only; drawn for any sub-zone they made
+    # ordinary strips fail (14 x the exact tail). The exact tail: the accurate laws of all sub-zones
+    # recombined directly
+    from roughstick.stiction.strip_tail import _gamma
+    rng = np.random.default_rng(0)
+    n = 3000
+    a = rng.gamma(K, THETA, n)
+    cheap, acc = _laws(a).values, _laws(0.8 * a).values
+    holder = np.zeros(n, bool)
+    holder[[17, 101, 203]] = True
+    cheap[holder] -= np.where(D < D0, 1e7 * (D0 - D) / D0, 0.0)
+    cheap[holder] += np.where(D < 2.8e-9, 12 * 1.2e6 * (2.8e-9 - D) / 2.8e-9, 0.0)
+    g = _gamma(acc[rng.integers(0, n, (400_000, M))].mean(1), D)
+    t = np.quantile(g, [0.99, 0.999])
+    exact = (g[:, None] > t).mean(0)
+    lab = _laws(a).copy(data=cheap)
+    c = rs.stiction.strip_ccdf(lab, t, subzones=M, accurate=_laws(0.8 * a[:240]), n_combinations=40_000, n_boot=20,
+                               seed=1)
+    e = c.exceedance_probability.values[0]
+    assert np.all(c.exceedance_probability_lower.values[0] <= exact)
+    assert np.all(exact <= c.exceedance_probability_upper.values[0])
+    assert np.all(np.abs(np.log(e / exact)) < np.log(2)), e / exact
+
+
+def test_the_residual_and_ratio_neighbourhoods_are_the_nearest_ones():
+    # the run of k sorted keys _near picks from holds the k nearest to x (brute force), ties aside
+    from roughstick.stiction._strip_hybrid import _near
+    rng = np.random.default_rng(6)
+    keys = np.sort(np.concatenate([rng.normal(0, 1, 300), rng.normal(4, 0.1, 50)]))
+    x = np.concatenate([rng.uniform(-4, 8, 400), [-50.0, 50.0, keys[0], keys[-1]]])
+    k = 25
+    lo = _near(keys, x, np.zeros(x.size), k)
+    hi = _near(keys, x, np.full(x.size, 1 - 1e-12), k)
+    assert np.all(hi - lo == k - 1)
+    kth = np.sort(np.abs(keys[None, :] - x[:, None]), axis=1)[:, k - 1]
+    worst = np.maximum(np.abs(keys[lo] - x), np.abs(keys[hi] - x))
+    np.testing.assert_allclose(worst, kth, rtol=0, atol=1e-12)
+    # with a window holding at least k keys, the draw is uniform over the window
+    w = _near(keys, np.full(2000, 4.0), rng.random(2000), k, window=0.3)
+    assert np.all(np.abs(keys[w] - 4.0) <= 0.3) and np.unique(w).size > 40
