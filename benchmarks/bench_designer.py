@@ -11,6 +11,7 @@ recombination of the sub-zone laws, the accurate model through the pairs' strip 
     python benchmarks/bench_designer.py convergence      # the 1e-3 crossing as zone, pixel, grid, model refine
     python benchmarks/bench_designer.py cohesive         # the sharp front against the cohesive beam, same strips
     python benchmarks/bench_designer.py composition --rh 0.77 --cache DIR  # the hybrid on strong strips, across seeds
+    python benchmarks/bench_designer.py replicates --rh 0.77 --cache DIR   # true cv over pooled-pair replicates
 
 ``cohesive`` draws beams from one bank of the strips' pressure laws (Eq. 16, composed of the
 sub-zones) and releases each twice, as a sharp front on the strips' Γ and as the cohesive
@@ -27,6 +28,11 @@ the accurate model had seen them) and 12 - j random ones, and strips of unseen s
 sub-zones (the strongest of the other seeds' pairs), each predicted from one seed's accurate
 sub-zones and compared with its accurate Γ (the bias in log Γ, its spread between fits, and
 the z-scores of the prediction).
+
+``replicates`` reads the same laws and forms new independent estimates from them: seed k's
+Eq. 16 sub-zones with the k-th disjoint set of pairs drawn from all seeds' pairs (a one-seed
+outlier of the pairs then counts once, not in every run that shares them), and the pairs'
+share of the spread alone (one seed's sub-zones with every set).
 """
 
 from __future__ import annotations
@@ -391,9 +397,76 @@ def cohesive(args):
     print("\n".join(rule_rows))
 
 
+def replicates(args):
+    """Independent replicates from the seeds' cached laws: seed k's Eq. 16 sub-zones and tail set
+    with the k-th of disjoint sets of ``--n-accurate`` random pairs drawn from all seeds' pairs
+    pooled (they are random sub-zones of the same PSD, so each set is a new sample of pairs); and
+    the pairs' share alone, seed 0's sub-zones with each set. The true cv and the reported one of
+    the 200 µm beam's P(stuck), as in ``seeds``."""
+    import glob
+
+    from roughstick.stiction.strip_tail import (
+        PAPER_CANTILEVER,
+        _beam_probability,
+        _gamma,
+        _patch_thresholds,
+    )
+
+    n_pairs, z = args.n_accurate, 1.959963984540054
+    seeds = []
+    for s in range(1000, 2000):
+        files = {m: glob.glob(os.path.join(args.cache, f"{m}_{s}_*.nc")) for m in ("modified_dmt", "fft_bem")}
+        if not files["fft_bem"]:
+            break
+        laws = {m: xr.concat([xr.open_dataarray(f).load() for f in fs], "realization") if m == "fft_bem"
+                else xr.open_dataarray(fs[0]).load() for m, fs in files.items()}
+        c, a = (laws[m].sel(rh=[args.rh], method="nearest").isel(rh=0).transpose("realization", "distance")
+                for m in ("modified_dmt", "fft_bem"))
+        a = a.isel(realization=np.unique(a.realization.values, return_index=True)[1])
+        g = _gamma(c.values, c.distance.values)
+        g[:n_pairs] = -np.inf
+        tail = np.sort(np.argsort(-g, kind="stable")[:args.n_tail])
+        if np.isin(np.arange(n_pairs), a.realization.values).all() and np.isin(tail, a.realization.values).all():
+            seeds.append((c, a, tail))
+    if not seeds:
+        raise SystemExit(f"no seed in {args.cache} holds fft_bem laws of {n_pairs} pairs and of its tail set: "
+                         f"run 'seeds --n-accurate {n_pairs} --cache {args.cache}' first")
+    beam = PAPER_CANTILEVER
+    allt, per = _patch_thresholds(np.array([200e-6]), beam, beam.interaction_zone_length)
+    pc_pool = np.concatenate([c.values[:n_pairs] for c, _, _ in seeds])
+    pa_pool = np.concatenate([a.sel(realization=np.arange(n_pairs)).values for _, a, _ in seeds])
+    perm = np.random.default_rng(args.seed).permutation(pc_pool.shape[0])
+    k_sets = pc_pool.shape[0] // n_pairs
+    print(f"RH {args.rh}: {len(seeds)} seeds' laws, {pc_pool.shape[0]} pooled pairs in {k_sets} sets of {n_pairs}; "
+          f"200 µm beam's P(stuck)")
+    for label, rows in (("replicates (seed k's sub-zones, set k)", range(min(len(seeds), k_sets))),
+                        ("pairs alone (seed 0's sub-zones, every set)", range(k_sets))):
+        est, cvs = [], []
+        for k in rows:
+            c, a, tail = seeds[k if label.startswith("replicates") else 0]
+            sel = perm[k * n_pairs:(k + 1) * n_pairs]
+            pc = c.values.copy()
+            pc[:n_pairs] = pc_pool[sel]
+            known = np.concatenate([np.arange(n_pairs), tail])
+            acc = xr.DataArray(np.concatenate([pa_pool[sel], a.sel(realization=tail).values]),
+                               dims=("realization", "distance"), coords={"realization": known, "distance": c.distance})
+            r = rs.stiction.strip_ccdf(c.copy(data=pc), allt, subzones=12, accurate=acc, random_pairs=n_pairs,
+                                       n_combinations=100_000, n_boot=20, seed=k)
+            e = r.exceedance_probability.values[0]
+            p, sd = _beam_probability(e, np.nan_to_num(r.coefficient_of_variation.values[0]) * e, per[0])
+            est.append(p)
+            cvs.append(sd / p)
+        p, c = np.array(est), np.array(cvs)
+        cov = sum(p[i] * np.exp(-z * c[i]) <= np.delete(p, i).mean() <= p[i] * np.exp(z * c[i]) for i in range(p.size))
+        print(f"  {label}: " + " ".join(f"{x:.3g} ({y:.2f})" for x, y in zip(p, c)))
+        print(f"    {p.size} estimates: mean P {p.mean():.3g}, true cv {p.std(ddof=1) / p.mean():.2f}, reported cv "
+              f"mean {c.mean():.2f} ({c.mean() / (p.std(ddof=1) / p.mean()):.2f} x true), intervals covering the "
+              f"others' mean {cov}/{p.size}", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("part", choices=["table", "seeds", "convergence", "cohesive", "composition"])
+    ap.add_argument("part", choices=["table", "seeds", "convergence", "cohesive", "composition", "replicates"])
     ap.add_argument("--n", type=int, default=12_000, help="Eq. 16 sub-zones")
     ap.add_argument("--n-accurate", type=int, default=240, help="fft_bem sub-zones per RH (0: Eq. 16 alone)")
     ap.add_argument("--n-tail", type=int, default=48, help="strongest sub-zones also through fft_bem")
@@ -407,7 +480,7 @@ def main():
     ap.add_argument("--beams", type=int, default=400, help="beams per length of the cohesive comparison")
     args = ap.parse_args()
     {"table": table, "seeds": seeds, "convergence": convergence, "cohesive": cohesive,
-     "composition": composition}[args.part](args)
+     "composition": composition, "replicates": replicates}[args.part](args)
 
 
 if __name__ == "__main__":

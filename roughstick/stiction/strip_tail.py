@@ -121,8 +121,8 @@ def strip_ccdf(cheap: xr.DataArray, thresholds, *, subzones: int, accurate: xr.D
     importance sampling over their combinations. With ``accurate`` (the accurate model's laws of
     some of the sub-zones, on the same distance grid) the probability is that of the accurate
     model: every sub-zone carries its cheap law scaled by a Γ_accurate/Γ_cheap ratio, its own
-    where the accurate model ran and elsewhere one drawn from the random pairs, afresh in every
-    combination (module docstring).
+    where the accurate model ran and elsewhere one drawn from the random pairs of similar cheap
+    Γ, afresh in every combination (module docstring).
 
     Parameters
     ----------
