@@ -277,11 +277,11 @@ def test_pairs_whose_cheap_law_holds_the_flat_off_leave_the_strong_strips_tail_w
     holder[[17, 101, 203]] = True
     cheap[holder] -= np.where(D < D0, 1e7 * (D0 - D) / D0, 0.0)
     cheap[holder] += np.where(D < 2.8e-9, 12 * 1.2e6 * (2.8e-9 - D) / 2.8e-9, 0.0)
-    g = _gamma(acc[rng.integers(0, n, (400_000, M))].mean(1), D)
+    g = _gamma(acc[rng.integers(0, n, (200_000, M))].mean(1), D)
     t = np.quantile(g, [0.99, 0.999])
     exact = (g[:, None] > t).mean(0)
     lab = _laws(a).copy(data=cheap)
-    c = rs.stiction.strip_ccdf(lab, t, subzones=M, accurate=_laws(0.8 * a[:240]), n_combinations=40_000, n_boot=20,
+    c = rs.stiction.strip_ccdf(lab, t, subzones=M, accurate=_laws(0.8 * a[:240]), n_combinations=20_000, n_boot=10,
                                seed=1)
     e = c.exceedance_probability.values[0]
     assert np.all(c.exceedance_probability_lower.values[0] <= exact)
