@@ -3,10 +3,10 @@ law each sub-zone carries and the strip Γ predicted from them.
 
 Eq. 13 of a law scaled by r is r times its Γ, so a sub-zone's accurate Γ is its cheap law scaled
 by its own Γ_accurate/Γ_cheap ratio where the accurate model ran, and by a ratio drawn from the
-random pairs of similar cheap Γ elsewhere. The two models' laws differ in shape, so a strip composed of scaled laws
-misses the accurate strip's Γ (its equilibrium moves): a residual drawn from the pairs' own
-recombined strips of similar Γ adds what scaling misses, and a leave-one-strip-out check on the pairs'
-strips measures the whole prediction.
+random pairs of similar cheap Γ elsewhere. The two models' laws differ in shape, so a strip
+composed of scaled laws misses the accurate strip's Γ (its equilibrium moves): a residual drawn
+from the pairs' own recombined strips of similar Γ adds what scaling misses, and a
+leave-one-strip-out check on the pairs' strips measures the whole prediction.
 """
 
 from __future__ import annotations
