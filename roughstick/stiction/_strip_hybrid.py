@@ -131,8 +131,9 @@ RESIDUAL_NEIGHBOURS = 20
 def _residual_pool(pc, pa, pool, d, m, rng, n_comb=4000):
     """What scaling the laws misses in a composed strip (the equilibrium moves, the law's shape
     differs), beside the ratios' own spread that the hybrid draws: strips recombined from the
-    random pairs, each pair's cheap law scaled by its own ratio. Returns their Γ_scaled (sorted)
-    and Γ_accurate - Γ_scaled [J m-2] (additive: a ratio of a near-zero Γ would blow up)."""
+    random pairs, each pair's cheap law scaled by its own ratio. Returns their Γ_scaled (sorted;
+    those above 0) and Γ_accurate - Γ_scaled [J m-2] (additive: a ratio of a near-zero Γ would
+    blow up)."""
     gc, ga1 = _gamma(pc, d), _gamma(pa, d)
     own = np.where(gc > 0.1 * np.median(gc), np.clip(ga1 / np.where(gc > 0, gc, 1.0), *RATIO_BRACKET),
                    np.median(pool[1]))
@@ -140,6 +141,7 @@ def _residual_pool(pc, pa, pool, d, m, rng, n_comb=4000):
     ga = _gamma(_compose(pa, idx), d)
     gh = _gamma(_compose(pc * own[:, None], idx), d)
     order = np.argsort(gh, kind="stable")
+    order = order[gh[order] > 0]  # a strip at Γ = 0 gets no residual: none is drawn from one
     return gh[order], ga[order] - gh[order]
 
 
@@ -148,8 +150,6 @@ def _with_residual(g, res, u):
     similar scaled Γ (within :data:`RESIDUAL_WINDOW`, or the :data:`RESIDUAL_NEIGHBOURS` nearest
     in log Γ), picked by ``u`` in [0, 1), never below 0; none where Γ = 0."""
     gh, r = res
-    keep = gh > 0
-    gh, r = gh[keep], r[keep]
     if gh.size == 0:
         return np.maximum(g, 0.0)
     pick = _near(np.log(gh), _log(g), u, max(gh.size // 40, RESIDUAL_NEIGHBOURS), math.log(RESIDUAL_WINDOW))

@@ -19,18 +19,16 @@ where Eq. 16's fitting artefacts live). Every sub-zone then carries its cheap la
 Γ_accurate/Γ_cheap ratio (Eq. 13 of a scaled law is the scaled Γ): its own where the accurate
 model ran (its accurate law where that ratio says nothing: a near-zero cheap Γ, a cheap
 artefact), elsewhere one drawn from the pairs nearest to it in cheap Γ, a fresh draw in every
-combination, so the
-estimate averages over the ratios the unseen sub-zones may have instead of fixing one each; the
-strips are recombined from these laws, plus a residual for what scaling misses in a composed
-strip (the two models' laws differ in shape), drawn from the pairs' recombined strips of
-similar Γ (a tall asperity that holds the flat off in one model only moves a near-zero strip Γ
-by far more than a strong strip's). The
-interval adds the sampling of the ``N`` sub-zones (the plug-in's first-order variance), a
-bootstrap of the pairs' ratios (the same ratio quantiles in every replicate; its spread taken
-on the log scale of the interval) and the importance-sampling error. ``accurate_share`` says
-how much of the tail's influence lies on sub-zones the accurate model saw; a run whose variance
-rests on a handful of sub-zones is flagged (``few_subzones``): its interval is not to be
-trusted.
+combination, so the estimate averages over the ratios the unseen sub-zones may have instead of
+fixing one each; the strips are recombined from these laws, plus a residual for what scaling
+misses in a composed strip (the two models' laws differ in shape), drawn from the pairs'
+recombined strips of similar Γ (a tall asperity that holds the flat off in one model only moves
+a near-zero strip Γ by far more than a strong strip's). The interval adds the sampling of the
+``N`` sub-zones (the plug-in's first-order variance), a bootstrap of the pairs' ratios (the same
+ratio quantiles in every replicate; its spread taken on the log scale of the interval) and the
+importance-sampling error. ``accurate_share`` says how much of the tail's influence lies on
+sub-zones the accurate model saw; a run whose variance rests on a handful of sub-zones is
+flagged (``few_subzones``): its interval is not to be trusted.
 """
 
 from __future__ import annotations
