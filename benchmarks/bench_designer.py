@@ -64,19 +64,21 @@ def table(args):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         r = rs.stiction.strip_stuck_probability(psd, relative_humidity=RH, beam_length=LENGTHS, n=args.n,
-                                                n_accurate=args.n_accurate, n_tail=args.n_tail, seed=args.seed)
+                                                n_accurate=args.n_accurate, n_tail=args.n_tail, seed=args.seed,
+                                                target_cv=args.target_cv, max_accurate=args.max_accurate)
     wall = time.perf_counter() - t
     a = r.attrs
     print(f"Table 4, paper layer and beam; strips of {a['subzones']} sub-zones {a['subzone_shape']} at 5 nm; "
           f"{a['n_cheap_subzones']} Eq. 16 sub-zones ({a['cheap_zone_equivalents']:.0f} zone equivalents, "
-          f"all RH), {a['n_accurate_subzones']} fft_bem sub-zones ({a['n_random_pairs']} random + "
+          f"all RH), up to {a['n_accurate_subzones']} fft_bem sub-zones ({a['n_random_pairs']} random + "
           f"{a['n_tail_subzones']} strongest; {a['accurate_zone_equivalents']:.0f} zone equivalents) per RH "
-          "where needed")
+          f"where needed: {args.n_accurate} random pairs, doubled where their ratios hold a beam's cv above "
+          f"{a['target_cv']:g} at P >= {rs.stiction.strip_tail.TARGET_FLOOR:g}")
     n_acc_rh = int(r.accurate_model_run.sum())
     print(f"wall {wall:.0f} s: Eq. 16 {a['seconds_cheap']:.0f} s (all RH), fft_bem {a['seconds_accurate']:.0f} s "
           f"({n_acc_rh} RH: {a['seconds_accurate'] / max(n_acc_rh, 1):.0f} s per RH), estimator "
           f"{a['seconds_estimator']:.0f} s")
-    print(f"{'RH':>5} {'fft_bem':>7} {'eff.sub':>7} {'R(med)':>6}  " + "".join(
+    print(f"{'RH':>5} {'pairs':>7} {'eff.sub':>7} {'R(med)':>6}  " + "".join(
         f"{f'l = {length * 1e6:.0f} µm: P [95 %]  cv':>36}" for length in LENGTHS))
     for k, rh in enumerate(RH):
         row = r.isel(rh=k)
@@ -86,7 +88,7 @@ def table(args):
             c = row.isel(beam_length=b)
             cells += "  " + _fmt(float(c.stiction_probability), float(c.stiction_probability_lower),
                                  float(c.stiction_probability_upper)) + f"{float(c.coefficient_of_variation):4.2f}"
-        print(f"{rh:5.2f} {'yes' if bool(row.accurate_model_run) else 'no':>7} "
+        print(f"{rh:5.2f} {int(row.random_pairs) if bool(row.accurate_model_run) else 'none':>7} "
               f"{float(row.effective_subzones.min()):7.0f} {ratio:6.2f}{cells}"
               + ("  few sub-zones" if bool(row.few_subzones.any()) else ""))
     for k, rh in enumerate(RH):
@@ -407,6 +409,7 @@ def replicates(args):
 
     from roughstick.stiction.strip_tail import (
         PAPER_CANTILEVER,
+        TARGET_FLOOR,
         _beam_probability,
         _gamma,
         _patch_thresholds,
@@ -441,22 +444,32 @@ def replicates(args):
           f"200 µm beam's P(stuck)")
     for label, rows in (("replicates (seed k's sub-zones, set k)", range(min(len(seeds), k_sets))),
                         ("pairs alone (seed 0's sub-zones, every set)", range(k_sets))):
-        est, cvs = [], []
+        est, cvs, used = [], [], []
         for k in rows:
             c, a, tail = seeds[k if label.startswith("replicates") else 0]
             sel = perm[k * n_pairs:(k + 1) * n_pairs]
             pc = c.values.copy()
             pc[:n_pairs] = pc_pool[sel]
-            known = np.concatenate([np.arange(n_pairs), tail])
-            acc = xr.DataArray(np.concatenate([pa_pool[sel], a.sel(realization=tail).values]),
-                               dims=("realization", "distance"), coords={"realization": known, "distance": c.distance})
-            r = rs.stiction.strip_ccdf(c.copy(data=pc), allt, subzones=12, accurate=acc, random_pairs=n_pairs,
-                                       n_combinations=100_000, n_boot=20, seed=k)
-            e = r.exceedance_probability.values[0]
-            p, sd = _beam_probability(e, np.nan_to_num(r.coefficient_of_variation.values[0]) * e, per[0])
+            # --target-cv: the default call's rule, half the pairs first and all of them where the
+            # 200 µm beam's cv is above the target with the pairs' ratios half its variance
+            for size in ([n_pairs // 2, n_pairs] if args.target_cv else [n_pairs]):
+                known = np.concatenate([np.arange(size), tail])
+                acc = xr.DataArray(np.concatenate([pa_pool[sel[:size]], a.sel(realization=tail).values]),
+                                   dims=("realization", "distance"),
+                                   coords={"realization": known, "distance": c.distance})
+                r = rs.stiction.strip_ccdf(c.copy(data=pc), allt, subzones=12, accurate=acc, random_pairs=size,
+                                           n_combinations=100_000, n_boot=20, seed=k)
+                e = r.exceedance_probability.values[0]
+                p, sd = _beam_probability(e, np.nan_to_num(r.coefficient_of_variation.values[0]) * e, per[0])
+                sd_pairs = _beam_probability(e, np.nan_to_num(r.emulator_cv.values[0]) * e, per[0])[1]
+                if not (p >= TARGET_FLOOR and sd > args.target_cv * p and 2 * sd_pairs**2 >= sd**2):
+                    break
             est.append(p)
             cvs.append(sd / p)
+            used.append(size)
         p, c = np.array(est), np.array(cvs)
+        if args.target_cv:
+            print(f"    pairs used (target cv {args.target_cv:g}): {used}")
         cov = sum(p[i] * np.exp(-z * c[i]) <= np.delete(p, i).mean() <= p[i] * np.exp(z * c[i]) for i in range(p.size))
         print(f"  {label}: " + " ".join(f"{x:.3g} ({y:.2f})" for x, y in zip(p, c)))
         print(f"    {p.size} estimates: mean P {p.mean():.3g}, true cv {p.std(ddof=1) / p.mean():.2f}, reported cv "
@@ -470,6 +483,10 @@ def main():
     ap.add_argument("--n", type=int, default=12_000, help="Eq. 16 sub-zones")
     ap.add_argument("--n-accurate", type=int, default=240, help="fft_bem sub-zones per RH (0: Eq. 16 alone)")
     ap.add_argument("--n-tail", type=int, default=48, help="strongest sub-zones also through fft_bem")
+    ap.add_argument("--target-cv", type=lambda v: None if v == "none" else float(v), default=0.3,
+                    help="table: pairs doubled where a beam's cv is above this ('none': n-accurate everywhere); "
+                         "replicates: half of --n-accurate first, all of them where the cv is above it")
+    ap.add_argument("--max-accurate", type=int, default=None, help="table: most random pairs per RH")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--rh", type=float, default=0.75)

@@ -513,7 +513,8 @@ def _run_strips(c, beam, lengths, out, *, zone):
         ds = rs.stuck_probability(psd, method="strips", relative_humidity=rh, beam_length=lengths, beam=beam,
                                   spacing=s["spacing"], model=r["model"], n=r["n_subzones"], seed=ens["seed"],
                                   confidence=r["confidence"], adsorbed_layer=layer,
-                                  **({"n_accurate": r["n_accurate"]} if r["model"] == "auto" else {}), **kw)
+                                  **({"n_accurate": r["n_accurate"], "target_cv": r["target_cv"]}
+                                     if r["model"] == "auto" else {}), **kw)
         per_layer.append(ds.transpose("beam_length", "rh", ...))
     risk = xr.concat(per_layer, dim=xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer",
                                                  name="adsorbed_layer"), combine_attrs="drop_conflicts")

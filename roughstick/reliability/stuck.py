@@ -40,7 +40,7 @@ _TAKES = {
                "patch_length", "relative_humidity", "shape", "spacing", "model"},
 }
 _TAKES["monte_carlo"] = _TAKES["subset"]
-_TAKES["strips"] = {"beam_length", "seed", "relative_humidity", "spacing", "model", "n"}
+_TAKES["strips"] = {"beam_length", "seed", "relative_humidity", "spacing", "model", "n", "target_cv"}
 #: ... and the ones that apply to one kind of data only.
 _ZONE_ONLY = {"relative_humidity", "shape", "spacing", "model"}
 _BANK_ONLY = {"protocol", "patch_length"}
@@ -200,8 +200,9 @@ def stuck_probability(
       of independent sub-zones, small probabilities included
       (:func:`roughstick.stiction.strip_stuck_probability`: ``n`` Eq. 16 sub-zones, default
       12,000, recombined; with ``model="auto"`` the first ``n_accurate`` through fft_bem correct
-      them): ``relative_humidity`` and ``beam_length`` (required), ``n``, ``seed``, ``spacing``,
-      ``model`` (and ``n_accurate``, ``accurate_model``, ``n_combinations``, ``n_boot``).
+      them, doubled where their ratios hold a cv above ``target_cv``): ``relative_humidity`` and
+      ``beam_length`` (required), ``n``, ``seed``, ``spacing``, ``model``, ``target_cv`` (and
+      ``n_accurate``, ``max_accurate``, ``accurate_model``, ``n_combinations``, ``n_boot``).
 
     A keyword the method does not read, or data it cannot use, is refused with the fix.
 
@@ -243,7 +244,8 @@ def stuck_probability(
         these zones, :func:`roughstick.reliability.failure_probability`).
     target_cv : float or None, default 0.3
         Stop when the estimate's coefficient of variation is at most this (None: one run);
-        subset simulation stops only after at least 3 runs whose spread agrees with their cv.
+        subset simulation stops only after at least 3 runs whose spread agrees with their cv;
+        ``"strips"``: more accurate sub-zones where the cv is above it (None: ``n_accurate``).
     max_evaluations : int or None, default 20000
         Budget of model evaluations per estimate (per humidity and length).
     n_per_level : int, default 1000
@@ -300,7 +302,7 @@ def stuck_probability(
         return _strips_stuck_probability(data, relative_humidity=relative_humidity, beam_length=beam_length,
                                          beam=beam, spacing=5e-9 if spacing is None else spacing, model=model,
                                          n=n if "n" in given else 12_000, seed=seed, confidence=confidence,
-                                         **options)
+                                         target_cv=target_cv, **options)
     if method == "beam":
         beams = simulate(data, beam_length=beam_length, n=n, seed=seed, protocol=protocol, beam=beam,
                          patch_length=patch_length, beam_model=beam_model, **options)

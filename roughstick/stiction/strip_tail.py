@@ -402,9 +402,10 @@ def _subzone_laws(psd, rh, n, start, shape, spacing, model, seed, distance, sche
 
 
 @check_numbers(n="count", n_accurate="count0", n_tail="count0", seed="seed", confidence="fraction", spacing="length",
-               n_combinations="count", n_boot="count", workers="count?", subzones="count?", n_distance="count?")
+               n_combinations="count", n_boot="count", workers="count?", subzones="count?", n_distance="count?",
+               target_cv="positive?", max_accurate="count?")
 def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_000, n_accurate: int = 240,
-                            n_tail: int = 48,
+                            n_tail: int = 48, target_cv: float | None = 0.3, max_accurate: int | None = None,
                             model: str = "modified_dmt", accurate_model: str | None = "fft_bem",
                             beam=None, spacing=5e-9, seed=0, n_combinations: int = 100_000,
                             n_boot: int = 20, confidence: float = 0.95, subzones: int | None = None,
@@ -440,6 +441,13 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     n_tail : int
         Further sub-zones through ``accurate_model``: those with the largest own Γ (Eq. 16) at
         the humidities where it runs, the ones strong strips are made of.
+    target_cv : float or None
+        Where a beam's P(stuck) is at least :data:`TARGET_FLOOR` and its cv above this, with
+        the random pairs' ratios at least half its variance, the pairs at that humidity are
+        doubled (the next sub-zones of the ``n``, up to ``max_accurate``) and the estimate
+        redone there; None: ``n_accurate`` pairs everywhere.
+    max_accurate : int, optional
+        Most random pairs per humidity (default ``2 * n_accurate``, at most ``n``).
     model, accurate_model : str
         The contact models (:func:`roughstick.contact.curves`).
     beam : Cantilever
@@ -515,32 +523,76 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     t1 = time.perf_counter()
     allt, per_beam = _patch_thresholds(lengths, beam, patch_length)
     need = _needs_accurate(cheap, allt, per_beam, m, seed) if n_acc else np.zeros(rh.size, bool)
-    acc = None
+    most = min(int(n), 2 * n_acc if max_accurate is None else max(int(max_accurate), n_acc))
+    acc, pairs, tail = {}, np.zeros(rh.size, np.int64), np.zeros(0, np.int64)
+    seconds = {"accurate": 0.0, "estimator": 0.0}
+
+    def run_accurate(ks, index):
+        t = time.perf_counter()
+        a = _subzone_laws(psd, rh[ks], n_acc, 0, shape, spacing, accurate_model, seed, distance, scheduler, workers,
+                          adsorbed_layer, index=index, material=material)
+        for j, k in enumerate(ks):
+            acc[k] = a.isel(rh=[j]) if k not in acc else xr.concat([acc[k], a.isel(rh=[j])], "realization")
+        seconds["accurate"] += time.perf_counter() - t
+
+    def estimate(k):
+        t = time.perf_counter()
+        c = strip_ccdf(cheap.isel(rh=[k]), allt, subzones=m, accurate=acc.get(k),
+                       random_pairs=int(pairs[k]) or None, n_combinations=n_combinations, n_boot=n_boot,
+                       seed=np.random.SeedSequence([int(seed), k]), confidence=confidence)
+        seconds["estimator"] += time.perf_counter() - t
+        return c
+
     if need.any():
         # the random pairs, and the sub-zones that carry the tail at some humidity: the accurate
         # model sees exactly the sub-zones whose cheap law would otherwise make the tail
         tail = _tail_subzones(cheap.isel(rh=np.flatnonzero(need)), distance, n_acc, n_tail)
-        index = np.concatenate([np.arange(n_acc), tail])
-        acc = _subzone_laws(psd, rh[need], n_acc, 0, shape, spacing, accurate_model, seed, distance, scheduler,
-                            workers, adsorbed_layer, index=index, material=material)
-    t2 = time.perf_counter()
-    parts = []
-    for k in range(rh.size):
-        a = acc.sel(rh=[rh[k]]) if need[k] else None
-        parts.append(strip_ccdf(cheap.isel(rh=[k]), allt, subzones=m, accurate=a, random_pairs=n_acc or None,
-                                n_combinations=n_combinations, n_boot=n_boot,
-                                seed=np.random.SeedSequence([int(seed), k]), confidence=confidence))
-    ccdf = xr.concat(parts, "rh")
-    t3 = time.perf_counter()
-    out = _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, dict(
-        n_cheap_subzones=int(n), n_accurate_subzones=n_acc + (0 if acc is None else int(n_tail)),
-        n_random_pairs=n_acc, n_tail_subzones=0 if acc is None else int(n_tail), subzones=m, subzone_shape=list(shape),
-        cheap_zone_equivalents=n / m, accurate_zone_equivalents=(n_acc + int(n_tail)) / m, contact_model=model,
-        accurate_model=str(accurate_model), patch_length=patch_length, spacing=float(spacing),
-        adsorbed_layer=str(adsorbed_layer), ratio_bracket=list(RATIO_BRACKET), n_distance=int(distance.size), seconds_cheap=t1 - t0, seconds_accurate=t2 - t1,
-        seconds_estimator=t3 - t2, **beam.attrs()))
+        run_accurate(np.flatnonzero(need), np.concatenate([np.arange(n_acc), tail]))
+        pairs[need] = n_acc
+    parts = [estimate(k) for k in range(rh.size)]
+    out = _stuck_dataset(xr.concat(parts, "rh"), rh, lengths, per_beam, allt, confidence)
+    grow = _short_of_target(out, target_cv) & (pairs > 0) & (pairs < most)
+    while grow.any():
+        # more random pairs where their ratios keep the cv above the target: the next sub-zones
+        # of the sample (a random one), those the tail already holds not run again
+        for size in np.unique(pairs[grow]):
+            ks = np.flatnonzero(grow & (pairs == size))
+            new = min(2 * int(size), most)
+            run_accurate(ks, np.setdiff1d(np.arange(size, new), tail))
+            for k in ks:
+                acc[k] = acc[k].sortby("realization")
+                pairs[k] = new
+                parts[k] = estimate(k)
+        out = _stuck_dataset(xr.concat(parts, "rh"), rh, lengths, per_beam, allt, confidence)
+        grow = _short_of_target(out, target_cv) & (pairs > 0) & (pairs < most)
+    n_seen = np.array([acc[k].sizes["realization"] if k in acc else 0 for k in range(rh.size)])
+    out.attrs.update(
+        n_cheap_subzones=int(n), n_accurate_subzones=int(n_seen.max()), n_random_pairs=int(pairs.max()),
+        n_tail_subzones=int(tail.size), subzones=m, subzone_shape=list(shape), cheap_zone_equivalents=n / m,
+        accurate_zone_equivalents=float(n_seen.max()) / m, contact_model=model, accurate_model=str(accurate_model),
+        patch_length=patch_length, spacing=float(spacing), adsorbed_layer=str(adsorbed_layer),
+        ratio_bracket=list(RATIO_BRACKET), n_distance=int(distance.size), seconds_cheap=t1 - t0,
+        seconds_accurate=seconds["accurate"], seconds_estimator=seconds["estimator"],
+        target_cv=np.nan if target_cv is None else float(target_cv), **beam.attrs())
+    append_history(out, f"strip_stuck_probability(n={n}, n_accurate={n_acc}, pairs per RH up to {int(pairs.max())})")
     out["accurate_model_run"] = ("rh", need, {"units": "1", "long_name": "the accurate model ran at this humidity"})
+    out["random_pairs"] = ("rh", pairs, {"units": "1", "long_name": "random sub-zones the accurate model ran on"})
+    out["accurate_subzones"] = ("rh", n_seen, {"units": "1", "long_name": "sub-zones the accurate model ran on"})
     return out
+
+
+#: The smallest P(stuck) whose cv ``target_cv`` holds :func:`strip_stuck_probability` to.
+TARGET_FLOOR = 1e-6
+
+
+def _short_of_target(out, target_cv):
+    """Humidities where some beam's P(stuck) (at least :data:`TARGET_FLOOR`) has a cv above
+    ``target_cv`` and the random pairs' ratios carry at least half its variance: more pairs help there."""
+    if target_cv is None:
+        return np.zeros(out.sizes["rh"], bool)
+    p, cv, pair = (np.nan_to_num(out[v].values) for v in ("stiction_probability", "coefficient_of_variation",
+                                                            "emulator_cv"))
+    return np.any((p >= TARGET_FLOOR) & (cv > target_cv) & (2 * pair**2 >= cv**2), axis=1)
 
 
 def _tail_subzones(cheap, distance, n_pairs, n_tail):
@@ -578,19 +630,21 @@ def _needs_accurate(cheap, allt, per_beam, m, seed):
     return need
 
 
-def _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, attrs):
+def _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence):
     z = float(norm.ppf(0.5 + confidence / 2))
     shape = (rh.size, lengths.size)
-    p, lo, hi, cv, beyond, margin = (np.zeros(shape) for _ in range(6))
+    p, lo, hi, cv, pair_cv, beyond, margin = (np.zeros(shape) for _ in range(7))
     for k in range(rh.size):
         est = ccdf["exceedance_probability"].values[k]
         sd = np.where(est > 0, np.nan_to_num(ccdf["coefficient_of_variation"].values[k]) * est, 0.0)
+        sd_pairs = np.where(est > 0, np.nan_to_num(ccdf["emulator_cv"].values[k]) * est, 0.0)
         top = float(ccdf["largest_strip_energy"].values[k])
         for b, patches in enumerate(per_beam):
             p[k, b], s = _beam_probability(est, sd, patches)
             margin[k, b] = float(allt[patches].min()) / top if top > 0 else np.inf
             beyond[k, b] = p[k, b] == 0
             cv[k, b] = s / p[k, b] if p[k, b] > 0 else np.nan
+            pair_cv[k, b] = _beam_probability(est, sd_pairs, patches)[1] / p[k, b] if p[k, b] > 0 else np.nan
             if p[k, b] > 0:
                 lo[k, b] = p[k, b] * math.exp(-min(z * cv[k, b], 700.0))
                 hi[k, b] = min(1.0, p[k, b] * math.exp(min(z * cv[k, b], 700.0)))
@@ -604,6 +658,7 @@ def _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, attrs):
         "stiction_probability_lower": (dims, lo, {"units": "1", "long_name": "lower bound of P(stuck)"}),
         "stiction_probability_upper": (dims, hi, {"units": "1", "long_name": "upper bound of P(stuck) (NaN beyond reach)"}),
         "coefficient_of_variation": (dims, cv, {"units": "1", "long_name": "coefficient of variation of P(stuck)"}),
+        "emulator_cv": (dims, pair_cv, {"units": "1", "long_name": "its part from the random pairs' ratios"}),
         "beyond_reach": (dims, beyond.astype(bool), {"units": "1", "long_name": "no combination of the sample fails"}),
         "reach_margin": (dims, margin, {"units": "1", "long_name": "threshold over the largest strip Γ found"}),
     }, coords={"rh": rh, "beam_length": ("beam_length", lengths, {"units": "m"})})
@@ -614,8 +669,6 @@ def _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, attrs):
         ds[v] = ccdf[v].assign_coords(rh=rh)
     ds["rh"].attrs = set_attrs(ds["rh"], "rh").attrs
     ds["beam_length"].attrs.update(long_name="beam length")
-    ds.attrs.update(attrs, confidence=float(confidence), estimator=ccdf.attrs["estimator"],
+    ds.attrs.update(confidence=float(confidence), estimator=ccdf.attrs["estimator"],
                     model="sharp_front", references="paper Eq. 13, Eq. 36, §5.2 (zone Δs × w)")
-    append_history(ds, f"strip_stuck_probability(n={attrs['n_cheap_subzones']}, "
-                       f"n_accurate={attrs['n_accurate_subzones']})")
     return ds

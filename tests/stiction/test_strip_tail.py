@@ -305,3 +305,44 @@ def test_the_residual_and_ratio_neighbourhoods_are_the_nearest_ones():
     # with a window holding at least k keys, the draw is uniform over the window
     w = _near(keys, np.full(2000, 4.0), rng.random(2000), k, window=0.3)
     assert np.all(np.abs(keys[w] - 4.0) <= 0.3) and np.unique(w).size > 40
+
+
+def test_pairs_are_added_where_their_ratios_hold_the_cv_above_the_target(monkeypatch):
+    # sub-zone laws are box laws (the cheap depth a_i, the accurate one a_i r_i with r_i ~ U(0.55, 1.05)),
+    # looked up by index as the real sub-zones are drawn by index. At RH 0.5 the 200 µm beam's cv
+    # rests on the 24 pairs' ratios: with target_cv the pairs there double to max_accurate, only
+    # sub-zones not yet run are run, and the pairs' share of the cv falls; at RH 0.7 the cv meets
+    # the target and the pairs stay; at RH 0.9 every beam sticks for any ratio and nothing runs
+    from roughstick.stiction import strip_tail
+    n = 1200
+    rng = np.random.default_rng(0)
+    depth, ratio = rng.gamma(4.0, 1.0, n), rng.uniform(0.55, 1.05, n)
+    scale = {0.5: 1.0e6, 0.7: 3.2e6, 0.9: 2e7}
+    runs = []
+
+    def laws(psd, rh, n, start, shape, spacing, model, seed, distance, *a, index=None, **kw):
+        index = np.arange(start, n) if index is None else np.asarray(index)
+        runs.append((model, [round(float(h), 3) for h in rh], index))
+        r = ratio[index] if model == "fft_bem" else 1.0
+        p = [_laws(depth[index] * scale[round(float(h), 3)] * r).values * np.where(D < D0, 100.0, 1.0) for h in rh]
+        return xr.DataArray(np.stack(p), dims=("rh", "realization", "distance"),
+                            coords={"rh": list(rh), "realization": index, "distance": D})
+
+    monkeypatch.setattr(strip_tail, "_subzone_laws", laws)
+    monkeypatch.setattr(strip_tail, "distance_grid", lambda **kw: xr.DataArray(D, dims="distance"))
+    kw = dict(relative_humidity=[0.5, 0.7, 0.9], beam_length=[150e-6, 200e-6], n=n, n_accurate=24, n_tail=12,
+              max_accurate=96, n_combinations=10_000, n_boot=12, seed=1)
+    fixed = rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), target_cv=None, **kw)
+    assert fixed.random_pairs.values.tolist() == [24, 24, 0]
+    runs.clear()
+    grown = rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), target_cv=0.7, **kw)
+    assert grown.random_pairs.values.tolist() == [96, 24, 0]
+    assert grown.accurate_model_run.values.tolist() == [True, True, False]
+    cell = dict(rh=0.5, beam_length=200e-6)
+    assert float(fixed.coefficient_of_variation.sel(cell)) > 0.7
+    assert float(fixed.coefficient_of_variation.sel(rh=0.7).max()) <= 0.7
+    assert float(grown.emulator_cv.sel(cell)) < 0.75 * float(fixed.emulator_cv.sel(cell))  # 1/2 expected
+    at_05 = np.concatenate([i for model, rh, i in runs if model == "fft_bem" and 0.5 in rh])
+    assert np.unique(at_05).size == at_05.size and set(range(96)) <= set(at_05.tolist())
+    assert not any(0.9 in rh for model, rh, i in runs if model == "fft_bem")
+    assert int(grown.attrs["n_random_pairs"]) == 96 and float(grown.stiction_probability.sel(rh=0.9).min()) == 1.0
