@@ -73,7 +73,8 @@ def table(args):
           f"all RH), up to {a['n_accurate_subzones']} fft_bem sub-zones ({a['n_random_pairs']} random + "
           f"{a['n_tail_subzones']} strongest; {a['accurate_zone_equivalents']:.0f} zone equivalents) per RH "
           f"where needed: {args.n_accurate} random pairs, doubled where their ratios hold a beam's cv above "
-          f"{a['target_cv']:g} at P >= {rs.stiction.strip_tail.TARGET_FLOOR:g}")
+          f"{rs.stiction.strip_tail.TARGET_MARGIN:g} x {a['target_cv']:g} at P >= "
+          f"{rs.stiction.strip_tail.TARGET_FLOOR:g}")
     n_acc_rh = int(r.accurate_model_run.sum())
     print(f"wall {wall:.0f} s: Eq. 16 {a['seconds_cheap']:.0f} s (all RH), fft_bem {a['seconds_accurate']:.0f} s "
           f"({n_acc_rh} RH: {a['seconds_accurate'] / max(n_acc_rh, 1):.0f} s per RH), estimator "
@@ -410,6 +411,7 @@ def replicates(args):
     from roughstick.stiction.strip_tail import (
         PAPER_CANTILEVER,
         TARGET_FLOOR,
+        TARGET_MARGIN,
         _beam_probability,
         _gamma,
         _patch_thresholds,
@@ -444,7 +446,7 @@ def replicates(args):
           f"200 µm beam's P(stuck)")
     for label, rows in (("replicates (seed k's sub-zones, set k)", range(min(len(seeds), k_sets))),
                         ("pairs alone (seed 0's sub-zones, every set)", range(k_sets))):
-        est, cvs, used = [], [], []
+        est, cvs, used, first = [], [], [], []
         for k in rows:
             c, a, tail = seeds[k if label.startswith("replicates") else 0]
             sel = perm[k * n_pairs:(k + 1) * n_pairs]
@@ -462,14 +464,20 @@ def replicates(args):
                 e = r.exceedance_probability.values[0]
                 p, sd = _beam_probability(e, np.nan_to_num(r.coefficient_of_variation.values[0]) * e, per[0])
                 sd_pairs = _beam_probability(e, np.nan_to_num(r.emulator_cv.values[0]) * e, per[0])[1]
-                if not (p >= TARGET_FLOOR and sd > args.target_cv * p and 2 * sd_pairs**2 >= sd**2):
+                if size < n_pairs:
+                    first.append((p, sd / p))
+                if not (p >= TARGET_FLOOR and sd > TARGET_MARGIN * args.target_cv * p and 2 * sd_pairs**2 >= sd**2):
                     break
             est.append(p)
             cvs.append(sd / p)
             used.append(size)
         p, c = np.array(est), np.array(cvs)
         if args.target_cv:
-            print(f"    pairs used (target cv {args.target_cv:g}): {used}")
+            h = np.array(first)
+            print(f"    with {n_pairs // 2} pairs: " + " ".join(f"{x:.3g} ({y:.2f})" for x, y in h)
+                  + f"; true cv {h[:, 0].std(ddof=1) / h[:, 0].mean():.2f}")
+            print(f"    pairs used (target cv {args.target_cv:g}, more pairs above {TARGET_MARGIN * args.target_cv:g}): "
+                  f"{used}")
         cov = sum(p[i] * np.exp(-z * c[i]) <= np.delete(p, i).mean() <= p[i] * np.exp(z * c[i]) for i in range(p.size))
         print(f"  {label}: " + " ".join(f"{x:.3g} ({y:.2f})" for x, y in zip(p, c)))
         print(f"    {p.size} estimates: mean P {p.mean():.3g}, true cv {p.std(ddof=1) / p.mean():.2f}, reported cv "

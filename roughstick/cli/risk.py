@@ -546,6 +546,10 @@ def _run_strips(c, beam, lengths, out, *, zone):
                             f"{float(d.stiction_probability_upper):.3g}] cv {float(d.coefficient_of_variation):.2f}"
                             + (" (few sub-zones carry it: interval unreliable)" if bool(d.few_subzones) else ""))
                 LOG.info(f"  [{layer}] l={bl * 1e6:.0f}um RH {h * 100:.1f}%: P = {what}")
+        if "random_pairs" in risk:
+            pairs = risk["random_pairs"].sel(adsorbed_layer=layer)
+            LOG.info(f"  [{layer}] fft_bem random pairs per RH: " + ", ".join(
+                f"{h * 100:.1f}% {int(v) if v else 'none'}" for h, v in zip(risk.rh.values, pairs.values)))
     _crossing_table(risk, r["levels"])
     LOG.info(f"wrote {f} (no figures with method = 'strips': it has no Γ sample)")
     finish_folder(out)
