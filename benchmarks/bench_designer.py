@@ -159,7 +159,8 @@ def seeds(args):
             warnings.simplefilter("ignore", UserWarning)
             r = rs.stiction.strip_stuck_probability(
                 psd, relative_humidity=[args.rh], beam_length=LENGTHS, n=args.n, n_accurate=args.n_accurate,
-                n_tail=args.n_tail, accurate_model=None if args.n_accurate == 0 else "fft_bem", seed=1000 + s)
+                n_tail=args.n_tail, accurate_model=None if args.n_accurate == 0 else "fft_bem", seed=1000 + s,
+                target_cv=args.target_cv, max_accurate=args.max_accurate)
         walls.append(time.perf_counter() - t)
         est.append(r.stiction_probability.values[0])
         cvs.append(r.coefficient_of_variation.values[0])
@@ -492,9 +493,9 @@ def main():
     ap.add_argument("--n-accurate", type=int, default=240, help="fft_bem sub-zones per RH (0: Eq. 16 alone)")
     ap.add_argument("--n-tail", type=int, default=48, help="strongest sub-zones also through fft_bem")
     ap.add_argument("--target-cv", type=lambda v: None if v == "none" else float(v), default=0.3,
-                    help="table: pairs doubled where a beam's cv is above this ('none': n-accurate everywhere); "
-                         "replicates: half of --n-accurate first, all of them where the cv is above it")
-    ap.add_argument("--max-accurate", type=int, default=None, help="table: most random pairs per RH")
+                    help="table, seeds: pairs doubled where a beam's cv is above 0.6 x this ('none': n-accurate "
+                         "everywhere); replicates: half of --n-accurate first, all of them where the cv asks for it")
+    ap.add_argument("--max-accurate", type=int, default=None, help="table, seeds: most random pairs per RH")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--rh", type=float, default=0.75)
