@@ -411,11 +411,11 @@ def replicates(args):
 
     from roughstick.stiction.strip_tail import (
         PAPER_CANTILEVER,
-        TARGET_FLOOR,
         TARGET_MARGIN,
         _beam_probability,
         _gamma,
         _patch_thresholds,
+        _short_of_target,
     )
 
     n_pairs, z = args.n_accurate, 1.959963984540054
@@ -467,7 +467,7 @@ def replicates(args):
                 sd_pairs = _beam_probability(e, np.nan_to_num(r.emulator_cv.values[0]) * e, per[0])[1]
                 if size < n_pairs:
                     first.append((p, sd / p))
-                if not (p >= TARGET_FLOOR and sd > TARGET_MARGIN * args.target_cv * p and 2 * sd_pairs**2 >= sd**2):
+                if not _short_of_target(p, sd / max(p, 1e-300), sd_pairs / max(p, 1e-300), args.target_cv):
                     break
             est.append(p)
             cvs.append(sd / p)

@@ -444,9 +444,8 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     target_cv : float or None
         Where a beam's P(stuck) is at least :data:`TARGET_FLOOR` and its cv above
         :data:`TARGET_MARGIN` × this, with the random pairs' ratios at least half its variance,
-        the pairs at that humidity are
-        doubled (the next sub-zones of the ``n``, up to ``max_accurate``) and the estimate
-        redone there; None: ``n_accurate`` pairs everywhere.
+        the pairs at that humidity are doubled (the next sub-zones of the ``n``, up to
+        ``max_accurate``) and the estimate redone there; None: ``n_accurate`` pairs everywhere.
     max_accurate : int, optional
         Most random pairs per humidity (default ``2 * n_accurate``, at most ``n``).
     model, accurate_model : str
@@ -552,7 +551,7 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
         pairs[need] = n_acc
     parts = [estimate(k) for k in range(rh.size)]
     out = _stuck_dataset(xr.concat(parts, "rh"), rh, lengths, per_beam, allt, confidence)
-    grow = _short_of_target(out, target_cv) & (pairs > 0) & (pairs < most)
+    grow = _humidities_short_of_target(out, target_cv) & (pairs > 0) & (pairs < most)
     while grow.any():
         # more random pairs where their ratios keep the cv above the target: the next sub-zones
         # of the sample (a random one), those the tail already holds not run again
@@ -565,7 +564,7 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
                 pairs[k] = new
                 parts[k] = estimate(k)
         out = _stuck_dataset(xr.concat(parts, "rh"), rh, lengths, per_beam, allt, confidence)
-        grow = _short_of_target(out, target_cv) & (pairs > 0) & (pairs < most)
+        grow = _humidities_short_of_target(out, target_cv) & (pairs > 0) & (pairs < most)
     n_seen = np.array([acc[k].sizes["realization"] if k in acc else 0 for k in range(rh.size)])
     out.attrs.update(
         n_cheap_subzones=int(n), n_accurate_subzones=int(n_seen.max()), n_random_pairs=int(pairs.max()),
@@ -592,15 +591,20 @@ TARGET_FLOOR = 1e-6
 TARGET_MARGIN = 0.6
 
 
-def _short_of_target(out, target_cv):
-    """Humidities where some beam's P(stuck) (at least :data:`TARGET_FLOOR`) has a cv above
-    :data:`TARGET_MARGIN` × ``target_cv`` and the random pairs' ratios carry at least half its
-    variance: more pairs help there."""
+def _short_of_target(p, cv, pair_cv, target_cv):
+    """Whether P(stuck) ``p`` (at least :data:`TARGET_FLOOR`) has a cv above :data:`TARGET_MARGIN`
+    × ``target_cv`` with the random pairs' ratios (``pair_cv``) at least half its variance: more
+    pairs help there. Elementwise; False everywhere when ``target_cv`` is None."""
+    p, cv, pair_cv = (np.nan_to_num(np.asarray(v, dtype=float)) for v in (p, cv, pair_cv))
     if target_cv is None:
-        return np.zeros(out.sizes["rh"], bool)
-    p, cv, pair = (np.nan_to_num(out[v].values) for v in ("stiction_probability", "coefficient_of_variation",
-                                                            "emulator_cv"))
-    return np.any((p >= TARGET_FLOOR) & (cv > TARGET_MARGIN * target_cv) & (2 * pair**2 >= cv**2), axis=1)
+        return np.zeros(p.shape, bool)
+    return (p >= TARGET_FLOOR) & (cv > TARGET_MARGIN * target_cv) & (2 * pair_cv**2 >= cv**2)
+
+
+def _humidities_short_of_target(out, target_cv):
+    """Humidities where some beam of ``out`` is :func:`_short_of_target`."""
+    return _short_of_target(out["stiction_probability"].values, out["coefficient_of_variation"].values,
+                            out["emulator_cv"].values, target_cv).any(axis=1)
 
 
 def _tail_subzones(cheap, distance, n_pairs, n_tail):
