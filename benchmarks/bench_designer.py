@@ -12,6 +12,7 @@ recombination of the sub-zone laws, the accurate model through the pairs' strip 
     python benchmarks/bench_designer.py cohesive         # the sharp front against the cohesive beam, same strips
     python benchmarks/bench_designer.py composition --rh 0.77 --cache DIR  # the hybrid on strong strips, across seeds
     python benchmarks/bench_designer.py replicates --rh 0.77 --cache DIR   # true cv over pooled-pair replicates
+    python benchmarks/bench_designer.py whole --rh 0.77 --cache DIR        # fft_bem on whole strong strips
 
 ``cohesive`` draws beams from one bank of the strips' pressure laws (Eq. 16, composed of the
 sub-zones) and releases each twice, as a sharp front on the strips' Γ and as the cohesive
@@ -33,6 +34,13 @@ the z-scores of the prediction).
 Eq. 16 sub-zones with the k-th disjoint set of pairs drawn from all seeds' pairs (a one-seed
 outlier of the pairs then counts once, not in every run that shares them), and the pairs'
 share of the spread alone (one seed's sub-zones with every set).
+
+``whole`` checks the composition itself where the tail is, with the accurate model on both
+sides: strips of 12 of the seeds' pair sub-zones (drawn from the strongest quarter by Eq. 16
+Γ, every third strip from all of them), each sub-zone regenerated from its seed and index and
+rolled so that its edges avoid its tallest summits (a periodic sub-zone's law does not change),
+laid side by side and solved whole by ``fft_bem`` (about 5 min per strip at one RH on the 2-core
+machine), against the composed law of the same sub-zones' cached ``fft_bem`` laws.
 """
 
 from __future__ import annotations
@@ -419,6 +427,7 @@ def replicates(args):
     )
 
     n_pairs, z = args.n_accurate, 1.959963984540054
+    n_own = args.pool_pairs or n_pairs  # the pairs each seed gives to the pool
     seeds = []
     for s in range(1000, 2000):
         files = {m: glob.glob(os.path.join(args.cache, f"{m}_{s}_*.nc")) for m in ("modified_dmt", "fft_bem")}
@@ -430,17 +439,17 @@ def replicates(args):
                 for m in ("modified_dmt", "fft_bem"))
         a = a.isel(realization=np.unique(a.realization.values, return_index=True)[1])
         g = _gamma(c.values, c.distance.values)
-        g[:n_pairs] = -np.inf
+        g[:n_own] = -np.inf
         tail = np.sort(np.argsort(-g, kind="stable")[:args.n_tail])
-        if np.isin(np.arange(n_pairs), a.realization.values).all() and np.isin(tail, a.realization.values).all():
+        if np.isin(np.arange(n_own), a.realization.values).all() and np.isin(tail, a.realization.values).all():
             seeds.append((c, a, tail))
     if not seeds:
-        raise SystemExit(f"no seed in {args.cache} holds fft_bem laws of {n_pairs} pairs and of its tail set: "
-                         f"run 'seeds --n-accurate {n_pairs} --cache {args.cache}' first")
+        raise SystemExit(f"no seed in {args.cache} holds fft_bem laws of {n_own} pairs and of its tail set: "
+                         f"run 'seeds --n-accurate {n_own} --cache {args.cache}' first")
     beam = PAPER_CANTILEVER
     allt, per = _patch_thresholds(np.array([200e-6]), beam, beam.interaction_zone_length)
-    pc_pool = np.concatenate([c.values[:n_pairs] for c, _, _ in seeds])
-    pa_pool = np.concatenate([a.sel(realization=np.arange(n_pairs)).values for _, a, _ in seeds])
+    pc_pool = np.concatenate([c.values[:n_own] for c, _, _ in seeds])
+    pa_pool = np.concatenate([a.sel(realization=np.arange(n_own)).values for _, a, _ in seeds])
     perm = np.random.default_rng(args.seed).permutation(pc_pool.shape[0])
     k_sets = pc_pool.shape[0] // n_pairs
     print(f"RH {args.rh}: {len(seeds)} seeds' laws, {pc_pool.shape[0]} pooled pairs in {k_sets} sets of {n_pairs}; "
@@ -486,9 +495,101 @@ def replicates(args):
               f"others' mean {cov}/{p.size}", flush=True)
 
 
+def whole(args):
+    """``fft_bem`` on whole strips of cached pair sub-zones against their composed ``fft_bem`` law."""
+    import glob
+
+    from bench_zone_size import seam_roll
+
+    from roughstick.contact.adhesion import summary_kernel
+    from roughstick.stiction._strip_hybrid import _gamma
+
+    psd = rs.datasets.family_psd("table4")
+    rows, d = [], None  # (seed, index, Eq. 16 Γ, fft_bem law) of every cached pair
+    for s in range(1000, 2000):
+        files = {m: sorted(glob.glob(os.path.join(args.cache, f"{m}_{s}_*.nc"))) for m in ("modified_dmt", "fft_bem")}
+        if not files["fft_bem"]:
+            break
+        acc, cheap = [], None
+        for m, fs in files.items():
+            for f in fs:
+                with xr.open_dataarray(f) as a:
+                    if a.sizes.get("rh") == 1 and abs(float(a.rh[0]) - args.rh) < 1e-9:
+                        if m == "fft_bem":
+                            acc.append(a.isel(rh=0).load())
+                        else:
+                            cheap = a.isel(rh=0).load()
+        if cheap is None or not acc:
+            continue
+        acc = xr.concat(acc, "realization")
+        acc = acc.isel(realization=np.flatnonzero(acc.realization.values < args.n_accurate))
+        d = cheap.distance.values
+        pc = cheap.sel(realization=acc.realization).transpose("realization", "distance").values
+        g = _gamma(pc, d)
+        pa = acc.transpose("realization", "distance").values
+        rows += [(s, int(k), float(g[i]), pa[i]) for i, k in enumerate(acc.realization.values)]
+    if len(rows) < 48:
+        raise SystemExit(f"whole needs the seeds' cached pairs at RH {args.rh} in --cache (run `seeds --rh {args.rh} "
+                         f"--cache DIR` first); found {len(rows)}")
+    g16 = np.array([r[2] for r in rows])
+    strong = np.flatnonzero(g16 >= np.quantile(g16, 0.75))
+    rng = np.random.default_rng(args.seed)
+    shape, m = (524, 500), 12
+    print(f"RH {args.rh}: {len(rows)} cached pairs of {len({r[0] for r in rows})} seeds; strips of {m} side by side, "
+          f"fft_bem whole (max_iterations {args.max_iterations}) against the composed law of the same sub-zones", flush=True)
+    out = {"strong": [], "random": []}
+    try:
+        for j in range(args.strips):
+            kind = "random" if j % 3 == 2 else "strong"
+            pick = rng.choice(strong if kind == "strong" else np.arange(len(rows)), m, replace=False)
+            t = time.perf_counter()
+            parts = []
+            for i in pick:
+                s, k = rows[i][0], rows[i][1]
+                h = rs.surface.generate_surfaces(psd, n=k + 1, shape=shape, spacing=5e-9, seed=s,
+                                                 chunks=1).isel(realization=k).compute()
+                parts.append(np.roll(h.values, -seam_roll(h.values, shape[1]), axis=1))
+            z = np.concatenate(parts, axis=1)
+            strip = xr.DataArray((z - z.mean())[None], dims=("realization", "y", "x"), attrs=dict(h.attrs),
+                                 coords={"realization": [0], "y": np.arange(z.shape[0]) * 5e-9,
+                                         "x": np.arange(z.shape[1]) * 5e-9})
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)
+                c = rs.contact.curves(strip, relative_humidity=[args.rh], model="fft_bem", distance=d,
+                                      check_validity=False, adsorbed_layer="paper",
+                                      max_iterations=args.max_iterations).compute()
+            res = c.solver_residual.isel(realization=0, rh=0).values
+            law = c.pressure.isel(realization=0, rh=0).values
+            gd = float(_gamma(law[None], d)[0])
+            # Γ is the work from the equilibrium outwards: a state left unconverged on the repulsive
+            # side, below the first grid point past the equilibrium, does not enter it
+            deq = summary_kernel(law[None], np.zeros((1, d.size)), d)[2][0]
+            bad = res >= 1e-2
+            bad_in = int(np.sum(bad & (d >= d[max(np.searchsorted(d, deq) - 1, 0)])))
+            gc = float(_gamma(np.mean([rows[i][3] for i in pick], axis=0)[None], d)[0])
+            out[kind].append(math.log(gd / gc))
+            print(f"  strip {j:2d} ({kind:6}): whole {gd * 1e3:7.4f}  composed {gc * 1e3:7.4f} mJ/m2  "
+                  f"whole/composed {gd / gc:.4f}  states not converged {int(bad.sum())}/{res.size} ({bad_in} "
+                  "of them at or beyond the equilibrium)  "
+                  f"{time.perf_counter() - t:.0f} s", flush=True)
+    except KeyboardInterrupt:  # kill -INT: the summary of the strips done
+        print(f"stopped after {sum(map(len, out.values()))} strips")
+    for kind, v in out.items():
+        v = np.array(v)
+        if v.size < 2:
+            continue
+        from scipy.stats import t as student
+        half = student.ppf(0.975, v.size - 1) * v.std(ddof=1) / math.sqrt(v.size)
+        print(f"{kind} strips: mean log(whole/composed) {v.mean():+.4f} [{v.mean() - half:+.4f}, {v.mean() + half:+.4f}]"
+              f" (95 %), sd {v.std(ddof=1):.4f}, n {v.size}; P near the threshold moves as exp({args.slope:g} dΓ/Γ): "
+              f"a factor {math.exp(args.slope * v.mean()):.2f} [{math.exp(args.slope * (v.mean() - half)):.2f}, "
+              f"{math.exp(args.slope * (v.mean() + half)):.2f}]")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("part", choices=["table", "seeds", "convergence", "cohesive", "composition", "replicates"])
+    ap.add_argument("part", choices=["table", "seeds", "convergence", "cohesive", "composition", "replicates",
+                                         "whole"])
     ap.add_argument("--n", type=int, default=12_000, help="Eq. 16 sub-zones")
     ap.add_argument("--n-accurate", type=int, default=240, help="fft_bem sub-zones per RH (0: Eq. 16 alone)")
     ap.add_argument("--n-tail", type=int, default=48, help="strongest sub-zones also through fft_bem")
@@ -504,9 +605,15 @@ def main():
     ap.add_argument("--rhs", default=None, help="cohesive: RH list, e.g. 0.76,0.78 (default the table's)")
     ap.add_argument("--laws", type=int, default=400, help="strip laws of the cohesive comparison's bank")
     ap.add_argument("--beams", type=int, default=400, help="beams per length of the cohesive comparison")
+    ap.add_argument("--pool-pairs", type=int, default=None, help="replicates: pairs each seed gives to the pool "
+                    "(default --n-accurate; sets of --n-accurate are dealt from the pool)")
+    ap.add_argument("--max-iterations", type=int, default=500, help="whole: fft_bem's max_iterations")
+    ap.add_argument("--strips", type=int, default=9, help="whole: strips solved whole by fft_bem")
+    ap.add_argument("--slope", type=float, default=27.0, help="whole: d log P / d log Γ of the tail at the "
+                    "binding threshold (25-28 measured at 77 %% RH), to print what a bias in Γ does to P")
     args = ap.parse_args()
     {"table": table, "seeds": seeds, "convergence": convergence, "cohesive": cohesive,
-     "composition": composition, "replicates": replicates}[args.part](args)
+     "composition": composition, "replicates": replicates, "whole": whole}[args.part](args)
 
 
 if __name__ == "__main__":
