@@ -460,16 +460,19 @@ def replicates(args):
         for k in rows:
             c, a, tail = seeds[k if label.startswith("replicates") else 0]
             sel = perm[k * n_pairs:(k + 1) * n_pairs]
-            pc = c.values.copy()
-            pc[:n_pairs] = pc_pool[sel]
+            # the seed's own pairs give way to the set (its tail set, all beyond them, moves along)
+            pc = np.concatenate([pc_pool[sel], c.values[n_own:]])
+            cheap = xr.DataArray(pc, dims=("realization", "distance"),
+                                 coords={"realization": np.arange(pc.shape[0]), "distance": c.distance.values,
+                                         "rh": c.rh.values})
             # --target-cv: the default call's rule, half the pairs first and all of them where the
             # 200 µm beam's cv is above the target with the pairs' ratios half its variance
             for size in ([n_pairs // 2, n_pairs] if args.target_cv else [n_pairs]):
-                known = np.concatenate([np.arange(size), tail])
+                known = np.concatenate([np.arange(size), tail - n_own + n_pairs])
                 acc = xr.DataArray(np.concatenate([pa_pool[sel[:size]], a.sel(realization=tail).values]),
                                    dims=("realization", "distance"),
                                    coords={"realization": known, "distance": c.distance})
-                r = rs.stiction.strip_ccdf(c.copy(data=pc), allt, subzones=12, accurate=acc, random_pairs=size,
+                r = rs.stiction.strip_ccdf(cheap, allt, subzones=12, accurate=acc, random_pairs=size,
                                            n_combinations=100_000, n_boot=20, seed=k)
                 e = r.exceedance_probability.values[0]
                 p, sd = _beam_probability(e, np.nan_to_num(r.coefficient_of_variation.values[0]) * e, per[0])
@@ -596,7 +599,7 @@ def main():
     ap.add_argument("--target-cv", type=lambda v: None if v == "none" else float(v), default=0.3,
                     help="table, seeds: pairs doubled where a beam's cv is above 0.6 x this ('none': n-accurate "
                          "everywhere); replicates: half of --n-accurate first, all of them where the cv asks for it")
-    ap.add_argument("--max-accurate", type=int, default=None, help="table, seeds: most random pairs per RH")
+    ap.add_argument("--max-accurate", type=int, default=None, help="table, seeds: most random pairs per RH (default 4 x --n-accurate)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--rh", type=float, default=0.75)

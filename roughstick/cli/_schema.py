@@ -199,8 +199,8 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "n_subzones": F("int", "method 'strips': Eq. 16 sub-zones recombined into strips",
                             default=12000, minimum=48),
             "n_accurate": F("int", "method 'strips' with model 'auto': of them, through fft_bem where the "
-                                   "answer depends on the model (twice as many at humidities where the pairs "
-                                   "hold a cv of P(stuck) above 0.6 x target_cv)", default=240, minimum=8),
+                                   "answer depends on the model (doubled, up to twice, at humidities where the "
+                                   "pairs hold a cv of P(stuck) above 0.6 x target_cv)", default=240, minimum=8),
             "model": F("choice", "contact model: method 'count', that of the ensemble's "
                                "surfaces (" + _CONTACT_MODEL.split(": ", 1)[1] + "); 'subset'/"
                                "'monte_carlo', that of each zone: 'modified_dmt' (Eq. 16, ~1 ms per 128 x "

@@ -200,7 +200,7 @@ def stuck_probability(
       of independent sub-zones, small probabilities included
       (:func:`roughstick.stiction.strip_stuck_probability`: ``n`` Eq. 16 sub-zones, default
       12,000, recombined; with ``model="auto"`` the first ``n_accurate`` through fft_bem correct
-      them, doubled where their ratios hold a cv above 0.6 × ``target_cv``): ``relative_humidity`` and
+      them, doubled up to twice where their ratios hold a cv above 0.6 × ``target_cv``): ``relative_humidity`` and
       ``beam_length`` (required), ``n``, ``seed``, ``spacing``, ``model``, ``target_cv`` (and
       ``n_accurate``, ``max_accurate``, ``accurate_model``, ``n_combinations``, ``n_boot``).
 

@@ -447,7 +447,8 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
         the pairs at that humidity are doubled (the next sub-zones of the ``n``, up to
         ``max_accurate``) and the estimate redone there; None: ``n_accurate`` pairs everywhere.
     max_accurate : int, optional
-        Most random pairs per humidity (default ``2 * n_accurate``, at most ``n``).
+        Most random pairs per humidity (default ``4 * n_accurate``, at most ``n``): the pairs
+        double up to twice, 240 → 480 → 960 by default.
     model, accurate_model : str
         The contact models (:func:`roughstick.contact.curves`).
     beam : Cantilever
@@ -523,7 +524,7 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     t1 = time.perf_counter()
     allt, per_beam = _patch_thresholds(lengths, beam, patch_length)
     need = _needs_accurate(cheap, allt, per_beam, m, seed) if n_acc else np.zeros(rh.size, bool)
-    most = min(int(n), 2 * n_acc if max_accurate is None else max(int(max_accurate), n_acc))
+    most = min(int(n), 4 * n_acc if max_accurate is None else max(int(max_accurate), n_acc))
     acc, pairs, tail = {}, np.zeros(rh.size, np.int64), np.zeros(0, np.int64)
     seconds = {"accurate": 0.0, "estimator": 0.0}
 
