@@ -311,7 +311,8 @@ def test_the_residual_and_ratio_neighbourhoods_are_the_nearest_ones():
 def test_pairs_are_added_where_their_ratios_hold_the_cv_above_the_target(monkeypatch):
     # sub-zone laws are box laws (the cheap depth a_i, the accurate one a_i r_i with r_i ~ U(0.55, 1.05)),
     # looked up by index as the real sub-zones are drawn by index. At RH 0.5 the 200 µm beam's cv
-    # rests on the 24 pairs' ratios: with target_cv the pairs there double to max_accurate, only
+    # rests on the 24 pairs' ratios: with target_cv the pairs there double, twice (the default
+    # max_accurate, 4 x n_accurate), only
     # sub-zones not yet run are run, and the pairs' share of the cv falls; at RH 0.7 the cv is
     # below TARGET_MARGIN x the target and the pairs stay; at RH 0.9 every beam sticks for any
     # ratio and nothing runs
@@ -333,7 +334,7 @@ def test_pairs_are_added_where_their_ratios_hold_the_cv_above_the_target(monkeyp
     monkeypatch.setattr(strip_tail, "_subzone_laws", laws)
     monkeypatch.setattr(strip_tail, "distance_grid", lambda **kw: xr.DataArray(D, dims="distance"))
     kw = dict(relative_humidity=[0.5, 0.7, 0.9], beam_length=[150e-6, 200e-6], n=n, n_accurate=24, n_tail=12,
-              max_accurate=96, n_combinations=10_000, n_boot=12, seed=1)
+              n_combinations=10_000, n_boot=12, seed=1)
     fixed = rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), target_cv=None, **kw)
     assert fixed.random_pairs.values.tolist() == [24, 24, 0]
     runs.clear()
