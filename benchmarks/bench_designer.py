@@ -109,15 +109,27 @@ def table(args):
                   f"(10/50/90 %); held-out pair strips ({int(row.ratio_check_strips)}): rms z "
                   f"{float(row.ratio_check_rms_z):.2f}, within 2 sd {100 * float(row.ratio_check_within_2sd):.0f} %; "
                   f"tail influence on fft_bem sub-zones per length: {share}")
+    band = r.attrs.get("model_band")
+    if band is not None:
+        print(f"with the model band (every strip's Γ x {1 + band[0]:g} to x {1 + band[1]:g}): P(stuck) interval")
+        for k, rh in enumerate(RH):
+            row = r.isel(rh=k)
+            print(f"{rh:5.2f} " + "".join(
+                f"  {float(c.stiction_probability_model_lower):9.2g} - {float(c.stiction_probability_model_upper):<9.2g}"
+                for c in (row.isel(beam_length=b) for b in range(len(LENGTHS)))))
     fill = r.copy()
     # beyond reach: the estimate 0 has no upper bound from the sample; the crossing's lower end
     # is then the first RH where the sample reaches failures (said below)
-    fill["stiction_probability_upper"] = fill.stiction_probability_upper.fillna(0.0)
+    for v in ("stiction_probability_upper", "stiction_probability_model_upper"):
+        if v in fill:
+            fill[v] = fill[v].fillna(0.0)
     x = rs.stiction.crossing_humidity(fill, probability=1e-3)
     for b, length in enumerate(LENGTHS):
         c = x.isel(beam_length=b)
         print(f"l = {length * 1e6:.0f} µm: P(stuck) = 1e-3 at RH {float(c.crossing_humidity):.3f} "
-              f"[{float(c.crossing_humidity_lower):.3f}, {float(c.crossing_humidity_upper):.3f}]")
+              f"[{float(c.crossing_humidity_lower):.3f}, {float(c.crossing_humidity_upper):.3f}]"
+              + (f", with the model band [{float(c.crossing_humidity_model_lower):.3f}, "
+                 f"{float(c.crossing_humidity_model_upper):.3f}]" if "crossing_humidity_model_lower" in c else ""))
     beyond = r.beyond_reach.values.astype(bool)
     if beyond.any():
         m = r.reach_margin.values[beyond]

@@ -116,22 +116,33 @@ cells = [
     md(
         "## The beam's own zone: strips recombined from sub-zones\n\n"
         "Everything above runs on small squares. The beam's interaction zone Δs × w (2.62 × 30 µm) "
-        "is 12 independent sub-zones of 524 × 500 px under one rigid flat (docs/zone_size.md), so a "
-        "strip is a function of 12 draws from one distribution of sub-zone laws. "
-        "`method='strips'` computes `n` sub-zone laws with Eq. 16 (the first `n_accurate` also with "
-        "`fft_bem`), recombines them into strips by importance sampling over their combinations, and "
-        "corrects the strips' Γ by the boundary-element/Eq. 16 ratio of the pairs' strips; P(stuck) of "
-        "every length follows from the sharp front on independent strips (Eq. 36). A tiny live run "
-        "(the designer table, 12,000 sub-zones and 288 through fft_bem per humidity, is "
-        "`python benchmarks/bench_designer.py table`; docs/rare_events.md):"
+        'is 12 independent sub-zones of 524 × 500 px under one rigid flat (docs/zone_size.md), so a '
+        "strip is a function of 12 draws from one distribution of sub-zone laws. `method='strips'` "
+        'computes `n` sub-zone laws with Eq. 16 (the first `n_accurate` also with `fft_bem`), '
+        'recombines them into strips by importance sampling over their combinations, and carries the '
+        "boundary-element answer by scaling each sub-zone's law by a boundary-element/Eq. 16 ratio "
+        '(its own where `fft_bem` ran, else one drawn from the pairs nearest it in Eq. 16 Γ), plus a '
+        "residual from the pairs' recombined strips of similar Γ; P(stuck) of every length follows "
+        "from the sharp front on independent strips (Eq. 36). Where a beam's cv of P(stuck) stays "
+        "above 0.6 × `target_cv` (0.3) because of the pairs' ratios, the pairs at that humidity are "
+        'doubled, and doubled again up to `max_accurate` (default 4 × `n_accurate`; `random_pairs` '
+        "says how many each humidity got). The interval of P(stuck) is the sampling's; "
+        "`stiction_probability_model_lower`/`_upper` widen it by the models' own error in each "
+        "strip's Γ (`model_band`, default −0.5 % to +4.5 %: the composed law leaves out the "
+        "sub-zones' elastic interaction, which whole strips solved by `fft_bem` show, and the "
+        'two-fidelity correction runs about 1 % low on strong strips; measured on Table 4 at 77 % '
+        'RH, docs/rare_events.md). A tiny live run, its pairs capped at 16 (the designer table, '
+        '12,000 sub-zones and 288 through fft_bem per humidity, up to 1,008 where the cv asks for '
+        'it, is `python benchmarks/bench_designer.py table`; docs/rare_events.md):'
     ),
     code(
         "r = rs.stuck_probability(psd, method='strips', relative_humidity=[0.75],\n"
-        "                         beam_length=[200e-6, 250e-6, 300e-6], n=240, n_accurate=8, n_tail=0,\n"
-        "                         n_combinations=20_000, seed=0)\n"
-        "print(f\"fft_bem/Eq. 16 Γ of the random pairs' sub-zones (median): \"\n"
-        "      f\"{float(r.accurate_ratio.sel(quantile=0.5)[0]):.2f}\")\n"
+        '                         beam_length=[200e-6, 250e-6, 300e-6], n=144, n_accurate=8, n_tail=0, max_accurate=16,\n'
+        '                         n_combinations=10_000, n_boot=10, seed=0)\n'
+        'print(f"fft_bem/Eq. 16 Γ of the random pairs\' sub-zones (median): "\n'
+        '      f"{float(r.accurate_ratio.sel(quantile=0.5)[0]):.2f}; random pairs used: {int(r.random_pairs[0])}")\n'
         "r[['stiction_probability', 'stiction_probability_lower', 'stiction_probability_upper',\n"
+        "   'stiction_probability_model_lower', 'stiction_probability_model_upper',\n"
         "   'coefficient_of_variation', 'few_subzones']].to_dataframe()"
     ),
     md(

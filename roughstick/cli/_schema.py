@@ -201,6 +201,9 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "n_accurate": F("int", "method 'strips' with model 'auto': of them, through fft_bem where the "
                                    "answer depends on the model (doubled, up to twice, at humidities where the "
                                    "pairs hold a cv of P(stuck) above 0.6 x target_cv)", default=240, minimum=8),
+            "model_band": F("number", "method 'strips': relative error of the strips' Γ from the models, "
+                                      "[below, above] (default [-0.005, 0.045] with model 'auto', none with "
+                                      "one model alone); P(stuck) is also bounded at both ends", many=True),
             "model": F("choice", "contact model: method 'count', that of the ensemble's "
                                "surfaces (" + _CONTACT_MODEL.split(": ", 1)[1] + "); 'subset'/"
                                "'monte_carlo', that of each zone: 'modified_dmt' (Eq. 16, ~1 ms per 128 x "

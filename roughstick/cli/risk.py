@@ -102,6 +102,10 @@ def load_risk_config(path) -> dict:
         if r["model"] not in ("auto", "modified_dmt", "fft_bem"):
             problems.append(f"[risk] model = {r['model']!r}: method = 'strips' runs 'auto' (Eq. 16 corrected "
                             "by fft_bem), 'modified_dmt' or 'fft_bem'")
+        band = r.get("model_band")
+        if band is not None and not (len(band) == 2 and -1 < band[0] <= 0 <= band[1]):
+            problems.append(f"[risk] model_band = {list(band)}: give [below, above], relative errors of the strips' "
+                            "Γ with -1 < below <= 0 <= above, e.g. model_band = [-0.005, 0.045]")
     elif r["method"] != "count":
         if "shape" not in c["surface"]:
             problems.append(f"[risk] method = {r['method']!r} evaluates one zone per model call and the "
@@ -514,7 +518,9 @@ def _run_strips(c, beam, lengths, out, *, zone):
                                   spacing=s["spacing"], model=r["model"], n=r["n_subzones"], seed=ens["seed"],
                                   confidence=r["confidence"], adsorbed_layer=layer,
                                   **({"n_accurate": r["n_accurate"], "target_cv": r["target_cv"]}
-                                     if r["model"] == "auto" else {}), **kw)
+                                     if r["model"] == "auto" else {}),
+                                  **({"model_band": tuple(r["model_band"])} if r.get("model_band") is not None
+                                     else {}), **kw)
         per_layer.append(ds.transpose("beam_length", "rh", ...))
     risk = xr.concat(per_layer, dim=xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer",
                                                  name="adsorbed_layer"), combine_attrs="drop_conflicts")
@@ -522,7 +528,9 @@ def _run_strips(c, beam, lengths, out, *, zone):
     risk["adsorbed_layer"].attrs = coord_attrs("adsorbed_layer", risk["adsorbed_layer"])
     # beyond reach (no combination of the sample fails): below every level, said with its margin
     fill = risk.copy()
-    fill["stiction_probability_upper"] = fill["stiction_probability_upper"].fillna(0.0)
+    for v in ("stiction_probability_upper", "stiction_probability_model_upper"):
+        if v in fill:
+            fill[v] = fill[v].fillna(0.0)
     cross = [rs.stiction.crossing_humidity(fill, probability=lev) for lev in r["levels"]]
     cross = xr.concat(cross, dim=xr.DataArray(r["levels"], dims="probability_level", name="probability_level"))
     cross["probability_level"].attrs = dict(ATTRS["probability_level"])
@@ -540,10 +548,11 @@ def _run_strips(c, beam, lengths, out, *, zone):
                 d = risk.sel(adsorbed_layer=layer, beam_length=bl, rh=h)
                 if bool(d.beyond_reach):
                     what = (f"0: no combination of the sample sticks it (its threshold is "
-                            f"{float(d.reach_margin):.3g} x the largest strip Γ found)")
+                            f"{float(d.reach_margin):.3g} x the largest strip Γ found)" + _model_text(d))
                 else:
                     what = (f"{float(d.stiction_probability):.3g} [{float(d.stiction_probability_lower):.3g}, "
                             f"{float(d.stiction_probability_upper):.3g}] cv {float(d.coefficient_of_variation):.2f}"
+                            + _model_text(d)
                             + (" (few sub-zones carry it: interval unreliable)" if bool(d.few_subzones) else ""))
                 LOG.info(f"  [{layer}] l={bl * 1e6:.0f}um RH {h * 100:.1f}%: P = {what}")
         if "random_pairs" in risk:
@@ -554,6 +563,15 @@ def _run_strips(c, beam, lengths, out, *, zone):
     LOG.info(f"wrote {f} (no figures with method = 'strips': it has no Γ sample)")
     finish_folder(out)
     return 0
+
+
+def _model_text(d) -> str:
+    """The interval of P(stuck) with the model band, where the result carries one."""
+    if "stiction_probability_model_lower" not in d:
+        return ""
+    hi = float(d.stiction_probability_model_upper)
+    return (f"; with the model band [{float(d.stiction_probability_model_lower):.3g}, "
+            + (f"{hi:.3g}]" if np.isfinite(hi) else "n/a: beyond reach there too]"))
 
 
 def _confirmed(d) -> str:
@@ -590,7 +608,12 @@ def _crossing_table(risk, levels):
                 cr = d.crossing_humidity.sel(probability_level=lev, beam_length=bl)
                 lo = d.crossing_humidity_lower.sel(probability_level=lev, beam_length=bl)
                 hi = d.crossing_humidity_upper.sel(probability_level=lev, beam_length=bl)
-                row.append(f"l={bl * 1e6:.0f}um: {_pct(cr)} [{_pct(lo)}, {_pct(hi)}]")
+                cell = f"l={bl * 1e6:.0f}um: {_pct(cr)} [{_pct(lo)}, {_pct(hi)}]"
+                if "crossing_humidity_model_lower" in d:
+                    mlo, mhi = (d[f"crossing_humidity_model_{e}"].sel(probability_level=lev, beam_length=bl)
+                                for e in ("lower", "upper"))
+                    cell += f" (with the model band [{_pct(mlo)}, {_pct(mhi)}])"
+                row.append(cell)
             LOG.info(f"  RH where P(stuck) reaches {lev:g}: " + "; ".join(row))
 
 

@@ -246,7 +246,9 @@ def crossing_humidity(result: xr.Dataset | xr.DataArray, *, probability: float =
         ``crossing_humidity`` (from the estimate) and, for a Dataset input,
         ``crossing_humidity_lower`` (where the upper bound of the probability crosses) and
         ``crossing_humidity_upper`` (where the lower bound crosses), over the remaining dims
-        (e.g. ``beam_length``). Interpolation between grid humidities linear in logit(p) (in p
+        (e.g. ``beam_length``); where the result carries a model band
+        (``stiction_probability_model_lower``/``_upper``), ``crossing_humidity_model_lower``
+        and ``_model_upper`` from its bounds. Interpolation between grid humidities linear in logit(p) (in p
         next to a 0 or a 1; the upper end next to a 0 of the lower bound: the grid point where that
         bound reaches the level, and the estimate is kept inside its interval), so that small
         probabilities cross where a log plot shows; ``-inf`` means the
@@ -283,6 +285,9 @@ def crossing_humidity(result: xr.Dataset | xr.DataArray, *, probability: float =
             "crossing_humidity_lower": result[f"{name}_upper"],
             "crossing_humidity_upper": result[f"{name}_lower"],
         }
+        if f"{name}_model_upper" in result and f"{name}_model_lower" in result:
+            pairs.update(crossing_humidity_model_lower=result[f"{name}_model_upper"],
+                         crossing_humidity_model_upper=result[f"{name}_model_lower"])
     else:
         pairs = {"crossing_humidity": result}
     out = {}
@@ -296,13 +301,13 @@ def crossing_humidity(result: xr.Dataset | xr.DataArray, *, probability: float =
         da = xr.apply_ufunc(
             _first_crossing_kernel,
             p,
-            kwargs={"coord": rh, "level": float(level), "late": name == "crossing_humidity_upper"},
+            kwargs={"coord": rh, "level": float(level), "late": name.endswith("_upper")},
             input_core_dims=[["rh"]],
             dask="parallelized",
             output_dtypes=[float],
         )
         out[name] = set_attrs(da, "crossing_humidity")
-    if len(out) == 3:
+    if "crossing_humidity_upper" in out:
         # next to a 0 the estimate is interpolated linearly in p, the bounds in logit(p): keep it
         # inside its interval (a 0 of subset simulation, below its resolution, crossed 1e-3 early)
         attrs = out["crossing_humidity"].attrs
@@ -310,6 +315,9 @@ def crossing_humidity(result: xr.Dataset | xr.DataArray, *, probability: float =
             out["crossing_humidity_lower"], out["crossing_humidity_upper"]).assign_attrs(attrs)
         out["crossing_humidity_lower"].attrs["long_name"] += " (from the upper probability bound)"
         out["crossing_humidity_upper"].attrs["long_name"] += " (from the lower probability bound)"
+    if "crossing_humidity_model_lower" in out:
+        out["crossing_humidity_model_lower"].attrs["long_name"] += " (upper probability bound with the model band)"
+        out["crossing_humidity_model_upper"].attrs["long_name"] += " (lower probability bound with the model band)"
     ds = xr.Dataset(out)
     ds.attrs = dict(result.attrs) if isinstance(result, xr.Dataset) else {}
     ds.attrs["probability_level"] = float(level)

@@ -174,15 +174,21 @@ def test_front_door_runs_the_beams_zone_and_refuses_what_it_cannot_use():
         rh=0.6, beam_length=150e-6)) > 10
 
 
-def test_cli_risk_strips_writes_the_beams_answer(tmp_path):
+def test_cli_risk_strips_writes_the_beams_answer(tmp_path, capsys):
     from roughstick.cli import main
     cfg = tmp_path / "r.toml"
     cfg.write_text(
         '[output]\nfolder = "out"\n[beam]\nlengths = ["200 um", "300 um"]\n'
         '[surface]\nspacing = "5 nm"\n[ensemble]\nrelative_humidity = [0.8]\nadsorbed_layer = ["paper"]\nseed = 1\n'
-        '[risk]\nmethod = "strips"\nmodel = "modified_dmt"\nn_subzones = 96\nlevels = [0.5]\n')
+        '[risk]\nmethod = "strips"\nmodel = "modified_dmt"\nn_subzones = 96\nlevels = [0.5]\n'
+        'model_band = [-0.01, 0.05]\n')
     assert main(["risk", str(cfg)]) == 0
     risk = xr.open_dataset(tmp_path / "out" / "risk.nc")
+    # Eq. 16 alone with the user's own model band: P(stuck) at both ends of it, and the crossing's
+    p = risk.stiction_probability
+    assert bool((risk.stiction_probability_model_lower <= risk.stiction_probability_lower).all())
+    assert bool((risk.stiction_probability_model_upper.fillna(1.0) >= p).all())
+    assert {"crossing_humidity_model_lower", "crossing_humidity_model_upper"} <= set(risk.data_vars)
     assert risk.stiction_probability.dims == ("adsorbed_layer", "beam_length", "rh")
     assert risk.attrs["method"] == "strips" and "interaction zone" in risk.attrs["zone"]
     assert float(risk.stiction_probability.sel(adsorbed_layer="paper", rh=0.8, beam_length=300e-6)) > 0.5
@@ -191,6 +197,9 @@ def test_cli_risk_strips_writes_the_beams_answer(tmp_path):
     bad = tmp_path / "b.toml"
     bad.write_text(cfg.read_text().replace('spacing = "5 nm"', 'spacing = "5 nm"\nshape = [128, 128]'))
     assert main(["risk", str(bad)]) == 1
+    bad.write_text(cfg.read_text().replace("model_band = [-0.01, 0.05]", "model_band = [0.01, 0.05]"))
+    assert main(["risk", str(bad)]) == 1
+    assert "[risk] model_band = [0.01, 0.05]" in capsys.readouterr().err
 
 
 def test_the_accurate_model_on_the_tails_subzones_removes_cheap_artefacts():
@@ -350,3 +359,68 @@ def test_pairs_are_added_where_their_ratios_hold_the_cv_above_the_target(monkeyp
     assert np.unique(at_05).size == at_05.size and set(range(96)) <= set(at_05.tolist())
     assert not any(0.9 in rh for model, rh, i in runs if model == "fft_bem")
     assert int(grown.attrs["n_random_pairs"]) == 96 and float(grown.stiction_probability.sel(rh=0.9).min()) == 1.0
+
+
+def _box_sampler(monkeypatch, depth, ratio, scale):
+    """Sub-zone laws looked up by index: the cheap one a box of depth ``depth * scale``, the
+    accurate one that box times ``ratio``."""
+    from roughstick.stiction import strip_tail
+
+    def laws(psd, rh, n, start, shape, spacing, model, seed, distance, *a, index=None, **kw):
+        index = np.arange(start, n) if index is None else np.asarray(index)
+        r = ratio[index] if model == "fft_bem" else 1.0
+        p = [_laws(depth[index] * scale * r).values * np.where(D < D0, 100.0, 1.0) for h in rh]
+        return xr.DataArray(np.stack(p), dims=("rh", "realization", "distance"),
+                            coords={"rh": list(rh), "realization": index, "distance": D})
+
+    monkeypatch.setattr(strip_tail, "_subzone_laws", laws)
+    monkeypatch.setattr(strip_tail, "distance_grid", lambda **kw: xr.DataArray(D, dims="distance"))
+
+
+def test_the_model_band_holds_a_strip_stronger_than_its_composed_law(monkeypatch):
+    # the whole strip holds 4 % more than the composed law of its sub-zones' accurate laws (as the
+    # elastic interaction the composition omits does, within MODEL_BAND): the exact P(stuck) of a
+    # 200 µm beam then lies above the estimate's sampling interval in some runs, but inside the
+    # interval with the model band in every run
+    from roughstick.stiction import strip_tail
+    from roughstick.stiction.cantilever import PAPER_CANTILEVER
+    scale, stronger, n = 1.0e6, 1.04, 1200
+    allt, per = strip_tail._patch_thresholds([200e-6], PAPER_CANTILEVER, PAPER_CANTILEVER.interaction_zone_length)
+    rng = np.random.default_rng(42)
+    g = (rng.gamma(4.0, 1.0, (1_000_000, M)) * rng.uniform(0.55, 1.05, (1_000_000, M))).mean(1)
+    g *= scale * (D1 - D0) * stronger
+    exact = 1 - np.prod(1 - (g[:, None] > allt[per[0]][None, :]).mean(0))
+    assert 1e-3 < exact < 1e-2  # thousands of exceedances among the million strips: exact to a few %
+    assert strip_tail.MODEL_BAND[0] <= 0 and stronger - 1 < strip_tail.MODEL_BAND[1]
+    kw = dict(relative_humidity=[0.5], beam_length=[200e-6], n=n, n_accurate=240, n_tail=12,
+              n_combinations=10_000, n_boot=12, target_cv=None)
+    logs, missed = [], 0
+    for s in range(4):
+        r = np.random.default_rng(100 + s)
+        _box_sampler(monkeypatch, r.gamma(4.0, 1.0, n), r.uniform(0.55, 1.05, n), scale)
+        full = rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), seed=s, **kw)
+        c = full.isel(rh=0, beam_length=0)
+        assert float(c.stiction_probability_model_lower) <= float(c.stiction_probability_lower)
+        assert float(c.stiction_probability_upper) <= float(c.stiction_probability_model_upper)
+        assert float(c.stiction_probability_model_lower) <= exact <= float(c.stiction_probability_model_upper)
+        missed += not float(c.stiction_probability_lower) <= exact <= float(c.stiction_probability_upper)
+        logs.append(np.log(float(c.stiction_probability) / exact))
+        if s == 0:  # a band of zero is the sampling interval, and the band leaves the estimate as it is
+            z = rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), seed=s, model_band=(0.0, 0.0),
+                                                    **kw).isel(rh=0, beam_length=0)
+            assert float(z.stiction_probability) == float(c.stiction_probability)
+            assert float(z.stiction_probability_model_upper) == float(z.stiction_probability_upper)
+            assert float(z.stiction_probability_model_lower) == float(z.stiction_probability_lower)
+            x = rs.stiction.crossing_humidity(full, probability=1e-3).isel(beam_length=0)
+            # one humidity, P above 1e-3 at it in every bound but the lower ones: crossed before it
+            assert float(x.crossing_humidity_model_lower) <= float(x.crossing_humidity_lower)
+            assert float(x.crossing_humidity_upper) <= float(x.crossing_humidity_model_upper)
+    assert np.mean(logs) < -0.3  # the composed law's answer is low: the band, not the sampling, covers it
+    assert missed >= 1
+
+
+@pytest.mark.parametrize("band", [(0.01, 0.05), (-0.01, -0.002), (-1.5, 0.1), ("a", 1), (0.1,)])
+def test_a_model_band_that_is_not_below_and_above_is_refused(band):
+    with pytest.raises(ValueError, match="model_band"):
+        rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), relative_humidity=[0.8],
+                                            beam_length=[250e-6], n=96, model_band=band)
