@@ -154,8 +154,8 @@ def strip_ccdf(cheap: xr.DataArray, thresholds, *, subzones: int, accurate: xr.D
         Level of the interval.
     tilt_to : array-like, optional
         The Γ values the importance sampling aims its tilts at (as ``thresholds``; default
-        ``thresholds``): the estimates at thresholds near them, but not among them, stay unbiased
-        and are as precise.
+        ``thresholds``): any proposal leaves the estimates unbiased, and those at thresholds near
+        the aimed ones are about as precise.
 
     Returns
     -------
