@@ -209,30 +209,51 @@ def seeds(args):
               f"other seeds' mean {covered}/{p.size}")
 
 
-def _seed_laws(folder, rh, n_pairs):
-    """The seeds' cached laws at ``rh`` (``seeds --cache``): per seed the cheap and accurate laws of
-    the random pairs and of the tail's sub-zones, and the distance grid."""
+def _cached_seeds(folder, rh):
+    """The laws ``seeds --cache`` kept, per seed at ``rh``: (seed, cheap, accurate), each over
+    ``(realization, distance)``: the Eq. 16 laws of all the seed's sub-zones and the fft_bem laws
+    of every sub-zone it ran on (each once, its index the realization coordinate)."""
     import glob
 
-    out = []
-    for s in range(1000, 1000 + 1000):
-        files = {m: glob.glob(os.path.join(folder, f"{m}_{s}_*.nc")) for m in ("modified_dmt", "fft_bem")}
+    for s in range(1000, 2000):
+        files = {m: sorted(glob.glob(os.path.join(folder, f"{m}_{s}_*.nc"))) for m in ("modified_dmt", "fft_bem")}
         if not files["fft_bem"]:
-            break
-        pick = {}
+            return
+        got = {m: [] for m in files}
         for m, fs in files.items():
             for f in fs:
                 with xr.open_dataarray(f) as a:
                     if a.sizes.get("rh") == 1 and abs(float(a.rh[0]) - rh) < 1e-9:
-                        pick[m] = a.load()
-        if len(pick) < 2:
+                        got[m].append(a.isel(rh=0).transpose("realization", "distance").load())
+        if not got["modified_dmt"] or not got["fft_bem"]:
             continue
-        d = pick["modified_dmt"].distance.values
-        pc = pick["modified_dmt"].isel(rh=0).transpose("realization", "distance").values
-        pa = pick["fft_bem"].isel(rh=0).transpose("realization", "distance").values
-        idx = pick["fft_bem"].realization.values
-        pairs = idx < n_pairs
-        out.append((pc[idx[pairs]], pa[pairs], pc[idx[~pairs]], pa[~pairs], d))
+        cheap = max(got["modified_dmt"], key=lambda a: a.sizes["realization"])
+        acc = xr.concat(got["fft_bem"], "realization")
+        acc = acc.isel(realization=np.unique(acc.realization.values, return_index=True)[1])
+        yield s, cheap, acc
+
+
+def _tail_set(cheap, n_pairs, n_tail):
+    """The indices of a seed's tail set: its ``n_tail`` sub-zones of largest Eq. 16 Γ beyond its
+    first ``n_pairs`` (the random pairs), as the estimator picks them."""
+    from roughstick.stiction._strip_hybrid import _gamma
+
+    g = _gamma(cheap.values, cheap.distance.values)
+    g[:n_pairs] = -np.inf
+    return np.sort(np.argsort(-g, kind="stable")[:n_tail])
+
+
+def _seed_laws(folder, rh, n_pairs, n_tail):
+    """Per seed with the fft_bem laws of its pairs and tail set at ``rh``: the cheap and accurate
+    laws of the ``n_pairs`` random pairs and of the tail set, and the distance grid."""
+    out = []
+    for _, cheap, acc in _cached_seeds(folder, rh):
+        pairs, tail = np.arange(n_pairs), _tail_set(cheap, n_pairs, n_tail)
+        if not np.isin(np.concatenate([pairs, tail]), acc.realization.values).all():
+            continue
+        pc, pa = (x.values for x in (cheap.isel(realization=pairs), acc.sel(realization=pairs)))
+        tc, ta = (x.values for x in (cheap.isel(realization=tail), acc.sel(realization=tail)))
+        out.append((pc, pa, tc, ta, cheap.distance.values))
     return out
 
 
@@ -251,7 +272,7 @@ def composition(args):
         _residual_pool,
         _with_residual,
     )
-    seeds = _seed_laws(args.cache, args.rh, args.n_accurate)
+    seeds = _seed_laws(args.cache, args.rh, args.n_accurate, args.n_tail)
     if len(seeds) < 3:
         raise SystemExit(f"composition needs the laws of >= 3 seeds at RH {args.rh} in --cache (run `seeds --rh "
                          f"{args.rh} --cache DIR` first); found {len(seeds)}")
@@ -427,13 +448,10 @@ def replicates(args):
     pooled (they are random sub-zones of the same PSD, so each set is a new sample of pairs); and
     the pairs' share alone, seed 0's sub-zones with each set. The true cv and the reported one of
     the 200 µm beam's P(stuck), as in ``seeds``."""
-    import glob
-
     from roughstick.stiction.strip_tail import (
         PAPER_CANTILEVER,
         TARGET_MARGIN,
         _beam_probability,
-        _gamma,
         _patch_thresholds,
         _short_of_target,
     )
@@ -441,19 +459,9 @@ def replicates(args):
     n_pairs, z = args.n_accurate, 1.959963984540054
     n_own = args.pool_pairs or n_pairs  # the pairs each seed gives to the pool
     seeds = []
-    for s in range(1000, 2000):
-        files = {m: glob.glob(os.path.join(args.cache, f"{m}_{s}_*.nc")) for m in ("modified_dmt", "fft_bem")}
-        if not files["fft_bem"]:
-            break
-        laws = {m: xr.concat([xr.open_dataarray(f).load() for f in fs], "realization") if m == "fft_bem"
-                else xr.open_dataarray(fs[0]).load() for m, fs in files.items()}
-        c, a = (laws[m].sel(rh=[args.rh], method="nearest").isel(rh=0).transpose("realization", "distance")
-                for m in ("modified_dmt", "fft_bem"))
-        a = a.isel(realization=np.unique(a.realization.values, return_index=True)[1])
-        g = _gamma(c.values, c.distance.values)
-        g[:n_own] = -np.inf
-        tail = np.sort(np.argsort(-g, kind="stable")[:args.n_tail])
-        if np.isin(np.arange(n_own), a.realization.values).all() and np.isin(tail, a.realization.values).all():
+    for _, c, a in _cached_seeds(args.cache, args.rh):
+        tail = _tail_set(c, n_own, args.n_tail)
+        if np.isin(np.concatenate([np.arange(n_own), tail]), a.realization.values).all():
             seeds.append((c, a, tail))
     if not seeds:
         raise SystemExit(f"no seed in {args.cache} holds fft_bem laws of {n_own} pairs and of its tail set: "
@@ -512,8 +520,6 @@ def replicates(args):
 
 def whole(args):
     """``fft_bem`` on whole strips of cached pair sub-zones against their composed ``fft_bem`` law."""
-    import glob
-
     from bench_zone_size import seam_roll
 
     from roughstick.contact.adhesion import summary_kernel
@@ -521,27 +527,12 @@ def whole(args):
 
     psd = rs.datasets.family_psd("table4")
     rows, d = [], None  # (seed, index, Eq. 16 Γ, fft_bem law) of every cached pair
-    for s in range(1000, 2000):
-        files = {m: sorted(glob.glob(os.path.join(args.cache, f"{m}_{s}_*.nc"))) for m in ("modified_dmt", "fft_bem")}
-        if not files["fft_bem"]:
-            break
-        acc, cheap = [], None
-        for m, fs in files.items():
-            for f in fs:
-                with xr.open_dataarray(f) as a:
-                    if a.sizes.get("rh") == 1 and abs(float(a.rh[0]) - args.rh) < 1e-9:
-                        if m == "fft_bem":
-                            acc.append(a.isel(rh=0).load())
-                        else:
-                            cheap = a.isel(rh=0).load()
-        if cheap is None or not acc:
-            continue
-        acc = xr.concat(acc, "realization")
+    for s, cheap, acc in _cached_seeds(args.cache, args.rh):
         acc = acc.isel(realization=np.flatnonzero(acc.realization.values < args.n_accurate))
         d = cheap.distance.values
-        pc = cheap.sel(realization=acc.realization).transpose("realization", "distance").values
+        pc = cheap.sel(realization=acc.realization).values
         g = _gamma(pc, d)
-        pa = acc.transpose("realization", "distance").values
+        pa = acc.values
         rows += [(s, int(k), float(g[i]), pa[i]) for i, k in enumerate(acc.realization.values)]
     if len(rows) < 48:
         raise SystemExit(f"whole needs the seeds' cached pairs at RH {args.rh} in --cache (run `seeds --rh {args.rh} "
