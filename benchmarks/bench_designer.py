@@ -13,6 +13,7 @@ recombination of the sub-zone laws, the accurate model through the pairs' strip 
     python benchmarks/bench_designer.py composition --rh 0.77 --cache DIR  # the hybrid on strong strips, across seeds
     python benchmarks/bench_designer.py replicates --rh 0.77 --cache DIR   # true cv over pooled-pair replicates
     python benchmarks/bench_designer.py whole --rh 0.77 --cache DIR        # fft_bem on whole strong strips
+    python benchmarks/bench_designer.py whole --rh 0.77 --family S1 --fresh 480  # the same on another PSD
 
 ``cohesive`` draws beams from one bank of the strips' pressure laws (Eq. 16, composed of the
 sub-zones) and releases each twice, as a sharp front on the strips' Γ and as the cohesive
@@ -40,7 +41,9 @@ sides: strips of 12 of the seeds' pair sub-zones (drawn from the strongest quart
 Γ, every third strip from all of them), each sub-zone regenerated from its seed and index and
 rolled so that its edges avoid its tallest summits (a periodic sub-zone's law does not change),
 laid side by side and solved whole by ``fft_bem`` (about 5 min per strip at one RH on the 2-core
-machine), against the composed law of the same sub-zones' cached ``fft_bem`` laws.
+machine), against the composed law of the same sub-zones' cached ``fft_bem`` laws. With
+``--fresh N`` it draws N sub-zones of ``--family``'s PSD itself instead (Eq. 16 on all of them to
+find the strongest quarter, ``fft_bem`` on those a strip picks): the model band on another PSD.
 """
 
 from __future__ import annotations
@@ -518,31 +521,70 @@ def replicates(args):
               f"others' mean {cov}/{p.size}", flush=True)
 
 
+def _fresh_subzones(psd, rh, n, seed):
+    """``n`` sub-zones of 524 × 500 px at 5 nm drawn with ``seed``: (seed, index, Eq. 16 Γ, None)
+    of each (its fft_bem law computed when a strip picks it), and the distance grid."""
+    from roughstick.stiction import strip_tail
+    from roughstick.stiction._strip_hybrid import _gamma
+
+    from roughstick.stiction.zone import _callable_m0
+
+    shape = (524, 500)
+    grid_psd = {"psd": psd} if isinstance(psd, xr.DataArray) else {"m0": _callable_m0(psd, shape, 5e-9)}
+    d = np.asarray(rs.ensemble.distance_grid(**grid_psd, shape=shape, n=n, relative_humidity=[rh],
+                                             adsorbed_layer="paper").values, dtype=float)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        cheap = strip_tail._subzone_laws(psd, [rh], n, 0, shape, 5e-9, "modified_dmt", seed, d, "threads", None)
+    g = _gamma(cheap.isel(rh=0).transpose("realization", "distance").values, d)
+    return [(seed, k, float(g[k]), None) for k in range(n)], d
+
+
 def whole(args):
-    """``fft_bem`` on whole strips of cached pair sub-zones against their composed ``fft_bem`` law."""
+    """``fft_bem`` on whole strips of sub-zones against their composed ``fft_bem`` law: the
+    seeds' cached pairs (``--cache``, Table 4) or ``--fresh N`` sub-zones of ``--family`` drawn
+    here."""
     from bench_zone_size import seam_roll
 
     from roughstick.contact.adhesion import summary_kernel
+    from roughstick.stiction import strip_tail
     from roughstick.stiction._strip_hybrid import _gamma
 
-    psd = rs.datasets.family_psd("table4")
-    rows, d = [], None  # (seed, index, Eq. 16 Γ, fft_bem law) of every cached pair
-    for s, cheap, acc in _cached_seeds(args.cache, args.rh):
-        acc = acc.isel(realization=np.flatnonzero(acc.realization.values < args.n_accurate))
-        d = cheap.distance.values
-        pc = cheap.sel(realization=acc.realization).values
-        g = _gamma(pc, d)
-        pa = acc.values
-        rows += [(s, int(k), float(g[i]), pa[i]) for i, k in enumerate(acc.realization.values)]
+    psd = rs.datasets.family_psd(args.family)
+    rows, d = [], None  # (seed, index, Eq. 16 Γ, fft_bem law) of every candidate sub-zone
+    if args.fresh:
+        rows, d = _fresh_subzones(psd, args.rh, args.fresh, args.seed + 1000)
+        what = f"{len(rows)} {args.family} sub-zones drawn with seed {args.seed + 1000}"
+    else:
+        if args.family != "table4":
+            raise SystemExit("the seeds' cached laws are Table 4's: pass --fresh N for another --family")
+        for s, cheap, acc in _cached_seeds(args.cache, args.rh):
+            acc = acc.isel(realization=np.flatnonzero(acc.realization.values < args.n_accurate))
+            d = cheap.distance.values
+            pc = cheap.sel(realization=acc.realization).values
+            g = _gamma(pc, d)
+            pa = acc.values
+            rows += [(s, int(k), float(g[i]), pa[i]) for i, k in enumerate(acc.realization.values)]
+        what = f"{len(rows)} cached pairs of {len({r[0] for r in rows})} seeds"
     if len(rows) < 48:
         raise SystemExit(f"whole needs the seeds' cached pairs at RH {args.rh} in --cache (run `seeds --rh {args.rh} "
-                         f"--cache DIR` first); found {len(rows)}")
+                         f"--cache DIR` first) or --fresh N (N >= 48); found {len(rows)}")
+
+    def accurate_law(i):
+        if rows[i][3] is None:  # a fresh sub-zone: its fft_bem law now, once
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)
+                law = strip_tail._subzone_laws(psd, [args.rh], 0, 0, shape, 5e-9, "fft_bem", rows[i][0], d,
+                                               "threads", None, index=[rows[i][1]])
+            rows[i] = rows[i][:3] + (law.isel(rh=0, realization=0).values,)
+        return rows[i][3]
+
     g16 = np.array([r[2] for r in rows])
     strong = np.flatnonzero(g16 >= np.quantile(g16, 0.75))
     rng = np.random.default_rng(args.seed)
     shape, m = (524, 500), 12
-    print(f"RH {args.rh}: {len(rows)} cached pairs of {len({r[0] for r in rows})} seeds; strips of {m} side by side, "
-          f"fft_bem whole (max_iterations {args.max_iterations}) against the composed law of the same sub-zones", flush=True)
+    print(f"RH {args.rh}: {what}; strips of {m} side by side, fft_bem whole (max_iterations "
+          f"{args.max_iterations}) against the composed law of the same sub-zones", flush=True)
     out = {"strong": [], "random": []}
     try:
         for j in range(args.strips):
@@ -572,7 +614,7 @@ def whole(args):
             deq = summary_kernel(law[None], np.zeros((1, d.size)), d)[2][0]
             bad = res >= 1e-2
             bad_in = int(np.sum(bad & (d >= d[max(np.searchsorted(d, deq) - 1, 0)])))
-            gc = float(_gamma(np.mean([rows[i][3] for i in pick], axis=0)[None], d)[0])
+            gc = float(_gamma(np.mean([accurate_law(i) for i in pick], axis=0)[None], d)[0])
             out[kind].append(math.log(gd / gc))
             print(f"  strip {j:2d} ({kind:6}): whole {gd * 1e3:7.4f}  composed {gc * 1e3:7.4f} mJ/m2  "
                   f"whole/composed {gd / gc:.4f}  states not converged {int(bad.sum())}/{res.size} ({bad_in} "
@@ -615,6 +657,9 @@ def main():
                     "(default --n-accurate; sets of --n-accurate are dealt from the pool)")
     ap.add_argument("--max-iterations", type=int, default=500, help="whole: fft_bem's max_iterations")
     ap.add_argument("--strips", type=int, default=9, help="whole: strips solved whole by fft_bem")
+    ap.add_argument("--family", default="table4", help="whole: the surface family's PSD (with --fresh)")
+    ap.add_argument("--fresh", type=int, default=0, help="whole: draw this many sub-zones here (Eq. 16 on all, "
+                                                         "fft_bem on those a strip picks) instead of --cache")
     ap.add_argument("--slope", type=float, default=27.0, help="whole: d log P / d log Γ of the tail at the "
                     "binding threshold (25-28 measured at 77 %% RH), to print what a bias in Γ does to P")
     args = ap.parse_args()
