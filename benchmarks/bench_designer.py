@@ -451,10 +451,10 @@ def replicates(args):
     pooled (they are random sub-zones of the same PSD, so each set is a new sample of pairs); and
     the pairs' share alone, seed 0's sub-zones with each set. The true cv and the reported one of
     the 200 µm beam's P(stuck), as in ``seeds``."""
+    from roughstick.stiction._strip_answer import _beam_probability
     from roughstick.stiction.strip_tail import (
         PAPER_CANTILEVER,
         TARGET_MARGIN,
-        _beam_probability,
         _patch_thresholds,
         _short_of_target,
     )
@@ -526,7 +526,6 @@ def _fresh_subzones(psd, rh, n, seed):
     of each (its fft_bem law computed when a strip picks it), and the distance grid."""
     from roughstick.stiction import strip_tail
     from roughstick.stiction._strip_hybrid import _gamma
-
     from roughstick.stiction.zone import _callable_m0
 
     shape = (524, 500)

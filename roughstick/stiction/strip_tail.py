@@ -47,12 +47,18 @@ import xarray as xr
 from scipy.stats import norm
 
 from .._core.arguments import check_numbers
-from .._core.conventions import append_history, set_attrs
+from .._core.conventions import append_history
 from .._core.validate import relative_humidity_array
 from ..contact import curves as contact_curves
 from ..contact.adhesion import summary_kernel
 from ..ensemble.pipeline import distance_grid
 from ..surface import generate_surfaces
+from ._strip_answer import (
+    MODEL_BAND,  # noqa: F401  (the route's default band: strip_tail.MODEL_BAND)
+    _model_band,
+    _patch_thresholds,
+    _stuck_dataset,
+)
 from ._strip_hybrid import (
     RATIO_BRACKET,
     _compose,
@@ -376,27 +382,6 @@ def _assemble(out, cheap, thr, m, acc, confidence, n_comb, n_boot):
     return ds
 
 
-def _patch_thresholds(lengths, beam, patch_length):
-    """The thresholds K/x_{j+1}^4 of every patch of every beam (Eq. 36), as one sorted array and,
-    per beam, the indices of its patches in it."""
-    per = []
-    for length in lengths:
-        hi = np.minimum((np.arange(int(np.ceil(length / patch_length - 1e-9))) + 1) * patch_length, length)
-        per.append(beam.stiffness_term / hi**4)
-    allt = np.unique(np.concatenate(per))
-    return allt, [np.searchsorted(allt, t) for t in per]
-
-
-def _beam_probability(est, sd, patches):
-    """P(stuck) = 1 - prod_j (1 - C_j) over a beam's patches, and its sd bounded as if the C_j
-    were fully correlated (they are nested exceedances of one estimate): sum_j g_j sd_j."""
-    c, s = np.clip(est[patches], 0.0, 1.0), sd[patches]
-    p = float(-np.expm1(np.sum(np.log1p(-np.minimum(c, 1.0 - 1e-16))))) + 0.0  # no -0.0
-    keep = np.prod(1.0 - c)
-    g = np.where(c < 1, keep / np.maximum(1.0 - c, 1e-300), 0.0)
-    return p, float(np.sum(g * s))
-
-
 def _subzone_laws(psd, rh, n, start, shape, spacing, model, seed, distance, scheduler, workers, layer="paper",
                   index=None, material=None):
     """Pressure of sub-zones ``start ... n-1`` (or of ``index``) of the seed's realizations on one
@@ -602,31 +587,6 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     return out
 
 
-#: Relative error of a strip's Γ from the strips route's models, (below, above), measured on the
-#: Table 4 PSD at 77 % RH: whole 524 × 6000 px strips solved by fft_bem hold 0.75 % [−0.1, +1.6]
-#: more than their composed law on strong strips (+2.8 % [+1.5, +4.1] on random ones; the
-#: composition leaves out the sub-zones' elastic interaction), the two-fidelity hybrid puts
-#: unseen strong strips 0.8-1.3 % below their fft_bem Γ, and fft_bem itself agrees with an
-#: independent boundary-element solver to 0.4 %. On the S1 PSD whole strips hold 0.41 %
-#: [0.20, 0.61] more than their composed law on strong strips.
-MODEL_BAND = (-0.005, 0.045)
-
-
-def _model_band(band, two_fidelities):
-    """The model band as (below, above) relative errors, None where there is none."""
-    if band is None:
-        return MODEL_BAND if two_fidelities else None
-    try:
-        lo, hi = (float(v) for v in band)
-    except (TypeError, ValueError):
-        raise ValueError(f"model_band must be two relative errors of the strips' Γ, (below, above), e.g. "
-                         f"model_band={MODEL_BAND}; got {band!r}") from None
-    if not (math.isfinite(lo) and math.isfinite(hi) and -1 < lo <= 0 <= hi):
-        raise ValueError(f"model_band={band!r}: pass (below, above) with -1 < below <= 0 <= above, e.g. "
-                         f"model_band={MODEL_BAND} (relative errors of the strips' Γ)")
-    return lo, hi
-
-
 #: The smallest P(stuck) whose cv ``target_cv`` holds :func:`strip_stuck_probability` to.
 TARGET_FLOOR = 1e-6
 
@@ -686,75 +646,3 @@ def _needs_accurate(cheap, allt, per_beam, m, seed):
             p_lo = -np.expm1(np.sum(np.log1p(-np.minimum(lo[patches], 1 - 1e-16))))
             need[k] |= (p_hi > 0) and (p_lo < 1 - 1e-9)
     return need
-
-
-def _beam_rows(ccdf, k, block, per_beam, z):
-    """P(stuck), its sd and interval per beam at humidity ``k`` from one block of the ccdf's
-    thresholds (``block`` slices the patch thresholds of that block)."""
-    est = ccdf["exceedance_probability"].values[k][block]
-    sd = np.where(est > 0, np.nan_to_num(ccdf["coefficient_of_variation"].values[k][block]) * est, 0.0)
-    rows = []
-    for patches in per_beam:
-        p, s = _beam_probability(est, sd, patches)
-        cv = s / p if p > 0 else np.nan
-        lo = p * math.exp(-min(z * cv, 700.0)) if p > 0 else 0.0
-        hi = min(1.0, p * math.exp(min(z * cv, 700.0))) if p > 0 else np.nan
-        rows.append((p, cv, lo, hi))
-    return np.array(rows)
-
-
-def _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, band=None):
-    z = float(norm.ppf(0.5 + confidence / 2))
-    shape = (rh.size, lengths.size)
-    base = slice(0, allt.size)
-    p, lo, hi, cv, pair_cv, beyond, margin = (np.zeros(shape) for _ in range(7))
-    model_lo, model_hi = np.full(shape, np.nan), np.full(shape, np.nan)
-    for k in range(rh.size):
-        rows = _beam_rows(ccdf, k, base, per_beam, z)
-        p[k], cv[k], lo[k], hi[k] = rows.T
-        est = ccdf["exceedance_probability"].values[k][base]
-        sd_pairs = np.where(est > 0, np.nan_to_num(ccdf["emulator_cv"].values[k][base]) * est, 0.0)
-        top = float(ccdf["largest_strip_energy"].values[k])
-        for b, patches in enumerate(per_beam):
-            margin[k, b] = float(allt[patches].min()) / top if top > 0 else np.inf
-            beyond[k, b] = p[k, b] == 0
-            pair_cv[k, b] = _beam_probability(est, sd_pairs, patches)[1] / p[k, b] if p[k, b] > 0 else np.nan
-        if band is not None:
-            # the strips' Γ scaled by (1 + band[1]) (thresholds allt / (1 + band[1])) and by (1 + band[0])
-            model_hi[k] = _beam_rows(ccdf, k, slice(allt.size, 2 * allt.size), per_beam, z)[:, 3]
-            model_lo[k] = _beam_rows(ccdf, k, slice(2 * allt.size, 3 * allt.size), per_beam, z)[:, 2]
-            # the band holds the sampling interval (exceedance is monotone in the threshold; the
-            # bounds' cvs are estimated separately and may not be)
-            model_lo[k] = np.fmin(model_lo[k], lo[k])
-            model_hi[k] = np.where(np.isnan(model_hi[k]), np.nan, np.fmax(model_hi[k], hi[k]))
-    dims = ("rh", "beam_length")
-    ds = xr.Dataset({
-        "stiction_probability": (dims, p, {"units": "1", "long_name": "P(stuck), sharp front on the beam's strips",
-                                           "comment": "S-shaped stiction of the sharp front (Eq. 36); beams the "
-                                                      "cohesive beam leaves as arcs held by the tip are not counted"}),
-        "stiction_probability_lower": (dims, lo, {"units": "1", "long_name": "lower bound of P(stuck)"}),
-        "stiction_probability_upper": (dims, hi, {"units": "1", "long_name": "upper bound of P(stuck) (NaN beyond reach)"}),
-        "coefficient_of_variation": (dims, cv, {"units": "1", "long_name": "coefficient of variation of P(stuck)"}),
-        "emulator_cv": (dims, pair_cv, {"units": "1", "long_name": "its part from the random pairs' ratios"}),
-        "beyond_reach": (dims, beyond.astype(bool), {"units": "1", "long_name": "no combination of the sample fails"}),
-        "reach_margin": (dims, margin, {"units": "1", "long_name": "threshold over the largest strip Γ found"}),
-    }, coords={"rh": rh, "beam_length": ("beam_length", lengths, {"units": "m"})})
-    if band is not None:
-        ds["stiction_probability_model_lower"] = (dims, model_lo, {
-            "units": "1", "long_name": "lower bound of P(stuck), sampling and model band",
-            "comment": f"lower bound of P(stuck) with every strip's Γ scaled by {1 + band[0]:g}"})
-        ds["stiction_probability_model_upper"] = (dims, model_hi, {
-            "units": "1", "long_name": "upper bound of P(stuck), sampling and model band (NaN beyond reach)",
-            "comment": f"upper bound of P(stuck) with every strip's Γ scaled by {1 + band[1]:g}"})
-    first = [patches[np.argmin(allt[patches])] for patches in per_beam]
-    for v in ("effective_subzones", "few_subzones", "accurate_share"):
-        ds[v] = (dims, ccdf[v].values[:, first], ccdf[v].attrs)
-    for v in ("accurate_ratio", "ratio_check_rms_z", "ratio_check_within_2sd", "ratio_check_strips"):
-        ds[v] = ccdf[v].assign_coords(rh=rh)
-    ds["rh"].attrs = set_attrs(ds["rh"], "rh").attrs
-    ds["beam_length"].attrs.update(long_name="beam length")
-    ds.attrs.update(confidence=float(confidence), estimator=ccdf.attrs["estimator"],
-                    model="sharp_front", references="paper Eq. 13, Eq. 36, §5.2 (zone Δs × w)")
-    if band is not None:
-        ds.attrs["model_band"] = [float(band[0]), float(band[1])]
-    return ds

@@ -260,7 +260,7 @@ def test_a_subzone_the_accurate_model_saw_keeps_its_accurate_energy_in_the_hybri
 def test_a_threshold_every_strip_exceeds_gives_a_probability_of_at_most_one():
     # the importance weights average 1 only in expectation: seeds 1-3 gave 1.004-1.019 before the
     # estimate was bounded, and a beam whose every patch is certain must be stuck with P = 1, cv >= 0
-    from roughstick.stiction.strip_tail import _beam_probability
+    from roughstick.stiction._strip_answer import _beam_probability
     a = np.random.default_rng(0).gamma(K, THETA, 400)
     for s in range(1, 4):
         c = rs.stiction.strip_ccdf(_laws(a), [1e-6, 2.5e-4], subzones=M, n_combinations=4000, n_boot=2, seed=s)
