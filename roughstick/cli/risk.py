@@ -25,6 +25,7 @@ from ..paper import cantilever as figures
 from ..plotting.save import save_figure
 from ..reliability.surface import ARTEFACT_RATIO
 from ..stiction.interaction_zone import TABLE4
+from ..stiction.strip_tail import MODEL_BAND, model_band_problem
 from ._common import (
     LOG,
     add_figure_options,
@@ -103,9 +104,10 @@ def load_risk_config(path) -> dict:
             problems.append(f"[risk] model = {r['model']!r}: method = 'strips' runs 'auto' (Eq. 16 corrected "
                             "by fft_bem), 'modified_dmt' or 'fft_bem'")
         band = r.get("model_band")
-        if band is not None and not (len(band) == 2 and -1 < band[0] <= 0 <= band[1]):
-            problems.append(f"[risk] model_band = {list(band)}: give [below, above], relative errors of the strips' "
-                            "Γ with -1 < below <= 0 <= above, e.g. model_band = [-0.005, 0.045]")
+        problem = None if band is None else model_band_problem(band)
+        if problem is not None:
+            problems.append(f"[risk] model_band = {list(band)}: {problem.replace('(below, above)', '[below, above]')}, "
+                            f"e.g. model_band = {list(MODEL_BAND)}")
     elif r["method"] != "count":
         if "shape" not in c["surface"]:
             problems.append(f"[risk] method = {r['method']!r} evaluates one zone per model call and the "

@@ -21,19 +21,25 @@ from .._core.conventions import set_attrs
 MODEL_BAND = (-0.005, 0.045)
 
 
+def model_band_problem(band):
+    """What is wrong with a model band, (below, above) relative errors of the strips' Γ, as a
+    sentence ending in the rule it breaks; None where it is a band (``-1 < below <= 0 <= above``)."""
+    rule = "give (below, above), two relative errors of the strips' Γ with -1 < below <= 0 <= above"
+    try:
+        lo, hi = (float(v) for v in band)
+    except (TypeError, ValueError):
+        return rule
+    return None if math.isfinite(lo) and math.isfinite(hi) and -1 < lo <= 0 <= hi else rule
+
+
 def _model_band(band, two_fidelities):
     """The model band as (below, above) relative errors, None where there is none."""
     if band is None:
         return MODEL_BAND if two_fidelities else None
-    try:
-        lo, hi = (float(v) for v in band)
-    except (TypeError, ValueError):
-        raise ValueError(f"model_band must be two relative errors of the strips' Γ, (below, above), e.g. "
-                         f"model_band={MODEL_BAND}; got {band!r}") from None
-    if not (math.isfinite(lo) and math.isfinite(hi) and -1 < lo <= 0 <= hi):
-        raise ValueError(f"model_band={band!r}: pass (below, above) with -1 < below <= 0 <= above, e.g. "
-                         f"model_band={MODEL_BAND} (relative errors of the strips' Γ)")
-    return lo, hi
+    problem = model_band_problem(band)
+    if problem is not None:
+        raise ValueError(f"model_band={band!r}: {problem}, e.g. model_band={MODEL_BAND}")
+    return tuple(float(v) for v in band)
 
 
 def _patch_thresholds(lengths, beam, patch_length):

@@ -58,6 +58,7 @@ from ._strip_answer import (
     _model_band,
     _patch_thresholds,
     _stuck_dataset,
+    model_band_problem,  # noqa: F401  (the band's rule, for the CLI's config check)
 )
 from ._strip_hybrid import (
     RATIO_BRACKET,

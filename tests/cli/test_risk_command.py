@@ -262,3 +262,20 @@ def test_risk_answers_on_the_beams_zone_and_warns_with_the_cost_of_a_smaller_one
     got = rs.io.open_dataset(tmp_path / "out" / "risk.nc")
     assert list(got.attrs["zone_shape"]) == [128, 128] and "135 at 50 %" in got.attrs["zone_size_bias"]
     assert "P(stuck) of a zone of 128 x 128 px" in captured.out
+
+
+@pytest.mark.parametrize("band", ["[0.01, 0.05]", "[-0.01, -0.002]", "[-1.5, 0.1]", "[0.1]"])
+def test_cli_risk_refuses_a_model_band_that_is_not_below_and_above(tmp_path, band):
+    """The config's band is checked by the library's rule before any work, and the message names
+    the key and a band to copy."""
+    from roughstick.cli._config import ConfigError
+    from roughstick.cli.risk import load_risk_config
+
+    cfg = tmp_path / "r.toml"
+    cfg.write_text(f'[risk]\nmethod = "strips"\nmodel_band = {band}\n')
+    with pytest.raises(ConfigError, match=r"\[risk\] model_band = .*below <= 0 <= above.*"
+                                          r"e\.g\. model_band = \[-0\.005, 0\.045\]"):
+        load_risk_config(cfg)
+    with pytest.raises(ValueError, match=r"model_band=.*below <= 0 <= above"):
+        rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), relative_humidity=[0.8],
+                                            beam_length=[250e-6], n=96, model_band=eval(band))
