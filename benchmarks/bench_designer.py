@@ -619,18 +619,27 @@ def whole(args):
                   f"whole/composed {gd / gc:.4f}  states not converged {int(bad.sum())}/{res.size} ({bad_in} "
                   "of them at or beyond the equilibrium)  "
                   f"{time.perf_counter() - t:.0f} s", flush=True)
-    except KeyboardInterrupt:  # kill -INT: the summary of the strips done
+            if j + 1 < args.strips:  # so far: a run killed during a strip's solve keeps its summary
+                _whole_summary(out, args.slope, prefix="    so far, ")
+    except KeyboardInterrupt:  # kill -INT between strips: the summary of the strips done
         print(f"stopped after {sum(map(len, out.values()))} strips")
+    _whole_summary(out, args.slope)
+
+
+def _whole_summary(out, slope, prefix=""):
+    """Mean log(whole/composed) per kind of strip with its 95 % Student interval, and the factor
+    it makes on P near the threshold."""
+    from scipy.stats import t as student
+
     for kind, v in out.items():
         v = np.array(v)
         if v.size < 2:
             continue
-        from scipy.stats import t as student
         half = student.ppf(0.975, v.size - 1) * v.std(ddof=1) / math.sqrt(v.size)
-        print(f"{kind} strips: mean log(whole/composed) {v.mean():+.4f} [{v.mean() - half:+.4f}, {v.mean() + half:+.4f}]"
-              f" (95 %), sd {v.std(ddof=1):.4f}, n {v.size}; P near the threshold moves as exp({args.slope:g} dΓ/Γ): "
-              f"a factor {math.exp(args.slope * v.mean()):.2f} [{math.exp(args.slope * (v.mean() - half)):.2f}, "
-              f"{math.exp(args.slope * (v.mean() + half)):.2f}]")
+        print(f"{prefix}{kind} strips: mean log(whole/composed) {v.mean():+.4f} [{v.mean() - half:+.4f}, "
+              f"{v.mean() + half:+.4f}] (95 %), sd {v.std(ddof=1):.4f}, n {v.size}; P near the threshold moves as "
+              f"exp({slope:g} dΓ/Γ): a factor {math.exp(slope * v.mean()):.2f} [{math.exp(slope * (v.mean() - half)):.2f}, "
+              f"{math.exp(slope * (v.mean() + half)):.2f}]", flush=True)
 
 
 def main():
