@@ -7,6 +7,7 @@ E 164 GPa), strips Δs × w = 2.62 × 30 µm at 5 nm composed of 12 sub-zones of
 recombination of the sub-zone laws, the accurate model through the pairs' strip ratio).
 
     python benchmarks/bench_designer.py table            # RH 0.60-0.85 x l 150-300 µm, crossing at 1e-3
+                                                         # (one more call at the crossings the grid interpolates)
     python benchmarks/bench_designer.py seeds --rh 0.75  # true cv and coverage over independent seeds
     python benchmarks/bench_designer.py convergence      # the 1e-3 crossing as zone, pixel, grid, model refine
     python benchmarks/bench_designer.py cohesive         # the sharp front against the cohesive beam, same strips
@@ -69,15 +70,72 @@ def _fmt(p, lo, hi):
     return f"{p:9.3g} [{lo:8.2g}, {hi:8.2g}]".ljust(30)
 
 
+def _crossings(r, level=1e-3):
+    """crossing_humidity of a strips result, a beyond-reach cell's missing upper bound taken as 0
+    (the crossing's lower end is then the first RH where the sample reaches failures)."""
+    fill = r.copy()
+    for v in ("stiction_probability_upper", "stiction_probability_model_upper"):
+        if v in fill:
+            fill[v] = fill[v].fillna(0.0)
+    return rs.stiction.crossing_humidity(fill, probability=level)
+
+
+def _refine_points(r, level=1e-3):
+    """Per beam length, the RH where its crossing of ``level`` lies by the grid's interpolation
+    (rounded to 0.001 and at least 0.001 from a grid point), where it lies inside the grid."""
+    grid = r.rh.values
+    x = _crossings(r, level).crossing_humidity.values
+    points = {}
+    for b, c in enumerate(x):
+        if not np.isfinite(c) or np.min(np.abs(grid - c)) < 1e-9:
+            continue
+        lo = grid[grid < c].max()
+        points[b] = float(np.clip(round(c, 3), lo + 1e-3, grid[grid > c].min() - 1e-3))
+    return points
+
+
+def _logit_between(r, b, rh):
+    """The estimate at ``rh`` interpolated linearly in logit P between its grid neighbours (nan next
+    to a 0 or a 1)."""
+    grid, p = r.rh.values, r.stiction_probability.isel(beam_length=b).values
+    k = np.searchsorted(grid, rh)
+    p0, p1 = p[k - 1], p[k]
+    if not (0 < p0 < 1 and 0 < p1 < 1):
+        return float("nan")
+    lg = np.interp(rh, grid[k - 1:k + 1], np.log(np.array([p0, p1]) / (1 - np.array([p0, p1]))))
+    return float(1 / (1 + np.exp(-lg)))
+
+
 def table(args):
     psd = rs.datasets.family_psd("table4")
+    kw = dict(beam_length=LENGTHS, n=args.n, n_accurate=args.n_accurate, n_tail=args.n_tail, seed=args.seed,
+              target_cv=args.target_cv, max_accurate=args.max_accurate,
+              **({} if args.n_accurate else {"accurate_model": None}))
     t = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
-        r = rs.stiction.strip_stuck_probability(psd, relative_humidity=RH, beam_length=LENGTHS, n=args.n,
-                                                n_accurate=args.n_accurate, n_tail=args.n_tail, seed=args.seed,
-                                                target_cv=args.target_cv, max_accurate=args.max_accurate)
+        r = rs.stiction.strip_stuck_probability(psd, relative_humidity=RH, **kw)
     wall = time.perf_counter() - t
+    refined = []  # (rh, wall, the refining call's attrs)
+    for _ in range(args.refine):  # one more call at the grid's crossings, so each rests on a point at it
+        points = _refine_points(r)
+        new = sorted(set(points.values()) - set(r.rh.values))
+        if not new:
+            break
+        t = time.perf_counter()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            r2 = rs.stiction.strip_stuck_probability(psd, relative_humidity=new, **kw)
+        w2 = time.perf_counter() - t
+        for b, rh in points.items():
+            k = int(np.flatnonzero(r2.rh.values == rh)[0])
+            c = r2.isel(rh=k, beam_length=b)
+            print(f"refined l = {LENGTHS[b] * 1e6:.0f} µm at RH {rh:.3f} (its 1e-3 crossing by the grid): the grid's "
+                  f"logit interpolation gives P {_logit_between(r, b, rh):.3g}, the call "
+                  f"{float(c.stiction_probability):.3g} [{float(c.stiction_probability_lower):.2g}, "
+                  f"{float(c.stiction_probability_upper):.2g}]", flush=True)
+        refined.append((new, w2, r2.attrs))
+        r = xr.concat([r, r2], dim="rh", data_vars="minimal", combine_attrs="override").sortby("rh")
     a = r.attrs
     print(f"Table 4, paper layer and beam; strips of {a['subzones']} sub-zones {a['subzone_shape']} at 5 nm; "
           f"{a['n_cheap_subzones']} Eq. 16 sub-zones ({a['cheap_zone_equivalents']:.0f} zone equivalents, "
@@ -86,13 +144,17 @@ def table(args):
           f"where needed: {args.n_accurate} random pairs, doubled where their ratios hold a beam's cv above "
           f"{rs.stiction.strip_tail.TARGET_MARGIN:g} x {a['target_cv']:g} at P >= "
           f"{rs.stiction.strip_tail.TARGET_FLOOR:g}")
-    n_acc_rh = int(r.accurate_model_run.sum())
+    n_acc_rh = int(r.accurate_model_run.sel(rh=RH).sum())
     print(f"wall {wall:.0f} s: Eq. 16 {a['seconds_cheap']:.0f} s (all RH), fft_bem {a['seconds_accurate']:.0f} s "
           f"({n_acc_rh} RH: {a['seconds_accurate'] / max(n_acc_rh, 1):.0f} s per RH), estimator "
           f"{a['seconds_estimator']:.0f} s")
+    for new, w2, a2 in refined:
+        print(f"refining call at RH {', '.join(f'{v:.3f}' for v in new)}: wall {w2:.0f} s: Eq. 16 "
+              f"{a2['seconds_cheap']:.0f} s, fft_bem {a2['seconds_accurate']:.0f} s, estimator "
+              f"{a2['seconds_estimator']:.0f} s")
     print(f"{'RH':>5} {'pairs':>7} {'eff.sub':>7} {'R(med)':>6}  " + "".join(
         f"{f'l = {length * 1e6:.0f} µm: P [95 %]  cv':>36}" for length in LENGTHS))
-    for k, rh in enumerate(RH):
+    for k, rh in enumerate(r.rh.values):
         row = r.isel(rh=k)
         ratio = float(row.accurate_ratio.sel(quantile=0.5)) if bool(row.accurate_model_run) else float("nan")
         cells = ""
@@ -100,10 +162,10 @@ def table(args):
             c = row.isel(beam_length=b)
             cells += "  " + _fmt(float(c.stiction_probability), float(c.stiction_probability_lower),
                                  float(c.stiction_probability_upper)) + f"{float(c.coefficient_of_variation):4.2f}"
-        print(f"{rh:5.2f} {int(row.random_pairs) if bool(row.accurate_model_run) else 'none':>7} "
+        print(f"{rh:5.3f} {int(row.random_pairs) if bool(row.accurate_model_run) else 'none':>7} "
               f"{float(row.effective_subzones.min()):7.0f} {ratio:6.2f}{cells}"
               + ("  few sub-zones" if bool(row.few_subzones.any()) else ""))
-    for k, rh in enumerate(RH):
+    for k, rh in enumerate(r.rh.values):
         row = r.isel(rh=k)
         if bool(row.accurate_model_run):
             q = row.accurate_ratio.values
@@ -115,18 +177,12 @@ def table(args):
     band = r.attrs.get("model_band")
     if band is not None:
         print(f"with the model band (every strip's Γ x {1 + band[0]:g} to x {1 + band[1]:g}): P(stuck) interval")
-        for k, rh in enumerate(RH):
+        for k, rh in enumerate(r.rh.values):
             row = r.isel(rh=k)
-            print(f"{rh:5.2f} " + "".join(
+            print(f"{rh:5.3f} " + "".join(
                 f"  {float(c.stiction_probability_model_lower):9.2g} - {float(c.stiction_probability_model_upper):<9.2g}"
                 for c in (row.isel(beam_length=b) for b in range(len(LENGTHS)))))
-    fill = r.copy()
-    # beyond reach: the estimate 0 has no upper bound from the sample; the crossing's lower end
-    # is then the first RH where the sample reaches failures (said below)
-    for v in ("stiction_probability_upper", "stiction_probability_model_upper"):
-        if v in fill:
-            fill[v] = fill[v].fillna(0.0)
-    x = rs.stiction.crossing_humidity(fill, probability=1e-3)
+    x = _crossings(r)  # beyond reach: no upper bound from the sample (said below)
     for b, length in enumerate(LENGTHS):
         c = x.isel(beam_length=b)
         print(f"l = {length * 1e6:.0f} µm: P(stuck) = 1e-3 at RH {float(c.crossing_humidity):.3f} "
@@ -654,6 +710,8 @@ def main():
                          "everywhere); replicates: half of --n-accurate first, all of them where the cv asks for it")
     ap.add_argument("--max-accurate", type=int, default=None, help="table, seeds: most random pairs per RH (default 4 x --n-accurate)")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--refine", type=int, default=1, help="table: calls at the 1e-3 crossings the grid "
+                    "interpolates (0: the grid alone)")
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--rh", type=float, default=0.75)
     ap.add_argument("--cache", default=None, help="seeds: folder keeping the sub-zone laws (a second pass "
