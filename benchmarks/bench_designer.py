@@ -7,7 +7,7 @@ E 164 GPa), strips Δs × w = 2.62 × 30 µm at 5 nm composed of 12 sub-zones of
 recombination of the sub-zone laws, the accurate model through the pairs' strip ratio).
 
     python benchmarks/bench_designer.py table            # RH 0.60-0.85 x l 150-300 µm, crossing at 1e-3
-                                                         # (one more call at the crossings the grid interpolates)
+                                                         # (further calls near the crossings: refine_crossing)
     python benchmarks/bench_designer.py seeds --rh 0.75  # true cv and coverage over independent seeds
     python benchmarks/bench_designer.py convergence      # the 1e-3 crossing as zone, pixel, grid, model refine
     python benchmarks/bench_designer.py cohesive         # the sharp front against the cohesive beam, same strips
@@ -80,20 +80,6 @@ def _crossings(r, level=1e-3):
     return rs.stiction.crossing_humidity(fill, probability=level)
 
 
-def _refine_points(r, level=1e-3):
-    """Per beam length, the RH where its crossing of ``level`` lies by the grid's interpolation
-    (rounded to 0.001 and at least 0.001 from a grid point), where it lies inside the grid."""
-    grid = r.rh.values
-    x = _crossings(r, level).crossing_humidity.values
-    points = {}
-    for b, c in enumerate(x):
-        if not np.isfinite(c) or np.min(np.abs(grid - c)) < 1e-9:
-            continue
-        lo = grid[grid < c].max()
-        points[b] = float(np.clip(round(c, 3), lo + 1e-3, grid[grid > c].min() - 1e-3))
-    return points
-
-
 def _logit_between(r, b, rh):
     """The estimate at ``rh`` interpolated linearly in logit P between its grid neighbours (nan next
     to a 0 or a 1)."""
@@ -114,28 +100,18 @@ def table(args):
     t = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
-        r = rs.stiction.strip_stuck_probability(psd, relative_humidity=RH, **kw)
+        r = rs.stiction.strip_stuck_probability(psd, relative_humidity=RH, refine_crossing=1e-3 if args.refine else None,
+                                                **kw)
     wall = time.perf_counter() - t
-    refined = []  # (rh, wall, the refining call's attrs)
-    for _ in range(args.refine):  # one more call at the grid's crossings, so each rests on a point at it
-        points = _refine_points(r)
-        new = sorted(set(points.values()) - set(r.rh.values))
-        if not new:
-            break
-        t = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", UserWarning)
-            r2 = rs.stiction.strip_stuck_probability(psd, relative_humidity=new, **kw)
-        w2 = time.perf_counter() - t
-        for b, rh in points.items():
-            k = int(np.flatnonzero(r2.rh.values == rh)[0])
-            c = r2.isel(rh=k, beam_length=b)
-            print(f"refined l = {LENGTHS[b] * 1e6:.0f} µm at RH {rh:.3f} (its 1e-3 crossing by the grid): the grid's "
-                  f"logit interpolation gives P {_logit_between(r, b, rh):.3g}, the call "
-                  f"{float(c.stiction_probability):.3g} [{float(c.stiction_probability_lower):.2g}, "
-                  f"{float(c.stiction_probability_upper):.2g}]", flush=True)
-        refined.append((new, w2, r2.attrs))
-        r = xr.concat([r, r2], dim="rh", data_vars="minimal", combine_attrs="override").sortby("rh")
+    grid = r.sel(rh=RH)
+    for rh in r.attrs.get("refined_humidities", []):  # what the grid alone would have said there
+        for b, length in enumerate(LENGTHS):
+            guess = _logit_between(grid, b, rh)
+            c = r.sel(rh=rh).isel(beam_length=b)
+            if np.isfinite(guess) or 0 < float(c.stiction_probability) < 1:
+                print(f"refined RH {rh:.3f}, l = {length * 1e6:.0f} µm: the grid's logit interpolation {guess:.3g}, "
+                      f"the estimate there {float(c.stiction_probability):.3g} [{float(c.stiction_probability_lower):.2g}, "
+                      f"{float(c.stiction_probability_upper):.2g}]", flush=True)
     a = r.attrs
     print(f"Table 4, paper layer and beam; strips of {a['subzones']} sub-zones {a['subzone_shape']} at 5 nm; "
           f"{a['n_cheap_subzones']} Eq. 16 sub-zones ({a['cheap_zone_equivalents']:.0f} zone equivalents, "
@@ -144,14 +120,13 @@ def table(args):
           f"where needed: {args.n_accurate} random pairs, doubled where their ratios hold a beam's cv above "
           f"{rs.stiction.strip_tail.TARGET_MARGIN:g} x {a['target_cv']:g} at P >= "
           f"{rs.stiction.strip_tail.TARGET_FLOOR:g}")
-    n_acc_rh = int(r.accurate_model_run.sel(rh=RH).sum())
+    n_acc_rh = int(r.accurate_model_run.sum())
     print(f"wall {wall:.0f} s: Eq. 16 {a['seconds_cheap']:.0f} s (all RH), fft_bem {a['seconds_accurate']:.0f} s "
           f"({n_acc_rh} RH: {a['seconds_accurate'] / max(n_acc_rh, 1):.0f} s per RH), estimator "
           f"{a['seconds_estimator']:.0f} s")
-    for new, w2, a2 in refined:
-        print(f"refining call at RH {', '.join(f'{v:.3f}' for v in new)}: wall {w2:.0f} s: Eq. 16 "
-              f"{a2['seconds_cheap']:.0f} s, fft_bem {a2['seconds_accurate']:.0f} s, estimator "
-              f"{a2['seconds_estimator']:.0f} s")
+    if a.get("refined_humidities"):
+        print(f"refined (up to {rs.stiction.strip_tail.REFINE_CALLS} further calls at the 1e-3 crossings): RH "
+              + ", ".join(f"{v:.3f}" for v in a["refined_humidities"]) + "; the times above include them")
     print(f"{'RH':>5} {'pairs':>7} {'eff.sub':>7} {'R(med)':>6}  " + "".join(
         f"{f'l = {length * 1e6:.0f} µm: P [95 %]  cv':>36}" for length in LENGTHS))
     for k, rh in enumerate(r.rh.values):
@@ -183,12 +158,15 @@ def table(args):
                 f"  {float(c.stiction_probability_model_lower):9.2g} - {float(c.stiction_probability_model_upper):<9.2g}"
                 for c in (row.isel(beam_length=b) for b in range(len(LENGTHS)))))
     x = _crossings(r)  # beyond reach: no upper bound from the sample (said below)
+    x0 = _crossings(r.sel(rh=RH)) if r.rh.size > len(RH) else None
     for b, length in enumerate(LENGTHS):
         c = x.isel(beam_length=b)
         print(f"l = {length * 1e6:.0f} µm: P(stuck) = 1e-3 at RH {float(c.crossing_humidity):.3f} "
               f"[{float(c.crossing_humidity_lower):.3f}, {float(c.crossing_humidity_upper):.3f}]"
               + (f", with the model band [{float(c.crossing_humidity_model_lower):.3f}, "
-                 f"{float(c.crossing_humidity_model_upper):.3f}]" if "crossing_humidity_model_lower" in c else ""))
+                 f"{float(c.crossing_humidity_model_upper):.3f}]" if "crossing_humidity_model_lower" in c else "")
+              + (f"; the grid alone {float(x0.crossing_humidity[b]):.3f} [{float(x0.crossing_humidity_lower[b]):.3f}, "
+                 f"{float(x0.crossing_humidity_upper[b]):.3f}]" if x0 is not None else ""))
     beyond = r.beyond_reach.values.astype(bool)
     if beyond.any():
         m = r.reach_margin.values[beyond]
@@ -710,8 +688,8 @@ def main():
                          "everywhere); replicates: half of --n-accurate first, all of them where the cv asks for it")
     ap.add_argument("--max-accurate", type=int, default=None, help="table, seeds: most random pairs per RH (default 4 x --n-accurate)")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--refine", type=int, default=1, help="table: calls at the 1e-3 crossings the grid "
-                    "interpolates (0: the grid alone)")
+    ap.add_argument("--refine", type=int, default=1, help="table: 1: refine_crossing=1e-3, further calls "
+                    "near the crossings; 0: the grid alone")
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--rh", type=float, default=0.75)
     ap.add_argument("--cache", default=None, help="seeds: folder keeping the sub-zone laws (a second pass "

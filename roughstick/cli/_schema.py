@@ -201,6 +201,11 @@ SCHEMAS: dict[str, dict[str, dict[str, Field]]] = {
             "n_accurate": F("int", "method 'strips' with model 'auto': of them, through fft_bem where the "
                                    "answer depends on the model (doubled, up to twice, at humidities where the "
                                    "pairs hold a cv of P(stuck) above 0.6 x target_cv)", default=240, minimum=8),
+            "refine_crossing": F("bool", "method 'strips': up to 3 more calls at the humidities where a beam's "
+                                         "P(stuck) crosses one of levels, so that each crossing's interval rests "
+                                         "on estimates near it, not on the interpolation between distant "
+                                         "humidities (each point costs one humidity of the models; they join rh)",
+                                 default=False),
             "model_band": F("number", "method 'strips': relative error of the strips' Γ from the models, "
                                       "[below, above] (default [-0.005, 0.045] with model 'auto', none with "
                                       "one model alone); P(stuck) is also bounded at both ends", many=True),

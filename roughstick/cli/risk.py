@@ -522,22 +522,20 @@ def _run_strips(c, beam, lengths, out, *, zone):
                                   **({"n_accurate": r["n_accurate"], "target_cv": r["target_cv"]}
                                      if r["model"] == "auto" else {}),
                                   **({"model_band": tuple(r["model_band"])} if r.get("model_band") is not None
-                                     else {}), **kw)
+                                     else {}),
+                                  **({"refine_crossing": list(r["levels"])} if r["refine_crossing"] else {}), **kw)
+        if ds.attrs.get("refined_humidities"):
+            LOG.info(f"[{layer}] refined at RH "
+                     + ", ".join(f"{h * 100:.1f}%" for h in sorted(ds.attrs["refined_humidities"])))
         per_layer.append(ds.transpose("beam_length", "rh", ...))
-    risk = xr.concat(per_layer, dim=xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer",
-                                                 name="adsorbed_layer"), combine_attrs="drop_conflicts")
-    risk["beam_length"].attrs = dict(ATTRS["beam_length"])
-    risk["adsorbed_layer"].attrs = coord_attrs("adsorbed_layer", risk["adsorbed_layer"])
-    # beyond reach (no combination of the sample fails): below every level, said with its margin
-    fill = risk.copy()
-    for v in ("stiction_probability_upper", "stiction_probability_model_upper"):
-        if v in fill:
-            fill[v] = fill[v].fillna(0.0)
-    cross = [rs.stiction.crossing_humidity(fill, probability=lev) for lev in r["levels"]]
-    cross = xr.concat(cross, dim=xr.DataArray(r["levels"], dims="probability_level", name="probability_level"))
-    cross["probability_level"].attrs = dict(ATTRS["probability_level"])
+    layers = xr.DataArray(list(ens["adsorbed_layer"]), dims="adsorbed_layer", name="adsorbed_layer")
+    # each layer's crossings on its own humidities (refined ones differ between layers: NaN in the others)
+    cross = xr.concat([_strip_crossings(ds, r["levels"]) for ds in per_layer], dim=layers)
+    risk = xr.concat(per_layer, dim=layers, join="outer", combine_attrs="drop_conflicts")
     for name in cross.data_vars:
         risk[name] = cross[name]
+    risk["beam_length"].attrs = dict(ATTRS["beam_length"])
+    risk["adsorbed_layer"].attrs = coord_attrs("adsorbed_layer", risk["adsorbed_layer"])
     risk.attrs.update(zone, method="strips", configuration=c["path"].read_text(),
                       probability_model="released sharp-front beams on independent strips of the beam's "
                                         "interaction zone (paper Eq. 36, §5.2)")
@@ -548,6 +546,8 @@ def _run_strips(c, beam, lengths, out, *, zone):
         for bl in risk.beam_length.values:
             for h in risk.rh.values:
                 d = risk.sel(adsorbed_layer=layer, beam_length=bl, rh=h)
+                if np.isnan(float(d.stiction_probability)):  # a humidity refined for another layer
+                    continue
                 if bool(d.beyond_reach):
                     what = (f"0: no combination of the sample sticks it (its threshold is "
                             f"{float(d.reach_margin):.3g} x the largest strip Γ found)" + _model_text(d))
@@ -560,11 +560,25 @@ def _run_strips(c, beam, lengths, out, *, zone):
         if "random_pairs" in risk:
             pairs = risk["random_pairs"].sel(adsorbed_layer=layer)
             LOG.info(f"  [{layer}] fft_bem random pairs per RH: " + ", ".join(
-                f"{h * 100:.1f}% {int(v) if v else 'none'}" for h, v in zip(risk.rh.values, pairs.values)))
+                f"{h * 100:.1f}% {int(v) if v else 'none'}" for h, v in zip(risk.rh.values, pairs.values)
+                if not np.isnan(v)))
     _crossing_table(risk, r["levels"])
     LOG.info(f"wrote {f} (no figures with method = 'strips': it has no Γ sample)")
     finish_folder(out)
     return 0
+
+
+def _strip_crossings(ds, levels) -> xr.Dataset:
+    """The crossing humidities of one strips result at every level; a beyond-reach cell (no
+    combination of the sample fails) below every level, said with its margin."""
+    fill = ds.copy()
+    for v in ("stiction_probability_upper", "stiction_probability_model_upper"):
+        if v in fill:
+            fill[v] = fill[v].fillna(0.0)
+    cross = xr.concat([rs.stiction.crossing_humidity(fill, probability=lev) for lev in levels],
+                      dim=xr.DataArray(list(levels), dims="probability_level", name="probability_level"))
+    cross["probability_level"].attrs = dict(ATTRS["probability_level"])
+    return cross
 
 
 def _model_text(d) -> str:

@@ -202,7 +202,7 @@ def stuck_probability(
       12,000, recombined; with ``model="auto"`` the first ``n_accurate`` through fft_bem correct
       them, doubled up to twice where their ratios hold a cv above 0.6 × ``target_cv``): ``relative_humidity`` and
       ``beam_length`` (required), ``n``, ``seed``, ``spacing``, ``model``, ``target_cv`` (and
-      ``n_accurate``, ``max_accurate``, ``accurate_model``, ``model_band``, ``n_combinations``,
+      ``n_accurate``, ``max_accurate``, ``accurate_model``, ``model_band``, ``refine_crossing``, ``n_combinations``,
       ``n_boot``).
 
     A keyword the method does not read, or data it cannot use, is refused with the fix.

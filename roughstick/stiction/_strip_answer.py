@@ -9,7 +9,8 @@ import numpy as np
 import xarray as xr
 from scipy.stats import norm
 
-from .._core.conventions import set_attrs
+from .._core.conventions import append_history, set_attrs
+from .risk import crossing_humidity
 
 #: Relative error of a strip's Γ from the strips route's models, (below, above), measured on the
 #: Table 4 PSD at 77 % RH: whole 524 × 6000 px strips solved by fft_bem hold 0.75 % [−0.1, +1.6]
@@ -133,3 +134,92 @@ def _stuck_dataset(ccdf, rh, lengths, per_beam, allt, confidence, band=None):
     if band is not None:
         ds.attrs["model_band"] = [float(band[0]), float(band[1])]
     return ds
+
+
+#: Most further calls ``refine_crossing`` makes, each at the crossings not yet held by an estimate.
+REFINE_CALLS = 3
+
+
+def _refine_points(result, levels):
+    """The humidities where the next call sharpens a crossing of one of ``levels``: where the
+    estimate crosses while neither grid point next to it has an interval holding the level; once
+    one does, where the interval's ends cross (the upper bound of P, the lower bound) while the
+    grid points next to an end are further apart than the interval is wide. Each point by
+    :func:`_inverse_quadratic` between two values inside (0, 1), the middle of the two grid points
+    next to a 0 or a 1; rounded to 0.001 and kept 0.002 from the grid points (none between
+    points closer than 0.005) and from each other."""
+    grid = result["rh"].values
+    prob = result["stiction_probability"]
+    dims = prob.dims[1:]
+    curves = {e: result[f"stiction_probability{e}"] for e in ("", "_upper", "_lower")}
+    values = {e: c.transpose("rh", *dims).values.reshape(grid.size, -1) for e, c in curves.items()}
+    points = set()
+    for level in levels:
+        x = {e: np.ravel(crossing_humidity(c.fillna(0.0), probability=float(level))["crossing_humidity"]
+                         .transpose(*dims).values) for e, c in curves.items()}
+        for b in range(x[""].size):
+            c = x[""][b]
+            if not np.isfinite(c) or np.min(np.abs(grid - c)) < 1e-9:
+                continue
+            k = int(np.searchsorted(grid, c))
+            held = np.any((values["_lower"][k - 1:k + 1, b] <= level) & (level <= values["_upper"][k - 1:k + 1, b]))
+            width = x["_lower"][b] - x["_upper"][b]  # the crossing's interval: upper bound of P crosses first
+            for e in ("",) if not held else ("_upper", "_lower"):
+                c = x[e][b]
+                if not np.isfinite(c) or np.min(np.abs(grid - c)) < 1e-9:
+                    continue
+                k = int(np.searchsorted(grid, c))
+                lo, hi = grid[k - 1], grid[k]
+                if hi - lo < 5e-3 or (e and not hi - lo > width):
+                    continue
+                v = values[e][:, b]
+                inside = 0 < v[k - 1] < 1 and 0 < v[k] < 1
+                c = _inverse_quadratic(grid, v, k, level, c) if inside else (lo + hi) / 2
+                c = float(np.clip(round(float(c), 3), lo + 2e-3, hi - 2e-3))
+                if all(abs(c - q) > 1.5e-3 for q in points):  # one point serves crossings 0.001 apart
+                    points.add(c)
+    return sorted(points)
+
+
+def _inverse_quadratic(grid, p, k, level, secant):
+    """RH where logit P reaches logit ``level`` by the quadratic in logit P through the crossing's
+    two grid points ``k - 1``, ``k`` and the next one inside (0, 1) beyond the nearer end (the
+    curvature a straight line between two points misses), as in Brent's root finder; the secant
+    ``secant`` where there is no third point or the quadratic leaves the bracket."""
+    third = [j for j in (k - 2, k + 1) if 0 <= j < grid.size and 0 < p[j] < 1]
+    if not third:
+        return secant
+    j = min(third, key=lambda j: min(abs(grid[j] - grid[k - 1]), abs(grid[j] - grid[k])))
+    idx = [k - 1, k, j]
+    y = np.log(p[idx] / (1 - p[idx]))
+    if np.unique(y).size < 3:
+        return secant
+    target = math.log(level / (1 - level))
+    x = sum(grid[a] * np.prod([(target - y[q]) / (y[i] - y[q]) for q in range(3) if q != i])
+            for i, a in enumerate(idx))
+    return float(x) if grid[k - 1] < x < grid[k] else secant
+
+
+def _refined(call, args, levels):
+    """``call(**args)`` on its grid, then up to :data:`REFINE_CALLS` more at the humidities where a
+    beam crosses one of ``levels`` (:func:`_refine_points`), all merged over ``rh``."""
+    levels = np.atleast_1d(np.asarray(levels, dtype=float))
+    if levels.ndim != 1 or levels.size == 0 or not np.all((levels > 0) & (levels < 1)):
+        raise ValueError(f"refine_crossing={levels.tolist()!r}: pass P(stuck) levels strictly between 0 and 1, "
+                         "e.g. refine_crossing=1e-3")
+    out, added = call(**args), []
+    for _ in range(REFINE_CALLS):
+        new = _refine_points(out, levels)
+        if not new:
+            break
+        more = call(**{**args, "relative_humidity": new})
+        merged = xr.concat([out, more], "rh", data_vars="minimal", combine_attrs="override").sortby("rh")
+        for key in ("seconds_cheap", "seconds_accurate", "seconds_estimator"):
+            merged.attrs[key] = out.attrs[key] + more.attrs[key]
+        for key in ("n_accurate_subzones", "n_random_pairs", "accurate_zone_equivalents"):
+            merged.attrs[key] = max(out.attrs[key], more.attrs[key])
+        out, added = merged, added + new
+        append_history(out, f"refined at RH {', '.join(f'{v:.3f}' for v in new)} (crossings of "
+                            f"{', '.join(f'{v:g}' for v in levels)})")
+    out.attrs["refined_humidities"] = added
+    return out

@@ -55,8 +55,10 @@ from ..ensemble.pipeline import distance_grid
 from ..surface import generate_surfaces
 from ._strip_answer import (
     MODEL_BAND,  # noqa: F401  (the route's default band: strip_tail.MODEL_BAND)
+    REFINE_CALLS,  # noqa: F401  (most further calls of refine_crossing)
     _model_band,
     _patch_thresholds,
+    _refined,
     _stuck_dataset,
     model_band_problem,  # noqa: F401  (the band's rule, for the CLI's config check)
 )
@@ -407,7 +409,7 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
                             beam=None, spacing=5e-9, seed=0, n_combinations: int = 100_000,
                             n_boot: int = 20, confidence: float = 0.95, subzones: int | None = None,
                             n_distance: int | None = None, adsorbed_layer="paper", material=None,
-                            model_band=None, scheduler: str = "threads",
+                            model_band=None, refine_crossing=None, scheduler: str = "threads",
                             workers: int | None = None) -> xr.Dataset:
     r"""P(stuck) of released sharp-front beams on their own interaction zone, small values included.
 
@@ -471,6 +473,16 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
         Relative error of the strips' Γ from the models, (below, above): the composition of
         the strip from its sub-zones and the two-fidelity correction. Default
         :data:`MODEL_BAND` with an accurate model; none with a model alone (its own answer).
+    refine_crossing : float or sequence of float, optional
+        P(stuck) levels whose crossing humidity is wanted (e.g. 1e-3): after the grid, up to
+        :data:`REFINE_CALLS` (3) more calls at the humidities
+        where a crossing is not yet held: first where the estimate crosses (inverse quadratic
+        interpolation in logit P, as in Brent's root finder; bisection next to a 0 or a 1) until
+        a point next to it has an interval holding the level, then where the interval's ends
+        cross while their grid points lie further apart than the interval is wide. The points
+        join the result's ``rh`` (attrs ``refined_humidities``), so that
+        :func:`crossing_humidity`'s interval rests on estimates near the crossing, not on the
+        interpolation between distant grid humidities (an error the interval does not hold).
     scheduler : str
         Dask scheduler of the contact curves (one task per sub-zone).
     workers : int, optional
@@ -497,6 +509,9 @@ def strip_stuck_probability(psd, *, relative_humidity, beam_length, n: int = 12_
     array([[0.],
            [1.]])
     """
+    if refine_crossing is not None:
+        args = {k: v for k, v in locals().items() if k != "refine_crossing"}
+        return _refined(strip_stuck_probability, args, refine_crossing)
     beam = PAPER_CANTILEVER if beam is None else beam
     rh = relative_humidity_array(relative_humidity)
     lengths = np.atleast_1d(np.asarray(beam_length, dtype=float))

@@ -279,3 +279,29 @@ def test_cli_risk_refuses_a_model_band_that_is_not_below_and_above(tmp_path, ban
     with pytest.raises(ValueError, match=r"model_band=.*below <= 0 <= above"):
         rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), relative_humidity=[0.8],
                                             beam_length=[250e-6], n=96, model_band=eval(band))
+
+
+def test_cli_risk_strips_refines_each_layers_crossings_on_its_own_humidities(tmp_path, capsys):
+    """refine_crossing = true: each layer gets its own further humidities near its crossings; a
+    humidity refined for one layer is NaN in the other, and each layer's crossing is read from its
+    own points (the same as the library's on that layer alone)."""
+    from roughstick.cli import main
+
+    cfg = tmp_path / "r.toml"
+    cfg.write_text(
+        '[output]\nfolder = "out"\n[beam]\nlengths = ["250 um"]\n'
+        '[ensemble]\nrelative_humidity = [0.66, 0.8]\nadsorbed_layer = ["none", "paper"]\nseed = 1\n'
+        '[risk]\nmethod = "strips"\nmodel = "modified_dmt"\nn_subzones = 96\nlevels = [0.9]\n'
+        'refine_crossing = true\n')
+    assert main(["risk", str(cfg)]) == 0
+    assert "[paper] refined at RH" in capsys.readouterr().out
+    risk = xr.open_dataset(tmp_path / "out" / "risk.nc").load()
+    assert risk.rh.size > 2
+    for layer in ("none", "paper"):
+        mine = risk.sel(adsorbed_layer=layer).dropna("rh", subset=["stiction_probability"])
+        assert {0.66, 0.8} <= set(np.round(mine.rh.values, 3).tolist())
+        x = rs.stiction.crossing_humidity(mine.drop_vars([v for v in mine.data_vars if v.startswith("crossing")]),
+                                          probability=0.9)
+        np.testing.assert_array_equal(risk.crossing_humidity.sel(adsorbed_layer=layer, probability_level=0.9).values,
+                                      x.crossing_humidity.values)
+    assert np.isfinite(risk.crossing_humidity.sel(adsorbed_layer="paper")).all()

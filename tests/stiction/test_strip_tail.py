@@ -424,3 +424,65 @@ def test_a_model_band_that_is_not_below_and_above_is_refused(band):
     with pytest.raises(ValueError, match="model_band"):
         rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), relative_humidity=[0.8],
                                             beam_length=[250e-6], n=96, model_band=band)
+
+
+def test_refining_puts_the_crossing_interval_around_the_exact_crossing(monkeypatch):
+    # box laws whose depth grows as exp(2.5 (RH - 0.5)): the strip's Γ is Gamma(48, 1/12) times a
+    # known scale, so P(stuck) of a 200 µm beam and its 1e-2 crossing (RH 0.452) are exact. On a
+    # grid of 0.2 and 0.6 alone the crossing is interpolated across a bracket where logit P is
+    # far from straight, and its interval misses the exact crossing (all three seeds, measured);
+    # with refine_crossing the further calls put points near it, and the interval holds it
+    from scipy import optimize
+
+    from roughstick.stiction import strip_tail
+    from roughstick.stiction.cantilever import PAPER_CANTILEVER
+    n, level = 2400, 1e-2
+
+    def scale(h):
+        return 1e6 * np.exp(2.5 * (h - 0.5))
+
+    allt, per = strip_tail._patch_thresholds([200e-6], PAPER_CANTILEVER, PAPER_CANTILEVER.interaction_zone_length)
+    unit = float(_gamma_strip(np.array([1.0]))[0])  # Γ of a box of unit depth on the grid
+
+    def exact(h):
+        return 1 - np.prod(stats.gamma(M * K, scale=1 / M).cdf(allt[per[0]] / (scale(h) * unit)))
+
+    crossing = optimize.brentq(lambda h: np.log(max(exact(h), 1e-300)) - np.log(level), 0.3, 0.6)
+    assert 0.44 < crossing < 0.46
+    missed, held = 0, 0
+    for s in range(3):
+        depth = np.random.default_rng(100 + s).gamma(K, 1.0, n)
+
+        def laws(psd, rh, n, start, shape, spacing, model, seed, distance, *a, index=None, depth=depth, **kw):
+            index = np.arange(start, n) if index is None else np.asarray(index)
+            p = [_laws(depth[index] * scale(float(h))).values * np.where(D < D0, 100.0, 1.0) for h in rh]
+            return xr.DataArray(np.stack(p), dims=("rh", "realization", "distance"),
+                                coords={"rh": list(rh), "realization": index, "distance": D})
+
+        monkeypatch.setattr(strip_tail, "_subzone_laws", laws)
+        monkeypatch.setattr(strip_tail, "distance_grid", lambda **kw: xr.DataArray(D, dims="distance"))
+        kw = dict(relative_humidity=[0.2, 0.6], beam_length=[200e-6], n=n, accurate_model=None,
+                  n_combinations=10_000, n_boot=12, seed=s)
+        grid = rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), **kw)
+        fine = rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), refine_crossing=level, **kw)
+        added = fine.attrs["refined_humidities"]
+        assert added and all(0.2 < h < 0.6 for h in added) and fine.rh.values.tolist() == sorted([0.2, 0.6] + added)
+        # the grid's own rows are the plain call's, bit for bit
+        xr.testing.assert_identical(fine.stiction_probability.sel(rh=[0.2, 0.6]), grid.stiction_probability)
+        for r, name in ((grid, "grid"), (fine, "refined")):
+            x = rs.stiction.crossing_humidity(r, probability=level).isel(beam_length=0)
+            inside = float(x.crossing_humidity_lower) <= crossing <= float(x.crossing_humidity_upper)
+            if name == "grid":
+                missed += not inside
+            else:
+                held += inside
+                assert float(x.crossing_humidity_upper) - float(x.crossing_humidity_lower) < 0.05
+    assert missed >= 2 and held == 3
+
+
+@pytest.mark.parametrize("levels", [0.0, 1.0, [1e-3, 2.0], []])
+def test_a_refine_level_outside_zero_and_one_is_refused(levels):
+    with pytest.raises(ValueError, match="refine_crossing"):
+        rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), relative_humidity=[0.8],
+                                            beam_length=[250e-6], n=96, accurate_model=None,
+                                            refine_crossing=levels)
