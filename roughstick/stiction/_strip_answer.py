@@ -149,8 +149,7 @@ def _refine_points(result, levels):
     next to a 0 or a 1; rounded to 0.001 and kept 0.002 from the grid points (none between
     points closer than 0.005) and from each other."""
     grid = result["rh"].values
-    prob = result["stiction_probability"]
-    dims = prob.dims[1:]
+    dims = result["stiction_probability"].dims[1:]
     curves = {e: result[f"stiction_probability{e}"] for e in ("", "_upper", "_lower")}
     values = {e: c.transpose("rh", *dims).values.reshape(grid.size, -1) for e, c in curves.items()}
     points = set()
@@ -203,9 +202,13 @@ def _inverse_quadratic(grid, p, k, level, secant):
 def _refined(call, args, levels):
     """``call(**args)`` on its grid, then up to :data:`REFINE_CALLS` more at the humidities where a
     beam crosses one of ``levels`` (:func:`_refine_points`), all merged over ``rh``."""
-    levels = np.atleast_1d(np.asarray(levels, dtype=float))
+    given = levels
+    try:
+        levels = np.atleast_1d(np.asarray(levels, dtype=float))
+    except (TypeError, ValueError):
+        levels = np.array([np.nan])
     if levels.ndim != 1 or levels.size == 0 or not np.all((levels > 0) & (levels < 1)):
-        raise ValueError(f"refine_crossing={levels.tolist()!r}: pass P(stuck) levels strictly between 0 and 1, "
+        raise ValueError(f"refine_crossing={given!r}: pass P(stuck) levels strictly between 0 and 1, "
                          "e.g. refine_crossing=1e-3")
     out, added = call(**args), []
     for _ in range(REFINE_CALLS):

@@ -480,7 +480,7 @@ def test_refining_puts_the_crossing_interval_around_the_exact_crossing(monkeypat
     assert missed >= 2 and held == 3
 
 
-@pytest.mark.parametrize("levels", [0.0, 1.0, [1e-3, 2.0], []])
+@pytest.mark.parametrize("levels", [0.0, 1.0, [1e-3, 2.0], [], "1e-3 please"])
 def test_a_refine_level_outside_zero_and_one_is_refused(levels):
     with pytest.raises(ValueError, match="refine_crossing"):
         rs.stiction.strip_stuck_probability(rs.datasets.family_psd("table4"), relative_humidity=[0.8],
