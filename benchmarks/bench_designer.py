@@ -94,16 +94,17 @@ def _logit_between(r, b, rh):
 
 def table(args):
     psd = rs.datasets.family_psd("table4")
+    rhs = RH if args.rhs is None else [float(x) for x in args.rhs.split(",")]
     kw = dict(beam_length=LENGTHS, n=args.n, n_accurate=args.n_accurate, n_tail=args.n_tail, seed=args.seed,
               target_cv=args.target_cv, max_accurate=args.max_accurate,
               **({} if args.n_accurate else {"accurate_model": None}))
     t = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
-        r = rs.stiction.strip_stuck_probability(psd, relative_humidity=RH, refine_crossing=1e-3 if args.refine else None,
+        r = rs.stiction.strip_stuck_probability(psd, relative_humidity=rhs, refine_crossing=1e-3 if args.refine else None,
                                                 **kw)
     wall = time.perf_counter() - t
-    grid = r.sel(rh=RH)
+    grid = r.sel(rh=rhs)
     for rh in r.attrs.get("refined_humidities", []):  # what the grid alone would have said there
         for b, length in enumerate(LENGTHS):
             guess = _logit_between(grid, b, rh)
@@ -158,7 +159,7 @@ def table(args):
                 f"  {float(c.stiction_probability_model_lower):9.2g} - {float(c.stiction_probability_model_upper):<9.2g}"
                 for c in (row.isel(beam_length=b) for b in range(len(LENGTHS)))))
     x = _crossings(r)  # beyond reach: no upper bound from the sample (said below)
-    x0 = _crossings(r.sel(rh=RH)) if r.rh.size > len(RH) else None
+    x0 = _crossings(r.sel(rh=rhs)) if r.rh.size > len(rhs) else None
     for b, length in enumerate(LENGTHS):
         c = x.isel(beam_length=b)
         print(f"l = {length * 1e6:.0f} µm: P(stuck) = 1e-3 at RH {float(c.crossing_humidity):.3f} "
@@ -694,7 +695,7 @@ def main():
     ap.add_argument("--rh", type=float, default=0.75)
     ap.add_argument("--cache", default=None, help="seeds: folder keeping the sub-zone laws (a second pass "
                     "re-runs the estimator only; composition reads them); cohesive: folder keeping the bank")
-    ap.add_argument("--rhs", default=None, help="cohesive: RH list, e.g. 0.76,0.78 (default the table's)")
+    ap.add_argument("--rhs", default=None, help="table, cohesive: RH list, e.g. 0.76,0.78 (default the table's)")
     ap.add_argument("--laws", type=int, default=400, help="strip laws of the cohesive comparison's bank")
     ap.add_argument("--beams", type=int, default=400, help="beams per length of the cohesive comparison")
     ap.add_argument("--pool-pairs", type=int, default=None, help="replicates: pairs each seed gives to the pool "
