@@ -7,7 +7,7 @@ E 164 GPa), strips Δs × w = 2.62 × 30 µm at 5 nm composed of 12 sub-zones of
 recombination of the sub-zone laws, the accurate model through the pairs' strip ratio).
 
     python benchmarks/bench_designer.py table            # RH 0.60-0.85 x l 150-300 µm, crossing at 1e-3
-                                                         # (further calls near the crossings: refine_crossing)
+    python benchmarks/bench_designer.py table --refine 1 # the same, the crossings refined (refine_crossing)
     python benchmarks/bench_designer.py seeds --rh 0.75  # true cv and coverage over independent seeds
     python benchmarks/bench_designer.py convergence      # the 1e-3 crossing as zone, pixel, grid, model refine
     python benchmarks/bench_designer.py cohesive         # the sharp front against the cohesive beam, same strips
@@ -689,8 +689,8 @@ def main():
                          "everywhere); replicates: half of --n-accurate first, all of them where the cv asks for it")
     ap.add_argument("--max-accurate", type=int, default=None, help="table, seeds: most random pairs per RH (default 4 x --n-accurate)")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--refine", type=int, default=1, help="table: 1: refine_crossing=1e-3, further calls "
-                    "near the crossings; 0: the grid alone")
+    ap.add_argument("--refine", type=int, default=0, help="table: 1: refine_crossing=1e-3, up to three further "
+                    "calls near the crossings (35-75 min more on 2 cores); 0: the grid alone")
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--rh", type=float, default=0.75)
     ap.add_argument("--cache", default=None, help="seeds: folder keeping the sub-zone laws (a second pass "
